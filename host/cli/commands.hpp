@@ -1,0 +1,21 @@
+#pragma once
+// Each subcommand registers itself on the CLI11 app and returns the action to run when chosen.
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace splatcl::cli {
+
+using Action = std::function<int()>;
+
+// Options shared by every command that runs kernels.
+struct DeviceOptions {
+  std::string device;  // index, type or name substring; empty = $SPLATCL_DEVICE or default
+};
+void add_device_option(CLI::App& app, DeviceOptions& options);
+
+Action register_devices(CLI::App& app);
+Action register_demo(CLI::App& app);
+Action register_bench(CLI::App& app);
+
+}  // namespace splatcl::cli

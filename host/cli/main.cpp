@@ -1,0 +1,48 @@
+// splatcl: one program, subcommands. Every failure is one line on stderr and a non-zero exit.
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "runtime/error.hpp"
+#include "runtime/runtime.hpp"
+
+namespace splatcl::cli {
+
+void add_device_option(CLI::App& app, DeviceOptions& options) {
+  app.add_option("--device", options.device,
+                 "OpenCL device: index, type (cpu, gpu) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU");
+}
+
+}  // namespace splatcl::cli
+
+int main(int argc, char** argv) {
+  CLI::App app{"splatcl: point-based rendering with coherent shadow maps and many lights, on OpenCL"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "splatcl 0.1.0");
+  std::vector<std::pair<CLI::App*, splatcl::cli::Action>> actions;
+  auto add = [&](splatcl::cli::Action (*registrar)(CLI::App&)) {
+    const std::size_t before = app.get_subcommands({}).size();
+    auto action = registrar(app);
+    actions.emplace_back(app.get_subcommands({}).at(before), std::move(action));
+  };
+  add(splatcl::cli::register_devices);
+  add(splatcl::cli::register_demo);
+  add(splatcl::cli::register_bench);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    for (auto& [sub, action] : actions)
+      if (sub->parsed()) return action();
+  } catch (const splatcl::Error& e) {
+    std::fprintf(stderr, "splatcl: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "splatcl: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

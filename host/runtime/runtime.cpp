@@ -1,0 +1,246 @@
+#include "runtime/runtime.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <regex>
+#include <sstream>
+
+#include "runtime/embedded.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl {
+namespace {
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+std::string device_type_name(cl_device_type type) {
+  if (type & CL_DEVICE_TYPE_GPU) return "gpu";
+  if (type & CL_DEVICE_TYPE_CPU) return "cpu";
+  if (type & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+  return "other";
+}
+
+std::string trim(std::string text) {
+  while (!text.empty() && (text.back() == '\0' || std::isspace(static_cast<unsigned char>(text.back())))) text.pop_back();
+  return text;
+}
+
+// PoCL fills CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE per kernel only; ask it on a tiny kernel.
+std::size_t query_preferred_multiple(const cl::Device& device) {
+  try {
+    cl::Context context(device);
+    cl::Program program(context, "__kernel void probe(__global int* a) { a[get_global_id(0)] = 0; }");
+    program.build({device});
+    cl::Kernel kernel(program, "probe");
+    return kernel.getWorkGroupInfo<CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE>(device);
+  } catch (...) {
+    return 0;
+  }
+}
+
+}  // namespace
+
+const char* cl_error_name(cl_int code) {
+  switch (code) {
+#define SPLATCL_CASE(x) case x: return #x;
+    SPLATCL_CASE(CL_DEVICE_NOT_FOUND) SPLATCL_CASE(CL_DEVICE_NOT_AVAILABLE) SPLATCL_CASE(CL_COMPILER_NOT_AVAILABLE)
+    SPLATCL_CASE(CL_MEM_OBJECT_ALLOCATION_FAILURE) SPLATCL_CASE(CL_OUT_OF_RESOURCES) SPLATCL_CASE(CL_OUT_OF_HOST_MEMORY)
+    SPLATCL_CASE(CL_BUILD_PROGRAM_FAILURE) SPLATCL_CASE(CL_INVALID_VALUE) SPLATCL_CASE(CL_INVALID_DEVICE)
+    SPLATCL_CASE(CL_INVALID_BUFFER_SIZE) SPLATCL_CASE(CL_INVALID_KERNEL_NAME) SPLATCL_CASE(CL_INVALID_KERNEL_ARGS)
+    SPLATCL_CASE(CL_INVALID_ARG_INDEX) SPLATCL_CASE(CL_INVALID_ARG_VALUE) SPLATCL_CASE(CL_INVALID_ARG_SIZE)
+    SPLATCL_CASE(CL_INVALID_WORK_GROUP_SIZE) SPLATCL_CASE(CL_INVALID_WORK_ITEM_SIZE) SPLATCL_CASE(CL_INVALID_GLOBAL_OFFSET)
+    SPLATCL_CASE(CL_INVALID_GLOBAL_WORK_SIZE) SPLATCL_CASE(CL_INVALID_MEM_OBJECT) SPLATCL_CASE(CL_INVALID_PLATFORM)
+    SPLATCL_CASE(CL_PLATFORM_NOT_FOUND_KHR) SPLATCL_CASE(CL_INVALID_OPERATION) SPLATCL_CASE(CL_INVALID_BUILD_OPTIONS)
+    SPLATCL_CASE(CL_INVALID_PROGRAM_EXECUTABLE) SPLATCL_CASE(CL_INVALID_COMMAND_QUEUE)
+#undef SPLATCL_CASE
+    default: return "unknown OpenCL error";
+  }
+}
+
+void rethrow_as_error(const std::string& what) {
+  try {
+    throw;
+  } catch (const Error&) {
+    throw;
+  } catch (const cl::Error& e) {
+    throw Error(what + ": " + e.what() + " failed with " + cl_error_name(e.err()) + " (" + std::to_string(e.err()) + ")");
+  } catch (const std::bad_alloc&) {
+    throw Error(what + ": out of host memory");
+  } catch (const std::exception& e) {
+    throw Error(what + ": " + e.what());
+  }
+}
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<cl::Platform> platforms;
+  try {
+    cl::Platform::get(&platforms);
+  } catch (const cl::Error& e) {
+    if (e.err() != CL_PLATFORM_NOT_FOUND_KHR) rethrow_as_error("listing OpenCL platforms");
+  }
+  if (platforms.empty())
+    throw Error("no OpenCL platform found: install an OpenCL driver (on CPU-only Debian: pocl-opencl-icd)");
+  std::vector<DeviceInfo> result;
+  for (const auto& platform : platforms) {
+    std::vector<cl::Device> devices;
+    try {
+      platform.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+    } catch (const cl::Error&) {
+      continue;  // a platform without devices is not an error while another has some
+    }
+    for (const auto& device : devices) {
+      DeviceInfo info;
+      info.index = result.size();
+      info.platform = trim(platform.getInfo<CL_PLATFORM_NAME>());
+      info.name = trim(device.getInfo<CL_DEVICE_NAME>());
+      info.type = device_type_name(device.getInfo<CL_DEVICE_TYPE>());
+      info.version = trim(device.getInfo<CL_DEVICE_VERSION>());
+      info.opencl_c_version = trim(device.getInfo<CL_DEVICE_OPENCL_C_VERSION>());
+      info.compute_units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+      info.global_mem_bytes = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+      info.local_mem_bytes = device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+      info.max_alloc_bytes = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+      info.max_work_group_size = device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+      info.preferred_work_group_multiple = query_preferred_multiple(device);
+      info.device = device;
+      result.push_back(std::move(info));
+    }
+  }
+  if (result.empty()) throw Error("no OpenCL device found on any platform");
+  return result;
+}
+
+DeviceInfo choose_device(const std::string& selector_in) {
+  std::string selector = selector_in;
+  if (selector.empty()) {
+    if (const char* env = std::getenv(kDeviceEnvVar)) selector = env;
+  }
+  auto devices = list_devices();
+  if (selector.empty()) {
+    for (const char* type : {"gpu", "cpu"})
+      for (const auto& d : devices)
+        if (d.type == type) return d;
+    return devices.front();
+  }
+  const std::string wanted = lower(selector);
+  if (std::all_of(wanted.begin(), wanted.end(), [](unsigned char c) { return std::isdigit(c); })) {
+    const auto index = std::stoul(wanted);
+    if (index >= devices.size())
+      throw Error("device index " + wanted + " out of range: " + std::to_string(devices.size()) + " device(s) found (see 'splatcl devices')");
+    return devices[index];
+  }
+  for (const auto& d : devices)
+    if (d.type == wanted) return d;
+  for (const auto& d : devices)
+    if (lower(d.name).find(wanted) != std::string::npos || lower(d.platform).find(wanted) != std::string::npos) return d;
+  throw Error("no OpenCL device matches '" + selector + "' (see 'splatcl devices')");
+}
+
+const char* to_string(Shape shape) {
+  switch (shape) {
+    case Shape::Cpu: return "cpu";
+    case Shape::Gpu: return "gpu";
+    default: return "auto";
+  }
+}
+
+Shape parse_shape(const std::string& text) {
+  if (text == "cpu") return Shape::Cpu;
+  if (text == "gpu") return Shape::Gpu;
+  if (text == "auto" || text.empty()) return Shape::Auto;
+  throw Error("unknown kernel shape '" + text + "' (expected auto, cpu or gpu)");
+}
+
+Runtime::Runtime(const DeviceInfo& info) : info_(info) {
+  try {
+    context_ = cl::Context(info_.device);
+    queue_ = cl::CommandQueue(context_, info_.device, CL_QUEUE_PROFILING_ENABLE);
+  } catch (...) {
+    rethrow_as_error("creating an OpenCL context on '" + info_.name + "'");
+  }
+}
+
+std::shared_ptr<Runtime> Runtime::create(const std::string& selector) {
+  return std::make_shared<Runtime>(choose_device(selector));
+}
+
+Shape Runtime::resolve(Shape shape) const {
+  if (shape != Shape::Auto) return shape;
+  return is_cpu() ? Shape::Cpu : Shape::Gpu;
+}
+
+std::size_t Runtime::cpu_chunks() const {
+  // A few chunks per compute unit balances uneven chunks without many partial results.
+  return std::max<std::size_t>(1, std::size_t{info_.compute_units} * 4);
+}
+
+std::string expand_kernel_source(const std::string& file) {
+  const auto& table = embedded_kernels();
+  const auto it = table.find(file);
+  if (it == table.end()) throw Error("kernel source '" + file + "' is not embedded in this binary");
+  std::istringstream in{std::string(it->second)};
+  std::ostringstream out;
+  static const std::regex include_line(R"re(^\s*#\s*include\s*"([^"]+)"\s*$)re");
+  out << "#line 1 \"" << file << "\"\n";
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::smatch match;
+    if (std::regex_match(line, match, include_line)) {
+      out << expand_kernel_source(match[1].str()) << "\n#line " << (line_number + 1) << " \"" << file << "\"\n";
+    } else {
+      out << line << '\n';
+    }
+  }
+  return out.str();
+}
+
+cl::Program Runtime::program(const std::string& file, const std::string& options) {
+  std::lock_guard lock(mutex_);
+  const auto key = std::make_pair(file, options);
+  if (auto it = programs_.find(key); it != programs_.end()) return it->second;
+  const std::string source = expand_kernel_source(file);
+  cl::Program program;
+  try {
+    program = cl::Program(context_, source);
+  } catch (...) {
+    rethrow_as_error("creating program " + file);
+  }
+  try {
+    program.build({info_.device}, (options + " -cl-std=CL1.2").c_str());
+  } catch (const cl::BuildError& e) {
+    std::string log;
+    for (const auto& entry : e.getBuildLog()) log += entry.second;
+    throw Error("kernel build of " + file + " failed on '" + info_.name + "'" +
+                (options.empty() ? "" : " with options '" + options + "'") + ":\n" + trim(log));
+  } catch (...) {
+    rethrow_as_error("building " + file);
+  }
+  programs_.emplace(key, program);
+  return program;
+}
+
+cl::Kernel Runtime::kernel(const std::string& file, const std::string& name, const std::string& options) {
+  cl::Program built = program(file, options);
+  try {
+    return cl::Kernel(built, name.c_str());
+  } catch (...) {
+    rethrow_as_error("creating kernel " + name + " from " + file);
+  }
+}
+
+cl::Buffer Runtime::buffer(cl_mem_flags flags, std::size_t bytes, const char* what) {
+  try {
+    // A zero-size buffer is invalid in OpenCL; size-0 inputs get a minimal allocation instead.
+    return cl::Buffer(context_, flags, std::max<std::size_t>(bytes, 16));
+  } catch (...) {
+    rethrow_as_error(std::string("allocating ") + std::to_string(bytes) + " bytes for " + what + " on '" + info_.name + "'");
+  }
+}
+
+}  // namespace splatcl

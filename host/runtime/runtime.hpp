@@ -1,0 +1,90 @@
+#pragma once
+// OpenCL runtime layer: device discovery and choice, one context and profiling queue per device,
+// programs built from the embedded kernel sources once per (file, options) and cached.
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "runtime/opencl.hpp"
+
+namespace splatcl {
+
+// Environment variable that chooses the device when --device is not given.
+inline constexpr const char* kDeviceEnvVar = "SPLATCL_DEVICE";
+
+struct DeviceInfo {
+  std::size_t index = 0;  // position in the flat list over all platforms
+  std::string platform;
+  std::string name;
+  std::string type;  // "cpu", "gpu", "accelerator", "other"
+  std::string version;
+  std::string opencl_c_version;
+  unsigned compute_units = 0;
+  unsigned long long global_mem_bytes = 0;
+  unsigned long long local_mem_bytes = 0;
+  unsigned long long max_alloc_bytes = 0;
+  std::size_t max_work_group_size = 0;
+  std::size_t preferred_work_group_multiple = 0;
+  cl::Device device;
+};
+
+// Every device of every platform. Throws Error when there is no platform or no device.
+std::vector<DeviceInfo> list_devices();
+
+// Chooses a device: selector is an index ("0"), a type ("cpu", "gpu") or a case-insensitive name
+// substring. Empty selector: $SPLATCL_DEVICE, else the first GPU, else the first CPU, else device 0.
+DeviceInfo choose_device(const std::string& selector = "");
+
+// Kernel shape: CPU-shaped (one work-item per contiguous chunk, no barriers) or GPU-shaped
+// (work-groups with local memory). Auto picks by CL_DEVICE_TYPE.
+enum class Shape { Auto, Cpu, Gpu };
+const char* to_string(Shape shape);
+Shape parse_shape(const std::string& text);
+
+class Runtime {
+ public:
+  explicit Runtime(const DeviceInfo& info);
+  // Convenience: choose_device(selector) then construct.
+  static std::shared_ptr<Runtime> create(const std::string& selector = "");
+
+  const DeviceInfo& info() const { return info_; }
+  cl::Context& context() { return context_; }
+  cl::CommandQueue& queue() { return queue_; }
+  const cl::Device& device() const { return info_.device; }
+  bool is_cpu() const { return info_.type == "cpu"; }
+  // Auto resolved against the device type.
+  Shape resolve(Shape shape) const;
+  // Work-items that keep every compute unit busy for CPU-shaped kernels.
+  std::size_t cpu_chunks() const;
+
+  // Builds (once) the embedded kernel file `file` with `options` and returns a fresh kernel object.
+  // Build failures throw Error carrying the device's build log, with file names and lines.
+  cl::Kernel kernel(const std::string& file, const std::string& name, const std::string& options = "");
+  cl::Program program(const std::string& file, const std::string& options = "");
+
+  // Buffer allocation with a clear error on failure (size named).
+  cl::Buffer buffer(cl_mem_flags flags, std::size_t bytes, const char* what);
+
+ private:
+  DeviceInfo info_;
+  cl::Context context_;
+  cl::CommandQueue queue_;
+  std::mutex mutex_;
+  std::map<std::pair<std::string, std::string>, cl::Program> programs_;
+};
+
+// Expands `#include "x.h"` against the embedded kernel headers, with #line markers so that build
+// logs name the original file and line. Throws Error for an unknown file.
+std::string expand_kernel_source(const std::string& file);
+
+// Text for an OpenCL error code ("CL_OUT_OF_RESOURCES").
+const char* cl_error_name(cl_int code);
+
+// Rethrows a cl::Error (or anything else) as splatcl::Error with `what` prefixed.
+[[noreturn]] void rethrow_as_error(const std::string& what);
+
+}  // namespace splatcl
