@@ -37,7 +37,7 @@ build_config build
 case "${1:-build}" in
   build) ;;
   run)
-    build/splatcl demo
+    mkdir -p out && build/splatcl cluster -o out/cluster
     ;;
   test)
     ctest --test-dir build --output-on-failure -j "$jobs"

@@ -15,7 +15,7 @@ struct DeviceOptions {
 void add_device_option(CLI::App& app, DeviceOptions& options);
 
 Action register_devices(CLI::App& app);
-Action register_demo(CLI::App& app);
+Action register_cluster(CLI::App& app);
 Action register_bench(CLI::App& app);
 
 }  // namespace splatcl::cli

@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
     actions.emplace_back(app.get_subcommands({}).at(before), std::move(action));
   };
   add(splatcl::cli::register_devices);
-  add(splatcl::cli::register_demo);
+  add(splatcl::cli::register_cluster);
   add(splatcl::cli::register_bench);
   try {
     app.parse(argc, argv);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
-#include <regex>
 #include <sstream>
 
 #include "runtime/embedded.hpp"
@@ -40,6 +39,19 @@ std::size_t query_preferred_multiple(const cl::Device& device) {
   } catch (...) {
     return 0;
   }
+}
+
+// The file name of a `#include "name"` line, or empty for any other line.
+std::string quoted_include(const std::string& line) {
+  std::size_t pos = line.find_first_not_of(" \t");
+  if (pos == std::string::npos || line[pos] != '#') return {};
+  pos = line.find_first_not_of(" \t", pos + 1);
+  if (pos == std::string::npos || line.compare(pos, 7, "include") != 0) return {};
+  const std::size_t open = line.find('"', pos + 7);
+  if (open == std::string::npos) return {};
+  const std::size_t close = line.find('"', open + 1);
+  if (close == std::string::npos) return {};
+  return line.substr(open + 1, close - open - 1);
 }
 
 }  // namespace
@@ -184,15 +196,13 @@ std::string expand_kernel_source(const std::string& file) {
   if (it == table.end()) throw Error("kernel source '" + file + "' is not embedded in this binary");
   std::istringstream in{std::string(it->second)};
   std::ostringstream out;
-  static const std::regex include_line(R"re(^\s*#\s*include\s*"([^"]+)"\s*$)re");
   out << "#line 1 \"" << file << "\"\n";
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
-    std::smatch match;
-    if (std::regex_match(line, match, include_line)) {
-      out << expand_kernel_source(match[1].str()) << "\n#line " << (line_number + 1) << " \"" << file << "\"\n";
+    if (const std::string header = quoted_include(line); !header.empty()) {
+      out << expand_kernel_source(header) << "\n#line " << (line_number + 1) << " \"" << file << "\"\n";
     } else {
       out << line << '\n';
     }

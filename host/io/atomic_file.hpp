@@ -1,0 +1,17 @@
+#pragma once
+// Outputs are written to a temporary name beside the target and renamed when complete, so a
+// reader never sees a half-written file.
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace splatcl {
+
+// Calls write(temp_path) and renames temp_path to path. On any failure the temporary is removed
+// and splatcl::Error names `path`.
+void write_atomically(const std::string& path, const std::function<void(const std::string& temp_path)>& write);
+
+// Writes `contents` to `path` atomically.
+void write_file_atomically(const std::string& path, std::string_view contents);
+
+}  // namespace splatcl
