@@ -1,0 +1,33 @@
+#pragma once
+// Host-side deferred shading of a depth frame with many finite point lights (thesis §2.4, digest
+// §2.5 and §8.7): the reference the GL presenter's final shading will be checked against, and the
+// check that clustered light lists lose nothing (clustered shading equals brute-force shading).
+//
+//   L_o = Σ_k albedo/π · (π·i_k) · f(d_k) · max(0, n·l_k),   f(d) = clamp(1 − (d/r)², 0, 1)
+//
+// The falloff is our reading of the thesis's garbled "(l/r)² clamped to [0,1]" (1 at the light,
+// exactly 0 at r). Intensities are pre-multiplied by π (the digest's suggestion) so that a light
+// touching a surface head-on gives albedo · i.
+#include <cstdint>
+#include <vector>
+
+#include "cluster/layout.hpp"
+#include "cluster/types.hpp"
+
+namespace splatcl::cluster {
+
+// Falloff f(d) for a light of radius r.
+float light_falloff(float distance, float radius);
+
+// RGB per pixel (row 0 = bottom), 0 for background. `view_z` and `normals` as produced by the
+// ray caster (DepthFormat::ViewZ). Shades with each pixel's cluster light list.
+std::vector<float> shade_clustered(const ClusterLayout& layout, const std::vector<float>& view_z,
+                                   const std::vector<Vec3>& normals, const std::vector<PointLight>& lights,
+                                   const ClusterList& clusters, const LightLists& lists, Vec3 albedo);
+
+// The same with every light for every pixel.
+std::vector<float> shade_brute_force(const ClusterLayout& layout, const std::vector<float>& view_z,
+                                     const std::vector<Vec3>& normals, const std::vector<PointLight>& lights,
+                                     Vec3 albedo);
+
+}  // namespace splatcl::cluster
