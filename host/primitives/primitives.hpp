@@ -6,6 +6,7 @@
 // kernels/compact.cl, kernels/radix_sort.cl.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "runtime/profiling.hpp"
@@ -28,10 +29,18 @@ class Scanner {
   Shape shape() const { return shape_; }
 
  private:
+  void run_cpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n, ScanKind kind, Profiler* profiler);
+  // Scans one level of the GPU recursion; the block sums of level L are scanned by level L + 1.
+  void run_gpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n, ScanKind kind, std::size_t level,
+               Profiler* profiler);
+
   Runtime& runtime_;
   Shape shape_;
   cl::Buffer total_;
   std::vector<cl::Buffer> partials_;  // per recursion level (GPU shape) or chunk sums (CPU shape)
+  cl::Kernel reduce_kernel_;          // CPU shape: chunk sums
+  cl::Kernel scan_kernel_;            // CPU shape: chunk scans; GPU shape: block scans
+  cl::Kernel add_kernel_;             // GPU shape: adds scanned block sums
 };
 
 // Stream compaction of uint32 values, stable. Owns its scratch.
@@ -43,11 +52,18 @@ class Compactor {
                            Profiler* profiler = nullptr);
   // out = std::unique(values[0..n)) (first of each run of equal adjacent values). Returns the count.
   std::size_t unique(const cl::Buffer& values, const cl::Buffer& out, std::size_t n, Profiler* profiler = nullptr);
+  Shape shape() const { return shape_; }
 
  private:
+  // flags is not read in unique mode.
+  std::size_t compact(const cl::Buffer& values, const cl::Buffer& flags, const cl::Buffer& out, std::size_t n,
+                      bool unique_mode, Profiler* profiler);
+
   Runtime& runtime_;
   Shape shape_;
-  cl::Buffer counts_;
+  cl::Buffer counts_;  // per chunk (CPU shape; the total after them) or per block (GPU shape)
+  cl::Kernel count_kernel_, scatter_kernel_;
+  std::optional<Scanner> block_scanner_;  // GPU shape: scans the block counts
 };
 
 enum class KeyType { U32, U64 };
@@ -64,12 +80,22 @@ class RadixSorter {
   Shape shape() const { return shape_; }
 
  private:
+  // `values` is a dummy (value_scratch_) when sorting keys only.
+  void sort_cpu(const cl::Buffer& keys, const cl::Buffer& values, std::size_t n, unsigned bits, Profiler* profiler);
+  void sort_gpu(const cl::Buffer& keys, const cl::Buffer& values, std::size_t n, unsigned bits, Profiler* profiler);
+
   Runtime& runtime_;
   KeyType key_type_;
   bool with_values_;
   Shape shape_;
   cl::Buffer key_scratch_, value_scratch_, histogram_;
-  std::size_t capacity_ = 0;
+  // CPU shape with an odd pass count (3 or more): a second scratch set, so that the passes can end
+  // in the caller's buffers without a copy back.
+  cl::Buffer key_spare_, value_spare_;
+  std::size_t capacity_ = 0, spare_capacity_ = 0;
+  // CPU shape: per-chunk histograms, scatter. GPU shape: block sort + histograms, scatter.
+  cl::Kernel histogram_kernel_, scatter_kernel_;
+  std::optional<Scanner> table_scanner_;  // GPU shape: scans the digit-major histogram table
 };
 
 // Host-vector conveniences (upload, run, download) used by tests and small callers.

@@ -1,0 +1,81 @@
+#include <limits>
+#include <string>
+
+#include "primitives/launch.hpp"
+#include "primitives/primitives.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::primitives {
+namespace {
+
+// Must match COMPACT_ROUNDS in kernels/compact.cl.
+constexpr std::size_t kCompactRounds = 4;
+constexpr std::size_t kCompactBlock = detail::kGroupSize * kCompactRounds;
+constexpr std::size_t kMinCpuChunk = std::size_t{1} << 15;
+
+}  // namespace
+
+Compactor::Compactor(Runtime& runtime, Shape shape) : runtime_(runtime), shape_(runtime.resolve(shape)) {
+  const std::string options = detail::group_options();
+  if (shape_ == Shape::Cpu) {
+    count_kernel_ = runtime_.kernel("compact.cl", "compact_count_cpu", options);
+    scatter_kernel_ = runtime_.kernel("compact.cl", "compact_scatter_cpu", options);
+  } else {
+    count_kernel_ = runtime_.kernel("compact.cl", "compact_count_gpu", options);
+    scatter_kernel_ = runtime_.kernel("compact.cl", "compact_scatter_gpu", options);
+    block_scanner_.emplace(runtime_, Shape::Gpu);
+  }
+}
+
+std::size_t Compactor::keep_flagged(const cl::Buffer& values, const cl::Buffer& flags, const cl::Buffer& out,
+                                    std::size_t n, Profiler* profiler) {
+  detail::require_bytes(flags, n * sizeof(cl_uint), "keep_flagged flags");
+  return compact(values, flags, out, n, false, profiler);
+}
+
+std::size_t Compactor::unique(const cl::Buffer& values, const cl::Buffer& out, std::size_t n, Profiler* profiler) {
+  return compact(values, values, out, n, true, profiler);
+}
+
+std::size_t Compactor::compact(const cl::Buffer& values, const cl::Buffer& flags, const cl::Buffer& out,
+                               std::size_t n, bool unique_mode, Profiler* profiler) {
+  const char* what = unique_mode ? "unique" : "keep_flagged";
+  if (n > std::numeric_limits<cl_uint>::max())
+    throw Error(std::string(what) + ": " + std::to_string(n) + " values exceed the 2^32 - 1 supported");
+  detail::require_bytes(values, n * sizeof(cl_uint), what);
+  detail::require_bytes(out, n * sizeof(cl_uint), what);
+  if (n == 0) return 0;
+  try {
+    auto& queue = runtime_.queue();
+    const auto n_arg = static_cast<cl_ulong>(n);
+    const cl_uint mode_arg = unique_mode ? 1u : 0u;
+    cl_uint total = 0;
+    if (shape_ == Shape::Cpu) {
+      const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, kMinCpuChunk);
+      const auto chunks_arg = static_cast<cl_uint>(chunks);
+      detail::ensure_bytes(runtime_, counts_, (chunks + 1) * sizeof(cl_uint), "compaction counts");
+      if (chunks > 1) {
+        detail::set_args(count_kernel_, values, flags, counts_, n_arg, chunks_arg, mode_arg);
+        enqueue_1d(queue, count_kernel_, chunks, 1, profiler, "compact count");
+      }
+      detail::set_args(scatter_kernel_, values, flags, out, counts_, n_arg, chunks_arg, mode_arg);
+      enqueue_1d(queue, scatter_kernel_, chunks, 1, profiler, "compact scatter");
+      queue.enqueueReadBuffer(counts_, CL_TRUE, chunks * sizeof(cl_uint), sizeof(total), &total);
+    } else {
+      const std::size_t blocks = div_up(n, kCompactBlock);
+      detail::ensure_bytes(runtime_, counts_, blocks * sizeof(cl_uint), "compaction block counts");
+      detail::set_args(count_kernel_, values, flags, counts_, n_arg, mode_arg);
+      enqueue_1d(queue, count_kernel_, blocks * detail::kGroupSize, detail::kGroupSize, profiler, "compact count");
+      block_scanner_->run(counts_, counts_, blocks, ScanKind::Exclusive, false, profiler);
+      detail::set_args(scatter_kernel_, values, flags, out, counts_, n_arg, mode_arg);
+      enqueue_1d(queue, scatter_kernel_, blocks * detail::kGroupSize, detail::kGroupSize, profiler,
+                 "compact scatter");
+      queue.enqueueReadBuffer(block_scanner_->total_buffer(), CL_TRUE, 0, sizeof(total), &total);
+    }
+    return total;
+  } catch (...) {
+    rethrow_as_error(std::string(what) + " of " + std::to_string(n) + " values");
+  }
+}
+
+}  // namespace splatcl::primitives
