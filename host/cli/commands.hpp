@@ -17,5 +17,6 @@ void add_device_option(CLI::App& app, DeviceOptions& options);
 Action register_devices(CLI::App& app);
 Action register_cluster(CLI::App& app);
 Action register_bench(CLI::App& app);
+Action register_splats(CLI::App& app);
 
 }  // namespace splatcl::cli

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   add(splatcl::cli::register_devices);
   add(splatcl::cli::register_cluster);
   add(splatcl::cli::register_bench);
+  add(splatcl::cli::register_splats);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,153 @@
+#include "splats/fit.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "primitives/launch.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::splats {
+namespace {
+
+using primitives::detail::set_args;
+
+// First growth capacity (accepted samples per splat) and the factor for each relaunch of the splats
+// that outgrew it; scratch per launch stays under kScratchBudget bytes by batching work-items.
+constexpr std::uint32_t kFirstCapacity = 96;
+constexpr std::uint32_t kCapacityGrowth = 8;
+constexpr std::size_t kScratchBudget = std::size_t{96} << 20;
+
+template <class T>
+cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what) {
+  cl::Buffer buffer = runtime.buffer(CL_MEM_READ_ONLY, std::max<std::size_t>(data.size(), 1) * sizeof(T), what);
+  if (!data.empty()) runtime.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, data.size() * sizeof(T), data.data());
+  return buffer;
+}
+
+std::string build_options(const Runtime& runtime, const FitOptions& options) {
+  std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DON_HULL_BIT={}u", options.literal_lambda ? 1 : 0,
+                                 options.retest_violator ? 1 : 0, kOnHullBit);
+  // The reference's std::sqrt and division are correctly rounded; ask the device for the same.
+  const cl_device_fp_config config = runtime.device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>();
+  if (config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) text += " -cl-fp32-correctly-rounded-divide-sqrt";
+  return text;
+}
+
+}  // namespace
+
+void set_rows(const std::vector<std::vector<std::uint32_t>>& sets, FitResult& result) {
+  result.covered = Rows{};
+  result.safe = Rows{};
+  for (const auto& set : sets) {
+    for (const std::uint32_t entry : set) {
+      result.covered.items.push_back(entry & ~kOnHullBit);
+      if (!(entry & kOnHullBit)) result.safe.items.push_back(entry);
+    }
+    result.covered.offsets.push_back(static_cast<std::uint32_t>(result.covered.items.size()));
+    result.safe.offsets.push_back(static_cast<std::uint32_t>(result.safe.items.size()));
+  }
+}
+
+void validate(const FitOptions& options) {
+  if (!(std::isfinite(options.eps) && options.eps > 0))
+    throw Error(fmt::format("--eps must be a positive length, not {}", options.eps));
+  if (options.color_tolerance < 0 || options.color_tolerance > 255)
+    throw Error(fmt::format("--color-tol must be in 0..255, not {}", options.color_tolerance));
+}
+
+FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoods& neighbors, const FitOptions& options,
+                     const std::vector<Frame>* frames, FitTimings* timings) {
+  validate(options);
+  const std::size_t n = samples.size();
+  if (frames && frames->size() != n) throw Error("splat fit: frame count differs from the sample count");
+  FitResult result;
+  result.splats.resize(n);
+  if (n == 0) return result;
+  FitTimings local_timings;
+  FitTimings& t = timings ? *timings : local_timings;
+  const std::uint32_t k = neighbors.k;
+  const std::string build = build_options(runtime, options);
+  auto& queue = runtime.queue();
+  try {
+    Stopwatch transfer;
+    const cl::Buffer positions = upload(runtime, samples.positions, "splat sample positions");
+    const cl::Buffer normals = upload(runtime, samples.normals, "splat sample normals");
+    const cl::Buffer colors = upload(runtime, samples.colors, "splat sample colours");
+    const cl::Buffer neighbor_buffer = upload(runtime, neighbors.indices, "splat neighbour lists");
+    const cl::Buffer kth = upload(runtime, neighbors.kth_distance, "splat neighbour distances");
+    cl::Buffer frame_buffer = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(Frame), "splat frames");
+    t.transfer_ms += transfer.elapsed_ms();
+    if (frames) {
+      queue.enqueueWriteBuffer(frame_buffer, CL_TRUE, 0, n * sizeof(Frame), frames->data());
+      result.frames = *frames;
+    } else {
+      cl::Kernel kernel = runtime.kernel("splat_fit.cl", "splat_frames", build);
+      set_args(kernel, positions, normals, neighbor_buffer, k, kth, static_cast<cl_uint>(n), frame_buffer);
+      t.frames_ms += event_ms(enqueue_1d(queue, kernel, n, 0, nullptr, "splat frames"));
+      result.frames.resize(n);
+      queue.enqueueReadBuffer(frame_buffer, CL_TRUE, 0, n * sizeof(Frame), result.frames.data());
+    }
+
+    cl::Buffer splat_buffer = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(SplatShape), "splat shapes");
+    cl::Kernel grow = runtime.kernel("splat_fit.cl", "splat_grow", build);
+    std::vector<std::vector<std::uint32_t>> sets(n);
+    std::vector<std::uint32_t> pending(n);
+    for (std::size_t i = 0; i < n; ++i) pending[i] = static_cast<std::uint32_t>(i);
+    std::uint32_t capacity = static_cast<std::uint32_t>(std::min<std::size_t>(kFirstCapacity, n));
+    cl::Buffer items, q_slots, ring_slots, key_slots, next_slots, hash_slots, counts;
+    for (bool first = true; !pending.empty(); first = false) {
+      if (!first) ++t.relaunches;
+      // Every seen sample is the start, one of its k neighbours, or a neighbour of an accepted one.
+      const std::size_t seen_capacity = std::min<std::size_t>(n, std::size_t{k} * capacity + 1);
+      const std::size_t hash_size = std::bit_ceil(2 * seen_capacity);
+      const std::size_t per_item = (capacity + 3 * seen_capacity + hash_size) * sizeof(std::uint32_t);
+      const std::size_t batch = std::clamp<std::size_t>(kScratchBudget / per_item, 1, pending.size());
+      items = runtime.buffer(CL_MEM_READ_ONLY, batch * sizeof(std::uint32_t), "splat growth items");
+      q_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * capacity * sizeof(std::uint32_t), "splat growth sets");
+      ring_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth rings");
+      key_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(float), "splat growth keys");
+      next_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth next rings");
+      hash_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * hash_size * sizeof(std::uint32_t), "splat growth seen sets");
+      counts = runtime.buffer(CL_MEM_READ_WRITE, batch * sizeof(std::uint32_t), "splat growth counts");
+      std::vector<std::uint32_t> overflow, batch_counts(batch), batch_sets(batch * capacity);
+      for (std::size_t begin = 0; begin < pending.size(); begin += batch) {
+        const std::size_t count = std::min(batch, pending.size() - begin);
+        queue.enqueueWriteBuffer(items, CL_TRUE, 0, count * sizeof(std::uint32_t), pending.data() + begin);
+        set_args(grow, positions, colors, neighbor_buffer, k, frame_buffer, options.eps,
+                 static_cast<cl_int>(options.color_tolerance), items, static_cast<cl_uint>(count), capacity,
+                 static_cast<cl_uint>(seen_capacity), static_cast<cl_uint>(hash_size - 1), q_slots, ring_slots,
+                 key_slots, next_slots, hash_slots, counts, splat_buffer);
+        t.grow_ms += event_ms(enqueue_1d(queue, grow, count, 8, nullptr, "splat grow"));
+        Stopwatch read;
+        queue.enqueueReadBuffer(counts, CL_TRUE, 0, count * sizeof(std::uint32_t), batch_counts.data());
+        queue.enqueueReadBuffer(q_slots, CL_TRUE, 0, count * capacity * sizeof(std::uint32_t), batch_sets.data());
+        t.transfer_ms += read.elapsed_ms();
+        for (std::size_t s = 0; s < count; ++s) {
+          const std::uint32_t i = pending[begin + s];
+          if (batch_counts[s] > capacity) {
+            overflow.push_back(i);
+            continue;
+          }
+          const auto* first_entry = batch_sets.data() + s * capacity;
+          sets[i].assign(first_entry, first_entry + batch_counts[s]);
+        }
+      }
+      pending = std::move(overflow);
+      capacity = static_cast<std::uint32_t>(std::min<std::size_t>(std::size_t{capacity} * kCapacityGrowth, n));
+    }
+    Stopwatch read;
+    queue.enqueueReadBuffer(splat_buffer, CL_TRUE, 0, n * sizeof(SplatShape), result.splats.data());
+    t.transfer_ms += read.elapsed_ms();
+    set_rows(sets, result);
+  } catch (const Error&) {
+    throw;
+  } catch (...) {
+    rethrow_as_error(fmt::format("splat fit of {} samples", n));
+  }
+  return result;
+}
+
+}  // namespace splatcl::splats

@@ -1,0 +1,89 @@
+#pragma once
+// One splat per sample (digest §3.3–§3.8): the PCA frame with the orientation test, ring-by-ring
+// growth of a circle and then an ellipse with the 2ε height test and the ±φ colour test, the size
+// corrections, the accepted set Q_i and the safe points Q̄_i (Q_i without its projected convex hull).
+//
+// Two kernels in kernels/splat_fit.cl (splat_frames, splat_grow), driven by fit_splats(); the
+// native reference of the same algorithm is in splats/reference.hpp. Both compute in float with the
+// same operation order (no contraction), so on a device with correctly rounded division and square
+// root the accepted and safe sets are identical.
+//
+// Interpretation choices (digest §8): the PCA uses {p_i} ∪ N_k(p_i) mean-centred; u and v take the
+// sign that makes their largest component positive and n = u × v before the orientation test; the
+// ellipse phase continues with the untested rest of the stopping ring plus the collected next ring,
+// with b = the corrected minor axis and the violator not re-tested (switch: retest_violator, which
+// uses b = d1 and re-tests it); "λ" in the size corrections is the axis ratio √λ (switch:
+// literal_lambda); colour is tested before height; points on hull edges (within 1e-6 of the
+// projection's extent) count as hull points.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "runtime/profiling.hpp"
+#include "runtime/runtime.hpp"
+#include "splats/geometry.hpp"
+#include "splats/neighbors.hpp"
+#include "splats/sampling.hpp"
+
+namespace splatcl::splats {
+
+struct FitOptions {
+  float eps = 0;                 // ε, absolute, in model units
+  int color_tolerance = 255;     // φ per channel, 0..255; 255 ignores colour
+  bool literal_lambda = false;   // read "λ" in the size corrections literally instead of as √λ
+  bool retest_violator = false;  // ellipse phase with b = d1 and the circle's violator re-tested
+};
+
+// Throws Error for ε not positive and finite, or φ outside 0..255.
+void validate(const FitOptions& options);
+
+// Unit axes of a sample's splat: major u, minor v, normal n.
+struct Frame {
+  Vec4 u, v, n;
+};
+
+// What ended a growth phase.
+enum class Stop : std::uint32_t { None = 0, Geometry = 1, Color = 2 };
+
+// One grown splat. major and minor are the semi-axis vectors (w = their length); center.w is the
+// circle phase's Stop and normal.w the ellipse phase's, as floats.
+struct SplatShape {
+  Vec4 center, normal, major, minor;
+};
+
+// Compressed rows: row i = items[offsets[i], offsets[i + 1]).
+struct Rows {
+  std::vector<std::uint32_t> offsets{0};
+  std::vector<std::uint32_t> items;
+  std::size_t size() const { return offsets.size() - 1; }
+  std::size_t row_size(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
+  const std::uint32_t* begin(std::size_t i) const { return items.data() + offsets[i]; }
+  const std::uint32_t* end(std::size_t i) const { return items.data() + offsets[i + 1]; }
+};
+
+struct FitResult {
+  std::vector<Frame> frames;
+  std::vector<SplatShape> splats;  // splat i started at sample i
+  Rows covered;                    // Q_i in acceptance order, start point first
+  Rows safe;                       // Q̄_i, same order, start point first
+};
+
+// Device timings of the fit kernels (ms) and how often the growth had to be relaunched with more
+// scratch because a splat outgrew it.
+struct FitTimings {
+  double frames_ms = 0, grow_ms = 0, transfer_ms = 0;
+  unsigned relaunches = 0;
+};
+
+// Runs both kernels on `runtime`'s device. With `frames` given, the growth uses them instead of
+// the frames kernel (tests feed both implementations the same frames).
+FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoods& neighbors, const FitOptions& options,
+                     const std::vector<Frame>* frames = nullptr, FitTimings* timings = nullptr);
+
+// Fills covered and safe from per-splat sets whose hull points carry kOnHullBit.
+void set_rows(const std::vector<std::vector<std::uint32_t>>& sets, FitResult& result);
+
+// The bit that marks a hull point in the growth kernel's output (sample counts stay below 2^31).
+inline constexpr std::uint32_t kOnHullBit = 0x80000000u;
+
+}  // namespace splatcl::splats

@@ -1,0 +1,23 @@
+#pragma once
+// Exact k-nearest-neighbour graph of the samples (digest §3.2), by a FLANN single kd-tree:
+// N_k(p_i) excludes p_i, sorted by distance then index; d_i = distance to the k-th neighbour;
+// ω_i = π d_i².
+#include <cstdint>
+#include <vector>
+
+#include "splats/geometry.hpp"
+
+namespace splatcl::splats {
+
+struct Neighborhoods {
+  std::uint32_t k = 0;                  // min(requested k, samples - 1)
+  std::vector<std::uint32_t> indices;   // samples × k, row i = N_k(p_i)
+  std::vector<float> kth_distance;      // d_i
+  std::vector<double> weight;           // ω_i
+  const std::uint32_t* row(std::size_t i) const { return indices.data() + i * k; }
+};
+
+// Throws Error when k is 0.
+Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k);
+
+}  // namespace splatcl::splats

@@ -1,0 +1,171 @@
+#include "splats/pipeline.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <flann/flann.hpp>
+
+#include "runtime/error.hpp"
+#include "runtime/profiling.hpp"
+#include "splats/parallel.hpp"
+#include "splats/reference.hpp"
+
+namespace splatcl::splats {
+
+double SplatRun::total_ms() const {
+  double total = 0;
+  for (const auto& p : phases) total += p.ms;
+  return total;
+}
+
+std::vector<SplatRecord> SplatRun::records() const {
+  std::vector<SplatRecord> out;
+  out.reserve(selected.size());
+  for (const std::uint32_t j : selected) {
+    const SplatShape& s = fit.splats[j];
+    out.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j]});
+  }
+  return out;
+}
+
+SplatRun generate_splats(const Mesh& mesh, const ColorSource& colors, const PipelineOptions& options, Runtime* runtime,
+                         const Progress& progress) {
+  validate(options.fit);
+  if (options.k == 0) throw Error("--k must be at least 1");
+  SplatRun run;
+  auto phase = [&](const std::string& name, auto&& work) {
+    if (progress) progress(name);
+    Stopwatch clock;
+    work();
+    run.phases.push_back({name, clock.elapsed_ms()});
+  };
+  phase("sampling", [&] { run.samples = sample_mesh(mesh, options.sampling, colors); });
+  phase("knn", [&] { run.neighbors = find_neighbors(run.samples.positions, options.k); });
+  if (runtime) {
+    run.fit_backend = runtime->info().name;
+    // Frames and growth are separate kernels; their device times split the fit phase.
+    Stopwatch clock;
+    if (progress) progress("fit");
+    run.fit = fit_splats(*runtime, run.samples, run.neighbors, options.fit, nullptr, &run.fit_timings);
+    const double wall = clock.elapsed_ms();
+    run.phases.push_back({"pca", run.fit_timings.frames_ms});
+    run.phases.push_back({"growth+safe", std::max(0.0, wall - run.fit_timings.frames_ms)});
+  } else {
+    run.fit_backend = "reference";
+    std::vector<Frame> frames;
+    phase("pca", [&] { frames = reference::fit_frames(run.samples, run.neighbors); });
+    phase("growth+safe", [&] { run.fit = reference::grow_splats(run.samples, run.neighbors, frames, options.fit); });
+  }
+  Rows inverse;
+  phase("inverse", [&] { inverse = inverse_index(run.fit.safe, run.samples.size()); });
+  phase("selection", [&] {
+    run.selected = greedy_cover(run.fit.safe, inverse, run.neighbors.weight);
+    run.greedy_count = run.selected.size();
+  });
+  phase("optimisation", [&] {
+    run.selected = optimise_selection(std::move(run.selected), run.fit.safe, inverse, run.neighbors.weight, run.neighbors,
+                                      options.rounds, &run.optimise);
+  });
+  phase("metrics", [&] {
+    std::vector<std::uint8_t> chosen(run.samples.size(), 0);
+    for (const std::uint32_t j : run.selected) chosen[j] = 1;
+    run.before = coverage_errors(run.samples, run.fit.splats, inverse, nullptr);
+    run.after = coverage_errors(run.samples, run.fit.splats, inverse, &chosen);
+  });
+  if (run.after.uncovered != 0)
+    throw Error(fmt::format("splat selection left {} samples uncovered", run.after.uncovered));
+  return run;
+}
+
+nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& options) {
+  const double eps = options.fit.eps;
+  const double n = static_cast<double>(run.samples.size()), m = static_cast<double>(run.selected.size());
+  auto errors = [&](const ErrorStats& e) {
+    return nlohmann::json{{"mean", e.mean}, {"max", e.max}, {"mean_over_eps", e.mean / eps}, {"max_over_eps", e.max / eps},
+                          {"mean_color_error", {e.color[0], e.color[1], e.color[2]}}};
+  };
+  std::size_t largest = 0;
+  for (std::size_t j = 0; j < run.fit.covered.size(); ++j) largest = std::max(largest, run.fit.covered.row_size(j));
+  nlohmann::json phases = nlohmann::json::object();
+  for (const auto& p : run.phases) phases[p.phase] = p.ms;
+  return {{"samples", run.samples.size()},
+          {"vertex_samples", run.samples.vertex_samples},
+          {"duplicate_samples_dropped", run.samples.duplicates_dropped},
+          {"grid_spacing", run.samples.grid_spacing},
+          {"sampling", to_string(options.sampling)},
+          {"k", run.neighbors.k},
+          {"eps", eps},
+          {"color_tolerance", options.fit.color_tolerance},
+          {"literal_lambda", options.fit.literal_lambda},
+          {"retest_violator", options.fit.retest_violator},
+          {"splats_greedy", run.greedy_count},
+          {"splats", run.selected.size()},
+          {"samples_per_splat", m > 0 ? n / m : 0.0},
+          {"splats_percent_of_samples", n > 0 ? 100.0 * m / n : 0.0},
+          {"optimisation", {{"rounds", run.optimise.rounds}, {"swaps", run.optimise.swaps}, {"removals", run.optimise.removals}}},
+          {"mean_covered_per_splat", n > 0 ? static_cast<double>(run.fit.covered.items.size()) / n : 0.0},
+          {"largest_covered_set", largest},
+          {"error_before_selection", errors(run.before)},
+          {"error_after_selection", errors(run.after)},
+          {"fit_backend", run.fit_backend},
+          {"fit_relaunches", run.fit_timings.relaunches},
+          {"phase_ms", phases},
+          {"total_ms", run.total_ms()}};
+}
+
+VerifyReport verify_splats(const Samples& samples, const std::vector<SplatRecord>& splats, float eps) {
+  VerifyReport report;
+  report.samples = samples.size();
+  report.splats = splats.size();
+  const double slack = 1e-4;
+  const double height_limit = static_cast<double>(eps) * (1 + slack);
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> covered(splats.size());
+  if (samples.size() > 0) {
+    flann::Matrix<float> data(const_cast<float*>(&samples.positions[0].x), samples.size(), 3, sizeof(Vec4));
+    flann::Index<flann::L2_Simple<float>> index(data, flann::KDTreeSingleIndexParams(10));
+    index.buildIndex();
+    parallel_for(splats.size(), 64, [&](std::size_t j, std::size_t) {
+      const SplatRecord& s = splats[j];
+      const double a = length(s.major), b = length(s.minor);
+      if (!(a > 0 && b > 0) || !finite(s.center)) return;
+      const Vec3 u = normalized(s.major), v = normalized(s.minor), nrm = normalized(s.normal);
+      const float reach = static_cast<float>(std::sqrt(a * a + height_limit * height_limit) * (1 + slack));
+      std::vector<std::vector<std::size_t>> ids;
+      std::vector<std::vector<float>> distances;
+      float query[3] = {s.center.x, s.center.y, s.center.z};
+      flann::Matrix<float> q(query, 1, 3);
+      flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+      index.radiusSearch(q, ids, distances, reach * reach, params);
+      for (const std::size_t m : ids[0]) {
+        const Vec4& p = samples.positions[m];
+        const double dx = double{p.x} - s.center.x, dy = double{p.y} - s.center.y, dz = double{p.z} - s.center.z;
+        const double x = u.x * dx + u.y * dy + u.z * dz, y = v.x * dx + v.y * dy + v.z * dz;
+        const double h = std::fabs(nrm.x * dx + nrm.y * dy + nrm.z * dz);
+        if (x * x / (a * a) + y * y / (b * b) <= 1 + slack && h <= height_limit)
+          covered[j].emplace_back(static_cast<std::uint32_t>(m), h);
+      }
+    });
+  }
+  std::vector<double> nearest(samples.size(), INFINITY);
+  for (const auto& list : covered) {
+    if (list.empty()) ++report.empty_splats;
+    for (const auto& [m, h] : list) nearest[m] = std::min(nearest[m], h);
+  }
+  double sum = 0;
+  for (const double h : nearest) {
+    if (!std::isfinite(h)) {
+      ++report.uncovered;
+      continue;
+    }
+    sum += h;
+    report.max_error = std::max(report.max_error, h);
+  }
+  const std::size_t counted = report.samples - report.uncovered;
+  report.mean_error = counted ? sum / static_cast<double>(counted) : 0.0;
+  return report;
+}
+
+}  // namespace splatcl::splats

@@ -1,0 +1,70 @@
+#pragma once
+// The whole splat stage on one mesh: sample → kNN → fit and grow one splat per sample (OpenCL, or
+// the native reference) → greedy selection → optimisation → error metrics, timed per phase; and
+// the independent check behind `splatcl splats verify`.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "runtime/runtime.hpp"
+#include "splats/fit.hpp"
+#include "splats/mesh.hpp"
+#include "splats/neighbors.hpp"
+#include "splats/sampling.hpp"
+#include "splats/selection.hpp"
+#include "splats/splat_file.hpp"
+
+namespace splatcl::splats {
+
+struct PipelineOptions {
+  SamplingOptions sampling;
+  unsigned k = 10;
+  FitOptions fit;
+  unsigned rounds = 5;  // relaxation + removal rounds
+};
+
+struct PhaseTime {
+  std::string phase;
+  double ms = 0;
+};
+
+struct SplatRun {
+  Samples samples;
+  Neighborhoods neighbors;
+  FitResult fit;
+  std::vector<std::uint32_t> selected;  // increasing splat (= start sample) index
+  std::size_t greedy_count = 0;         // splats after the greedy cover, before optimisation
+  OptimiseStats optimise;
+  ErrorStats before, after;             // over all splats / over the selected ones (Q̄ relation)
+  std::vector<PhaseTime> phases;
+  FitTimings fit_timings;
+  std::string fit_backend;              // device name, or "reference"
+
+  double total_ms() const;
+  std::vector<SplatRecord> records() const;
+};
+
+// Called with the name of each phase as it starts (for progress display).
+using Progress = std::function<void(const std::string& phase)>;
+
+// runtime == nullptr runs the native reference fit. Throws Error for bad options or input.
+SplatRun generate_splats(const Mesh& mesh, const ColorSource& colors, const PipelineOptions& options, Runtime* runtime,
+                         const Progress& progress = {});
+
+// Counts, reduction, errors against ε, phase times.
+nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& options);
+
+// Independent check of a splat set against the samples: a sample is covered by a splat when its
+// projection lies inside the ellipse and its distance to the splat plane is at most ε (both with a
+// relative slack of 1e-4 for float storage); every sample must be covered and every splat must
+// cover at least one sample (its start point, which lies within ε of it by construction).
+struct VerifyReport {
+  std::size_t samples = 0, uncovered = 0, splats = 0, empty_splats = 0;
+  double mean_error = 0, max_error = 0;  // distance to the nearest covering splat, over covered samples
+  bool ok() const { return uncovered == 0 && empty_splats == 0; }
+};
+VerifyReport verify_splats(const Samples& samples, const std::vector<SplatRecord>& splats, float eps);
+
+}  // namespace splatcl::splats

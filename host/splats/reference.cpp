@@ -1,0 +1,276 @@
+#include "splats/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+
+#include "splats/parallel.hpp"
+
+namespace splatcl::splats::reference {
+namespace {
+
+Vec3 canonical_sign(Vec3 a) {
+  float m = a.x;
+  if (std::fabs(a.y) > std::fabs(m)) m = a.y;
+  if (std::fabs(a.z) > std::fabs(m)) m = a.z;
+  return m < 0.0f ? Vec3{-a.x, -a.y, -a.z} : a;
+}
+
+Vec3 scaled(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+
+Frame frame_of(const Samples& samples, const Neighborhoods& nb, std::size_t i) {
+  const std::uint32_t k = nb.k;
+  const Vec3 p0 = xyz(samples.positions[i]);
+  const float di = nb.kth_distance[i];
+  const float scale = di > 0.0f ? 1.0f / di : 1.0f;
+  const std::uint32_t* row = nb.indices.data() + i * k;
+  float mx = 0.0f, my = 0.0f, mz = 0.0f;
+  for (std::uint32_t r = 0; r < k; ++r) {
+    const Vec3 w = scaled(xyz(samples.positions[row[r]]) - p0, scale);
+    mx += w.x, my += w.y, mz += w.z;
+  }
+  const float inv = 1.0f / static_cast<float>(k + 1);
+  mx *= inv, my *= inv, mz *= inv;
+  float a[3][3];
+  {
+    float xx = mx * mx, xy = mx * my, xz = mx * mz, yy = my * my, yz = my * mz, zz = mz * mz;
+    for (std::uint32_t r = 0; r < k; ++r) {
+      const Vec3 w = scaled(xyz(samples.positions[row[r]]) - p0, scale);
+      const float x = w.x - mx, y = w.y - my, z = w.z - mz;
+      xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
+    }
+    a[0][0] = xx * inv, a[0][1] = xy * inv, a[0][2] = xz * inv;
+    a[1][0] = xy * inv, a[1][1] = yy * inv, a[1][2] = yz * inv;
+    a[2][0] = xz * inv, a[2][1] = yz * inv, a[2][2] = zz * inv;
+  }
+  float e[3][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    if (a[0][1] == 0.0f && a[0][2] == 0.0f && a[1][2] == 0.0f) break;
+    for (int pair = 0; pair < 3; ++pair) {
+      const int p = pair == 2 ? 1 : 0, q = pair == 0 ? 1 : 2;
+      const float apq = a[p][q];
+      if (apq == 0.0f) continue;
+      const float theta = (a[q][q] - a[p][p]) / (2.0f * apq);
+      float t = 1.0f / (std::fabs(theta) + std::sqrt(theta * theta + 1.0f));
+      if (theta < 0.0f) t = -t;
+      const float c = 1.0f / std::sqrt(t * t + 1.0f), s = t * c;
+      for (int r = 0; r < 3; ++r) {
+        const float arp = a[r][p], arq = a[r][q];
+        a[r][p] = c * arp - s * arq;
+        a[r][q] = s * arp + c * arq;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float apr = a[p][r], aqr = a[q][r];
+        a[p][r] = c * apr - s * aqr;
+        a[q][r] = s * apr + c * aqr;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float erp = e[r][p], erq = e[r][q];
+        e[r][p] = c * erp - s * erq;
+        e[r][q] = s * erp + c * erq;
+      }
+    }
+  }
+  int order[3] = {0, 1, 2};
+  for (int x = 1; x < 3; ++x)
+    for (int y = x; y > 0 && a[order[y]][order[y]] > a[order[y - 1]][order[y - 1]]; --y) std::swap(order[y], order[y - 1]);
+  Vec3 u = canonical_sign({e[0][order[0]], e[1][order[0]], e[2][order[0]]});
+  Vec3 v = canonical_sign({e[0][order[1]], e[1][order[1]], e[2][order[1]]});
+  Vec3 n = cross(u, v);
+  Vec3 m = xyz(samples.normals[i]);
+  for (std::uint32_t r = 0; r < k; ++r) {
+    const Vec3 w = xyz(samples.positions[row[r]]) - p0;
+    const float d = std::sqrt(dot(w, w));
+    const float weight = std::exp(-3.0f * d * scale);
+    const Vec3 nj = xyz(samples.normals[row[r]]);
+    m = m + Vec3{nj.x * weight, nj.y * weight, nj.z * weight};
+  }
+  if (dot(m, n) < 0.0f) u = scaled(u, -1.0f), v = scaled(v, -1.0f), n = scaled(n, -1.0f);
+  return {to_vec4(u), to_vec4(v), to_vec4(n)};
+}
+
+bool color_similar(Rgba8 a, Rgba8 b, int tolerance) {
+  return std::abs(int{a.r} - int{b.r}) <= tolerance && std::abs(int{a.g} - int{b.g}) <= tolerance &&
+         std::abs(int{a.b} - int{b.b}) <= tolerance;
+}
+
+float size_rule(float e1, float e2, Stop stop) {
+  if (stop == Stop::None || e2 < e1) return e1;
+  return stop == Stop::Color ? e2 + (e2 - e1) : e2;
+}
+
+float growth_key(bool ellipse, float x, float y, float b) {
+  if (!ellipse) return std::sqrt(x * x + y * y);
+  const float den = b * b - y * y;
+  return den > 0.0f ? x * x / den : -1.0f;
+}
+
+struct Scratch {
+  std::vector<std::uint32_t> seen_by;  // sample -> item that saw it last (+1)
+  std::vector<std::pair<float, std::uint32_t>> ring;
+  std::vector<std::uint32_t> next;
+};
+
+// Grows splat i; returns Q with kOnHullBit on hull points.
+std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods& nb, const Frame& f,
+                                    const FitOptions& options, std::uint32_t i, Scratch& scratch, SplatShape& out) {
+  const std::uint32_t k = nb.k;
+  auto seen_insert = [&](std::uint32_t j) {
+    if (scratch.seen_by[j] == i + 1) return false;
+    scratch.seen_by[j] = i + 1;
+    return true;
+  };
+  const Vec3 p0 = xyz(samples.positions[i]);
+  const Rgba8 c0 = samples.colors[i];
+  const Vec3 fu = xyz(f.u), fv = xyz(f.v), fn = xyz(f.n);
+  const float two_eps = 2.0f * options.eps;
+  float hmin = 0.0f, hmax = 0.0f;
+  std::vector<std::uint32_t> q{i};
+  seen_insert(i);
+  auto& ring = scratch.ring;
+  auto& next = scratch.next;
+  ring.clear(), next.clear();
+  for (std::uint32_t r = 0; r < k; ++r) {
+    const std::uint32_t j = nb.indices[std::size_t{i} * k + r];
+    if (seen_insert(j)) ring.emplace_back(0.0f, j);
+  }
+  float extent1[2] = {0.0f, 1.0f}, extent2[2] = {-1.0f, -1.0f};
+  Stop stop[2] = {Stop::None, Stop::None};
+  float b = 0.0f;
+  std::size_t pos = 0;
+  for (int ellipse = 0; ellipse < 2; ++ellipse) {
+    if (ellipse) {
+      b = options.retest_violator ? extent1[0] : size_rule(extent1[0], extent2[0], stop[0]);
+      const std::size_t from = stop[0] != Stop::None ? (options.retest_violator ? pos : pos + 1) : ring.size();
+      ring.erase(ring.begin(), ring.begin() + static_cast<std::ptrdiff_t>(from));
+      for (const std::uint32_t j : next) ring.emplace_back(0.0f, j);
+      next.clear();
+    }
+    for (;;) {
+      for (auto& [key, j] : ring) {
+        const Vec3 w = xyz(samples.positions[j]) - p0;
+        key = growth_key(ellipse != 0, dot(fu, w), dot(fv, w), b);
+      }
+      std::sort(ring.begin(), ring.end());
+      bool stopped = false;
+      for (pos = 0; pos < ring.size(); ++pos) {
+        const auto [key, j] = ring[pos];
+        if (ellipse && key < 1.0f) continue;
+        const float h = dot(fn, xyz(samples.positions[j]) - p0);
+        if (!color_similar(samples.colors[j], c0, options.color_tolerance)) {
+          stop[ellipse] = Stop::Color, extent2[ellipse] = key, stopped = true;
+          break;
+        }
+        const float lo = std::fmin(hmin, h), hi = std::fmax(hmax, h);
+        if (hi - lo > two_eps) {
+          stop[ellipse] = Stop::Geometry, extent2[ellipse] = key, stopped = true;
+          break;
+        }
+        hmin = lo, hmax = hi;
+        q.push_back(j);
+        extent1[ellipse] = std::fmax(extent1[ellipse], key);
+        const std::uint32_t* row = nb.indices.data() + std::size_t{j} * k;
+        for (std::uint32_t r = 0; r < k; ++r)
+          if (seen_insert(row[r])) next.push_back(row[r]);
+      }
+      if (stopped || next.empty()) break;
+      ring.clear();
+      for (const std::uint32_t j : next) ring.emplace_back(0.0f, j);
+      next.clear();
+    }
+    if (!ellipse && stop[0] == Stop::None) ring.clear(), next.clear();
+  }
+
+  const float minor = size_rule(extent1[0], extent2[0], stop[0]);
+  const float ratio = options.literal_lambda
+                          ? size_rule(extent1[1], extent2[1], stop[1])
+                          : size_rule(std::sqrt(extent1[1]), extent2[1] >= 0.0f ? std::sqrt(extent2[1]) : -1.0f, stop[1]);
+  const float major = ratio * minor;
+  const float mid = 0.5f * (hmin + hmax);
+  const Vec3 c{p0.x + fn.x * mid, p0.y + fn.y * mid, p0.z + fn.z * mid};
+  out.center = {c.x, c.y, c.z, static_cast<float>(stop[0])};
+  out.normal = {fn.x, fn.y, fn.z, static_cast<float>(stop[1])};
+  out.major = {fu.x * major, fu.y * major, fu.z * major, major};
+  out.minor = {fv.x * minor, fv.y * minor, fv.z * minor, minor};
+
+  const std::size_t qn = q.size();
+  if (qn > 3) {
+    // (x, y, local index) sorted lexicographically, as the kernel's sort_by_keys.
+    std::vector<std::tuple<float, float, std::uint32_t>> points(qn);
+    float lo_x = INFINITY, hi_x = -INFINITY, lo_y = INFINITY, hi_y = -INFINITY;
+    for (std::size_t r = 0; r < qn; ++r) {
+      const Vec3 w = xyz(samples.positions[q[r]]) - c;
+      const float x = dot(fu, w), y = dot(fv, w);
+      points[r] = {x, y, static_cast<std::uint32_t>(r)};
+      lo_x = std::fmin(lo_x, x), hi_x = std::fmax(hi_x, x), lo_y = std::fmin(lo_y, y), hi_y = std::fmax(hi_y, y);
+    }
+    std::sort(points.begin(), points.end());
+    auto px = [&](std::size_t r) { return std::get<0>(points[r]); };
+    auto py = [&](std::size_t r) { return std::get<1>(points[r]); };
+    std::vector<std::size_t> hull;
+    auto turn = [&](std::size_t r) {
+      const std::size_t a = hull[hull.size() - 2], b_ = hull[hull.size() - 1];
+      return (px(b_) - px(a)) * (py(r) - py(a)) - (py(b_) - py(a)) * (px(r) - px(a));
+    };
+    for (std::size_t r = 0; r < qn; ++r) {
+      while (hull.size() >= 2 && turn(r) <= 0.0f) hull.pop_back();
+      hull.push_back(r);
+    }
+    const std::size_t lower = hull.size() + 1;
+    for (std::size_t r = qn - 1; r-- > 0;) {
+      while (hull.size() >= lower && turn(r) <= 0.0f) hull.pop_back();
+      hull.push_back(r);
+    }
+    const float tolerance = 1e-6f * std::fmax(hi_x - lo_x, hi_y - lo_y);
+    const float tolerance2 = tolerance * tolerance;
+    for (std::size_t r = 0; r < qn; ++r) {
+      bool on_hull = false;
+      for (std::size_t e = 0; e + 1 < hull.size() && !on_hull; ++e) {
+        const float ax = px(hull[e]), ay = py(hull[e]);
+        const float ex = px(hull[e + 1]) - ax, ey = py(hull[e + 1]) - ay;
+        const float wx = px(r) - ax, wy = py(r) - ay;
+        const float ee = ex * ex + ey * ey;
+        float t = ee > 0.0f ? (wx * ex + wy * ey) / ee : 0.0f;
+        t = std::fmin(std::fmax(t, 0.0f), 1.0f);
+        const float dx = wx - t * ex, dy = wy - t * ey;
+        on_hull = dx * dx + dy * dy <= tolerance2;
+      }
+      const std::uint32_t local = std::get<2>(points[r]);
+      if (on_hull && local != 0) q[local] |= kOnHullBit;
+    }
+  }
+  return q;
+}
+
+}  // namespace
+
+std::vector<Frame> fit_frames(const Samples& samples, const Neighborhoods& neighbors) {
+  std::vector<Frame> frames(samples.size());
+  parallel_for(samples.size(), 256, [&](std::size_t i, std::size_t) { frames[i] = frame_of(samples, neighbors, i); });
+  return frames;
+}
+
+FitResult grow_splats(const Samples& samples, const Neighborhoods& neighbors, const std::vector<Frame>& frames,
+                      const FitOptions& options) {
+  validate(options);
+  const std::size_t n = samples.size();
+  FitResult result;
+  result.frames = frames;
+  result.splats.resize(n);
+  std::vector<std::vector<std::uint32_t>> sets(n);
+  std::vector<Scratch> scratch(worker_count(n, 64));
+  parallel_for(n, 64, [&](std::size_t i, std::size_t worker) {
+    Scratch& s = scratch[worker];
+    if (s.seen_by.size() != n) s.seen_by.assign(n, 0);
+    sets[i] = grow_one(samples, neighbors, frames[i], options, static_cast<std::uint32_t>(i), s, result.splats[i]);
+  });
+  set_rows(sets, result);
+  return result;
+}
+
+FitResult fit_splats(const Samples& samples, const Neighborhoods& neighbors, const FitOptions& options) {
+  return grow_splats(samples, neighbors, fit_frames(samples, neighbors), options);
+}
+
+}  // namespace splatcl::splats::reference

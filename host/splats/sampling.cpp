@@ -1,0 +1,266 @@
+#include "splats/sampling.hpp"
+
+#include <fmt/format.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+
+#include "runtime/error.hpp"
+
+namespace splatcl::splats {
+namespace {
+
+std::uint8_t channel(float value) { return static_cast<std::uint8_t>(std::clamp(std::lround(value * 255.0f), 0L, 255L)); }
+
+Rgba8 field_color(ColorField field, const Box& bounds, Vec3 p) {
+  const Vec3 extent = bounds.hi - bounds.lo;
+  if (field == ColorField::Soft) {
+    // Longest axis; t = 0 red, t = 1 white, so the red channel is 255 everywhere as in Fig. 3.8.
+    int axis = extent.y > extent.x ? 1 : 0;
+    if (extent.z > (axis == 0 ? extent.x : extent.y)) axis = 2;
+    const float lo = axis == 0 ? bounds.lo.x : axis == 1 ? bounds.lo.y : bounds.lo.z;
+    const float size = axis == 0 ? extent.x : axis == 1 ? extent.y : extent.z;
+    const float value = axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+    const float t = size > 0 ? std::clamp((value - lo) / size, 0.0f, 1.0f) : 0.0f;
+    return {255, channel(t), channel(t), 255};
+  }
+  // Eight cells along the diagonal's length, each a saturated colour picked by a hash of the cell.
+  const float cell = bounds.diagonal() / 8.0f;
+  if (!(cell > 0)) return {};
+  const auto index = [&](float v, float lo) { return static_cast<std::int64_t>(std::floor((v - lo) / cell)); };
+  const std::int64_t cx = index(p.x, bounds.lo.x), cy = index(p.y, bounds.lo.y), cz = index(p.z, bounds.lo.z);
+  static constexpr Rgba8 palette[] = {{230, 25, 75, 255},  {60, 180, 75, 255},  {255, 225, 25, 255},
+                                      {0, 130, 200, 255},  {245, 130, 48, 255}, {145, 30, 180, 255},
+                                      {70, 240, 240, 255}, {20, 20, 20, 255}};
+  const std::uint64_t h = static_cast<std::uint64_t>(cx * 73856093 ^ cy * 19349663 ^ cz * 83492791);
+  return palette[h % 8];
+}
+
+// Newell normal of a polygon (robust for any planar polygon; zero for a degenerate one).
+Vec3 polygon_normal(const Mesh& mesh, std::size_t f) {
+  Vec3 n{};
+  const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+  for (std::uint32_t c = begin; c < end; ++c) {
+    const Vec3 a = mesh.vertices[mesh.corners[c]];
+    const Vec3 b = mesh.vertices[mesh.corners[c + 1 == end ? begin : c + 1]];
+    n = n + Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  return normalized(n);
+}
+
+float shortest_edge(const Mesh& mesh) {
+  float shortest = INFINITY;
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+    for (std::uint32_t c = begin; c < end; ++c) {
+      const float l = length(mesh.vertices[mesh.corners[c + 1 == end ? begin : c + 1]] - mesh.vertices[mesh.corners[c]]);
+      if (l > 0) shortest = std::min(shortest, l);  // zero-length edges of degenerate faces say nothing about spacing
+    }
+  }
+  return shortest;
+}
+
+struct SampleBuilder {
+  Samples samples;
+  void add(Vec3 p, Vec3 n, Rgba8 c) {
+    samples.positions.push_back(to_vec4(p));
+    samples.normals.push_back(to_vec4(n));
+    samples.colors.push_back(c);
+  }
+};
+
+// The grid of one face, in the face's plane: x along its first edge, origin at its first corner,
+// rows of spacing d, points inside or on the boundary of the (convex) polygon. Colour and normal
+// come from the fan triangle (corner 0, c, c + 1) holding the point, by barycentric interpolation.
+void sample_face(const Mesh& mesh, std::size_t f, double d, const ColorSource& colors, SampleBuilder& out,
+                 std::size_t max_samples) {
+  const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+  const std::uint32_t count = end - begin;
+  if (count < 3) return;
+  const Vec3 normal = polygon_normal(mesh, f);
+  const Vec3 origin = mesh.vertices[mesh.corners[begin]];
+  const Vec3 ex = normalized(mesh.vertices[mesh.corners[begin + 1]] - origin);
+  if (length(normal) == 0 || length(ex) == 0) return;  // degenerate face: no area to sample
+  const Vec3 ey = cross(normal, ex);
+  std::vector<double> xs(count), ys(count);
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (std::uint32_t c = 0; c < count; ++c) {
+    const Vec3 r = mesh.vertices[mesh.corners[begin + c]] - origin;
+    xs[c] = dot(r, ex);
+    ys[c] = dot(r, ey);
+    x0 = std::min(x0, xs[c]), x1 = std::max(x1, xs[c]), y0 = std::min(y0, ys[c]), y1 = std::max(y1, ys[c]);
+  }
+  // Signed area orients the inside test; a tolerance keeps grid points on the boundary.
+  double area2 = 0;
+  for (std::uint32_t c = 0; c < count; ++c) area2 += xs[c] * ys[(c + 1) % count] - xs[(c + 1) % count] * ys[c];
+  if (area2 == 0) return;
+  const double sign = area2 > 0 ? 1.0 : -1.0;
+  const double tolerance = 1e-9 * std::max(x1 - x0, y1 - y0);
+  const auto edge_side = [&](std::uint32_t c, double x, double y) {
+    const std::uint32_t e = (c + 1) % count;
+    const double ex_ = xs[e] - xs[c], ey_ = ys[e] - ys[c];
+    return sign * (ex_ * (y - ys[c]) - ey_ * (x - xs[c])) / std::hypot(ex_, ey_);
+  };
+  const double rows = std::floor(y1 / d) - std::ceil(y0 / d) + 1, columns = std::floor(x1 / d) - std::ceil(x0 / d) + 1;
+  if (rows * columns + static_cast<double>(out.samples.size()) > static_cast<double>(max_samples))
+    throw Error(fmt::format("{}: grid sampling would exceed {} samples; use a smaller n", mesh.source, max_samples));
+  for (double j = std::ceil(y0 / d); j * d <= y1; j += 1) {
+    for (double i = std::ceil(x0 / d); i * d <= x1; i += 1) {
+      const double x = i * d, y = j * d;
+      bool inside = true;
+      for (std::uint32_t c = 0; c < count && inside; ++c) inside = edge_side(c, x, y) >= -tolerance;
+      if (!inside) continue;
+      // Fan triangle (0, c, c+1) holding the point; barycentric weights in it.
+      double w0 = 1, w1 = 0, w2 = 0;
+      std::uint32_t tri = 1;
+      for (std::uint32_t c = 1; c + 1 < count; ++c) {
+        const double ax = xs[c] - xs[0], ay = ys[c] - ys[0], bx = xs[c + 1] - xs[0], by = ys[c + 1] - ys[0];
+        const double det = ax * by - ay * bx;
+        if (det == 0) continue;
+        const double px = x - xs[0], py = y - ys[0];
+        const double s = (px * by - py * bx) / det, t = (ax * py - ay * px) / det;
+        if (s >= -1e-9 && t >= -1e-9 && s + t <= 1 + 1e-9) {
+          w0 = 1 - s - t, w1 = s, w2 = t, tri = c;
+          break;
+        }
+      }
+      const std::uint32_t i0 = begin, i1 = begin + tri, i2 = begin + tri + 1;
+      const Vec3 p = origin + static_cast<float>(x) * ex + static_cast<float>(y) * ey;
+      const Vec3 n = normalized(static_cast<float>(w0) * mesh.normals[mesh.corners[i0]] +
+                                static_cast<float>(w1) * mesh.normals[mesh.corners[i1]] +
+                                static_cast<float>(w2) * mesh.normals[mesh.corners[i2]]);
+      float uv[2] = {0, 0};
+      if (mesh.has_texcoords()) {
+        for (int k = 0; k < 2; ++k)
+          uv[k] = static_cast<float>(w0 * mesh.corner_texcoords[i0][k] + w1 * mesh.corner_texcoords[i1][k] +
+                                     w2 * mesh.corner_texcoords[i2][k]);
+      }
+      out.add(p, length(n) > 0 ? n : normal, colors.at(p, mesh.has_texcoords() ? uv : nullptr));
+    }
+  }
+}
+
+// Keeps the first sample at each exact position, in order.
+void drop_duplicates(Samples& samples) {
+  const std::size_t n = samples.size();
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  const auto key = [&](std::uint32_t i) {
+    const Vec4& p = samples.positions[i];
+    return std::tuple(p.x, p.y, p.z, i);
+  };
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  std::vector<bool> keep(n, true);
+  for (std::size_t r = 1; r < n; ++r) {
+    const Vec4 &a = samples.positions[order[r - 1]], &b = samples.positions[order[r]];
+    if (a.x == b.x && a.y == b.y && a.z == b.z) keep[order[r]] = false;  // order[r - 1] is earlier
+  }
+  std::size_t out = 0, kept_vertices = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    if (i < samples.vertex_samples) ++kept_vertices;
+    samples.positions[out] = samples.positions[i];
+    samples.normals[out] = samples.normals[i];
+    samples.colors[out] = samples.colors[i];
+    ++out;
+  }
+  samples.duplicates_dropped = n - out;
+  samples.vertex_samples = kept_vertices;
+  samples.positions.resize(out);
+  samples.normals.resize(out);
+  samples.colors.resize(out);
+}
+
+}  // namespace
+
+Texture load_texture(const std::string& path) {
+  auto input = OIIO::ImageInput::open(path);
+  if (!input) throw Error("cannot read texture " + path + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = input->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw Error("texture " + path + " is empty");
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
+    throw Error("cannot read texture " + path + ": " + input->geterror());
+  Texture texture{spec.width, spec.height, std::vector<std::uint8_t>(static_cast<std::size_t>(spec.width) * spec.height * 3)};
+  for (std::size_t p = 0; p < static_cast<std::size_t>(spec.width) * spec.height; ++p)
+    for (int c = 0; c < 3; ++c) texture.rgb[3 * p + c] = pixels[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
+  return texture;
+}
+
+const char* to_string(ColorField field) {
+  switch (field) {
+    case ColorField::Soft: return "soft";
+    case ColorField::Hard: return "hard";
+    default: return "grey";
+  }
+}
+
+ColorField parse_color_field(const std::string& text) {
+  if (text == "grey" || text == "gray") return ColorField::Grey;
+  if (text == "soft") return ColorField::Soft;
+  if (text == "hard") return ColorField::Hard;
+  throw Error("colour field '" + text + "' is not grey, soft or hard");
+}
+
+Rgba8 ColorSource::at(Vec3 position, const float* texcoord) const {
+  if (texture && texcoord) {
+    // Nearest texel, repeating outside [0, 1]; texture v runs upwards, image rows downwards.
+    const auto texel = [](float t, int size) {
+      const float wrapped = t - std::floor(t);
+      return std::min(static_cast<int>(wrapped * static_cast<float>(size)), size - 1);
+    };
+    const int x = texel(texcoord[0], texture->width), y = texture->height - 1 - texel(texcoord[1], texture->height);
+    const std::uint8_t* p = &texture->rgb[3 * (static_cast<std::size_t>(y) * texture->width + x)];
+    return {p[0], p[1], p[2], 255};
+  }
+  if (field != ColorField::Grey) return field_color(field, bounds, position);
+  return {};
+}
+
+SamplingOptions parse_sampling(const std::string& text) {
+  SamplingOptions options;
+  if (text == "vertices") return options;
+  if (text.rfind("grid:", 0) == 0) {
+    char* end = nullptr;
+    const std::string number = text.substr(5);
+    const double n = std::strtod(number.c_str(), &end);
+    if (!number.empty() && end && *end == '\0' && std::isfinite(n) && n > 0) {
+      options.mode = SampleMode::FaceGrid;
+      options.per_shortest_edge = n;
+      return options;
+    }
+  }
+  throw Error("--samples '" + text + "' is not 'vertices' or 'grid:N' with N > 0");
+}
+
+std::string to_string(const SamplingOptions& options) {
+  return options.mode == SampleMode::Vertices ? "vertices" : fmt::format("grid:{}", options.per_shortest_edge);
+}
+
+Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const ColorSource& colors) {
+  SampleBuilder builder;
+  // A vertex's texture coordinate is that of its first face corner.
+  std::vector<const float*> vertex_uv(mesh.vertices.size(), nullptr);
+  if (mesh.has_texcoords())
+    for (std::size_t c = mesh.corners.size(); c-- > 0;) vertex_uv[mesh.corners[c]] = mesh.corner_texcoords[c].data();
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    builder.add(mesh.vertices[v], mesh.normals[v], colors.at(mesh.vertices[v], vertex_uv[v]));
+  builder.samples.vertex_samples = mesh.vertices.size();
+  if (options.mode == SampleMode::FaceGrid) {
+    const float l_min = shortest_edge(mesh);
+    if (!std::isfinite(l_min)) throw Error(mesh.source + ": every edge has zero length; nothing to sample");
+    const double d = static_cast<double>(l_min) / options.per_shortest_edge;
+    builder.samples.grid_spacing = d;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) sample_face(mesh, f, d, colors, builder, options.max_samples);
+  }
+  drop_duplicates(builder.samples);
+  if (builder.samples.size() == 0) throw Error(mesh.source + ": the mesh yields no samples");
+  if (builder.samples.size() >= (std::size_t{1} << 31)) throw Error(mesh.source + ": too many samples");
+  return std::move(builder.samples);
+}
+
+}  // namespace splatcl::splats

@@ -1,0 +1,43 @@
+#pragma once
+// The splat file: binary little-endian PLY, one "vertex" per splat with x y z, nx ny nz, red green
+// blue (what point-cloud viewers read) and the splat's semi-axis vectors ux uy uz (major) and
+// vx vy vz (minor) with their lengths major and minor. Clipped splats add clip_x clip_y (unit
+// direction in the (u, v) frame) and clip_offset (distance of the clip line from the centre along
+// it; no clip when clip_offset is +inf). Header comments carry the format version, the generating
+// parameters (for `splatcl splats verify`) and an FNV-1a checksum of the body, all validated on read.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "splats/geometry.hpp"
+
+namespace splatcl::splats {
+
+struct SplatRecord {
+  Vec3 center, normal, major, minor;  // major, minor: semi-axis vectors
+  Rgba8 color;
+  float clip_x = 0, clip_y = 0, clip_offset = INFINITY;
+};
+
+struct SplatFileInfo {
+  std::string model;     // source mesh as given
+  std::string sampling;  // "vertices" or "grid:N"
+  float eps = 0;
+  unsigned k = 0;
+  int color_tolerance = 255;
+  std::string color_source;  // "grey", "soft", "hard" or "texture:FILE"
+  bool clipped = false;
+};
+
+inline constexpr int kSplatFileVersion = 1;
+
+void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info);
+
+struct SplatFile {
+  SplatFileInfo info;
+  std::vector<SplatRecord> splats;
+};
+// Throws Error naming the file for anything that is not a complete, uncorrupted splat file.
+SplatFile read_splat_file(const std::string& path);
+
+}  // namespace splatcl::splats

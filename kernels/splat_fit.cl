@@ -1,0 +1,338 @@
+// Splat fit (digest §3.3–§3.8), one work-item per sample. Native reference: host/splats/reference.cpp,
+// which performs the same float operations in the same order; contraction into fused multiply-adds
+// is off so both round identically.
+//
+// Build options: LITERAL_LAMBDA (0/1), RETEST_VIOLATOR (0/1), ON_HULL_BIT (uint).
+#pragma OPENCL FP_CONTRACT OFF
+
+typedef struct {
+  float4 u, v, n;
+} Frame;
+
+#define STOP_NONE 0
+#define STOP_GEOMETRY 1
+#define STOP_COLOR 2
+
+inline float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+inline float4 cross3(float4 a, float4 b) {
+  return (float4)(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x, 0.0f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frames: PCA of {p_i} ∪ N_k(p_i), mean-centred, in coordinates scaled by 1/d_i (scale-free),
+// cyclic Jacobi; eigenvectors by descending eigenvalue → u, v; n = u × v; orientation test.
+
+// Sign convention: the largest-magnitude component (first on ties) is positive.
+inline float4 canonical_sign(float4 a) {
+  float m = a.x;
+  if (fabs(a.y) > fabs(m)) m = a.y;
+  if (fabs(a.z) > fabs(m)) m = a.z;
+  return m < 0.0f ? -a : a;
+}
+
+__kernel void splat_frames(__global const float4* positions, __global const float4* normals,
+                           __global const uint* neighbors, uint k, __global const float* kth_distance,
+                           uint count, __global Frame* frames) {
+  const size_t i = get_global_id(0);
+  if (i >= count) return;
+  const float4 p0 = positions[i];
+  const float di = kth_distance[i];
+  const float scale = di > 0.0f ? 1.0f / di : 1.0f;
+  __global const uint* row = neighbors + i * (size_t)k;
+  // Mean of the scaled offsets from p0 (p0 itself contributes zero).
+  float mx = 0.0f, my = 0.0f, mz = 0.0f;
+  for (uint r = 0; r < k; ++r) {
+    const float4 w = (positions[row[r]] - p0) * scale;
+    mx += w.x, my += w.y, mz += w.z;
+  }
+  const float inv = 1.0f / (float)(k + 1);
+  mx *= inv, my *= inv, mz *= inv;
+  float a[3][3];
+  {
+    float xx = mx * mx, xy = mx * my, xz = mx * mz, yy = my * my, yz = my * mz, zz = mz * mz;  // p0's term
+    for (uint r = 0; r < k; ++r) {
+      const float4 w = (positions[row[r]] - p0) * scale;
+      const float x = w.x - mx, y = w.y - my, z = w.z - mz;
+      xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
+    }
+    a[0][0] = xx * inv, a[0][1] = xy * inv, a[0][2] = xz * inv;
+    a[1][0] = xy * inv, a[1][1] = yy * inv, a[1][2] = yz * inv;
+    a[2][0] = xz * inv, a[2][1] = yz * inv, a[2][2] = zz * inv;
+  }
+  float e[3][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    if (a[0][1] == 0.0f && a[0][2] == 0.0f && a[1][2] == 0.0f) break;
+    for (int pair = 0; pair < 3; ++pair) {
+      const int p = pair == 2 ? 1 : 0, q = pair == 0 ? 1 : 2;
+      const float apq = a[p][q];
+      if (apq == 0.0f) continue;
+      const float theta = (a[q][q] - a[p][p]) / (2.0f * apq);
+      float t = 1.0f / (fabs(theta) + sqrt(theta * theta + 1.0f));
+      if (theta < 0.0f) t = -t;
+      const float c = 1.0f / sqrt(t * t + 1.0f), s = t * c;
+      for (int r = 0; r < 3; ++r) {
+        const float arp = a[r][p], arq = a[r][q];
+        a[r][p] = c * arp - s * arq;
+        a[r][q] = s * arp + c * arq;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float apr = a[p][r], aqr = a[q][r];
+        a[p][r] = c * apr - s * aqr;
+        a[q][r] = s * apr + c * aqr;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float erp = e[r][p], erq = e[r][q];
+        e[r][p] = c * erp - s * erq;
+        e[r][q] = s * erp + c * erq;
+      }
+    }
+  }
+  // Order by descending eigenvalue, ties by column.
+  int order[3] = {0, 1, 2};
+  for (int x = 1; x < 3; ++x)
+    for (int y = x; y > 0 && a[order[y]][order[y]] > a[order[y - 1]][order[y - 1]]; --y) {
+      const int swap = order[y];
+      order[y] = order[y - 1];
+      order[y - 1] = swap;
+    }
+  float4 u = canonical_sign((float4)(e[0][order[0]], e[1][order[0]], e[2][order[0]], 0.0f));
+  float4 v = canonical_sign((float4)(e[0][order[1]], e[1][order[1]], e[2][order[1]], 0.0f));
+  float4 n = cross3(u, v);
+  // Orientation: distance-weighted mean of the sample normals (weight exp(-3 |p_j - p_i| / d_i)).
+  float4 m = normals[i];
+  for (uint r = 0; r < k; ++r) {
+    const float4 w = positions[row[r]] - p0;
+    const float d = sqrt(dot3(w, w));
+    m += normals[row[r]] * exp(-3.0f * d * scale);
+  }
+  if (dot3(m, n) < 0.0f) u = -u, v = -v, n = -n;
+  frames[i].u = u;
+  frames[i].v = v;
+  frames[i].n = n;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Growth. Per work-item scratch (slot s): q (capacity entries), ring/keys/next (seen_capacity
+// entries each), a hash set of seen samples (hash_mask + 1 entries). A splat that would accept
+// more than `capacity` samples stops and reports capacity + 1; the host relaunches it with more.
+
+// Sorts idx[0..n) by (k1, k2, idx) ascending: heap sort, no recursion, total order.
+inline bool sort_less(__global const float* k1, __global const float* k2, __global const uint* idx, uint a, uint b) {
+  if (k1[a] != k1[b]) return k1[a] < k1[b];
+  if (k2[a] != k2[b]) return k2[a] < k2[b];
+  return idx[a] < idx[b];
+}
+
+inline void sort_swap(__global float* k1, __global float* k2, __global uint* idx, uint a, uint b) {
+  const float f1 = k1[a];
+  k1[a] = k1[b], k1[b] = f1;
+  if (k2 != k1) {
+    const float f2 = k2[a];
+    k2[a] = k2[b], k2[b] = f2;
+  }
+  const uint t = idx[a];
+  idx[a] = idx[b], idx[b] = t;
+}
+
+void sort_by_keys(__global float* k1, __global float* k2, __global uint* idx, uint n) {
+  if (n < 2) return;
+  if (n <= 16) {
+    for (uint x = 1; x < n; ++x)
+      for (uint y = x; y > 0 && sort_less(k1, k2, idx, y, y - 1); --y) sort_swap(k1, k2, idx, y, y - 1);
+    return;
+  }
+  for (uint start = n / 2; start-- > 0;) {
+    uint root = start;
+    for (uint child; (child = 2 * root + 1) < n; root = child) {
+      if (child + 1 < n && sort_less(k1, k2, idx, child, child + 1)) ++child;
+      if (!sort_less(k1, k2, idx, root, child)) break;
+      sort_swap(k1, k2, idx, root, child);
+    }
+  }
+  for (uint end = n - 1; end > 0; --end) {
+    sort_swap(k1, k2, idx, 0, end);
+    uint root = 0;
+    for (uint child; (child = 2 * root + 1) < end; root = child) {
+      if (child + 1 < end && sort_less(k1, k2, idx, child, child + 1)) ++child;
+      if (!sort_less(k1, k2, idx, root, child)) break;
+      sort_swap(k1, k2, idx, root, child);
+    }
+  }
+}
+
+// Inserts sample j into the open-addressing set; true when it was not there yet.
+inline bool seen_insert(__global uint* table, uint mask, uint j) {
+  uint h = (j * 2654435761u) & mask;
+  for (;;) {
+    const uint entry = table[h];
+    if (entry == 0u) {
+      table[h] = j + 1u;
+      return true;
+    }
+    if (entry == j + 1u) return false;
+    h = (h + 1u) & mask;
+  }
+}
+
+inline bool color_similar(uchar4 a, uchar4 b, int tolerance) {
+  return abs((int)a.x - (int)b.x) <= tolerance && abs((int)a.y - (int)b.y) <= tolerance &&
+         abs((int)a.z - (int)b.z) <= tolerance;
+}
+
+// §3.6 size rule for one phase: geometric max(e1, e2), colour extrapolation 2 e2 - e1, e1 with no violator.
+inline float size_rule(float e1, float e2, int stop) {
+  if (stop == STOP_NONE || e2 < e1) return e1;
+  return stop == STOP_COLOR ? e2 + (e2 - e1) : e2;
+}
+
+// Sort key of a candidate: in-plane distance (circle phase) or λ = x²/(b² − y²), −1 when unusable.
+inline float growth_key(int ellipse, float x, float y, float b) {
+  if (!ellipse) return sqrt(x * x + y * y);
+  const float den = b * b - y * y;
+  return den > 0.0f ? x * x / den : -1.0f;
+}
+
+__kernel void splat_grow(__global const float4* positions, __global const uchar4* colors,
+                         __global const uint* neighbors, uint k, __global const Frame* frames, float eps,
+                         int color_tolerance, __global const uint* items, uint item_count, uint capacity,
+                         uint seen_capacity, uint hash_mask, __global uint* q_slots, __global uint* ring_slots,
+                         __global float* key_slots, __global uint* next_slots, __global uint* hash_slots,
+                         __global uint* counts, __global float4* splats) {
+  const size_t s = get_global_id(0);
+  if (s >= item_count) return;
+  const uint i = items[s];
+  __global uint* q = q_slots + s * capacity;
+  __global uint* ring = ring_slots + s * seen_capacity;
+  __global float* keys = key_slots + s * seen_capacity;
+  __global uint* next = next_slots + s * seen_capacity;
+  __global uint* table = hash_slots + s * (hash_mask + 1u);
+  for (uint h = 0; h <= hash_mask; ++h) table[h] = 0u;
+
+  const float4 p0 = positions[i];
+  const uchar4 c0 = colors[i];
+  const Frame f = frames[i];
+  const float two_eps = 2.0f * eps;
+  float hmin = 0.0f, hmax = 0.0f;
+  uint qn = 0;
+  q[qn++] = i;
+  seen_insert(table, hash_mask, i);
+  uint ring_len = 0, next_len = 0, pos = 0;
+  for (uint r = 0; r < k; ++r) {
+    const uint j = neighbors[(size_t)i * k + r];
+    if (seen_insert(table, hash_mask, j)) ring[ring_len++] = j;
+  }
+
+  float extent1[2] = {0.0f, 1.0f};   // d1, λ1
+  float extent2[2] = {-1.0f, -1.0f}; // d2, λ2
+  int stop[2] = {STOP_NONE, STOP_NONE};
+  float b = 0.0f;
+  for (int ellipse = 0; ellipse < 2; ++ellipse) {
+    if (ellipse) {
+      // Continue with the untested rest of the circle's last ring and the collected next ring.
+      b = RETEST_VIOLATOR ? extent1[0] : size_rule(extent1[0], extent2[0], stop[0]);
+      const uint from = stop[0] != STOP_NONE ? (RETEST_VIOLATOR ? pos : pos + 1u) : ring_len;
+      uint len = 0;
+      for (uint r = from; r < ring_len; ++r) ring[len++] = ring[r];
+      for (uint r = 0; r < next_len; ++r) ring[len++] = next[r];
+      ring_len = len, next_len = 0;
+    }
+    for (;;) {
+      for (uint r = 0; r < ring_len; ++r) {
+        const float4 w = positions[ring[r]] - p0;
+        keys[r] = growth_key(ellipse, dot3(f.u, w), dot3(f.v, w), b);
+      }
+      sort_by_keys(keys, keys, ring, ring_len);
+      bool stopped = false;
+      for (pos = 0; pos < ring_len; ++pos) {
+        const float key = keys[pos];
+        if (ellipse && key < 1.0f) continue;  // λ < 1: neither tested, accepted nor expanded
+        const uint j = ring[pos];
+        const float h = dot3(f.n, positions[j] - p0);
+        if (!color_similar(colors[j], c0, color_tolerance)) {
+          stop[ellipse] = STOP_COLOR, extent2[ellipse] = key, stopped = true;
+          break;
+        }
+        const float lo = fmin(hmin, h), hi = fmax(hmax, h);
+        if (hi - lo > two_eps) {
+          stop[ellipse] = STOP_GEOMETRY, extent2[ellipse] = key, stopped = true;
+          break;
+        }
+        if (qn == capacity) {
+          counts[s] = capacity + 1u;
+          return;
+        }
+        hmin = lo, hmax = hi;
+        q[qn++] = j;
+        extent1[ellipse] = fmax(extent1[ellipse], key);
+        __global const uint* row = neighbors + (size_t)j * k;
+        for (uint r = 0; r < k; ++r)
+          if (seen_insert(table, hash_mask, row[r])) next[next_len++] = row[r];
+      }
+      if (stopped || next_len == 0) break;
+      for (uint r = 0; r < next_len; ++r) ring[r] = next[r];
+      ring_len = next_len, next_len = 0;
+    }
+    if (!ellipse && stop[0] == STOP_NONE) ring_len = 0, next_len = 0;
+  }
+
+  const float minor = size_rule(extent1[0], extent2[0], stop[0]);
+#if LITERAL_LAMBDA
+  const float ratio = size_rule(extent1[1], extent2[1], stop[1]);
+#else
+  const float ratio = size_rule(sqrt(extent1[1]), extent2[1] >= 0.0f ? sqrt(extent2[1]) : -1.0f, stop[1]);
+#endif
+  const float major = ratio * minor;
+  const float4 c = p0 + f.n * (0.5f * (hmin + hmax));
+  splats[4 * (size_t)i + 0] = (float4)(c.xyz, (float)stop[0]);
+  splats[4 * (size_t)i + 1] = (float4)(f.n.xyz, (float)stop[1]);
+  splats[4 * (size_t)i + 2] = (float4)((f.u * major).xyz, major);
+  splats[4 * (size_t)i + 3] = (float4)((f.v * minor).xyz, minor);
+
+  // Safe points (§3.8): flag the samples whose projection lies on the convex hull (vertices and
+  // edges, within 1e-6 of the extent), monotone chain; |Q| <= 3 and the start point stay.
+  if (qn > 3) {
+    __global float* xs = keys;
+    __global float* ys = (__global float*)next;
+    __global uint* order = ring;
+    __global uint* hull = table;
+    float lo_x = INFINITY, hi_x = -INFINITY, lo_y = INFINITY, hi_y = -INFINITY;
+    for (uint r = 0; r < qn; ++r) {
+      const float4 w = positions[q[r]] - c;
+      xs[r] = dot3(f.u, w), ys[r] = dot3(f.v, w), order[r] = r;
+      lo_x = fmin(lo_x, xs[r]), hi_x = fmax(hi_x, xs[r]), lo_y = fmin(lo_y, ys[r]), hi_y = fmax(hi_y, ys[r]);
+    }
+    sort_by_keys(xs, ys, order, qn);  // reorders xs, ys with order
+    uint hn = 0;
+    for (uint r = 0; r < qn; ++r) {
+      while (hn >= 2 && (xs[hull[hn - 1]] - xs[hull[hn - 2]]) * (ys[r] - ys[hull[hn - 2]]) -
+                                (ys[hull[hn - 1]] - ys[hull[hn - 2]]) * (xs[r] - xs[hull[hn - 2]]) <= 0.0f)
+        --hn;
+      hull[hn++] = r;
+    }
+    const uint lower = hn + 1u;
+    for (uint r = qn - 1u; r-- > 0;) {
+      while (hn >= lower && (xs[hull[hn - 1]] - xs[hull[hn - 2]]) * (ys[r] - ys[hull[hn - 2]]) -
+                                   (ys[hull[hn - 1]] - ys[hull[hn - 2]]) * (xs[r] - xs[hull[hn - 2]]) <= 0.0f)
+        --hn;
+      hull[hn++] = r;
+    }
+    const float tolerance = 1e-6f * fmax(hi_x - lo_x, hi_y - lo_y);
+    const float tolerance2 = tolerance * tolerance;
+    for (uint r = 0; r < qn; ++r) {
+      bool on_hull = false;
+      for (uint e = 0; e + 1u < hn && !on_hull; ++e) {
+        const float ax = xs[hull[e]], ay = ys[hull[e]];
+        const float ex = xs[hull[e + 1u]] - ax, ey = ys[hull[e + 1u]] - ay;
+        const float wx = xs[r] - ax, wy = ys[r] - ay;
+        const float ee = ex * ex + ey * ey;
+        float t = ee > 0.0f ? (wx * ex + wy * ey) / ee : 0.0f;
+        t = fmin(fmax(t, 0.0f), 1.0f);
+        const float dx = wx - t * ex, dy = wy - t * ey;
+        on_hull = dx * dx + dy * dy <= tolerance2;
+      }
+      if (on_hull && order[r] != 0u) q[order[r]] |= ON_HULL_BIT;
+    }
+  }
+  counts[s] = qn;
+}
