@@ -1,0 +1,112 @@
+#include "bench/bandwidth.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "runtime/error.hpp"
+
+namespace splatcl::bench {
+namespace {
+
+unsigned host_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+// Runs body(begin, end) on one contiguous chunk of [0, n) per thread, all threads in parallel.
+void parallel_chunks(std::size_t n, unsigned threads, const std::function<void(std::size_t, std::size_t)>& body) {
+  std::vector<std::thread> workers;
+  workers.reserve(threads);
+  for (unsigned t = 0; t < threads; ++t)
+    workers.emplace_back(body, n * t / threads, n * (t + 1) / threads);
+  for (auto& worker : workers) worker.join();
+}
+
+// Zero, read where the compiler cannot see it: the copy loop below stays a loop of ordinary stores
+// instead of being recognised as memcpy.
+volatile std::uint64_t runtime_zero = 0;
+
+void copy_loop(const std::uint64_t* __restrict src, std::uint64_t* __restrict dst, std::size_t n, std::uint64_t mask) {
+  for (std::size_t i = 0; i < n; ++i) dst[i] = src[i] ^ mask;
+}
+
+void measure_host_copies(Session& session, std::size_t array_bytes) {
+  const std::size_t n = array_bytes / sizeof(std::uint64_t);
+  const unsigned threads = host_threads();
+  std::unique_ptr<std::uint64_t[]> src(new std::uint64_t[n]);
+  std::unique_ptr<std::uint64_t[]> dst(new std::uint64_t[n]);
+  // First touch by the threads that copy, so pages are mapped before timing.
+  parallel_chunks(n, threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      src[i] = i * 0x9E3779B97F4A7C15ull;
+      dst[i] = 0;
+    }
+  });
+  Case c{kCaseStreamCopy, kImplHostCopyLoop, false, 2 * n * sizeof(std::uint64_t), "bytes",
+         Json{{"threads", threads}}};
+  const std::uint64_t mask = runtime_zero;
+  session.measure(c, {}, [&] {
+    parallel_chunks(n, threads, [&](std::size_t begin, std::size_t end) { copy_loop(&src[begin], &dst[begin], end - begin, mask); });
+  });
+  if (std::memcmp(src.get(), dst.get(), n * sizeof(std::uint64_t)) != 0)
+    throw Error("bench stream-copy: host copy loop output differs from its input");
+
+  std::fill_n(dst.get(), n, std::uint64_t{0});
+  c.impl = kImplHostMemcpy;
+  session.measure(c, {}, [&] {
+    parallel_chunks(n, threads, [&](std::size_t begin, std::size_t end) {
+      std::memcpy(&dst[begin], &src[begin], (end - begin) * sizeof(std::uint64_t));
+    });
+  });
+  if (std::memcmp(src.get(), dst.get(), n * sizeof(std::uint64_t)) != 0)
+    throw Error("bench stream-copy: host memcpy output differs from its input");
+}
+
+void measure_device_copy(Session& session, std::size_t array_bytes) {
+  Runtime& runtime = session.runtime();
+  const std::size_t vectors = array_bytes / sizeof(cl_uint4);
+  const std::size_t bytes = vectors * sizeof(cl_uint4);
+  cl::Buffer src = runtime.buffer(CL_MEM_READ_ONLY, bytes, "stream-copy source");
+  cl::Buffer dst = runtime.buffer(CL_MEM_WRITE_ONLY, bytes, "stream-copy destination");
+  const cl_uint4 pattern = {{0x01234567u, 0x89ABCDEFu, 0xDEADBEEFu, 0x0F1E2D3Cu}};
+  try {
+    runtime.queue().enqueueFillBuffer(src, pattern, 0, bytes);
+    runtime.queue().enqueueFillBuffer(dst, cl_uint{0}, 0, bytes);
+    runtime.queue().finish();
+  } catch (...) {
+    rethrow_as_error("filling the stream-copy buffers");
+  }
+  cl::Kernel kernel = runtime.kernel("bench.cl", "copy_uint4");
+  kernel.setArg(0, src);
+  kernel.setArg(1, dst);
+  Profiler profiler;
+  const Case c{kCaseStreamCopy, kImplOpenCL, true, 2 * bytes, "bytes"};
+  session.measure(
+      c, {},
+      [&] {
+        enqueue_1d(runtime.queue(), kernel, vectors, 0, &profiler, "copy_uint4");
+        runtime.queue().finish();
+      },
+      &profiler);
+  std::vector<cl_uint4> copied(vectors);
+  try {
+    runtime.queue().enqueueReadBuffer(dst, CL_TRUE, 0, bytes, copied.data());
+  } catch (...) {
+    rethrow_as_error("reading back the stream-copy destination");
+  }
+  const bool intact = std::all_of(copied.begin(), copied.end(), [&](const cl_uint4& v) {
+    return std::equal(std::begin(v.s), std::end(v.s), std::begin(pattern.s));
+  });
+  if (!intact) throw Error("bench stream-copy: OpenCL copy output differs from its input");
+}
+
+}  // namespace
+
+void measure_stream_copy(Session& session, std::size_t array_bytes) {
+  measure_host_copies(session, array_bytes);
+  measure_device_copy(session, array_bytes);
+}
+
+}  // namespace splatcl::bench

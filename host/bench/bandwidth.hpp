@@ -1,0 +1,25 @@
+#pragma once
+// Streaming copy bandwidth, the physical limit of memory-bound kernels: a STREAM-style copy on the
+// host over all cores and the same copy as an OpenCL kernel on the session's device. Throughput is
+// bytes read plus bytes written per second, as STREAM counts it.
+#include <cstddef>
+
+#include "bench/session.hpp"
+
+namespace splatcl::bench {
+
+// Large enough that no cache holds it.
+inline constexpr std::size_t kStreamArrayBytes = std::size_t{256} << 20;
+
+inline constexpr const char* kCaseStreamCopy = "stream-copy";
+// Element loop with ordinary stores, as kernels write memory.
+inline constexpr const char* kImplHostCopyLoop = "std::thread copy loop";
+// memcpy, which switches to non-temporal stores for large copies and so skips the read-for-ownership
+// of the destination: the ceiling for code that can use them.
+inline constexpr const char* kImplHostMemcpy = "std::thread memcpy";
+
+// Measures the host loop, host memcpy and OpenCL copy of `array_bytes` (rounded down to 16 bytes),
+// adding one record each under case "stream-copy" with size = bytes read + bytes written per run.
+void measure_stream_copy(Session& session, std::size_t array_bytes = kStreamArrayBytes);
+
+}  // namespace splatcl::bench

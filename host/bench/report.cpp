@@ -1,0 +1,179 @@
+#include "bench/report.hpp"
+
+#include <algorithm>
+#include <iterator>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace splatcl::bench {
+namespace {
+
+std::string scalar_text(const Json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
+
+// "bits=20 lights=16384": the scalar extra fields that make a variant of the problem.
+std::string problem_label(const Record& record) {
+  std::string label;
+  for (const auto& [key, value] : record.extra.items()) {
+    if (describes_implementation(key) || value.is_structured()) continue;
+    label += (label.empty() ? "" : " ") + key + "=" + scalar_text(value);
+  }
+  return label;
+}
+
+std::string group_key(const Record& record) {
+  return record.suite + '\n' + record.case_name + '\n' + (record.size ? std::to_string(*record.size) : "") + '\n' +
+         record.size_unit + '\n' + problem_label(record);
+}
+
+std::string format_ms(double ms) {
+  if (ms < 1) return fmt::format("{:.3f}", ms);
+  if (ms < 100) return fmt::format("{:.2f}", ms);
+  return fmt::format("{:.1f}", ms);
+}
+
+// 20.1 GB/s, 1.52 G keys/s.
+std::string format_throughput(double value, const std::string& unit) {
+  static const char* const prefixes[] = {"", "k", "M", "G", "T", "P"};
+  std::size_t prefix = 0;
+  while (value >= 1000 && prefix + 1 < std::size(prefixes)) {
+    value /= 1000;
+    ++prefix;
+  }
+  const std::string number = value < 10 ? fmt::format("{:.2f}", value) : fmt::format("{:.1f}", value);
+  if (unit.rfind("bytes", 0) == 0) return number + " " + prefixes[prefix] + "B" + unit.substr(5);
+  return number + " " + prefixes[prefix] + (prefix == 0 ? "" : " ") + unit;
+}
+
+// Display width of UTF-8 text: code points, which is right for the symbols used here.
+std::size_t display_width(const std::string& text) {
+  return static_cast<std::size_t>(
+      std::count_if(text.begin(), text.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+}
+
+std::string render(const std::vector<std::string>& header, const std::vector<bool>& right_aligned,
+                   const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> widths(header.size(), 3);
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    widths[c] = std::max(widths[c], display_width(header[c]));
+    for (const auto& row : rows) widths[c] = std::max(widths[c], display_width(row[c]));
+  }
+  auto line = [&](const std::vector<std::string>& cells) {
+    std::string text = "|";
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      const std::size_t pad = widths[c] - display_width(cells[c]);
+      text.push_back(' ');
+      if (right_aligned[c]) text.append(pad, ' ');
+      text += cells[c];
+      if (!right_aligned[c]) text.append(pad, ' ');
+      text += " |";
+    }
+    text.push_back('\n');
+    return text;
+  };
+  std::string text = line(header);
+  text += "|";
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    text.push_back(' ');
+    text.append(right_aligned[c] ? widths[c] - 1 : widths[c], '-');
+    text += right_aligned[c] ? ": |" : " |";
+  }
+  text.push_back('\n');
+  for (const auto& row : rows) text += line(row);
+  return text;
+}
+
+}  // namespace
+
+std::string case_label(const Record& record) {
+  const std::string variant = problem_label(record);
+  return variant.empty() ? record.case_name : record.case_name + " " + variant;
+}
+
+std::string impl_label(const Record& record) {
+  std::string label = record.impl;
+  if (const auto variant = record.extra.find("variant"); variant != record.extra.end())
+    label += fmt::format(" {}", scalar_text(*variant));
+  if (const auto shape = record.extra.find("shape"); shape != record.extra.end())
+    label += fmt::format(" ({} shape)", scalar_text(*shape));
+  return label;
+}
+
+std::string machine_line(const Json& machine) {
+  auto field = [&](const char* key) -> std::string {
+    const auto it = machine.find(key);
+    return it == machine.end() ? std::string{} : scalar_text(*it);
+  };
+  std::vector<std::string> parts;
+  if (const auto cpu = field("cpu_model"); !cpu.empty()) {
+    std::string text = cpu;
+    std::vector<std::string> details;
+    if (const auto cores = field("logical_cores"); !cores.empty()) details.push_back(cores + " logical cores");
+    if (const auto memory = field("memory_gib"); !memory.empty()) details.push_back(memory + " GiB");
+    if (!details.empty()) text += " (" + fmt::format("{}", fmt::join(details, ", ")) + ")";
+    parts.push_back(text);
+  }
+  if (const auto os = field("os"); !os.empty()) parts.push_back(os);
+  if (const auto device = field("opencl_device"); !device.empty()) {
+    std::string text = "OpenCL device " + device;
+    std::vector<std::string> versions;
+    if (const auto version = field("opencl_device_version"); !version.empty()) versions.push_back(version);
+    if (const auto driver = field("opencl_driver_version"); !driver.empty()) versions.push_back("driver " + driver);
+    if (!versions.empty()) text += " (" + fmt::format("{}", fmt::join(versions, ", ")) + ")";
+    parts.push_back(text);
+  }
+  if (const auto threads = field("pocl_max_pthread_count"); !threads.empty())
+    parts.push_back("POCL_MAX_PTHREAD_COUNT=" + threads);
+  if (const auto compiler = field("compiler"); !compiler.empty()) {
+    const auto build = field("build");
+    parts.push_back(build.empty() ? compiler : compiler + ", " + build);
+  }
+  if (const auto date = field("date"); !date.empty()) parts.push_back(date);
+  return "**Machine:** " + (parts.empty() ? std::string("not recorded") : fmt::format("{}", fmt::join(parts, "; "))) + "\n";
+}
+
+std::string markdown_table(const std::vector<Record>& records) {
+  // The baseline of each comparison group: the reference, else the first peer.
+  std::vector<std::pair<std::string, const Record*>> baselines;
+  for (const auto& record : records) {
+    const std::string key = group_key(record);
+    auto it = std::find_if(baselines.begin(), baselines.end(), [&](const auto& b) { return b.first == key; });
+    if (it == baselines.end()) it = baselines.insert(baselines.end(), {key, nullptr});
+    const bool is_reference = record.impl == kImplReference;
+    const bool is_peer = !is_reference && record.impl != kImplOpenCL;
+    if (is_reference && (!it->second || it->second->impl != kImplReference)) it->second = &record;
+    if (is_peer && !it->second) it->second = &record;
+  }
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& record : records) {
+    const std::string key = group_key(record);
+    const Record* baseline =
+        std::find_if(baselines.begin(), baselines.end(), [&](const auto& b) { return b.first == key; })->second;
+    std::string speedup = "—";
+    if (baseline && record.median_ms > 0) speedup = fmt::format("{:.2f}×", baseline->median_ms / record.median_ms);
+    rows.push_back({case_label(record), impl_label(record),
+                    record.size ? fmt::format("{} {}", *record.size, record.size_unit) : "—", format_ms(record.median_ms),
+                    format_ms(record.min_ms), format_ms(record.max_ms),
+                    record.throughput ? format_throughput(*record.throughput, record.throughput_unit) : "—", speedup,
+                    record.peak_rss_mb ? fmt::format("{:.0f}", *record.peak_rss_mb) : "—"});
+  }
+  return render({"case", "impl", "size", "median ms", "min ms", "max ms", "throughput", "speedup", "peak RSS MiB"},
+                {false, false, true, true, true, true, true, true, true}, rows);
+}
+
+std::string markdown_report(const Results& results) {
+  std::string text = machine_line(results.machine);
+  std::vector<std::string> suites;
+  for (const auto& record : results.records)
+    if (std::find(suites.begin(), suites.end(), record.suite) == suites.end()) suites.push_back(record.suite);
+  for (const auto& suite : suites) {
+    std::vector<Record> records;
+    std::copy_if(results.records.begin(), results.records.end(), std::back_inserter(records),
+                 [&](const Record& r) { return r.suite == suite; });
+    text += "\n### " + suite + "\n\n" + markdown_table(records);
+  }
+  text += "\nspeedup = baseline median / median, where the baseline of a case is its reference, else its first peer.\n";
+  return text;
+}
+
+}  // namespace splatcl::bench

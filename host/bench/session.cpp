@@ -1,0 +1,126 @@
+#include "bench/session.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "bench/report.hpp"
+
+namespace splatcl::bench {
+
+namespace {
+
+Record record_of(const Case& c, const std::string& suite, const std::string& device_name) {
+  Record record;
+  record.suite = suite;
+  record.case_name = c.name;
+  record.impl = c.impl;
+  record.device = c.on_device ? device_name : kHostDevice;
+  if (c.size > 0) {
+    record.size = c.size;
+    record.size_unit = c.size_unit;
+  }
+  record.extra = c.extra;
+  return record;
+}
+
+Json merged(Json fields, const Json& more) {
+  for (const auto& [key, value] : more.items()) fields[key] = value;
+  return fields;
+}
+
+}  // namespace
+
+Case opencl_case(const std::string& name, Shape shape, std::uint64_t size, const std::string& size_unit,
+                 const Json& problem, const Json& implementation) {
+  return {name, kImplOpenCL, true, size, size_unit,
+          merged(merged(problem, implementation), Json{{"shape", to_string(shape)}})};
+}
+
+Case reference_case(const std::string& name, std::uint64_t size, const std::string& size_unit, const Json& problem,
+                    const Json& implementation) {
+  return {name, kImplReference, false, size, size_unit, merged(problem, implementation)};
+}
+
+std::string describe(const Case& c) {
+  const Record record = record_of(c, "", "");
+  return case_label(record) + " " + impl_label(record);
+}
+
+Session::Session(std::string suite, SessionOptions options)
+    : suite_(std::move(suite)),
+      options_(std::move(options)),
+      runtime_(Runtime::create(options_.device)),
+      progress_(::isatty(::fileno(stderr)) != 0) {
+  if (options_.measure.runs < 1) throw Error("--runs must be at least 1");
+  if (options_.measure.warmup < 0) throw Error("--warmup must not be negative");
+  // Fail before a long run, not after it, when the results could not be written.
+  if (!options_.json_path.empty()) {
+    const std::filesystem::path target(options_.json_path);
+    const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+    if (!std::filesystem::is_directory(dir))
+      throw Error("cannot write " + options_.json_path + ": directory " + dir.string() + " does not exist");
+  }
+}
+
+const Record& Session::measure(const Case& c, const std::function<void()>& setup, const std::function<void()>& run,
+                               Profiler* profiler) {
+  Record record = record_of(c, suite_, runtime_->info().name);
+  const std::string label = describe(c);
+
+  const bool exact_peak = reset_peak_rss();
+  const Timing timing = measure_runs(options_.measure, setup, run, profiler,
+                                     [&](int i, int total) { show_progress(fmt::format("{}: run {}/{}", label, i + 1, total), false); });
+  const Summary summary = summarize(timing.wall_ms);
+  record.runs = static_cast<int>(timing.wall_ms.size());
+  record.median_ms = summary.median_ms;
+  record.min_ms = summary.min_ms;
+  record.max_ms = summary.max_ms;
+  if (record.size && summary.median_ms > 0) {
+    record.throughput = static_cast<double>(*record.size) / (summary.median_ms * 1e-3);
+    record.throughput_unit = record.size_unit + "/s";
+  }
+  // Without a resettable peak the process-wide peak would mislead more than help.
+  if (exact_peak) record.peak_rss_mb = peak_rss_mb();
+  if (!timing.device_ms.empty()) {
+    Json per_kernel = Json::object();
+    for (const auto& [kernel, ms] : timing.device_ms) per_kernel[kernel] = ms;
+    record.extra["device_ms"] = std::move(per_kernel);
+    record.extra["device_total_ms"] = timing.device_total_ms;
+  }
+  show_progress(fmt::format("{}: {:.3f} ms median", label, record.median_ms), true);
+  records_.push_back(std::move(record));
+  return records_.back();
+}
+
+Results Session::results() const {
+  Results results;
+  results.machine = machine_info(&runtime_->info());
+  results.records = records_;
+  return results;
+}
+
+void Session::finish() const {
+  const Results all = results();
+  std::fputs(markdown_report(all).c_str(), stdout);
+  std::fflush(stdout);
+  if (!options_.json_path.empty()) write_results(options_.json_path, all);
+}
+
+Session::~Session() {
+  // An error leaving a case half-way must not print its message on the end of the progress line.
+  if (progress_line_open_) std::fputc('\n', stderr);
+}
+
+void Session::show_progress(const std::string& text, bool final_line) {
+  if (!progress_) return;
+  // \r and erase-line keep one updating line per case.
+  std::fprintf(stderr, "\r\033[K[bench %s] %s%s", suite_.c_str(), text.c_str(), final_line ? "\n" : "");
+  std::fflush(stderr);
+  progress_line_open_ = !final_line;
+}
+
+}  // namespace splatcl::bench

@@ -1,0 +1,93 @@
+#pragma once
+// One `splatcl bench <suite>` invocation: the device, the options shared by every suite, the records
+// measured so far, progress on a terminal, and at the end the table on stdout and the --json file.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench/measure.hpp"
+#include "bench/record.hpp"
+#include "runtime/error.hpp"
+#include "runtime/runtime.hpp"
+
+namespace splatcl::bench {
+
+// A 1920×1080 frame: one cluster key per pixel.
+inline constexpr std::uint64_t kFullHdPixels = 1920ull * 1080ull;
+
+struct SessionOptions {
+  std::uint64_t size = kFullHdPixels;
+  MeasureOptions measure;
+  std::string device;     // selector as for choose_device
+  std::string json_path;  // empty: no file
+};
+
+// What one measured row is; the session adds timing, throughput and peak RSS.
+struct Case {
+  std::string name;       // "radix-sort-u32"
+  std::string impl;       // kImplOpenCL, kImplReference or a peer's name
+  bool on_device = true;  // false: runs on the host outside OpenCL (device = kHostDevice)
+  std::uint64_t size = 0;
+  std::string size_unit;  // throughput is size_unit per second
+  Json extra = Json::object();
+};
+
+// Both kernel shapes: every suite measures each on every device.
+inline constexpr Shape kBothShapes[] = {Shape::Cpu, Shape::Gpu};
+
+// An OpenCL row of case `name`: `problem` fields ({"bits": 20}) name the variant of the problem,
+// `implementation` fields ({"variant": "bitmask"}) how it is solved; "shape" is added.
+Case opencl_case(const std::string& name, Shape shape, std::uint64_t size, const std::string& size_unit,
+                 const Json& problem = Json::object(), const Json& implementation = Json::object());
+// The native reference row of case `name`, on the host.
+Case reference_case(const std::string& name, std::uint64_t size, const std::string& size_unit,
+                    const Json& problem = Json::object(), const Json& implementation = Json::object());
+// "compact opencl bitmask (cpu shape)", for progress and error messages.
+std::string describe(const Case& c);
+
+class Session {
+ public:
+  Session(std::string suite, SessionOptions options);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  Runtime& runtime() { return *runtime_; }
+  const SessionOptions& options() const { return options_; }
+  const std::string& suite() const { return suite_; }
+  const std::vector<Record>& records() const { return records_; }
+
+  // Times one case (see measure()): setup() is untimed, run() is timed and must return after its
+  // work has finished. With a profiler, per-kernel device times are recorded as "device_ms".
+  const Record& measure(const Case& c, const std::function<void()>& setup, const std::function<void()>& run,
+                        Profiler* profiler = nullptr);
+
+  Results results() const;
+  // Prints the markdown report on stdout and writes the --json file when one was asked for.
+  void finish() const;
+
+ private:
+  void show_progress(const std::string& text, bool final_line);
+
+  std::string suite_;
+  SessionOptions options_;
+  std::shared_ptr<Runtime> runtime_;
+  std::vector<Record> records_;
+  bool progress_;  // stderr is a terminal
+  bool progress_line_open_ = false;
+};
+
+// Benchmarks time only correct work: throws Error naming the case when `actual` differs from
+// `expected`.
+template <class T>
+void expect_same_output(const std::string& what, const std::vector<T>& actual, const std::vector<T>& expected) {
+  if (actual.size() != expected.size())
+    throw Error("bench " + what + ": output has " + std::to_string(actual.size()) + " elements, the reference " +
+                std::to_string(expected.size()));
+  for (std::size_t i = 0; i < actual.size(); ++i)
+    if (actual[i] != expected[i]) throw Error("bench " + what + ": output differs from the reference at index " + std::to_string(i));
+}
+
+}  // namespace splatcl::bench

@@ -1,0 +1,19 @@
+#include "bench/suites.hpp"
+
+namespace splatcl::bench {
+
+const std::vector<Suite>& suites() {
+  static const std::vector<Suite> all = {
+      {"primitives",
+       "Scan, compaction and radix sort (both kernel shapes) against the native reference, std and Boost.Compute, "
+       "plus streaming-copy bandwidth",
+       run_primitives_suite, true},
+      {"cluster",
+       "Clustered-shading stages on a 1920x1080 frame (keys, compaction variants, bounds, light assignment for 1k, "
+       "16k and 256k lights) against the native reference, std and Boost.Compute, plus streaming-copy bandwidth",
+       run_cluster_suite, false},
+  };
+  return all;
+}
+
+}  // namespace splatcl::bench

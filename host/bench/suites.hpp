@@ -1,0 +1,31 @@
+#pragma once
+// The benchmark suites behind `splatcl bench <suite>`. A suite is one function that measures its
+// cases through the Session; adding one means writing that function and listing it in suites().
+#include <vector>
+
+#include "bench/session.hpp"
+
+namespace splatcl::bench {
+
+struct Suite {
+  const char* name;
+  const char* description;
+  void (*run)(Session& session);
+  bool takes_size;  // whether --size applies (else the suite's inputs have a fixed size)
+};
+
+// Every suite, in the order `splatcl bench --help` lists them.
+const std::vector<Suite>& suites();
+
+// Scan, compaction (flagged, unique), radix sort (32-bit keys on 20 and 32 bits, key-value, 64-bit
+// keys) in both kernel shapes against the native references, sort + unique against std and
+// Boost.Compute, and the streaming-copy bandwidth.
+void run_primitives_suite(Session& session);
+
+// The clustered-shading stages on a ray-cast 1920×1080 frame with 32×32 tiles: keys, every
+// compaction variant (with std and Boost.Compute sort + unique as peers), bounds, and both light
+// assignments for 1k, 16k and 256k lights, each in both kernel shapes against the native reference;
+// plus the streaming-copy bandwidth.
+void run_cluster_suite(Session& session);
+
+}  // namespace splatcl::bench
