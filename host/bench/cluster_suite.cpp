@@ -1,6 +1,7 @@
 // splatcl bench cluster: the clustered-shading stages of one 1920×1080 frame, stage by stage, in both
 // kernel shapes against the native reference, with the sort + unique peers and the bandwidth limit.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -23,7 +24,10 @@ constexpr std::uint32_t kHeight = 1080;
 constexpr std::uint32_t kTileSize = 32;
 constexpr std::uint64_t kSceneSeed = 1;
 constexpr std::uint32_t kLightCounts[] = {1024, 16384, 262144};
-// The scene generator's default light radii, kept for every count: more lights means more overlap.
+// Light radii at 1k lights (the scene generator's defaults). Radii shrink with the cube root of the
+// count, so every count fills the scene with about the same light density per cluster, as a
+// many-light scene does; otherwise 256k lights would each reach thousands of clusters.
+constexpr std::uint32_t kBaseLightCount = 1024;
 constexpr float kLightRadiusMin = 0.5f;
 constexpr float kLightRadiusMax = 2.0f;
 constexpr clu::Compaction kCompactions[] = {clu::Compaction::GlobalSort, clu::Compaction::TileSort,
@@ -53,8 +57,14 @@ Frame make_frame() {
   return frame;
 }
 
+std::pair<float, float> light_radius_range(std::uint32_t count) {
+  const float scale = std::cbrt(static_cast<float>(kBaseLightCount) / static_cast<float>(count));
+  return {kLightRadiusMin * scale, kLightRadiusMax * scale};
+}
+
 std::vector<clu::PointLight> make_lights(Frame& frame, std::uint32_t count) {
-  frame.scene.lights = clu::RandomLights{count, kLightRadiusMin, kLightRadiusMax, kSceneSeed + count};
+  const auto [radius_min, radius_max] = light_radius_range(count);
+  frame.scene.lights = clu::RandomLights{count, radius_min, radius_max, kSceneSeed + count};
   return clu::view_lights(frame.scene, frame.depth);
 }
 
@@ -131,7 +141,8 @@ void run_cluster_suite(Session& session) {
   for (const std::uint32_t light_count : kLightCounts) {
     const std::vector<clu::PointLight> lights = make_lights(frame, light_count);
     for (auto& entry : pipelines) entry.pipeline->upload_lights(lights);
-    const Json problem{{"lights", light_count}};
+    const auto [radius_min, radius_max] = light_radius_range(light_count);
+    const Json problem{{"lights", light_count}, {"light_radius", {radius_min, radius_max}}};
     std::vector<std::pair<std::string, clu::LightLists>> device_lists;
     for (const clu::Assignment assignment : kAssignments) {
       measure_pipelines(

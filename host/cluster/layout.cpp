@@ -1,0 +1,172 @@
+#include "cluster/layout.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cfloat>
+#include <cmath>
+#include <string>
+
+#include "runtime/error.hpp"
+
+namespace splatcl::cluster {
+namespace {
+
+// Thinner slices than this would put the key kernel's fast first guess of the slice more than
+// 0.2 slices off (see slice_of_distance in kernels/cluster.cl).
+constexpr double kMinSliceRatioExcess = 2e-4;
+
+std::string dims(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "x" + std::to_string(b); }
+
+}  // namespace
+
+ClusterLayout ClusterLayout::make(const ClusterConfig& config) {
+  if (config.width == 0 || config.height == 0)
+    throw Error("cluster frame size " + dims(config.width, config.height) + " is empty");
+  if (config.tile_width == 0 || config.tile_height == 0)
+    throw Error("cluster tile size " + dims(config.tile_width, config.tile_height) + " has a zero side");
+  if (std::uint64_t{config.width} * config.height > 0x7FFFFFFFu)
+    throw Error("cluster frame size " + dims(config.width, config.height) + " exceeds 2^31 pixels");
+  if (!(std::isfinite(config.near_plane) && config.near_plane >= FLT_MIN))
+    throw Error("cluster near plane must be a positive finite distance, got " + std::to_string(config.near_plane));
+  if (!(std::isfinite(config.far_plane) && config.far_plane > config.near_plane))
+    throw Error("cluster far plane " + std::to_string(config.far_plane) + " must be beyond the near plane " +
+                std::to_string(config.near_plane));
+  if (!(config.fov_y > 0 && config.fov_y < 3.1415f))
+    throw Error("cluster vertical field of view must be in (0, pi) radians, got " + std::to_string(config.fov_y));
+
+  ClusterLayout layout;
+  layout.config = config;
+  layout.tiles_x = (config.width + config.tile_width - 1) / config.tile_width;
+  layout.tiles_y = (config.height + config.tile_height - 1) / config.tile_height;
+  layout.tile_count = layout.tiles_x * layout.tiles_y;
+
+  const double tan_half_y = std::tan(0.5 * double{config.fov_y});
+  const double aspect = static_cast<double>(config.width) / static_cast<double>(config.height);
+  layout.q = 1.0 + 2.0 * tan_half_y / layout.tiles_y;
+  if (layout.q - 1.0 < kMinSliceRatioExcess)
+    throw Error("cluster depth slices too thin (" + std::to_string(layout.tiles_y) +
+                " tile rows for this field of view): use taller tiles or a wider field of view");
+  const double ln_q = std::log(layout.q);
+  const double slices = std::ceil(std::log(double{config.far_plane} / double{config.near_plane}) / ln_q);
+  layout.slice_count = static_cast<std::uint32_t>(std::max(1.0, slices));
+
+  layout.tile_bits = static_cast<unsigned>(std::bit_width(layout.tile_count));
+  layout.slice_bits = static_cast<unsigned>(std::bit_width(layout.slice_count - 1));
+  layout.normal_bits = config.normal_bits ? kNormalKeyBits : 0;
+  const unsigned key_bits = layout.tile_bits + layout.slice_bits + layout.normal_bits;
+  if (key_bits > 32)
+    throw Error("too many tiles (" + std::to_string(layout.tile_count) + ") and depth slices (" +
+                std::to_string(layout.slice_count) + ") for 32-bit cluster keys: " + std::to_string(key_bits) +
+                " bits needed; use larger tiles or a larger near/far ratio");
+  layout.key_bits = key_bits;
+
+  layout.tan_half_y = static_cast<float>(tan_half_y);
+  layout.tan_half_x = static_cast<float>(aspect * tan_half_y);
+  layout.ln_near = static_cast<float>(std::log(double{config.near_plane}));
+  layout.inv_ln_q = static_cast<float>(1.0 / ln_q);
+  layout.two_over_width = 2.0f / static_cast<float>(config.width);
+  layout.two_over_height = 2.0f / static_cast<float>(config.height);
+  layout.near_times_far = config.near_plane * config.far_plane;
+  layout.far_minus_near = config.far_plane - config.near_plane;
+  layout.padding_scale = kBoundsPadding * std::max({1.0f, layout.tan_half_x, layout.tan_half_y});
+
+  layout.slice_boundaries.resize(layout.slice_count + 1);
+  for (std::uint32_t k = 0; k <= layout.slice_count; ++k)
+    layout.slice_boundaries[k] = static_cast<float>(double{config.near_plane} * std::pow(layout.q, double(k)));
+  layout.slice_boundaries.front() = config.near_plane;
+  layout.slice_boundaries.back() = std::max(layout.slice_boundaries.back(), config.far_plane);
+  return layout;
+}
+
+ClusterLayout::KeyFields ClusterLayout::unpack(std::uint32_t key) const {
+  const std::uint32_t tile = key >> low_bits();
+  return {tile % tiles_x, tile / tiles_x, (key >> normal_bits) & ((1u << slice_bits) - 1u),
+          key & ((1u << normal_bits) - 1u)};
+}
+
+std::optional<float> pixel_distance(const ClusterLayout& layout, float depth, DepthFormat format) {
+  const float near_plane = layout.config.near_plane, far_plane = layout.config.far_plane;
+  if (format == DepthFormat::Window) {
+    if (!(depth >= 0.0f && depth < 1.0f)) return std::nullopt;
+    const float distance = layout.near_times_far / (far_plane - depth * layout.far_minus_near);
+    return std::clamp(distance, near_plane, far_plane);
+  }
+  const float distance = -depth;
+  if (!(distance >= near_plane && distance <= far_plane)) return std::nullopt;
+  return distance;
+}
+
+std::uint32_t slice_of_distance(const ClusterLayout& layout, float distance) {
+  const auto first = layout.slice_boundaries.begin();
+  const auto after = std::upper_bound(first, first + layout.slice_count, distance);
+  return static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(after - first - 1, 0));
+}
+
+std::uint32_t normal_cell(Vec3 normal) {
+  const float ax = std::fabs(normal.x), ay = std::fabs(normal.y), az = std::fabs(normal.z);
+  std::uint32_t axis;
+  float major, u, v;
+  if (ax >= ay && ax >= az) {
+    axis = 0, major = normal.x, u = normal.y, v = normal.z;
+  } else if (ay >= az) {
+    axis = 1, major = normal.y, u = normal.x, v = normal.z;
+  } else {
+    axis = 2, major = normal.z, u = normal.x, v = normal.y;
+  }
+  const float m = std::fabs(major);
+  const std::uint32_t face = 2 * axis + (major < 0.0f ? 1u : 0u);
+  const std::uint32_t cell_u = (3.0f * u >= -m ? 1u : 0u) + (3.0f * u >= m ? 1u : 0u);
+  const std::uint32_t cell_v = (3.0f * v >= -m ? 1u : 0u) + (3.0f * v >= m ? 1u : 0u);
+  return face * 9 + cell_v * 3 + cell_u;
+}
+
+float view_z_from_window_depth(float depth, float near_plane, float far_plane) {
+  const float near_times_far = near_plane * far_plane;
+  const float far_minus_near = far_plane - near_plane;
+  return -(near_times_far / (far_plane - depth * far_minus_near));
+}
+
+float window_depth_from_view_z(float view_z, float near_plane, float far_plane) {
+  const float distance = -view_z;
+  return (far_plane - near_plane * far_plane / distance) / (far_plane - near_plane);
+}
+
+Vec3 pixel_view_position(const ClusterLayout& layout, std::uint32_t x, std::uint32_t y, float distance) {
+  const float ndc_x = (static_cast<float>(x) + 0.5f) * layout.two_over_width - 1.0f;
+  const float ndc_y = (static_cast<float>(y) + 0.5f) * layout.two_over_height - 1.0f;
+  return {ndc_x * distance * layout.tan_half_x, ndc_y * distance * layout.tan_half_y, -distance};
+}
+
+ClusterBox cluster_box(const ClusterLayout& layout, std::uint32_t key) {
+  // Same operations in the same order as cluster_bounds in kernels/cluster.cl.
+  const auto fields = layout.unpack(key);
+  const ClusterConfig& c = layout.config;
+  const float near_d = layout.slice_boundaries[fields.slice];
+  const float far_d = layout.slice_boundaries[fields.slice + 1];
+  const float x0 = static_cast<float>(fields.tile_x * c.tile_width) * layout.two_over_width - 1.0f;
+  const float x1 =
+      static_cast<float>(std::min((fields.tile_x + 1) * c.tile_width, c.width)) * layout.two_over_width - 1.0f;
+  const float y0 = static_cast<float>(fields.tile_y * c.tile_height) * layout.two_over_height - 1.0f;
+  const float y1 =
+      static_cast<float>(std::min((fields.tile_y + 1) * c.tile_height, c.height)) * layout.two_over_height - 1.0f;
+  const float pad = far_d * layout.padding_scale;
+  ClusterBox box;
+  box.min.x = std::min(x0 * near_d, x0 * far_d) * layout.tan_half_x - pad;
+  box.max.x = std::max(x1 * near_d, x1 * far_d) * layout.tan_half_x + pad;
+  box.min.y = std::min(y0 * near_d, y0 * far_d) * layout.tan_half_y - pad;
+  box.max.y = std::max(y1 * near_d, y1 * far_d) * layout.tan_half_y + pad;
+  box.min.z = -far_d - pad;
+  box.max.z = -near_d + pad;
+  return box;
+}
+
+bool light_touches_box(const PointLight& light, const ClusterBox& box) {
+  // Same operations in the same order as light_touches in kernels/cluster_lights.cl.
+  const auto gap = [](float lo, float hi, float c) { return std::max(0.0f, std::max(lo - c, c - hi)); };
+  const float dx = gap(box.min.x, box.max.x, light.center.x);
+  const float dy = gap(box.min.y, box.max.y, light.center.y);
+  const float dz = gap(box.min.z, box.max.z, light.center.z);
+  return dx * dx + dy * dy + dz * dz <= light.radius * light.radius;
+}
+
+}  // namespace splatcl::cluster
