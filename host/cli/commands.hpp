@@ -18,5 +18,6 @@ Action register_devices(CLI::App& app);
 Action register_cluster(CLI::App& app);
 Action register_bench(CLI::App& app);
 Action register_splats(CLI::App& app);
+Action register_csm(CLI::App& app);
 
 }  // namespace splatcl::cli

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   add(splatcl::cli::register_cluster);
   add(splatcl::cli::register_bench);
   add(splatcl::cli::register_splats);
+  add(splatcl::cli::register_csm);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,228 @@
+// splatcl csm: coherent shadow maps. `build` captures the dual-depth maps on the OpenCL device and
+// compresses them per pixel while streaming; `info` describes a .csm file (and draws its coherence
+// map); `verify` validates a file and, given its model, checks losslessness for every (map, pixel).
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "bench/measure.hpp"
+#include "cli/commands.hpp"
+#include "csm/build.hpp"
+#include "csm/csm_file.hpp"
+#include "io/atomic_file.hpp"
+#include "io/image.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::cli {
+namespace {
+
+using namespace splatcl::csm;
+
+struct BuildCommand {
+  DeviceOptions device;
+  std::string model, output, coherence, distribution = "uniform", order = "zigzag-h", pole = "y", single_hit = "sphere-exit",
+                                        encoding = "plain";
+  std::uint32_t maps = 4096, resolution = 128, batch = 0;
+  bool reference = false;
+};
+
+struct InfoCommand {
+  std::string file, coherence;
+};
+
+struct VerifyCommand {
+  DeviceOptions device;
+  std::string file, model;
+  bool reference = false;
+};
+
+// One rewritten stderr line when stderr is a terminal; nothing otherwise.
+class Progress {
+ public:
+  Progress() : enabled_(isatty(fileno(stderr)) != 0) {}
+  ~Progress() { clear(); }
+  void show(const std::string& text) {
+    if (!enabled_) return;
+    std::fprintf(stderr, "\r\033[Kcsm: %s", text.c_str());
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  BuildProgress maps(const std::string& what) {
+    return [this, what](std::uint32_t done, std::uint32_t total) { show(fmt::format("{} {}/{} maps", what, done, total)); };
+  }
+  void clear() {
+    if (enabled_ && shown_) std::fprintf(stderr, "\r\033[K");
+    shown_ = false;
+  }
+
+ private:
+  bool enabled_ = false, shown_ = false;
+};
+
+double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
+
+double uncompressed_bytes(const CsmInfo& info) { return 8.0 * info.maps * info.resolution * info.resolution; }
+
+// c = 1 − (S_px − 1)/(N − 1) (digest §4.6): white = one segment, black = a segment per map.
+void write_coherence_map(const std::string& path, const Csm& csm) {
+  const int m = static_cast<int>(csm.info.resolution);
+  std::vector<float> rgb(csm.pixels() * 3);
+  const double span = std::max(1.0, static_cast<double>(csm.info.maps) - 1);
+  for (std::size_t p = 0; p < csm.pixels(); ++p) {
+    const double segments = csm.offsets[p + 1] - csm.offsets[p];
+    const auto c = static_cast<float>(1.0 - (segments - 1) / span);
+    rgb[3 * p] = rgb[3 * p + 1] = rgb[3 * p + 2] = c;
+  }
+  write_image_rgb(path, m, m, rgb);
+}
+
+void print_parameters(const CsmInfo& info) {
+  const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
+  fmt::print("model      {} ({} triangles)\n", info.source.empty() ? "(unnamed)" : info.source, info.triangles);
+  fmt::print("maps       {} = {} x {} ({} distribution, {} order, pole {}), {}x{} pixels\n", info.maps, grid.rows(), grid.cols(),
+             to_string(info.distribution), to_string(info.order), to_string(info.pole), info.resolution, info.resolution);
+  fmt::print("sphere     centre ({:.6g}, {:.6g}, {:.6g}), radius {:.6g}; single-surface pixels: {}; hit epsilon {:.3g}\n",
+             info.sphere.centre.x, info.sphere.centre.y, info.sphere.centre.z, info.sphere.radius, to_string(info.single_hit),
+             info.hit_epsilon);
+}
+
+void print_sizes(const Csm& csm, double plain_bytes, double compact_bytes) {
+  const double raw = uncompressed_bytes(csm.info);
+  fmt::print("segments   {} ({:.2f} per pixel, {:.4f} B per (pixel, map) plain)\n", csm.segments(),
+             static_cast<double>(csm.segments()) / static_cast<double>(csm.pixels()), plain_bytes / (raw / 8.0));
+  fmt::print("size       uncompressed {:.2f} MiB; plain {:.2f} MiB ({:.1f}:1); compact {:.2f} MiB ({:.1f}:1, {:.1f}% of plain)\n",
+             mib(raw), mib(plain_bytes), raw / plain_bytes, mib(compact_bytes), raw / compact_bytes, 100.0 * compact_bytes / plain_bytes);
+}
+
+int run_build(const BuildCommand& c) {
+  if (c.model.empty()) throw Error("csm build: a MODEL is required (see splatcl csm build --help)");
+  if (c.output.empty()) throw Error("csm build: an output file is required (-o OUT.csm)");
+  BuildOptions options;
+  options.maps = c.maps;
+  options.resolution = c.resolution;
+  options.distribution = parse_distribution(c.distribution);
+  options.order = parse_order(c.order);
+  options.pole = parse_pole_axis(c.pole);
+  options.single_hit = parse_single_hit(c.single_hit);
+  options.batch_maps = c.batch;
+  const Encoding encoding = parse_encoding(c.encoding);
+  if (c.resolution == 0 || c.resolution > 8192) throw Error("--res must be between 1 and 8192");
+  const SphereGrid check(options.distribution, options.order, options.pole, options.maps);
+  Progress progress;
+  progress.show("loading " + c.model);
+  const splats::Mesh mesh = splats::load_mesh(c.model);
+  std::shared_ptr<Runtime> runtime;
+  if (!c.reference) runtime = Runtime::create(c.device.device);
+  const BuildResult result = build_csm(mesh, options, runtime.get(), progress.maps("captured and compressed"));
+  progress.show("writing " + c.output);
+  Stopwatch write_clock;
+  const std::string plain = encode_csm(result.csm, Encoding::Plain);
+  const std::string compact = encode_csm(result.csm, Encoding::Compact, &result.segments);
+  write_file_atomically(c.output, encoding == Encoding::Plain ? plain : compact);
+  if (!c.coherence.empty()) write_coherence_map(c.coherence, result.csm);
+  const double write_ms = write_clock.elapsed_ms();
+  progress.clear();
+  print_parameters(result.csm.info);
+  print_sizes(result.csm, static_cast<double>(plain.size()), static_cast<double>(compact.size()));
+  fmt::print("time       setup {:.2f} s, capture {:.2f} s, compression {:.2f} s (device), build {:.2f} s, encode + write {:.2f} s; "
+             "{} maps per batch on {}\n",
+             result.setup_ms / 1000, result.capture_ms / 1000, result.compress_ms / 1000, result.total_ms / 1000, write_ms / 1000,
+             result.batch_maps, runtime ? runtime->info().name : std::string("the native reference"));
+  fmt::print("memory     peak resident {:.0f} MiB\n", bench::peak_rss_mb());
+  fmt::print("wrote      {} ({} encoding){}\n", c.output, to_string(encoding), c.coherence.empty() ? "" : ", " + c.coherence);
+  return 0;
+}
+
+int run_info(const InfoCommand& c) {
+  Encoding encoding = Encoding::Plain;
+  std::size_t bytes = 0;
+  const Csm csm = read_csm(c.file, &encoding, &bytes);
+  print_parameters(csm.info);
+  const double plain = encoding == Encoding::Plain ? static_cast<double>(bytes) : static_cast<double>(encode_csm(csm, Encoding::Plain).size());
+  const double compact = encoding == Encoding::Compact ? static_cast<double>(bytes) : static_cast<double>(encode_csm(csm, Encoding::Compact).size());
+  print_sizes(csm, plain, compact);
+  std::uint32_t most = 0;
+  for (std::size_t p = 0; p < csm.pixels(); ++p) most = std::max(most, csm.offsets[p + 1] - csm.offsets[p]);
+  fmt::print("file       {} encoding, {} bytes; at most {} segments in one pixel\n", to_string(encoding), bytes, most);
+  if (encoding == Encoding::Plain)
+    fmt::print("note       compact size re-encoded from the stored depths (a fresh build also knows the intervals, and is smaller)\n");
+  if (!c.coherence.empty()) {
+    write_coherence_map(c.coherence, csm);
+    fmt::print("wrote      {}\n", c.coherence);
+  }
+  return 0;
+}
+
+int run_verify(const VerifyCommand& c) {
+  Progress progress;
+  progress.show("reading " + c.file);
+  Encoding encoding = Encoding::Plain;
+  const Csm csm = read_csm(c.file, &encoding);
+  progress.clear();
+  fmt::print("file       {}: valid ({} encoding, {} segments, {} maps of {}x{})\n", c.file, to_string(encoding), csm.segments(),
+             csm.info.maps, csm.info.resolution, csm.info.resolution);
+  if (c.model.empty()) return 0;
+  const splats::Mesh mesh = splats::load_mesh(c.model);
+  std::shared_ptr<Runtime> runtime;
+  if (!c.reference) runtime = Runtime::create(c.device.device);
+  const LosslessReport report = check_lossless(csm, mesh, runtime.get(), progress.maps("recaptured"));
+  progress.clear();
+  if (report.violations)
+    throw Error(fmt::format("{}: not lossless for {} of {} (map, pixel) samples; first at map {}, pixel {}: stored {} outside [{}, {})",
+                            c.file, report.violations, report.samples, report.first_map, report.first_pixel, report.first_depth,
+                            report.first_z1, report.first_z2));
+  fmt::print("lossless   all {} (map, pixel) samples of {} keep their depth-test result\n", report.samples, c.model);
+  return 0;
+}
+
+}  // namespace
+
+Action register_csm(CLI::App& app) {
+  auto* sub = app.add_subcommand("csm", "Coherent shadow maps: build from a mesh, inspect, verify");
+  sub->require_subcommand(1);
+
+  auto* build = sub->add_subcommand("build", "Capture N orthographic dual-depth maps of a mesh on its bounding sphere (OpenCL ray casting) "
+                                              "and compress them per pixel while streaming; writes a .csm file");
+  auto b = std::make_shared<BuildCommand>();
+  add_device_option(*build, b->device);
+  build->add_option("model", b->model, "Input mesh (OBJ, PLY, OFF, STL)");
+  build->add_option("-o,--output", b->output, "Output .csm file");
+  build->add_option("--maps", b->maps, "Number of maps N: G² for uniform/regular, 2T² for ao")->capture_default_str();
+  build->add_option("--res", b->resolution, "Map resolution M (M x M pixels)")->capture_default_str();
+  build->add_option("--dist", b->distribution, "Direction grid: uniform, regular (G x G) or ao (the AO thesis's T x 2T)")->capture_default_str();
+  build->add_option("--order", b->order, "Map order: zigzag-h, zigzag-v, linear-h, linear-v (h = theta fastest), hilbert, morton (extension)")
+      ->capture_default_str();
+  build->add_option("--pole", b->pole, "Object axis of the sphere's pole: y, z, x, or y180, z180, x180 (poles swapped)")->capture_default_str();
+  build->add_option("--single-hit", b->single_hit, "z2 of single-surface pixels: sphere-exit (the ray's exit from the bounding sphere) or exact (z2 = z1)")
+      ->capture_default_str();
+  build->add_option("--encoding", b->encoding, "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)")
+      ->capture_default_str();
+  build->add_option("--batch", b->batch, "Maps captured per batch (default: about 8 M samples)");
+  build->add_option("--coherence", b->coherence, "Also write the coherence map (PNG: white = one segment, black = one per map)");
+  build->add_flag("--reference", b->reference, "Use the native C++ reference instead of the OpenCL kernels (keeps all maps in memory)");
+
+  auto* info = sub->add_subcommand("info", "Describe a .csm file: parameters, segments, plain and compact sizes");
+  auto i = std::make_shared<InfoCommand>();
+  info->add_option("file", i->file, "A .csm file")->required();
+  info->add_option("--coherence", i->coherence, "Also write the coherence map (PNG)");
+
+  auto* verify = sub->add_subcommand("verify", "Validate a .csm file; with its MODEL, recapture every map and check that each "
+                                                "(map, pixel) keeps its depth-test result (losslessness)");
+  auto v = std::make_shared<VerifyCommand>();
+  add_device_option(*verify, v->device);
+  verify->add_option("file", v->file, "A .csm file")->required();
+  verify->add_option("model", v->model, "The mesh it was built from");
+  verify->add_flag("--reference", v->reference, "Recapture with the native C++ reference");
+
+  return [b, i, v, build, info, verify]() -> int {
+    if (build->parsed()) return run_build(*b);
+    if (info->parsed()) return run_info(*i);
+    return run_verify(*v);
+  };
+}
+
+}  // namespace splatcl::cli

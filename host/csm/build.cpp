@@ -1,0 +1,145 @@
+#include "csm/build.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "runtime/error.hpp"
+#include "runtime/profiling.hpp"
+#include "splats/parallel.hpp"
+
+namespace splatcl::csm {
+namespace {
+
+CsmInfo info_for(const splats::Mesh& mesh, const BuildOptions& o, const CaptureScene& scene) {
+  CsmInfo info;
+  info.resolution = o.resolution;
+  info.maps = o.maps;
+  info.distribution = o.distribution;
+  info.order = o.order;
+  info.pole = o.pole;
+  info.single_hit = o.single_hit;
+  info.hit_epsilon = o.hit_epsilon;
+  info.sphere = scene.sphere;
+  info.triangles = static_cast<std::uint32_t>(scene.bvh.triangles.size());
+  info.source = std::filesystem::path(mesh.source).filename().string();
+  return info;
+}
+
+// Runs `batch(first, count)` over the sequence in batches of `batch_maps`.
+template <class Batch>
+void for_each_batch(std::uint32_t maps, std::uint32_t batch_maps, const BuildProgress& progress, Batch batch) {
+  for (std::uint32_t first = 0; first < maps; first += batch_maps) {
+    const std::uint32_t count = std::min(batch_maps, maps - first);
+    batch(first, count);
+    if (progress) progress(first + count, maps);
+  }
+}
+
+}  // namespace
+
+std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps) {
+  const std::uint64_t pixels = std::uint64_t{resolution} * resolution;
+  return static_cast<std::uint32_t>(std::clamp<std::uint64_t>((std::uint64_t{1} << 23) / pixels, 1, maps));
+}
+
+BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* runtime, const BuildProgress& progress) {
+  Stopwatch total;
+  BuildResult result;
+  const SphereGrid grid(o.distribution, o.order, o.pole, o.maps);
+  const CaptureScene scene(mesh, bounding_sphere(mesh), o.resolution, o.single_hit, o.hit_epsilon);
+  result.batch_maps = o.batch_maps ? std::min(o.batch_maps, o.maps) : default_batch_maps(o.resolution, o.maps);
+  result.setup_ms = total.elapsed_ms();
+  const std::size_t pixels = scene.pixels();
+  if (runtime) {
+    DepthCapture capture(*runtime, scene);
+    StreamingCompressor compressor(*runtime, pixels, o.maps);
+    const std::size_t bytes = std::size_t{result.batch_maps} * pixels * sizeof(float);
+    cl::Buffer z1 = runtime->buffer(CL_MEM_READ_WRITE, bytes, "CSM batch depths z1");
+    cl::Buffer z2 = runtime->buffer(CL_MEM_READ_WRITE, bytes, "CSM batch depths z2");
+    Profiler profiler;
+    for_each_batch(o.maps, result.batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
+      capture.capture(grid, first, count, z1, z2, &profiler);
+      compressor.add(z1, z2, count, &profiler);
+    });
+    result.segments = compressor.finish();
+    for (const auto& [label, ms] : profiler.per_label_ms()) (label == "csm capture" ? result.capture_ms : result.compress_ms) += ms;
+  } else {
+    std::vector<float> z1(std::size_t{o.maps} * pixels), z2(z1.size()), b1, b2;
+    Stopwatch capture_clock;
+    for_each_batch(o.maps, result.batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
+      capture_reference(scene, grid, first, count, b1, b2);
+      std::copy(b1.begin(), b1.end(), z1.begin() + static_cast<std::ptrdiff_t>(first * pixels));
+      std::copy(b2.begin(), b2.end(), z2.begin() + static_cast<std::ptrdiff_t>(first * pixels));
+    });
+    result.capture_ms = capture_clock.elapsed_ms();
+    Stopwatch compress_clock;
+    result.segments = compress_reference(z1, z2, pixels, o.maps);
+    result.compress_ms = compress_clock.elapsed_ms();
+  }
+  result.csm = make_csm(info_for(mesh, o, scene), result.segments);
+  result.total_ms = total.elapsed_ms();
+  return result;
+}
+
+LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress) {
+  const CsmInfo& info = csm.info;
+  const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
+  const CaptureScene scene(mesh, info.sphere, info.resolution, info.single_hit, info.hit_epsilon);
+  const std::size_t pixels = scene.pixels();
+  if (csm.pixels() != pixels) throw Error("check_lossless: the CSM's pixel count does not match its resolution");
+  const std::uint32_t batch_maps = default_batch_maps(info.resolution, info.maps);
+  std::vector<float> z1, z2;
+  std::unique_ptr<DepthCapture> capture;
+  cl::Buffer d1, d2;
+  if (runtime) {
+    capture = std::make_unique<DepthCapture>(*runtime, scene);
+    d1 = runtime->buffer(CL_MEM_READ_WRITE, std::size_t{batch_maps} * pixels * sizeof(float), "CSM check z1");
+    d2 = runtime->buffer(CL_MEM_READ_WRITE, std::size_t{batch_maps} * pixels * sizeof(float), "CSM check z2");
+  }
+  // Each pixel walks its segment list forward as the maps go by: no search needed.
+  std::vector<std::uint32_t> cursor(csm.offsets.begin(), csm.offsets.end() - 1);
+  LosslessReport report;
+  std::vector<LosslessReport> per_worker(splats::worker_count(pixels, 64));
+  for_each_batch(info.maps, batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
+    if (runtime) {
+      capture->capture(grid, first, count, d1, d2);
+      z1.resize(std::size_t{count} * pixels);
+      z2.resize(z1.size());
+      runtime->queue().enqueueReadBuffer(d1, CL_FALSE, 0, z1.size() * sizeof(float), z1.data());
+      runtime->queue().enqueueReadBuffer(d2, CL_TRUE, 0, z2.size() * sizeof(float), z2.data());
+    } else {
+      capture_reference(scene, grid, first, count, z1, z2);
+    }
+    splats::parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
+      LosslessReport& r = per_worker[w];
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const std::uint32_t map = first + k;
+        while (csm.end[cursor[p]] < map) ++cursor[p];
+        const float g = csm.depth[cursor[p]], a = z1[std::size_t{k} * pixels + p], b = z2[std::size_t{k} * pixels + p];
+        ++r.samples;
+        if (lossless(g, a, b)) continue;
+        if (r.violations++ == 0 || map < r.first_map) {
+          r.first_map = map;
+          r.first_pixel = p;
+          r.first_depth = g;
+          r.first_z1 = a;
+          r.first_z2 = b;
+        }
+      }
+    });
+  });
+  for (const LosslessReport& r : per_worker) {
+    if (r.violations && (report.violations == 0 || r.first_map < report.first_map)) {
+      report.first_map = r.first_map;
+      report.first_pixel = r.first_pixel;
+      report.first_depth = r.first_depth;
+      report.first_z1 = r.first_z1;
+      report.first_z2 = r.first_z2;
+    }
+    report.samples += r.samples;
+    report.violations += r.violations;
+  }
+  return report;
+}
+
+}  // namespace splatcl::csm

@@ -1,0 +1,58 @@
+#pragma once
+// Building a coherent shadow map: bounding sphere, BVH, then maps captured in batches in sequence
+// order and folded into the per-pixel runs (StreamingCompressor), so memory holds one batch of
+// maps, never all N. With no runtime the native references do the same work (all maps of a batch
+// captured on the host, then the batch algorithm over the whole sequence: for small builds and
+// tests only).
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "csm/capture.hpp"
+#include "csm/compress.hpp"
+#include "csm/csm_file.hpp"
+#include "csm/sphere_grid.hpp"
+#include "runtime/runtime.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::csm {
+
+struct BuildOptions {
+  std::uint32_t maps = 4096, resolution = 128;
+  Distribution distribution = Distribution::Uniform;
+  Order order = Order::ZigzagH;
+  PoleAxis pole = PoleAxis::Y;
+  SingleHit single_hit = SingleHit::SphereExit;
+  float hit_epsilon = kDefaultHitEpsilon;
+  // Maps per batch; 0 picks about 8 M samples per batch (64 MiB of depths).
+  std::uint32_t batch_maps = 0;
+};
+
+struct BuildResult {
+  Csm csm;
+  Segments segments;  // the runs' intervals, for the compact encoding
+  double setup_ms = 0, capture_ms = 0, compress_ms = 0, total_ms = 0;
+  std::uint32_t batch_maps = 0;
+};
+
+// Called after each batch with (maps done, maps total).
+using BuildProgress = std::function<void(std::uint32_t, std::uint32_t)>;
+
+// Throws Error for bad options (maps not fitting the distribution or order, resolution 0).
+BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& options, Runtime* runtime,
+                      const BuildProgress& progress = {});
+
+std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps);
+
+// Losslessness check (compression digest §13): every (map, pixel) of `csm` recaptured from `mesh`
+// and its stored depth tested with lossless(). Captures in batches on `runtime` (native reference
+// when null).
+struct LosslessReport {
+  std::uint64_t samples = 0, violations = 0;
+  std::uint32_t first_map = 0;
+  std::size_t first_pixel = 0;
+  float first_depth = 0, first_z1 = 0, first_z2 = 0;
+};
+LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {});
+
+}  // namespace splatcl::csm

@@ -1,0 +1,65 @@
+#pragma once
+// A bounding volume hierarchy over a mesh's triangles, built on the host with the binned surface
+// area heuristic, flattened depth-first so the OpenCL kernels (kernels/csm_trace.h) and the native
+// traversal here walk the same nodes in the same order with the same float operations.
+//
+// Coordinates are relative to an origin (the bounding sphere's centre) to keep float error small.
+#include <cstdint>
+#include <vector>
+
+#include "splats/geometry.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::csm {
+
+using splats::Vec3;
+
+// Internal node: count == 0, children at (this + 1) and `index`. Leaf: triangles [index, index + count).
+struct BvhNode {
+  float lo[3];
+  std::uint32_t index;
+  float hi[3];
+  std::uint32_t count;
+};
+
+// A triangle as vertex 0 and the two edges from it, precomputed once so both traversals use the
+// same values.
+struct BvhTriangle {
+  float v0[3], e1[3], e2[3];
+};
+
+struct Bvh {
+  std::vector<BvhNode> nodes;
+  std::vector<BvhTriangle> triangles;
+  std::uint32_t depth = 0;  // longest root-to-leaf path (the traversal stack needs fewer entries)
+};
+
+// Maximum tree depth; the kernels' traversal stack has this many entries.
+inline constexpr std::uint32_t kBvhMaxDepth = 64;
+
+// The mesh's faces, fan-triangulated, relative to `origin`; zero-area triangles are dropped.
+// Throws Error naming the mesh when no triangle with a positive area remains.
+std::vector<BvhTriangle> mesh_triangles(const splats::Mesh& mesh, Vec3 origin);
+
+// Binned SAH build; leaves hold at most 4 triangles.
+Bvh build_bvh(std::vector<BvhTriangle> triangles);
+
+// Nearest and next distinct hit distance along o + t·dir (t > 0); a hit within `eps` of the
+// nearest counts as the same surface (shared edges and vertices). INFINITY where there is none.
+struct TwoHits {
+  float t1, t2;
+};
+TwoHits first_two_hits(const Bvh& bvh, const float o[3], const float dir[3], const float inv[3], float eps);
+
+// Whether any triangle is hit at 0 < t < t_max (exact visibility for ground truth).
+bool any_hit(const Bvh& bvh, const float o[3], const float dir[3], float t_max);
+
+// 1 / d, or 1e30 for d = 0, so that box tests never compute 0 × inf. Capture and query use it for
+// every inverse direction they pass to the traversal.
+float inverse_direction(float d);
+
+// Ray-triangle distance (Möller–Trumbore, edges inclusive), INFINITY on a miss; the kernels'
+// csm_triangle_hit does the same operations.
+float triangle_hit(const BvhTriangle& tri, const float o[3], const float dir[3]);
+
+}  // namespace splatcl::csm

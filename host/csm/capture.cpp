@@ -1,0 +1,172 @@
+#include "csm/capture.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "primitives/launch.hpp"
+#include "runtime/error.hpp"
+#include "splats/parallel.hpp"
+
+namespace splatcl::csm {
+namespace {
+
+using primitives::detail::set_args;
+
+// Vertices some face uses (load_mesh already drops unused ones; generated meshes may not).
+std::vector<Vec3> face_vertices(const splats::Mesh& mesh) {
+  std::vector<std::uint32_t> used(mesh.corners);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<Vec3> out;
+  out.reserve(used.size());
+  for (std::uint32_t v : used) out.push_back(mesh.vertices[v]);
+  return out;
+}
+
+double distance(const double c[3], Vec3 p) {
+  const double dx = p.x - c[0], dy = p.y - c[1], dz = p.z - c[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+double farthest(const double c[3], const std::vector<Vec3>& points) {
+  double r = 0;
+  for (const Vec3& p : points) r = std::max(r, distance(c, p));
+  return r;
+}
+
+void pixel_depths(const CaptureScene& scene, const Camera& cam, std::uint32_t row, float* z1, float* z2) {
+  const float radius = scene.sphere.radius, half_pixel = scene.half_pixel(), depth_scale = scene.depth_scale();
+  const float eps = scene.eps_distance();
+  const float dir[3] = {-cam.d[0], -cam.d[1], -cam.d[2]};
+  const float y = static_cast<float>(2 * row + 1) * half_pixel - radius;
+  const bool exact = scene.single_hit == SingleHit::Exact;
+  for (std::uint32_t i = 0; i < scene.resolution; ++i) {
+    const float x = static_cast<float>(2 * i + 1) * half_pixel - radius;
+    float o[3];
+    for (int k = 0; k < 3; ++k) o[k] = radius * cam.d[k] + x * cam.u[k] + y * cam.v[k];
+    const TwoHits hits = first_two_hits(scene.bvh, o, dir, cam.inv, eps);
+    float a = 1.0f, b = INFINITY;
+    if (hits.t1 != INFINITY) {
+      a = hits.t1 * depth_scale;
+      if (hits.t2 != INFINITY) {
+        b = hits.t2 * depth_scale;
+      } else if (exact) {
+        b = a;
+      } else {
+        b = (radius + std::sqrt(std::fmax(radius * radius - (x * x + y * y), 0.0f))) * depth_scale;
+      }
+      if (!(b >= a)) b = a;
+      if (!exact && !(b > a)) b = std::nextafter(a, INFINITY);
+    }
+    z1[i] = a;
+    z2[i] = b;
+  }
+}
+
+}  // namespace
+
+const char* to_string(SingleHit value) { return value == SingleHit::Exact ? "exact" : "sphere-exit"; }
+
+SingleHit parse_single_hit(const std::string& text) {
+  if (text == "sphere-exit") return SingleHit::SphereExit;
+  if (text == "exact") return SingleHit::Exact;
+  throw Error("unknown single-hit rule '" + text + "' (one of: sphere-exit, exact)");
+}
+
+Sphere bounding_sphere(const splats::Mesh& mesh) {
+  const std::vector<Vec3> points = face_vertices(mesh);
+  if (points.empty()) throw Error(mesh.source + ": the mesh has no faces");
+  // Box sphere.
+  splats::Box box;
+  for (const Vec3& p : points) box.add(p);
+  double best_c[3] = {0.5 * (double{box.lo.x} + box.hi.x), 0.5 * (double{box.lo.y} + box.hi.y), 0.5 * (double{box.lo.z} + box.hi.z)};
+  double best_r = farthest(best_c, points);
+  // Ritter: start from a far pair, grow to cover every point.
+  const double origin[3] = {points[0].x, points[0].y, points[0].z};
+  Vec3 p = points[0], q = points[0];
+  double far = -1;
+  for (const Vec3& x : points)
+    if (const double d = distance(origin, x); d > far) far = d, p = x;
+  const double pc[3] = {p.x, p.y, p.z};
+  far = -1;
+  for (const Vec3& x : points)
+    if (const double d = distance(pc, x); d > far) far = d, q = x;
+  double c[3] = {0.5 * (double{p.x} + q.x), 0.5 * (double{p.y} + q.y), 0.5 * (double{p.z} + q.z)};
+  double r = 0.5 * far;
+  for (const Vec3& x : points) {
+    const double d = distance(c, x);
+    if (d <= r) continue;
+    const double grown = 0.5 * (r + d), shift = (grown - r) / d;
+    c[0] += (x.x - c[0]) * shift;
+    c[1] += (x.y - c[1]) * shift;
+    c[2] += (x.z - c[2]) * shift;
+    r = grown;
+  }
+  r = farthest(c, points);
+  if (r < best_r) {
+    std::copy(c, c + 3, best_c);
+    best_r = r;
+  }
+  Sphere sphere;
+  sphere.centre = {static_cast<float>(best_c[0]), static_cast<float>(best_c[1]), static_cast<float>(best_c[2])};
+  const double fc[3] = {sphere.centre.x, sphere.centre.y, sphere.centre.z};
+  const double radius = farthest(fc, points);
+  if (!(radius > 0) || !std::isfinite(radius)) throw Error(mesh.source + ": the mesh has zero extent (all vertices coincide)");
+  sphere.radius = static_cast<float>(radius * (1 + 1e-5));
+  return sphere;
+}
+
+CaptureScene::CaptureScene(const splats::Mesh& mesh, const Sphere& sphere_, std::uint32_t resolution_, SingleHit single_hit_,
+                           float hit_epsilon_)
+    : sphere(sphere_), resolution(resolution_), single_hit(single_hit_), hit_epsilon(hit_epsilon_) {
+  if (resolution == 0 || resolution > 8192) throw Error("the map resolution must be between 1 and 8192");
+  if (!(sphere.radius > 0) || !std::isfinite(sphere.radius)) throw Error("the bounding sphere's radius must be positive");
+  if (!(hit_epsilon >= 0) || !std::isfinite(hit_epsilon)) throw Error("the hit epsilon must be finite and not negative");
+  bvh = build_bvh(mesh_triangles(mesh, sphere.centre));
+}
+
+std::vector<Camera> cameras(const SphereGrid& grid, std::uint32_t first, std::uint32_t count) {
+  std::vector<Camera> out(count);
+  for (std::uint32_t k = 0; k < count; ++k) out[k] = grid.camera(first + k);
+  return out;
+}
+
+void capture_reference(const CaptureScene& scene, const SphereGrid& grid, std::uint32_t first, std::uint32_t count,
+                       std::vector<float>& z1, std::vector<float>& z2) {
+  const std::vector<Camera> table = cameras(grid, first, count);
+  const std::size_t m = scene.resolution, pixels = scene.pixels();
+  z1.assign(count * pixels, 0.0f);
+  z2.assign(count * pixels, 0.0f);
+  splats::parallel_for(std::size_t{count} * m, 4, [&](std::size_t item, std::size_t) {
+    const std::size_t map = item / m, row = item % m;
+    const std::size_t base = map * pixels + row * m;
+    pixel_depths(scene, table[map], static_cast<std::uint32_t>(row), z1.data() + base, z2.data() + base);
+  });
+}
+
+DepthCapture::DepthCapture(Runtime& runtime, const CaptureScene& scene) : runtime_(runtime), scene_(scene) {
+  const auto& bvh = scene.bvh;
+  auto& queue = runtime.queue();
+  nodes_ = runtime.buffer(CL_MEM_READ_ONLY, bvh.nodes.size() * sizeof(BvhNode), "CSM BVH nodes");
+  triangles_ = runtime.buffer(CL_MEM_READ_ONLY, bvh.triangles.size() * sizeof(BvhTriangle), "CSM triangles");
+  queue.enqueueWriteBuffer(nodes_, CL_TRUE, 0, bvh.nodes.size() * sizeof(BvhNode), bvh.nodes.data());
+  queue.enqueueWriteBuffer(triangles_, CL_TRUE, 0, bvh.triangles.size() * sizeof(BvhTriangle), bvh.triangles.data());
+  kernel_ = runtime.kernel("csm_capture.cl", "csm_capture");
+}
+
+cl::Event DepthCapture::capture(const SphereGrid& grid, std::uint32_t first, std::uint32_t count, cl::Buffer& z1,
+                                cl::Buffer& z2, Profiler* profiler) {
+  const std::size_t samples = std::size_t{count} * scene_.pixels();
+  primitives::detail::require_bytes(z1, samples * sizeof(float), "CSM capture z1");
+  primitives::detail::require_bytes(z2, samples * sizeof(float), "CSM capture z2");
+  const std::vector<Camera> table = cameras(grid, first, count);
+  primitives::detail::ensure_bytes(runtime_, cameras_, table.size() * sizeof(Camera), "CSM cameras");
+  runtime_.queue().enqueueWriteBuffer(cameras_, CL_TRUE, 0, table.size() * sizeof(Camera), table.data());
+  const std::size_t rows = std::size_t{count} * scene_.resolution;
+  set_args(kernel_, nodes_, triangles_, cameras_, static_cast<cl_uint>(scene_.resolution), static_cast<cl_uint>(rows),
+           scene_.sphere.radius, scene_.half_pixel(), scene_.depth_scale(), scene_.eps_distance(),
+           static_cast<cl_uint>(scene_.single_hit == SingleHit::Exact ? 1 : 0), z1, z2);
+  return enqueue_1d(runtime_.queue(), kernel_, rows, 0, profiler, "csm capture");
+}
+
+}  // namespace splatcl::csm

@@ -1,0 +1,84 @@
+#pragma once
+// Dual-depth capture (compression digest §3; AO digest §4.3): for every map of a SphereGrid, an
+// M × M orthographic depth map pair (z1 = first surface, z2 = next distinct surface) by ray
+// casting against a host-built SAH BVH. DepthCapture runs kernels/csm_capture.cl; capture_reference
+// is the native multithreaded reference with the same float operations.
+//
+// Depth: linear, 0 on the camera plane (tangent to the bounding sphere) and 1 at distance 2R.
+// Pixel (i, j) of a map is the ray through x = (2i + 1)·R/M − R along u, y likewise along v;
+// index j·M + i, row 0 at the bottom.
+// Rules (documented in docs/formats.md):
+// - empty pixel (no hit): z1 = 1, z2 = +inf; runs of empty pixels store +inf (always lit);
+// - single-surface pixel (open mesh, or a ray grazing one triangle): SingleHit::SphereExit sets z2
+//   to the depth where the ray leaves the bounding sphere (digest §3.6 workaround b);
+//   SingleHit::Exact sets z2 = z1, so the pixel keeps its own first depth (AO digest §4.4, "ONE").
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "csm/bvh.hpp"
+#include "csm/sphere_grid.hpp"
+#include "runtime/profiling.hpp"
+#include "runtime/runtime.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::csm {
+
+enum class SingleHit : std::uint32_t { SphereExit = 0, Exact = 1 };
+const char* to_string(SingleHit value);
+SingleHit parse_single_hit(const std::string& text);
+
+struct Sphere {
+  Vec3 centre;
+  float radius = 0;
+};
+
+// A tight sphere around every vertex some face uses: the smaller of Ritter's sphere and the box
+// sphere (box centre, farthest vertex), widened by 1e-5 of the radius so that every triangle lies
+// strictly inside in float arithmetic. Throws Error for a mesh of zero extent.
+Sphere bounding_sphere(const splats::Mesh& mesh);
+
+// Default hit tolerance, in depth units (fraction of 2R): hits closer than this are one surface.
+inline constexpr float kDefaultHitEpsilon = 1e-5f;
+
+// Everything the capture needs, shared by the kernel driver and the reference.
+struct CaptureScene {
+  CaptureScene(const splats::Mesh& mesh, const Sphere& sphere, std::uint32_t resolution, SingleHit single_hit,
+               float hit_epsilon = kDefaultHitEpsilon);
+  Sphere sphere;
+  std::uint32_t resolution;
+  SingleHit single_hit;
+  float hit_epsilon;  // depth units
+  Bvh bvh;            // relative to sphere.centre
+
+  float half_pixel() const { return sphere.radius / static_cast<float>(resolution); }
+  float depth_scale() const { return 1.0f / (2.0f * sphere.radius); }
+  float eps_distance() const { return hit_epsilon * 2.0f * sphere.radius; }
+  std::size_t pixels() const { return std::size_t{resolution} * resolution; }
+};
+
+// The cameras of sequence positions [first, first + count).
+std::vector<Camera> cameras(const SphereGrid& grid, std::uint32_t first, std::uint32_t count);
+
+// Native reference: depths of maps [first, first + count) in sequence order, laid out
+// [map][pixel], multithreaded over pixel rows.
+void capture_reference(const CaptureScene& scene, const SphereGrid& grid, std::uint32_t first, std::uint32_t count,
+                       std::vector<float>& z1, std::vector<float>& z2);
+
+// The capture kernel's driver; owns the BVH and camera buffers on the device.
+class DepthCapture {
+ public:
+  DepthCapture(Runtime& runtime, const CaptureScene& scene);
+  // Captures maps [first, first + count) into z1 and z2 (each at least count·M² floats), laid out
+  // [map][pixel]. Enqueued on the runtime's queue; returns the kernel's event.
+  cl::Event capture(const SphereGrid& grid, std::uint32_t first, std::uint32_t count, cl::Buffer& z1, cl::Buffer& z2,
+                    Profiler* profiler = nullptr);
+
+ private:
+  Runtime& runtime_;
+  const CaptureScene& scene_;
+  cl::Buffer nodes_, triangles_, cameras_;
+  cl::Kernel kernel_;
+};
+
+}  // namespace splatcl::csm

@@ -1,0 +1,45 @@
+// Coherent shadow maps, capture: two depths per pixel (first and next distinct surface) for a batch
+// of orthographic maps, by ray casting against the host-built BVH. CPU shape: one work-item per
+// (map, pixel row), a serial loop over the row, no barriers. Native reference: host/csm/capture.cpp.
+#include "csm_trace.h"
+
+// Depth is linear, 0 at the camera plane and 1 at distance 2R (compression digest §3.5). Empty
+// pixels: z1 = 1, z2 = +inf. Single-surface pixels: z2 = the ray's exit from the bounding sphere
+// (SINGLE_HIT_EXACT = 0) or z2 = z1, a value that merges with nothing (SINGLE_HIT_EXACT = 1).
+kernel void csm_capture(global const CsmNode* nodes, global const CsmTriangle* tris, global const CsmCamera* cameras,
+                        uint resolution, uint rows_total, float radius, float half_pixel, float depth_scale, float eps,
+                        uint single_hit_exact, global float* z1_out, global float* z2_out) {
+  const size_t item = get_global_id(0);
+  if (item >= rows_total) return;
+  const size_t map = item / resolution;
+  const uint row = (uint)(item % resolution);
+  global const CsmCamera* cam = cameras + map;
+  const float3 d = (float3)(cam->d[0], cam->d[1], cam->d[2]);
+  const float3 u = (float3)(cam->u[0], cam->u[1], cam->u[2]);
+  const float3 v = (float3)(cam->v[0], cam->v[1], cam->v[2]);
+  const float3 inv = (float3)(cam->inv[0], cam->inv[1], cam->inv[2]);
+  const float3 dir = -d;
+  const float y = (float)(2 * row + 1) * half_pixel - radius;
+  const size_t base = map * (size_t)resolution * resolution + (size_t)row * resolution;
+  for (uint i = 0; i < resolution; ++i) {
+    const float x = (float)(2 * i + 1) * half_pixel - radius;
+    const float3 o = (float3)(radius * d.x + x * u.x + y * v.x, radius * d.y + x * u.y + y * v.y,
+                              radius * d.z + x * u.z + y * v.z);
+    const float2 hits = csm_first_two_hits(nodes, tris, o, dir, inv, eps);
+    float z1 = 1.0f, z2 = INFINITY;
+    if (hits.x != INFINITY) {
+      z1 = hits.x * depth_scale;
+      if (hits.y != INFINITY) {
+        z2 = hits.y * depth_scale;
+      } else if (single_hit_exact) {
+        z2 = z1;
+      } else {
+        z2 = (radius + sqrt(fmax(radius * radius - (x * x + y * y), 0.0f))) * depth_scale;
+      }
+      if (!(z2 >= z1)) z2 = z1;
+      if (!single_hit_exact && !(z2 > z1)) z2 = nextafter(z1, INFINITY);
+    }
+    z1_out[base + i] = z1;
+    z2_out[base + i] = z2;
+  }
+}

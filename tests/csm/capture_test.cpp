@@ -1,0 +1,129 @@
+// Capture: the OpenCL kernel against the native reference (bit-identical depths), analytic depths
+// on a cube, the empty-pixel and single-surface rules, and the BVH against brute force.
+#include <cmath>
+#include <random>
+
+#include "csm/capture.hpp"
+#include "csm_test_support.hpp"
+#include "runtime/error.hpp"
+#include <cstring>
+
+namespace splatcl::csm {
+namespace {
+
+using namespace testing;
+
+struct Captured {
+  std::vector<float> z1, z2;
+};
+
+Captured capture_on_device(const CaptureScene& scene, const SphereGrid& grid, std::uint32_t first, std::uint32_t count) {
+  Runtime& rt = runtime();
+  const std::size_t n = std::size_t{count} * scene.pixels();
+  cl::Buffer z1 = rt.buffer(CL_MEM_READ_WRITE, n * sizeof(float), "z1"), z2 = rt.buffer(CL_MEM_READ_WRITE, n * sizeof(float), "z2");
+  DepthCapture capture(rt, scene);
+  capture.capture(grid, first, count, z1, z2);
+  Captured out{std::vector<float>(n), std::vector<float>(n)};
+  rt.queue().enqueueReadBuffer(z1, CL_TRUE, 0, n * sizeof(float), out.z1.data());
+  rt.queue().enqueueReadBuffer(z2, CL_TRUE, 0, n * sizeof(float), out.z2.data());
+  return out;
+}
+
+void expect_kernel_matches_reference(const Mesh& mesh, std::uint32_t resolution, SingleHit rule, Distribution dist, Order order,
+                                     std::uint32_t maps, std::uint32_t first, std::uint32_t count) {
+  const CaptureScene scene(mesh, bounding_sphere(mesh), resolution, rule);
+  const SphereGrid grid(dist, order, PoleAxis::Y, maps);
+  Captured ref;
+  capture_reference(scene, grid, first, count, ref.z1, ref.z2);
+  const Captured cl = capture_on_device(scene, grid, first, count);
+  std::size_t differ = 0, hits = 0;
+  for (std::size_t k = 0; k < ref.z1.size(); ++k) {
+    differ += (std::memcmp(&ref.z1[k], &cl.z1[k], 4) != 0 || std::memcmp(&ref.z2[k], &cl.z2[k], 4) != 0);
+    hits += ref.z1[k] < 1.0f;
+  }
+  EXPECT_EQ(differ, 0u) << mesh.source << " at " << resolution << "²";
+  EXPECT_GT(hits, 0u);
+}
+
+TEST(CsmCapture, KernelMatchesReferenceBitForBit) {
+  expect_kernel_matches_reference(cube_mesh(), 16, SingleHit::SphereExit, Distribution::Uniform, Order::ZigzagH, 64, 0, 64);
+  expect_kernel_matches_reference(scene_mesh(), 33, SingleHit::SphereExit, Distribution::Regular, Order::Hilbert, 64, 5, 17);
+  expect_kernel_matches_reference(sphere_mesh(12, 24), 24, SingleHit::Exact, Distribution::ThesisAo, Order::ZigzagV, 32, 0, 32);
+  expect_kernel_matches_reference(square_mesh(), 7, SingleHit::SphereExit, Distribution::Uniform, Order::LinearV, 16, 3, 1);
+}
+
+TEST(CsmCapture, CubeDepthsAreAnalytic) {
+  // Seen along a face normal the cube's near face is at distance R − 1 and its far face at R + 1.
+  const Mesh cube = cube_mesh();
+  const Sphere sphere = bounding_sphere(cube);
+  EXPECT_NEAR(sphere.radius, std::sqrt(3.0f), 1e-4f);
+  EXPECT_NEAR(splats::length(sphere.centre), 0.0f, 1e-6f);
+  const CaptureScene scene(cube, sphere, 8, SingleHit::SphereExit);
+  // The ao grid's cell (rows/2, 0) looks along +z (θ = π/2, φ = 0).
+  const SphereGrid grid(Distribution::ThesisAo, Order::LinearV, PoleAxis::Y, 32);
+  const std::uint32_t seq = grid.sequence_of({2, 0});
+  const Camera cam = grid.camera(seq);
+  ASSERT_NEAR(cam.d[2], 1.0f, 1e-6f);
+  std::vector<float> z1, z2;
+  capture_reference(scene, grid, seq, 1, z1, z2);
+  const float r = sphere.radius;
+  const std::size_t centre = 4 * 8 + 4;  // pixel centre at (R/8, R/8): inside the face
+  EXPECT_NEAR(z1[centre], (r - 1) / (2 * r), 1e-6f);
+  EXPECT_NEAR(z2[centre], (r + 1) / (2 * r), 1e-6f);
+  // A corner pixel at (−7R/8, −7R/8) misses the cube: empty.
+  EXPECT_EQ(z1[0], 1.0f);
+  EXPECT_EQ(z2[0], INFINITY);
+}
+
+TEST(CsmCapture, SingleSurfaceRules) {
+  const Mesh square = square_mesh();
+  const Sphere sphere = bounding_sphere(square);
+  const SphereGrid grid(Distribution::ThesisAo, Order::LinearV, PoleAxis::Y, 8);  // 2 x 4; cell (1, 0) looks along +z
+  const std::uint32_t seq = grid.sequence_of({1, 0});
+  for (const SingleHit rule : {SingleHit::SphereExit, SingleHit::Exact}) {
+    const CaptureScene scene(square, sphere, 4, rule);
+    std::vector<float> z1, z2;
+    capture_reference(scene, grid, seq, 1, z1, z2);
+    const std::size_t p = 1 * 4 + 1;  // (x, y) = (−R/4, −R/4): on the square
+    EXPECT_NEAR(z1[p], 0.5f, 1e-6f);
+    if (rule == SingleHit::Exact) {
+      EXPECT_EQ(z2[p], z1[p]);
+    } else {
+      const float rho2 = 2 * (sphere.radius / 4) * (sphere.radius / 4);
+      EXPECT_NEAR(z2[p], (sphere.radius + std::sqrt(sphere.radius * sphere.radius - rho2)) / (2 * sphere.radius), 1e-6f);
+    }
+  }
+}
+
+TEST(CsmCapture, BvhTraversalMatchesBruteForce) {
+  const Mesh mesh = sphere_mesh(20, 40);
+  const auto triangles = mesh_triangles(mesh, {});
+  const Bvh bvh = build_bvh(triangles);
+  EXPECT_EQ(bvh.triangles.size(), triangles.size());
+  EXPECT_LE(bvh.depth, kBvhMaxDepth);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.5f, 1.5f);
+  for (int i = 0; i < 2000; ++i) {
+    const float o[3] = {u(rng), u(rng), 3.0f};
+    const Vec3 d = splats::normalized(Vec3{u(rng) * 0.2f, u(rng) * 0.2f, -1.0f});
+    const float dir[3] = {d.x, d.y, d.z}, inv[3] = {1 / d.x, 1 / d.y, 1 / d.z};
+    float best = INFINITY;
+    for (const auto& t : triangles) best = std::fmin(best, triangle_hit(t, o, dir));
+    const TwoHits hits = first_two_hits(bvh, o, dir, inv, 1e-6f);
+    EXPECT_EQ(hits.t1, best);
+    EXPECT_EQ(any_hit(bvh, o, dir, INFINITY), best != INFINITY);
+    if (best != INFINITY) {
+      EXPECT_GT(hits.t2, hits.t1);  // a closed sphere is always left again
+    }
+  }
+}
+
+TEST(CsmCapture, DegenerateMeshesAreOneClearError) {
+  const Mesh flat = splats::make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}}, "collinear");
+  EXPECT_THROW(CaptureScene(flat, bounding_sphere(flat), 8, SingleHit::SphereExit), Error);
+  const Mesh point = splats::make_mesh({{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}, {{0, 1, 2}}, "point");
+  EXPECT_THROW(bounding_sphere(point), Error);
+}
+
+}  // namespace
+}  // namespace splatcl::csm

@@ -1,0 +1,101 @@
+// .csm files: plain and compact round trips, compact losslessness and size, and every kind of
+// damage (truncation, bit flips, wrong magic, missing file) as one clear Error.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "csm/build.hpp"
+#include "csm/csm_file.hpp"
+#include "csm_test_support.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::csm {
+namespace {
+
+using namespace testing;
+
+const BuildResult& small_build() {
+  static const BuildResult result = [] {
+    BuildOptions o;
+    o.maps = 64;
+    o.resolution = 20;
+    return build_csm(scene_mesh(), o, nullptr);
+  }();
+  return result;
+}
+
+std::string temp_path(const std::string& name) { return (std::filesystem::temp_directory_path() / ("splatcl-csm-test-" + name)).string(); }
+
+TEST(CsmFile, PlainRoundTripIsExact) {
+  const Csm& csm = small_build().csm;
+  const std::string path = temp_path("plain.csm");
+  write_csm(path, csm, Encoding::Plain);
+  Encoding encoding = Encoding::Compact;
+  std::size_t bytes = 0;
+  const Csm back = read_csm(path, &encoding, &bytes);
+  EXPECT_EQ(encoding, Encoding::Plain);
+  EXPECT_EQ(bytes, kCsmHeaderBytes + 4 * (csm.pixels() + 1) + 8 * csm.segments());
+  EXPECT_EQ(back.offsets, csm.offsets);
+  EXPECT_EQ(back.end, csm.end);
+  EXPECT_EQ(back.depth, csm.depth);
+  EXPECT_EQ(back.info.maps, 64u);
+  EXPECT_EQ(back.info.source, "three boxes");
+  EXPECT_EQ(back.info.sphere.radius, csm.info.sphere.radius);
+  std::filesystem::remove(path);
+}
+
+TEST(CsmFile, CompactIsLosslessAndAtMostHalfThePlainSize) {
+  const BuildResult& build = small_build();
+  const std::string plain = encode_csm(build.csm, Encoding::Plain);
+  const std::string compact = encode_csm(build.csm, Encoding::Compact, &build.segments);
+  EXPECT_LE(compact.size() - kCsmHeaderBytes, (plain.size() - kCsmHeaderBytes) / 2);
+  const Csm back = decode_csm(compact, "compact");
+  EXPECT_EQ(back.offsets, build.csm.offsets);
+  EXPECT_EQ(back.end, build.csm.end);
+  for (std::size_t k = 0; k < back.segments(); ++k) {
+    const float lo = build.segments.lo[k], hi = build.segments.hi[k];
+    ASSERT_TRUE((lo <= back.depth[k] && (back.depth[k] < hi || (lo == hi && back.depth[k] == lo))) || (hi == INFINITY && back.depth[k] == INFINITY))
+        << k << ": " << back.depth[k] << " outside [" << lo << ", " << hi << ")";
+  }
+  EXPECT_EQ(check_lossless(back, scene_mesh(), nullptr).violations, 0u);
+  // Re-encoding a decoded compact file (no intervals known) keeps every depth exactly.
+  const Csm again = decode_csm(encode_csm(back, Encoding::Compact), "again");
+  EXPECT_EQ(again.depth, back.depth);
+}
+
+TEST(CsmFile, DamagedFilesAreOneClearError) {
+  const std::string bytes = encode_csm(small_build().csm, Encoding::Plain);
+  const auto expect_error = [](const std::string& data, const std::string& why) {
+    try {
+      decode_csm(data, "damaged.csm");
+      ADD_FAILURE() << why << ": no error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind("damaged.csm: ", 0), 0u) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  };
+  expect_error("", "empty");
+  expect_error(bytes.substr(0, 100), "header cut");
+  expect_error(bytes.substr(0, bytes.size() - 4), "payload cut");
+  expect_error(bytes + "x", "padded");
+  for (const std::size_t at : {std::size_t{0}, std::size_t{8}, std::size_t{16}, std::size_t{40}, std::size_t{70}, std::size_t{175},
+                               kCsmHeaderBytes + 3, bytes.size() / 2, bytes.size() - 1}) {
+    std::string flipped = bytes;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x10);
+    expect_error(flipped, "bit flip at " + std::to_string(at));
+  }
+  const std::string compact = encode_csm(small_build().csm, Encoding::Compact);
+  expect_error(compact.substr(0, compact.size() - 1), "compact cut");
+  EXPECT_THROW(read_csm(temp_path("missing.csm")), Error);
+}
+
+TEST(CsmFile, LookupFindsTheRunOfEveryMap) {
+  const Csm& csm = small_build().csm;
+  for (std::size_t p = 0; p < csm.pixels(); p += 7)
+    for (std::uint32_t k = csm.offsets[p], first = 0; k < csm.offsets[p + 1]; first = csm.end[k] + 1, ++k)
+      for (std::uint32_t map = first; map <= csm.end[k]; ++map) ASSERT_EQ(csm.lookup(p, map), csm.depth[k]);
+}
+
+}  // namespace
+}  // namespace splatcl::csm

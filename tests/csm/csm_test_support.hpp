@@ -1,0 +1,77 @@
+#pragma once
+// Shared by the CSM tests: one Runtime per process, small meshes made in code, the shared models.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "runtime/runtime.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::csm::testing {
+
+using splats::Mesh;
+using splats::Vec3;
+
+inline Runtime& runtime() {
+  static const std::shared_ptr<Runtime> instance = Runtime::create();
+  return *instance;
+}
+
+inline std::string model_path(const std::string& name) {
+  const std::string path = std::string(SPLATCL_MODELS_DIR) + "/" + name;
+  return std::filesystem::exists(path) ? path : std::string();
+}
+
+// Axis-aligned closed boxes (outward quads), one mesh.
+inline Mesh boxes_mesh(const std::vector<std::pair<Vec3, Vec3>>& boxes, const std::string& name = "boxes") {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (const auto& [lo, hi] : boxes) {
+    const auto base = static_cast<std::uint32_t>(vertices.size());
+    for (int k = 0; k < 8; ++k) vertices.push_back({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) faces.push_back({base + q[0], base + q[1], base + q[2], base + q[3]});
+  }
+  return splats::make_mesh(vertices, faces, name);
+}
+
+inline Mesh cube_mesh() { return boxes_mesh({{{-1, -1, -1}, {1, 1, 1}}}, "cube"); }
+
+// An open square in z = 0 (every hit is single-surface).
+inline Mesh square_mesh() {
+  return splats::make_mesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2, 3}}, "square");
+}
+
+// A closed UV sphere.
+inline Mesh sphere_mesh(unsigned rings, unsigned segments, float r = 1.0f) {
+  std::vector<Vec3> vertices{{0, r, 0}};
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (unsigned i = 1; i < rings; ++i) {
+    const double theta = std::numbers::pi * i / rings;
+    for (unsigned j = 0; j < segments; ++j) {
+      const double phi = 2 * std::numbers::pi * j / segments;
+      vertices.push_back({static_cast<float>(r * std::sin(theta) * std::cos(phi)), static_cast<float>(r * std::cos(theta)),
+                          static_cast<float>(r * std::sin(theta) * std::sin(phi))});
+    }
+  }
+  vertices.push_back({0, -r, 0});
+  const auto at = [&](unsigned ring, unsigned j) { return 1 + (ring - 1) * segments + j % segments; };
+  const auto south = static_cast<std::uint32_t>(vertices.size() - 1);
+  for (unsigned j = 0; j < segments; ++j) faces.push_back({0, at(1, j + 1), at(1, j)});
+  for (unsigned i = 1; i + 1 < rings; ++i)
+    for (unsigned j = 0; j < segments; ++j) faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
+  for (unsigned j = 0; j < segments; ++j) faces.push_back({south, at(rings - 1, j), at(rings - 1, j + 1)});
+  return splats::make_mesh(vertices, faces, "uv-sphere");
+}
+
+// A small scene with occlusion in every direction: two boxes and a sphere-ish blob.
+inline Mesh scene_mesh() {
+  return boxes_mesh({{{-1, -0.2f, -0.3f}, {-0.2f, 0.9f, 0.4f}}, {{0.1f, -1, -0.6f}, {0.8f, -0.1f, 0.7f}}, {{-0.5f, -0.9f, 0.5f}, {0.3f, -0.4f, 0.9f}}},
+                    "three boxes");
+}
+
+}  // namespace splatcl::csm::testing
