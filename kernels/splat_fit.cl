@@ -2,7 +2,7 @@
 // which performs the same float operations in the same order; contraction into fused multiply-adds
 // is off so both round identically.
 //
-// Build options: LITERAL_LAMBDA (0/1), RETEST_VIOLATOR (0/1), ON_HULL_BIT (uint).
+// Build options: LITERAL_LAMBDA (0/1), RETEST_VIOLATOR (0/1), CLIP (0/1), ON_HULL_BIT (uint).
 #pragma OPENCL FP_CONTRACT OFF
 
 typedef struct {
@@ -113,9 +113,13 @@ __kernel void splat_frames(__global const float4* positions, __global const floa
 }
 
 // ---------------------------------------------------------------------------------------------
-// Growth. Per work-item scratch (slot s): q (capacity entries), ring/keys/next (seen_capacity
-// entries each), a hash set of seen samples (hash_mask + 1 entries). A splat that would accept
-// more than `capacity` samples stops and reports capacity + 1; the host relaunches it with more.
+// Growth. Per work-item scratch (slot s): q (capacity entries); seen, keys and aux (seen_capacity
+// entries each); a hash set of seen samples (hash_mask + 1 entries). `seen` lists the samples in the
+// order they were first seen, which is the walk's ring order: ring r and the next ring being
+// collected are adjacent ranges of it, so no ring is ever copied. The hash set starts zeroed (the
+// host fills it once) and is left zeroed, by removing exactly the listed samples: clearing the whole
+// table per splat cost more than the walk on small splats. A splat that would accept more than
+// `capacity` samples stops and reports capacity + 1; the host relaunches it with more.
 
 // Sorts idx[0..n) by (k1, k2, idx) ascending: heap sort, no recursion, total order.
 inline bool sort_less(__global const float* k1, __global const float* k2, __global const uint* idx, uint a, uint b) {
@@ -175,6 +179,16 @@ inline bool seen_insert(__global uint* table, uint mask, uint j) {
   }
 }
 
+// Empties the set by removing `list` in reverse insertion order: every probe chain then still runs
+// through entries inserted before, so each lookup finds its entry.
+void seen_clear(__global uint* table, uint mask, __global const uint* list, uint count) {
+  for (uint r = count; r-- > 0;) {
+    uint h = (list[r] * 2654435761u) & mask;
+    while (table[h] != list[r] + 1u) h = (h + 1u) & mask;
+    table[h] = 0u;
+  }
+}
+
 inline bool color_similar(uchar4 a, uchar4 b, int tolerance) {
   return abs((int)a.x - (int)b.x) <= tolerance && abs((int)a.y - (int)b.y) <= tolerance &&
          abs((int)a.z - (int)b.z) <= tolerance;
@@ -196,18 +210,17 @@ inline float growth_key(int ellipse, float x, float y, float b) {
 __kernel void splat_grow(__global const float4* positions, __global const uchar4* colors,
                          __global const uint* neighbors, uint k, __global const Frame* frames, float eps,
                          int color_tolerance, __global const uint* items, uint item_count, uint capacity,
-                         uint seen_capacity, uint hash_mask, __global uint* q_slots, __global uint* ring_slots,
-                         __global float* key_slots, __global uint* next_slots, __global uint* hash_slots,
-                         __global uint* counts, __global float4* splats) {
+                         uint seen_capacity, uint hash_mask, __global uint* q_slots, __global uint* seen_slots,
+                         __global float* key_slots, __global uint* aux_slots, __global uint* hash_slots,
+                         __global uint* counts, __global float4* splats, __global float4* clips) {
   const size_t s = get_global_id(0);
   if (s >= item_count) return;
   const uint i = items[s];
   __global uint* q = q_slots + s * capacity;
-  __global uint* ring = ring_slots + s * seen_capacity;
+  __global uint* seen = seen_slots + s * seen_capacity;
   __global float* keys = key_slots + s * seen_capacity;
-  __global uint* next = next_slots + s * seen_capacity;
   __global uint* table = hash_slots + s * (hash_mask + 1u);
-  for (uint h = 0; h <= hash_mask; ++h) table[h] = 0u;
+  __global uint* rejected = aux_slots + s * seen_capacity;  // clipped splats: the skipped violators
 
   const float4 p0 = positions[i];
   const uchar4 c0 = colors[i];
@@ -217,48 +230,61 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
   uint qn = 0;
   q[qn++] = i;
   seen_insert(table, hash_mask, i);
-  uint ring_len = 0, next_len = 0, pos = 0;
+  seen[0] = i;
+  // The ring is seen[ring_begin, ring_end); the next ring collects in seen[ring_end, seen_len).
+  uint ring_begin = 1, ring_end = 1, seen_len = 1, pos = 0;
   for (uint r = 0; r < k; ++r) {
     const uint j = neighbors[(size_t)i * k + r];
-    if (seen_insert(table, hash_mask, j)) ring[ring_len++] = j;
+    if (seen_insert(table, hash_mask, j)) seen[seen_len++] = j;
   }
+  ring_end = seen_len;
 
   float extent1[2] = {0.0f, 1.0f};   // d1, λ1
   float extent2[2] = {-1.0f, -1.0f}; // d2, λ2
   int stop[2] = {STOP_NONE, STOP_NONE};
   float b = 0.0f;
+  float clip_x = 0.0f, clip_y = 0.0f;  // sum of the unit in-plane directions to the skipped violators
+  uint rejected_count = 0;
   for (int ellipse = 0; ellipse < 2; ++ellipse) {
     if (ellipse) {
       // Continue with the untested rest of the circle's last ring and the collected next ring.
       b = RETEST_VIOLATOR ? extent1[0] : size_rule(extent1[0], extent2[0], stop[0]);
-      const uint from = stop[0] != STOP_NONE ? (RETEST_VIOLATOR ? pos : pos + 1u) : ring_len;
-      uint len = 0;
-      for (uint r = from; r < ring_len; ++r) ring[len++] = ring[r];
-      for (uint r = 0; r < next_len; ++r) ring[len++] = next[r];
-      ring_len = len, next_len = 0;
+      ring_begin = stop[0] != STOP_NONE ? (RETEST_VIOLATOR ? pos : pos + 1u) : seen_len;
+      ring_end = seen_len;
     }
     for (;;) {
-      for (uint r = 0; r < ring_len; ++r) {
-        const float4 w = positions[ring[r]] - p0;
+      for (uint r = ring_begin; r < ring_end; ++r) {
+        const float4 w = positions[seen[r]] - p0;
         keys[r] = growth_key(ellipse, dot3(f.u, w), dot3(f.v, w), b);
       }
-      sort_by_keys(keys, keys, ring, ring_len);
+      sort_by_keys(keys + ring_begin, keys + ring_begin, seen + ring_begin, ring_end - ring_begin);
       bool stopped = false;
-      for (pos = 0; pos < ring_len; ++pos) {
+      for (pos = ring_begin; pos < ring_end; ++pos) {
         const float key = keys[pos];
         if (ellipse && key < 1.0f) continue;  // λ < 1: neither tested, accepted nor expanded
-        const uint j = ring[pos];
-        const float h = dot3(f.n, positions[j] - p0);
-        if (!color_similar(colors[j], c0, color_tolerance)) {
-          stop[ellipse] = STOP_COLOR, extent2[ellipse] = key, stopped = true;
-          break;
-        }
+        const uint j = seen[pos];
+        const float4 w = positions[j] - p0;
+        const float h = dot3(f.n, w);
         const float lo = fmin(hmin, h), hi = fmax(hmax, h);
-        if (hi - lo > two_eps) {
-          stop[ellipse] = STOP_GEOMETRY, extent2[ellipse] = key, stopped = true;
+        const int violation = !color_similar(colors[j], c0, color_tolerance) ? STOP_COLOR
+                              : hi - lo > two_eps                             ? STOP_GEOMETRY
+                                                                              : STOP_NONE;
+        if (violation != STOP_NONE) {
+#if CLIP
+          // §3.13: a violator within 90° of the mean rejected direction is skipped and growth goes on.
+          const float wx = dot3(f.u, w), wy = dot3(f.v, w);
+          const float len = sqrt(wx * wx + wy * wy);
+          if (len > 0.0f && (rejected_count == 0 || wx * clip_x + wy * clip_y > 0.0f)) {
+            clip_x += wx / len, clip_y += wy / len;
+            rejected[rejected_count++] = j;
+            continue;
+          }
+#endif
+          stop[ellipse] = violation, extent2[ellipse] = key, stopped = true;
           break;
         }
         if (qn == capacity) {
+          seen_clear(table, hash_mask, seen, seen_len);
           counts[s] = capacity + 1u;
           return;
         }
@@ -267,14 +293,13 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
         extent1[ellipse] = fmax(extent1[ellipse], key);
         __global const uint* row = neighbors + (size_t)j * k;
         for (uint r = 0; r < k; ++r)
-          if (seen_insert(table, hash_mask, row[r])) next[next_len++] = row[r];
+          if (seen_insert(table, hash_mask, row[r])) seen[seen_len++] = row[r];
       }
-      if (stopped || next_len == 0) break;
-      for (uint r = 0; r < next_len; ++r) ring[r] = next[r];
-      ring_len = next_len, next_len = 0;
+      if (stopped || seen_len == ring_end) break;
+      ring_begin = ring_end, ring_end = seen_len;
     }
-    if (!ellipse && stop[0] == STOP_NONE) ring_len = 0, next_len = 0;
   }
+  seen_clear(table, hash_mask, seen, seen_len);
 
   const float minor = size_rule(extent1[0], extent2[0], stop[0]);
 #if LITERAL_LAMBDA
@@ -288,14 +313,35 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
   splats[4 * (size_t)i + 1] = (float4)(f.n.xyz, (float)stop[1]);
   splats[4 * (size_t)i + 2] = (float4)((f.u * major).xyz, major);
   splats[4 * (size_t)i + 3] = (float4)((f.v * minor).xyz, minor);
+  float4 clip = (float4)(0.0f, 0.0f, INFINITY, 0.0f);
+#if CLIP
+  // Clip line perpendicular to the mean rejected direction, halfway between the farthest accepted
+  // and the nearest skipped sample along it (never cutting off an accepted one).
+  const float clip_len = sqrt(clip_x * clip_x + clip_y * clip_y);
+  if (rejected_count > 0 && clip_len > 0.0f) {
+    const float dx = clip_x / clip_len, dy = clip_y / clip_len;
+    float accepted_reach = -INFINITY, rejected_reach = INFINITY;
+    for (uint r = 0; r < qn; ++r) {
+      const float4 w = positions[q[r]] - c;
+      accepted_reach = fmax(accepted_reach, dx * dot3(f.u, w) + dy * dot3(f.v, w));
+    }
+    for (uint r = 0; r < rejected_count; ++r) {
+      const float4 w = positions[rejected[r]] - c;
+      rejected_reach = fmin(rejected_reach, dx * dot3(f.u, w) + dy * dot3(f.v, w));
+    }
+    const float offset = rejected_reach > accepted_reach ? accepted_reach + 0.5f * (rejected_reach - accepted_reach) : accepted_reach;
+    clip = (float4)(dx, dy, offset, 0.0f);
+  }
+#endif
+  clips[i] = clip;
 
   // Safe points (§3.8): flag the samples whose projection lies on the convex hull (vertices and
   // edges, within 1e-6 of the extent), monotone chain; |Q| <= 3 and the start point stay.
   if (qn > 3) {
     __global float* xs = keys;
-    __global float* ys = (__global float*)next;
-    __global uint* order = ring;
-    __global uint* hull = table;
+    __global float* ys = (__global float*)(aux_slots + s * seen_capacity);
+    __global uint* order = seen;
+    __global uint* hull = table;  // empty now; cleared again below
     float lo_x = INFINITY, hi_x = -INFINITY, lo_y = INFINITY, hi_y = -INFINITY;
     for (uint r = 0; r < qn; ++r) {
       const float4 w = positions[q[r]] - c;
@@ -333,6 +379,8 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
       }
       if (on_hull && order[r] != 0u) q[order[r]] |= ON_HULL_BIT;
     }
+    // The chain pushes at most 2 qn entries before its pops; empty every slot it may have written.
+    for (uint r = 0; r < min(2u * qn, hash_mask + 1u); ++r) hull[r] = 0u;
   }
   counts[s] = qn;
 }

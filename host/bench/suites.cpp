@@ -12,6 +12,7 @@ const std::vector<Suite>& suites() {
        "Clustered-shading stages on a 1920x1080 frame (keys, compaction variants, bounds, light assignment for 1k, "
        "16k and 256k lights) against the native reference, std and Boost.Compute, plus streaming-copy bandwidth",
        run_cluster_suite, false},
+      {"splats", "Splat stage per phase and end to end on stanford-bunny and ogre, device fit beside the native reference", run_splats_suite, false},
   };
   return all;
 }

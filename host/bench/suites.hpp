@@ -1,6 +1,7 @@
 #pragma once
 // The benchmark suites behind `splatcl bench <suite>`. A suite is one function that measures its
 // cases through the Session; adding one means writing that function and listing it in suites().
+#include <string>
 #include <vector>
 
 #include "bench/session.hpp"
@@ -27,5 +28,11 @@ void run_primitives_suite(Session& session);
 // assignments for 1k, 16k and 256k lights, each in both kernel shapes against the native reference;
 // plus the streaming-copy bandwidth.
 void run_cluster_suite(Session& session);
+
+// The splat stage phase by phase and end to end (fit on the device beside the native reference) on
+// stanford-bunny (ε = 0.0003) and ogre (ε = 0.001 × diagonal) from splats_models_dir(), which
+// `--models` sets (default: the shared models next to the repository).
+void run_splats_suite(Session& session);
+std::string& splats_models_dir();
 
 }  // namespace splatcl::bench

@@ -4,6 +4,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bench/record.hpp"
@@ -43,6 +44,7 @@ Action register_bench(CLI::App& app) {
     sub->add_option("--json", options->session.json_path, "Also write the records to FILE (written whole or not at all)")
         ->type_name("FILE");
     add_device_option(*sub, options->device);
+    if (std::string_view(suite.name) == "splats") sub->add_option("--models", bench::splats_models_dir(), "Directory holding the models")->capture_default_str();
     suite_commands.emplace_back(sub, &suite);
   }
 

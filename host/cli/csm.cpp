@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "csm/build.hpp"
 #include "csm/csm_file.hpp"
+#include "csm/quality.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
 #include "runtime/error.hpp"
@@ -32,6 +33,12 @@ struct BuildCommand {
 
 struct InfoCommand {
   std::string file, coherence;
+};
+
+struct QualityCommand {
+  BuildCommand build;
+  std::string csm_file, filter = "none";
+  QualityOptions options;
 };
 
 struct VerifyCommand {
@@ -179,10 +186,50 @@ int run_verify(const VerifyCommand& c) {
   return 0;
 }
 
+int run_quality(const QualityCommand& c) {
+  if (c.build.model.empty()) throw Error("csm quality: a MODEL is required (see splatcl csm quality --help)");
+  QualityOptions options = c.options;
+  options.filter = parse_filter(c.filter);
+  Progress progress;
+  progress.show("loading " + c.build.model);
+  const splats::Mesh mesh = splats::load_mesh(c.build.model);
+  std::shared_ptr<Runtime> runtime;
+  if (!c.build.reference) runtime = Runtime::create(c.build.device.device);
+  Csm csm;
+  if (!c.csm_file.empty()) {
+    csm = read_csm(c.csm_file);
+  } else {
+    BuildOptions build;
+    build.maps = c.build.maps;
+    build.resolution = c.build.resolution;
+    build.distribution = parse_distribution(c.build.distribution);
+    build.order = parse_order(c.build.order);
+    build.pole = parse_pole_axis(c.build.pole);
+    build.single_hit = parse_single_hit(c.build.single_hit);
+    csm = build_csm(mesh, build, runtime.get(), progress.maps("captured and compressed")).csm;
+  }
+  progress.show("rendering " + std::to_string(options.views) + " views");
+  const QualityReport report = measure_quality(csm, mesh, options, runtime.get());
+  progress.clear();
+  print_parameters(csm.info);
+  fmt::print("study      {} views of {}x{} pixels, pinhole {:g} deg on the bounding sphere; point light at (1.05, {:g}] R; seed {}; "
+             "filter {}, bias {:g}\n",
+             options.views, options.image, options.image, options.fov_degrees, options.light_max, options.seed, c.filter, options.bias);
+  fmt::print("wrong      {:.3f} % of image pixels, {:.3f} % of object pixels ({} of {} object pixels; {:.1f} % of them in shadow)\n",
+             report.percent_of_image(), report.percent_of_object(), report.wrong, report.object_pixels,
+             report.object_pixels ? 100.0 * static_cast<double>(report.exact_shadowed) / static_cast<double>(report.object_pixels) : 0.0);
+  fmt::print("queries    {} CSM visibility queries (screen order) in {:.1f} ms wall on {}", report.object_pixels, report.query_ms,
+             runtime ? runtime->info().name : std::string("the native reference"));
+  if (report.kernel_ms > 0)
+    fmt::print("; kernel {:.1f} ms = {:.1f} M queries/s", report.kernel_ms, static_cast<double>(report.object_pixels) / report.kernel_ms / 1e3);
+  fmt::print("\n");
+  return 0;
+}
+
 }  // namespace
 
 Action register_csm(CLI::App& app) {
-  auto* sub = app.add_subcommand("csm", "Coherent shadow maps: build from a mesh, inspect, verify");
+  auto* sub = app.add_subcommand("csm", "Coherent shadow maps: build from a mesh, inspect, verify, measure shadow quality");
   sub->require_subcommand(1);
 
   auto* build = sub->add_subcommand("build", "Capture N orthographic dual-depth maps of a mesh on its bounding sphere (OpenCL ray casting) "
@@ -218,9 +265,31 @@ Action register_csm(CLI::App& app) {
   verify->add_option("model", v->model, "The mesh it was built from");
   verify->add_flag("--reference", v->reference, "Recapture with the native C++ reference");
 
-  return [b, i, v, build, info, verify]() -> int {
+  auto* quality = sub->add_subcommand("quality", "Shadow quality study (compression digest §10.1): % of pixels whose CSM shadow test "
+                                                  "differs from exact ray casting, over random views and point lights");
+  auto q = std::make_shared<QualityCommand>();
+  add_device_option(*quality, q->build.device);
+  quality->add_option("model", q->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
+  quality->add_option("--csm", q->csm_file, "Use this .csm (built from MODEL as loaded) instead of building one");
+  quality->add_option("--maps", q->build.maps, "Number of maps N of the CSM built")->capture_default_str();
+  quality->add_option("--res", q->build.resolution, "Map resolution M")->capture_default_str();
+  quality->add_option("--dist", q->build.distribution, "Direction grid: uniform, regular or ao")->capture_default_str();
+  quality->add_option("--order", q->build.order, "Map order")->capture_default_str();
+  quality->add_option("--pole", q->build.pole, "Object axis of the sphere's pole")->capture_default_str();
+  quality->add_option("--single-hit", q->build.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
+  quality->add_option("--views", q->options.views, "Random camera and light configurations")->capture_default_str();
+  quality->add_option("--image", q->options.image, "Image size (square) per view")->capture_default_str();
+  quality->add_option("--fov", q->options.fov_degrees, "Camera field of view in degrees")->capture_default_str();
+  quality->add_option("--light-max", q->options.light_max, "Largest light distance from the centre, in sphere radii")->capture_default_str();
+  quality->add_option("--seed", q->options.seed, "Random seed of the views and lights")->capture_default_str();
+  quality->add_option("--filter", q->filter, "PCF: none, same-map (4x4 texels) or cross-map (2x2 texels in 4 maps)")->capture_default_str();
+  quality->add_option("--bias", q->options.bias, "Shadow offset in depth units (shadow when g < depth - bias)")->capture_default_str();
+  quality->add_flag("--reference", q->build.reference, "Use the native C++ references instead of the OpenCL kernels");
+
+  return [b, i, v, q, build, info, verify, quality]() -> int {
     if (build->parsed()) return run_build(*b);
     if (info->parsed()) return run_info(*i);
+    if (quality->parsed()) return run_quality(*q);
     return run_verify(*v);
   };
 }

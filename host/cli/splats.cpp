@@ -25,7 +25,7 @@ struct SplatsOptions {
   double eps = 0, eps_diagonal = 0.001;
   int color_tolerance = 255;
   unsigned k = 10, rounds = 5;
-  bool reference = false, literal_lambda = false, retest_violator = false;
+  bool reference = false, literal_lambda = false, retest_violator = false, clip = false;
 };
 
 struct VerifyOptions {
@@ -76,6 +76,7 @@ int run_splats(const SplatsOptions& o) {
   options.fit.color_tolerance = o.color_tolerance;
   options.fit.literal_lambda = o.literal_lambda;
   options.fit.retest_violator = o.retest_violator;
+  options.fit.clip = o.clip;
   if (!(o.eps_diagonal > 0 && std::isfinite(o.eps_diagonal))) throw Error("--eps-diag must be positive");
   ProgressLine progress;
   progress.show("loading " + o.model);
@@ -94,7 +95,7 @@ int run_splats(const SplatsOptions& o) {
   progress.show("writing " + o.output);
   Stopwatch write_clock;
   const SplatFileInfo info{o.model, to_string(options.sampling), options.fit.eps, run.neighbors.k,
-                           options.fit.color_tolerance, color_description, false};
+                           options.fit.color_tolerance, color_description, options.fit.clip};
   write_splat_file(o.output, run.records(), info);
   run.phases.push_back({"write", write_clock.elapsed_ms()});
   nlohmann::json stats = run_statistics(run, options);
@@ -177,6 +178,7 @@ Action register_splats(CLI::App& app) {
   sub->add_flag("--reference", o->reference, "Fit with the native C++ reference instead of the OpenCL kernels");
   sub->add_flag("--literal-lambda", o->literal_lambda, "Read lambda in the size corrections literally instead of as the axis ratio sqrt(lambda)");
   sub->add_flag("--retest-violator", o->retest_violator, "Ellipse phase with b = d1, re-testing the circle phase's violator");
+  sub->add_flag("--clip", o->clip, "Clipped splats (thesis ch. 4): skip violators on one side and cut the splat there with a line; stored in the PLY");
 
   auto* verify = sub->add_subcommand("verify", "Check a splat file against its model: every sample covered within eps, no empty splat; reports mean error / eps");
   auto v = std::make_shared<VerifyOptions>();

@@ -18,7 +18,7 @@ using primitives::detail::set_args;
 // that outgrew it; scratch per launch stays under kScratchBudget bytes by batching work-items.
 constexpr std::uint32_t kFirstCapacity = 96;
 constexpr std::uint32_t kCapacityGrowth = 8;
-constexpr std::size_t kScratchBudget = std::size_t{96} << 20;
+constexpr std::size_t kScratchBudget = std::size_t{16} << 20;
 
 template <class T>
 cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what) {
@@ -28,8 +28,8 @@ cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what
 }
 
 std::string build_options(const Runtime& runtime, const FitOptions& options) {
-  std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DON_HULL_BIT={}u", options.literal_lambda ? 1 : 0,
-                                 options.retest_violator ? 1 : 0, kOnHullBit);
+  std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DCLIP={} -DON_HULL_BIT={}u",
+                                 options.literal_lambda ? 1 : 0, options.retest_violator ? 1 : 0, options.clip ? 1 : 0, kOnHullBit);
   // The reference's std::sqrt and division are correctly rounded; ask the device for the same.
   const cl_device_fp_config config = runtime.device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>();
   if (config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) text += " -cl-fp32-correctly-rounded-divide-sqrt";
@@ -59,12 +59,13 @@ void validate(const FitOptions& options) {
 }
 
 FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoods& neighbors, const FitOptions& options,
-                     const std::vector<Frame>* frames, FitTimings* timings) {
+                     const std::vector<Frame>* frames, FitTimings* timings, Profiler* profiler) {
   validate(options);
   const std::size_t n = samples.size();
   if (frames && frames->size() != n) throw Error("splat fit: frame count differs from the sample count");
   FitResult result;
   result.splats.resize(n);
+  result.clips.resize(n);
   if (n == 0) return result;
   FitTimings local_timings;
   FitTimings& t = timings ? *timings : local_timings;
@@ -86,18 +87,19 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
     } else {
       cl::Kernel kernel = runtime.kernel("splat_fit.cl", "splat_frames", build);
       set_args(kernel, positions, normals, neighbor_buffer, k, kth, static_cast<cl_uint>(n), frame_buffer);
-      t.frames_ms += event_ms(enqueue_1d(queue, kernel, n, 0, nullptr, "splat frames"));
+      t.frames_ms += event_ms(enqueue_1d(queue, kernel, n, 0, profiler, "splat frames"));
       result.frames.resize(n);
       queue.enqueueReadBuffer(frame_buffer, CL_TRUE, 0, n * sizeof(Frame), result.frames.data());
     }
 
     cl::Buffer splat_buffer = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(SplatShape), "splat shapes");
+    cl::Buffer clip_buffer = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(Vec4), "splat clip lines");
     cl::Kernel grow = runtime.kernel("splat_fit.cl", "splat_grow", build);
     std::vector<std::vector<std::uint32_t>> sets(n);
     std::vector<std::uint32_t> pending(n);
     for (std::size_t i = 0; i < n; ++i) pending[i] = static_cast<std::uint32_t>(i);
     std::uint32_t capacity = static_cast<std::uint32_t>(std::min<std::size_t>(kFirstCapacity, n));
-    cl::Buffer items, q_slots, ring_slots, key_slots, next_slots, hash_slots, counts;
+    cl::Buffer items, q_slots, seen_slots, key_slots, aux_slots, hash_slots, counts;
     for (bool first = true; !pending.empty(); first = false) {
       if (!first) ++t.relaunches;
       // Every seen sample is the start, one of its k neighbours, or a neighbour of an accepted one.
@@ -107,10 +109,12 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
       const std::size_t batch = std::clamp<std::size_t>(kScratchBudget / per_item, 1, pending.size());
       items = runtime.buffer(CL_MEM_READ_ONLY, batch * sizeof(std::uint32_t), "splat growth items");
       q_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * capacity * sizeof(std::uint32_t), "splat growth sets");
-      ring_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth rings");
+      seen_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth seen lists");
       key_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(float), "splat growth keys");
-      next_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth next rings");
+      aux_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth hull scratch");
       hash_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * hash_size * sizeof(std::uint32_t), "splat growth seen sets");
+      // Zeroed once: every work-item leaves its set empty for the next one in its slot.
+      queue.enqueueFillBuffer(hash_slots, std::uint32_t{0}, 0, batch * hash_size * sizeof(std::uint32_t));
       counts = runtime.buffer(CL_MEM_READ_WRITE, batch * sizeof(std::uint32_t), "splat growth counts");
       std::vector<std::uint32_t> overflow, batch_counts(batch), batch_sets(batch * capacity);
       for (std::size_t begin = 0; begin < pending.size(); begin += batch) {
@@ -118,9 +122,9 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
         queue.enqueueWriteBuffer(items, CL_TRUE, 0, count * sizeof(std::uint32_t), pending.data() + begin);
         set_args(grow, positions, colors, neighbor_buffer, k, frame_buffer, options.eps,
                  static_cast<cl_int>(options.color_tolerance), items, static_cast<cl_uint>(count), capacity,
-                 static_cast<cl_uint>(seen_capacity), static_cast<cl_uint>(hash_size - 1), q_slots, ring_slots,
-                 key_slots, next_slots, hash_slots, counts, splat_buffer);
-        t.grow_ms += event_ms(enqueue_1d(queue, grow, count, 8, nullptr, "splat grow"));
+                 static_cast<cl_uint>(seen_capacity), static_cast<cl_uint>(hash_size - 1), q_slots, seen_slots,
+                 key_slots, aux_slots, hash_slots, counts, splat_buffer, clip_buffer);
+        t.grow_ms += event_ms(enqueue_1d(queue, grow, count, 8, profiler, "splat grow"));
         Stopwatch read;
         queue.enqueueReadBuffer(counts, CL_TRUE, 0, count * sizeof(std::uint32_t), batch_counts.data());
         queue.enqueueReadBuffer(q_slots, CL_TRUE, 0, count * capacity * sizeof(std::uint32_t), batch_sets.data());
@@ -140,6 +144,7 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
     }
     Stopwatch read;
     queue.enqueueReadBuffer(splat_buffer, CL_TRUE, 0, n * sizeof(SplatShape), result.splats.data());
+    queue.enqueueReadBuffer(clip_buffer, CL_TRUE, 0, n * sizeof(Vec4), result.clips.data());
     t.transfer_ms += read.elapsed_ms();
     set_rows(sets, result);
   } catch (const Error&) {

@@ -32,6 +32,11 @@ struct FitOptions {
   int color_tolerance = 255;     // φ per channel, 0..255; 255 ignores colour
   bool literal_lambda = false;   // read "λ" in the size corrections literally instead of as √λ
   bool retest_violator = false;  // ellipse phase with b = d1 and the circle's violator re-tested
+  // Clipped splats (digest §3.13, proposed in the thesis, not implemented there): a violator within
+  // 90° of the mean direction to the earlier skipped violators is skipped instead of ending the
+  // phase; the splat is then cut by a line perpendicular to that mean direction, halfway between the
+  // farthest accepted and the nearest skipped sample along it.
+  bool clip = false;
 };
 
 // Throws Error for ε not positive and finite, or φ outside 0..255.
@@ -66,6 +71,9 @@ struct FitResult {
   std::vector<SplatShape> splats;  // splat i started at sample i
   Rows covered;                    // Q_i in acceptance order, start point first
   Rows safe;                       // Q̄_i, same order, start point first
+  // Per splat: unit clip direction in the splat's (u, v) frame and the clip line's distance from
+  // the centre along it; offset +inf (and direction 0) when the splat is not clipped.
+  std::vector<Vec4> clips;
 };
 
 // Device timings of the fit kernels (ms) and how often the growth had to be relaunched with more
@@ -76,9 +84,11 @@ struct FitTimings {
 };
 
 // Runs both kernels on `runtime`'s device. With `frames` given, the growth uses them instead of
-// the frames kernel (tests feed both implementations the same frames).
+// the frames kernel (tests feed both implementations the same frames). A profiler collects the
+// kernel events ("splat frames", "splat grow").
 FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoods& neighbors, const FitOptions& options,
-                     const std::vector<Frame>* frames = nullptr, FitTimings* timings = nullptr);
+                     const std::vector<Frame>* frames = nullptr, FitTimings* timings = nullptr,
+                     Profiler* profiler = nullptr);
 
 // Fills covered and safe from per-splat sets whose hull points carry kOnHullBit.
 void set_rows(const std::vector<std::vector<std::uint32_t>>& sets, FitResult& result);

@@ -26,7 +26,8 @@ std::vector<SplatRecord> SplatRun::records() const {
   out.reserve(selected.size());
   for (const std::uint32_t j : selected) {
     const SplatShape& s = fit.splats[j];
-    out.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j]});
+    const Vec4& clip = fit.clips[j];
+    out.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j], clip.x, clip.y, clip.z});
   }
   return out;
 }
@@ -87,7 +88,8 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
     return nlohmann::json{{"mean", e.mean}, {"max", e.max}, {"mean_over_eps", e.mean / eps}, {"max_over_eps", e.max / eps},
                           {"mean_color_error", {e.color[0], e.color[1], e.color[2]}}};
   };
-  std::size_t largest = 0;
+  std::size_t largest = 0, clipped = 0;
+  for (const std::uint32_t j : run.selected) clipped += std::isfinite(run.fit.clips[j].z) ? 1 : 0;
   for (std::size_t j = 0; j < run.fit.covered.size(); ++j) largest = std::max(largest, run.fit.covered.row_size(j));
   nlohmann::json phases = nlohmann::json::object();
   for (const auto& p : run.phases) phases[p.phase] = p.ms;
@@ -101,6 +103,8 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
           {"color_tolerance", options.fit.color_tolerance},
           {"literal_lambda", options.fit.literal_lambda},
           {"retest_violator", options.fit.retest_violator},
+          {"clip", options.fit.clip},
+          {"clipped_splats", clipped},
           {"splats_greedy", run.greedy_count},
           {"splats", run.selected.size()},
           {"samples_per_splat", m > 0 ? n / m : 0.0},
@@ -144,7 +148,8 @@ VerifyReport verify_splats(const Samples& samples, const std::vector<SplatRecord
         const double dx = double{p.x} - s.center.x, dy = double{p.y} - s.center.y, dz = double{p.z} - s.center.z;
         const double x = u.x * dx + u.y * dy + u.z * dz, y = v.x * dx + v.y * dy + v.z * dz;
         const double h = std::fabs(nrm.x * dx + nrm.y * dy + nrm.z * dz);
-        if (x * x / (a * a) + y * y / (b * b) <= 1 + slack && h <= height_limit)
+        const bool kept_by_clip = !std::isfinite(s.clip_offset) || x * s.clip_x + y * s.clip_y <= s.clip_offset + slack * std::max(a, b);
+        if (x * x / (a * a) + y * y / (b * b) <= 1 + slack && h <= height_limit && kept_by_clip)
           covered[j].emplace_back(static_cast<std::uint32_t>(m), h);
       }
     });

@@ -57,7 +57,7 @@ SplatRun generate_splats(const Mesh& mesh, const ColorSource& colors, const Pipe
 nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& options);
 
 // Independent check of a splat set against the samples: a sample is covered by a splat when its
-// projection lies inside the ellipse and its distance to the splat plane is at most ε (both with a
+// projection lies inside the ellipse (and on the kept side of its clip line) and its distance to the splat plane is at most ε (both with a
 // relative slack of 1e-4 for float storage); every sample must be covered and every splat must
 // cover at least one sample (its start point, which lies within ε of it by construction).
 struct VerifyReport {

@@ -114,7 +114,8 @@ struct Scratch {
 
 // Grows splat i; returns Q with kOnHullBit on hull points.
 std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods& nb, const Frame& f,
-                                    const FitOptions& options, std::uint32_t i, Scratch& scratch, SplatShape& out) {
+                                    const FitOptions& options, std::uint32_t i, Scratch& scratch, SplatShape& out,
+                                    Vec4& clip) {
   const std::uint32_t k = nb.k;
   auto seen_insert = [&](std::uint32_t j) {
     if (scratch.seen_by[j] == i + 1) return false;
@@ -138,6 +139,8 @@ std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods&
   float extent1[2] = {0.0f, 1.0f}, extent2[2] = {-1.0f, -1.0f};
   Stop stop[2] = {Stop::None, Stop::None};
   float b = 0.0f;
+  float clip_x = 0.0f, clip_y = 0.0f;  // sum of the unit in-plane directions to the skipped violators
+  std::vector<std::uint32_t> rejected;
   std::size_t pos = 0;
   for (int ellipse = 0; ellipse < 2; ++ellipse) {
     if (ellipse) {
@@ -157,14 +160,23 @@ std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods&
       for (pos = 0; pos < ring.size(); ++pos) {
         const auto [key, j] = ring[pos];
         if (ellipse && key < 1.0f) continue;
-        const float h = dot(fn, xyz(samples.positions[j]) - p0);
-        if (!color_similar(samples.colors[j], c0, options.color_tolerance)) {
-          stop[ellipse] = Stop::Color, extent2[ellipse] = key, stopped = true;
-          break;
-        }
+        const Vec3 w = xyz(samples.positions[j]) - p0;
+        const float h = dot(fn, w);
         const float lo = std::fmin(hmin, h), hi = std::fmax(hmax, h);
-        if (hi - lo > two_eps) {
-          stop[ellipse] = Stop::Geometry, extent2[ellipse] = key, stopped = true;
+        const Stop violation = !color_similar(samples.colors[j], c0, options.color_tolerance) ? Stop::Color
+                               : hi - lo > two_eps                                             ? Stop::Geometry
+                                                                                               : Stop::None;
+        if (violation != Stop::None) {
+          if (options.clip) {
+            const float wx = dot(fu, w), wy = dot(fv, w);
+            const float len = std::sqrt(wx * wx + wy * wy);
+            if (len > 0.0f && (rejected.empty() || wx * clip_x + wy * clip_y > 0.0f)) {
+              clip_x += wx / len, clip_y += wy / len;
+              rejected.push_back(j);
+              continue;
+            }
+          }
+          stop[ellipse] = violation, extent2[ellipse] = key, stopped = true;
           break;
         }
         hmin = lo, hmax = hi;
@@ -193,6 +205,20 @@ std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods&
   out.normal = {fn.x, fn.y, fn.z, static_cast<float>(stop[1])};
   out.major = {fu.x * major, fu.y * major, fu.z * major, major};
   out.minor = {fv.x * minor, fv.y * minor, fv.z * minor, minor};
+  clip = {0.0f, 0.0f, INFINITY, 0.0f};
+  const float clip_len = std::sqrt(clip_x * clip_x + clip_y * clip_y);
+  if (!rejected.empty() && clip_len > 0.0f) {
+    const float dx = clip_x / clip_len, dy = clip_y / clip_len;
+    auto reach = [&](std::uint32_t m) {
+      const Vec3 w = xyz(samples.positions[m]) - c;
+      return dx * dot(fu, w) + dy * dot(fv, w);
+    };
+    float accepted_reach = -INFINITY, rejected_reach = INFINITY;
+    for (const std::uint32_t m : q) accepted_reach = std::fmax(accepted_reach, reach(m));
+    for (const std::uint32_t m : rejected) rejected_reach = std::fmin(rejected_reach, reach(m));
+    const float offset = rejected_reach > accepted_reach ? accepted_reach + 0.5f * (rejected_reach - accepted_reach) : accepted_reach;
+    clip = {dx, dy, offset, 0.0f};
+  }
 
   const std::size_t qn = q.size();
   if (qn > 3) {
@@ -258,12 +284,14 @@ FitResult grow_splats(const Samples& samples, const Neighborhoods& neighbors, co
   FitResult result;
   result.frames = frames;
   result.splats.resize(n);
+  result.clips.resize(n);
   std::vector<std::vector<std::uint32_t>> sets(n);
   std::vector<Scratch> scratch(worker_count(n, 64));
   parallel_for(n, 64, [&](std::size_t i, std::size_t worker) {
     Scratch& s = scratch[worker];
     if (s.seen_by.size() != n) s.seen_by.assign(n, 0);
-    sets[i] = grow_one(samples, neighbors, frames[i], options, static_cast<std::uint32_t>(i), s, result.splats[i]);
+    sets[i] = grow_one(samples, neighbors, frames[i], options, static_cast<std::uint32_t>(i), s, result.splats[i],
+                       result.clips[i]);
   });
   set_rows(sets, result);
   return result;

@@ -51,6 +51,7 @@ void render_splats(const std::string& path, const std::vector<SplatRecord>& spla
         const Vec3 r = hit - s.center;
         const float ru = dot(r, u) / a, rv = dot(r, v) / b;
         if (ru * ru + rv * rv > 1.0f) continue;
+        if (ru * a * s.clip_x + rv * b * s.clip_y > s.clip_offset) continue;  // cut away by the clip line
         const float z = dot(hit, back);
         const std::size_t p = static_cast<std::size_t>(y) * w + x;
         if (z <= depth[p]) continue;

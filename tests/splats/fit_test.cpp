@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "runtime/error.hpp"
 #include "splats/fit.hpp"
@@ -42,6 +43,9 @@ void expect_same(const FitResult& device, const FitResult& reference) {
     const float* pa = &a.center.x;
     const float* pb = &b.center.x;
     for (int c = 0; c < 16; ++c) ASSERT_EQ(pa[c], pb[c]) << "splat " << i << " component " << c;
+    const float* ca = &device.clips[i].x;
+    const float* cb = &reference.clips[i].x;
+    for (int c = 0; c < 4; ++c) ASSERT_EQ(ca[c], cb[c]) << "clip of splat " << i << " component " << c;
   }
 }
 
@@ -94,6 +98,45 @@ TEST(SplatFit, KernelMatchesReferenceOnBunnySubset) {
   if (path.empty()) GTEST_SKIP() << "shared models not found";
   Input in = prepare(load_mesh(path));
   compare(in, geometry(3e-4f));
+}
+
+TEST(SplatFit, KernelMatchesReferenceWithClipping) {
+  FitOptions options = geometry(1e-3f);
+  options.clip = true;
+  options.color_tolerance = 20;
+  compare(prepare(cube_mesh(), "grid:12", ColorField::Hard), options);
+  options.color_tolerance = 255;
+  compare(prepare(sphere_mesh(30, 40)), options);
+}
+
+TEST(SplatFit, ClippedSplatsKeepTheirSamplesAndCutTheRest) {
+  FitOptions options = geometry(1e-3f);
+  options.color_tolerance = 20;
+  const Input in = prepare(cube_mesh(), "grid:12", ColorField::Hard);
+  const FitResult plain = fit_splats(runtime(), in.samples, in.neighbors, options);
+  options.clip = true;
+  const FitResult fit = fit_splats(runtime(), in.samples, in.neighbors, options);
+  std::size_t clipped = 0, larger = 0;
+  for (std::size_t j = 0; j < fit.covered.size(); ++j) {
+    const Vec4& clip = fit.clips[j];
+    if (!std::isfinite(clip.z)) {
+      ASSERT_EQ(fit.covered.row_size(j), plain.covered.row_size(j)) << "an unclipped splat grows as without clipping";
+      continue;
+    }
+    ++clipped;
+    larger += fit.covered.row_size(j) > plain.covered.row_size(j) ? 1 : 0;
+    ASSERT_NEAR(clip.x * clip.x + clip.y * clip.y, 1.0f, 1e-5f);
+    const SplatShape& s = fit.splats[j];
+    for (const std::uint32_t* m = fit.covered.begin(j); m != fit.covered.end(j); ++m) {
+      const Vec3 w = xyz(in.samples.positions[*m]) - xyz(s.center);
+      const float x = dot(xyz(s.major), w) / s.major.w, y = dot(xyz(s.minor), w) / s.minor.w;
+      ASSERT_LE(x * clip.x + y * clip.y, clip.z + 1e-5f) << "splat " << j << " cuts off its own sample " << *m;
+    }
+  }
+  // Colour boundaries run through the cube's faces: many splats are clipped, and skipping violators
+  // on one side lets many of them grow past where the unclipped walk stopped.
+  EXPECT_GT(clipped, fit.covered.size() / 10);
+  EXPECT_GT(larger, clipped / 4);
 }
 
 TEST(SplatFit, FlatPlaneGrowsPastTheFirstCapacity) {

@@ -50,6 +50,33 @@ TEST(SplatPipeline, DeviceAndReferenceGiveTheSameSplats) {
   EXPECT_TRUE(stats["phase_ms"].contains("growth+safe"));
 }
 
+TEST(SplatPipeline, ClippedSplatsVerifyAndRoundTrip) {
+  const Mesh mesh = cube_mesh();
+  ColorSource hard;
+  hard.field = ColorField::Hard;
+  hard.bounds = mesh.bounds();
+  PipelineOptions options = options_with(1e-3f, "grid:12");
+  options.fit.color_tolerance = 20;
+  options.fit.clip = true;
+  const SplatRun device = generate_splats(mesh, hard, options, &runtime());
+  const SplatRun native = generate_splats(mesh, hard, options, nullptr);
+  EXPECT_EQ(device.selected, native.selected);
+  const std::vector<SplatRecord> records = device.records();
+  const VerifyReport report = verify_splats(device.samples, records, 1e-3f);
+  EXPECT_TRUE(report.ok()) << report.uncovered << " uncovered, " << report.empty_splats << " empty";
+  EXPECT_GT(run_statistics(device, options)["clipped_splats"].get<std::size_t>(), 0u);
+  const std::string path = temp_path("clipped.ply");
+  write_splat_file(path, records, SplatFileInfo{"cube", "grid:12", 1e-3f, 10, 20, "hard", true});
+  const SplatFile file = read_splat_file(path);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(file.info.clipped);
+  ASSERT_EQ(file.splats.size(), records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    ASSERT_EQ(file.splats[i].clip_x, records[i].clip_x);
+    ASSERT_EQ(file.splats[i].clip_offset, records[i].clip_offset);
+  }
+}
+
 TEST(SplatPipeline, ColourVariantOnCubeGrid) {
   const Mesh mesh = cube_mesh();
   ColorSource hard;

@@ -1,0 +1,92 @@
+#include "csm/quality.hpp"
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <random>
+
+#include "csm/bvh.hpp"
+#include "runtime/error.hpp"
+#include "splats/parallel.hpp"
+
+namespace splatcl::csm {
+namespace {
+
+float uniform01(std::mt19937& rng) { return static_cast<float>(rng() >> 8) * (1.0f / 16777216.0f); }
+
+Vec3 random_direction(std::mt19937& rng) {
+  const float y = 2 * uniform01(rng) - 1, phi = 2 * std::numbers::pi_v<float> * uniform01(rng);
+  const float s = std::sqrt(std::max(0.0f, 1 - y * y));
+  return {s * std::cos(phi), y, s * std::sin(phi)};
+}
+
+}  // namespace
+
+QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const QualityOptions& options, Runtime* runtime) {
+  const CsmInfo& info = csm.info;
+  for (std::size_t k = 0; k < 16; ++k)
+    if (info.object_transform[k] != kIdentity[k]) throw Error("csm quality needs a CSM built from the model as loaded (identity object transform)");
+  if (options.views == 0 || options.image == 0) throw Error("csm quality needs at least one view and one pixel");
+  const Vec3 c = info.sphere.centre;
+  const float r = info.sphere.radius;
+  const Bvh bvh = build_bvh(mesh_triangles(mesh, c));
+  const VisibilityScene scene({&csm}, {{}});
+  std::unique_ptr<VisibilityQueries> device;
+  if (runtime) device = std::make_unique<VisibilityQueries>(*runtime, scene);
+  const std::uint32_t w = options.image;
+  const float tan_half = std::tan(options.fov_degrees * std::numbers::pi_v<float> / 360.0f);
+  const float eps = 1e-4f * r;
+  std::mt19937 rng(options.seed);
+  QualityReport report;
+  for (std::uint32_t view = 0; view < options.views; ++view) {
+    const Vec3 back = random_direction(rng);  // camera at c + R·back, looking at c
+    const Vec3 light = c + (1.05f * r + (options.light_max - 1.05f) * r * uniform01(rng)) * random_direction(rng);
+    const Vec3 forward = -1.0f * back;
+    const Vec3 helper = std::abs(forward.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    const Vec3 right = splats::normalized(cross(forward, helper)), up = cross(right, forward);
+    const Vec3 eye = r * back;  // relative to c, as the BVH is
+    std::vector<Vec4> receivers, lights;
+    std::vector<std::uint8_t> exact_lit;
+    std::vector<Vec4> hit(std::size_t{w} * w);
+    splats::parallel_for(hit.size(), 256, [&](std::size_t p, std::size_t) {
+      const float x = (2 * (static_cast<float>(p % w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
+      const float y = (2 * (static_cast<float>(p / w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
+      const Vec3 d = splats::normalized(forward + x * right + y * up);
+      const float o[3] = {eye.x, eye.y, eye.z}, dir[3] = {d.x, d.y, d.z};
+      const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
+      const float t = first_two_hits(bvh, o, dir, inv, 0.0f).t1;
+      hit[p] = t == INFINITY ? Vec4{0, 0, 0, 0} : Vec4{c.x + eye.x + t * d.x, c.y + eye.y + t * d.y, c.z + eye.z + t * d.z, 1};
+    });
+    for (const Vec4& p : hit)
+      if (p.w == 1) {
+        receivers.push_back(p);
+        lights.push_back({light.x, light.y, light.z, 1});
+      }
+    exact_lit.resize(receivers.size());
+    splats::parallel_for(receivers.size(), 256, [&](std::size_t k, std::size_t) {
+      const Vec3 p{receivers[k].x, receivers[k].y, receivers[k].z};
+      const Vec3 to_light = light - p;
+      const float len = length(to_light);
+      const Vec3 d = (1.0f / len) * to_light;
+      const Vec3 from = p - c + eps * d;
+      const float o[3] = {from.x, from.y, from.z}, dir[3] = {d.x, d.y, d.z};
+      exact_lit[k] = !any_hit(bvh, o, dir, len - eps);
+    });
+    std::vector<float> vis;
+    Stopwatch clock;
+    Profiler profiler;
+    if (device) vis = device->run(receivers, lights, options.filter, options.bias, &profiler);
+    else visibility_reference(scene, receivers, lights, options.filter, options.bias, vis);
+    report.query_ms += clock.elapsed_ms();
+    report.kernel_ms += profiler.total_device_ms();
+    for (std::size_t k = 0; k < receivers.size(); ++k) {
+      report.wrong += (vis[k] >= 0.5f) != (exact_lit[k] != 0);
+      report.exact_shadowed += exact_lit[k] == 0;
+    }
+    report.pixels += hit.size();
+    report.object_pixels += receivers.size();
+  }
+  return report;
+}
+
+}  // namespace splatcl::csm

@@ -1,0 +1,40 @@
+#pragma once
+// The shadow-quality study of the compression thesis (digest §10.1): the model rendered from random
+// cameras on its bounding sphere, lit by a point light at a random position outside the sphere;
+// every pixel's shadow test done twice, with the CSM and by exact ray casting; the result is the
+// percentage of pixels whose answers differ. The thesis leaves the image size, view count, light
+// distance, camera lens and denominator open; they are fixed here and reported, and both
+// denominators (all image pixels, pixels showing the object) are given.
+#include <cstdint>
+
+#include "csm/csm_file.hpp"
+#include "csm/visibility.hpp"
+#include "runtime/runtime.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::csm {
+
+struct QualityOptions {
+  std::uint32_t views = 16, image = 256;
+  float fov_degrees = 90;  // pinhole camera on the sphere looking at its centre
+  float light_max = 3;     // light distance from the centre, uniform in (1.05 R, light_max · R]
+  std::uint32_t seed = 1;
+  Filter filter = Filter::None;  // with PCF a pixel is lit when at least half its taps are
+  float bias = 0;
+};
+
+struct QualityReport {
+  std::uint64_t pixels = 0, object_pixels = 0, wrong = 0, exact_shadowed = 0;
+  double query_ms = 0;   // wall time of the CSM visibility batches (upload, kernel, read back)
+  double kernel_ms = 0;  // device time of the visibility kernel (0 on the reference)
+  double percent_of_image() const { return pixels ? 100.0 * static_cast<double>(wrong) / static_cast<double>(pixels) : 0; }
+  double percent_of_object() const {
+    return object_pixels ? 100.0 * static_cast<double>(wrong) / static_cast<double>(object_pixels) : 0;
+  }
+};
+
+// `mesh` is the model the CSM was built from (identity object transform, else Error). CSM queries
+// run on `runtime`, or on the native reference when null; primary and shadow rays on the host BVH.
+QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const QualityOptions& options, Runtime* runtime);
+
+}  // namespace splatcl::csm

@@ -1,0 +1,200 @@
+#include "csm/visibility.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "primitives/launch.hpp"
+#include "runtime/error.hpp"
+#include "splats/parallel.hpp"
+
+namespace splatcl::csm {
+
+using primitives::detail::set_args;
+
+static_assert(sizeof(device::CsmCell) == 40 && sizeof(device::CsmOccluder) == 52 && sizeof(device::CsmInstance) == 88,
+              "the query tables must match kernels/csm_query.h byte for byte");
+
+namespace {
+
+constexpr const char* kFilterNames[] = {"none", "same-map", "cross-map"};
+
+Transform multiply(const Transform& a, const Transform& b) {
+  Transform c{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) c[4 * i + j] += a[4 * i + k] * b[4 * k + j];
+  return c;
+}
+
+Transform invert_affine(const Transform& m) {
+  const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], i = m[10];
+  const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+  if (!(std::abs(det) > 1e-30) || !std::isfinite(det)) throw Error("an occluder placement is not invertible");
+  const double r[9] = {(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
+                       (f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det,
+                       (d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det};
+  Transform out = kIdentity;
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) out[4 * row + col] = r[3 * row + col];
+    out[4 * row + 3] = -(r[3 * row] * m[3] + r[3 * row + 1] * m[7] + r[3 * row + 2] * m[11]);
+  }
+  return out;
+}
+
+}  // namespace
+
+const char* to_string(Filter value) { return kFilterNames[static_cast<std::uint32_t>(value)]; }
+
+Filter parse_filter(const std::string& text) {
+  for (std::uint32_t i = 0; i < 3; ++i)
+    if (text == kFilterNames[i]) return static_cast<Filter>(i);
+  throw Error("unknown filter '" + text + "' (one of: none, same-map, cross-map)");
+}
+
+Transform world_to_object(const CsmInfo& info, const Transform& placement) {
+  Transform object{};
+  for (std::size_t k = 0; k < 16; ++k) object[k] = info.object_transform[k];
+  return multiply(object, invert_affine(placement));
+}
+
+VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std::vector<Instance>& placed) {
+  std::uint64_t segment_base = 0;
+  for (const Csm* csm : csms) {
+    const CsmInfo& info = csm->info;
+    const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
+    device::CsmOccluder oc{};
+    oc.centre[0] = info.sphere.centre.x;
+    oc.centre[1] = info.sphere.centre.y;
+    oc.centre[2] = info.sphere.centre.z;
+    oc.radius = info.sphere.radius;
+    oc.pixel_scale = static_cast<float>(info.resolution) / (2.0f * info.sphere.radius);
+    oc.depth_scale = 1.0f / (2.0f * info.sphere.radius);
+    oc.resolution = info.resolution;
+    oc.rows = grid.rows();
+    oc.cols = grid.cols();
+    oc.centred = info.distribution == Distribution::ThesisAo ? 0 : 1;
+    oc.uniform = info.distribution == Distribution::Uniform ? 1 : 0;
+    oc.cell_base = static_cast<std::uint32_t>(cells.size());
+    oc.pixel_base = static_cast<std::uint32_t>(offsets.size());
+    occluders.push_back(oc);
+    for (std::uint32_t a = 0; a < grid.rows(); ++a)
+      for (std::uint32_t b = 0; b < grid.cols(); ++b) {
+        const std::uint32_t sequence = grid.sequence_of({a, b});
+        const Camera camera = grid.camera(sequence);
+        device::CsmCell cell{};
+        std::copy(camera.d, camera.d + 3, cell.d);
+        std::copy(camera.u, camera.u + 3, cell.u);
+        std::copy(camera.v, camera.v + 3, cell.v);
+        cell.sequence = sequence;
+        cells.push_back(cell);
+      }
+    if (segment_base + csm->segments() > UINT32_MAX) throw Error("the occluders' CSMs hold more than 2^32 segments in all");
+    for (std::uint32_t offset : csm->offsets) offsets.push_back(static_cast<std::uint32_t>(segment_base + offset));
+    ends.insert(ends.end(), csm->end.begin(), csm->end.end());
+    depths.insert(depths.end(), csm->depth.begin(), csm->depth.end());
+    segment_base += csm->segments();
+  }
+  for (const Instance& instance : placed) {
+    if (instance.occluder >= csms.size())
+      throw Error(fmt::format("occluder instance names CSM {} of {}", instance.occluder, csms.size()));
+    const CsmInfo& info = csms[instance.occluder]->info;
+    const Transform m = world_to_object(info, instance.placement);
+    const auto frame = pole_frame(info.pole);
+    device::CsmInstance in{};
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) in.to_object[4 * row + col] = static_cast<float>(m[4 * row + col]);
+    for (int row = 0; row < 3; ++row) {
+      const Vec3 axis = frame[static_cast<std::size_t>(row)];
+      for (int col = 0; col < 3; ++col)
+        in.to_frame[3 * row + col] = static_cast<float>(axis.x * m[col] + axis.y * m[4 + col] + axis.z * m[8 + col]);
+    }
+    in.occluder = instance.occluder;
+    instances.push_back(in);
+  }
+}
+
+device::CsmScene VisibilityScene::view() const {
+  return {instances.data(), static_cast<std::uint32_t>(instances.size()), occluders.data(), cells.data(), offsets.data(),
+          ends.data(),      depths.data()};
+}
+
+void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights,
+                          Filter filter, float bias, std::vector<float>& out) {
+  if (receivers.size() != lights.size()) throw Error("visibility queries need one light per receiver");
+  out.resize(receivers.size());
+  const device::CsmScene view = scene.view();
+  splats::parallel_for(receivers.size(), 4096, [&](std::size_t q, std::size_t) {
+    const Vec4 p = receivers[q], l = lights[q];
+    const float wx = l.x - l.w * p.x, wy = l.y - l.w * p.y, wz = l.z - l.w * p.z;
+    out[q] = device::csm_visibility(&view, p.x, p.y, p.z, wx, wy, wz, static_cast<std::uint32_t>(filter), bias);
+  });
+}
+
+namespace {
+
+template <class T>
+cl::Buffer upload(Runtime& runtime, const std::vector<T>& values, const char* what) {
+  // A zero-sized buffer is invalid in OpenCL; empty tables get one unused element.
+  const std::size_t bytes = std::max<std::size_t>(values.size(), 1) * sizeof(T);
+  cl::Buffer buffer = runtime.buffer(CL_MEM_READ_ONLY, bytes, what);
+  if (!values.empty()) runtime.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, values.size() * sizeof(T), values.data());
+  return buffer;
+}
+
+}  // namespace
+
+VisibilityQueries::VisibilityQueries(Runtime& runtime, const VisibilityScene& scene)
+    : runtime_(runtime), instance_count_(static_cast<cl_uint>(scene.instances.size())) {
+  instances_ = upload(runtime, scene.instances, "CSM instances");
+  occluders_ = upload(runtime, scene.occluders, "CSM occluders");
+  cells_ = upload(runtime, scene.cells, "CSM cameras");
+  offsets_ = upload(runtime, scene.offsets, "CSM offsets");
+  ends_ = upload(runtime, scene.ends, "CSM segment ends");
+  depths_ = upload(runtime, scene.depths, "CSM segment depths");
+  kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_queries");
+}
+
+void VisibilityQueries::bind_scene(cl::Kernel& kernel, cl_uint first) const {
+  kernel.setArg(first, instances_);
+  kernel.setArg(first + 1, instance_count_);
+  kernel.setArg(first + 2, occluders_);
+  kernel.setArg(first + 3, cells_);
+  kernel.setArg(first + 4, offsets_);
+  kernel.setArg(first + 5, ends_);
+  kernel.setArg(first + 6, depths_);
+}
+
+cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& lights, std::size_t count, Filter filter,
+                                 float bias, cl::Buffer& out, Profiler* profiler) {
+  if (count == 0) return {};
+  if (count > UINT32_MAX) throw Error("more than 2^32 visibility queries in one batch");
+  primitives::detail::require_bytes(receivers, count * sizeof(Vec4), "CSM query receivers");
+  primitives::detail::require_bytes(lights, count * sizeof(Vec4), "CSM query lights");
+  primitives::detail::require_bytes(out, count * sizeof(float), "CSM query output");
+  set_args(kernel_, receivers, lights, static_cast<cl_uint>(count));
+  bind_scene(kernel_, 3);
+  kernel_.setArg(10, static_cast<cl_uint>(filter));
+  kernel_.setArg(11, bias);
+  kernel_.setArg(12, out);
+  return enqueue_1d(runtime_.queue(), kernel_, count, 0, profiler, "csm visibility");
+}
+
+std::vector<float> VisibilityQueries::run(const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights, Filter filter,
+                                          float bias, Profiler* profiler) {
+  if (receivers.size() != lights.size()) throw Error("visibility queries need one light per receiver");
+  std::vector<float> out(receivers.size());
+  if (receivers.empty()) return out;
+  const std::size_t n = receivers.size();
+  primitives::detail::ensure_bytes(runtime_, receivers_, n * sizeof(Vec4), "CSM query receivers");
+  primitives::detail::ensure_bytes(runtime_, lights_, n * sizeof(Vec4), "CSM query lights");
+  primitives::detail::ensure_bytes(runtime_, out_, n * sizeof(float), "CSM query output");
+  auto& queue = runtime_.queue();
+  queue.enqueueWriteBuffer(receivers_, CL_FALSE, 0, n * sizeof(Vec4), receivers.data());
+  queue.enqueueWriteBuffer(lights_, CL_FALSE, 0, n * sizeof(Vec4), lights.data());
+  run(receivers_, lights_, n, filter, bias, out_, profiler);
+  queue.enqueueReadBuffer(out_, CL_TRUE, 0, n * sizeof(float), out.data());
+  return out;
+}
+
+}  // namespace splatcl::csm

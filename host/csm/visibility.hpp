@@ -1,0 +1,94 @@
+#pragma once
+// Visibility sampling with coherent shadow maps (compression digest §5, AO digest §5.5–§5.8): for a
+// batch of (receiver, light) queries, the fraction of the light that every placed occluder lets
+// through; 0 or 1 without filtering, a multiple of 1/16 with PCF. The per-query code is
+// kernels/csm_query.h, compiled both into the OpenCL kernel (VisibilityQueries) and into the native
+// multithreaded reference (visibility_reference), so the two agree exactly.
+//
+// Spaces: a .csm's maps live in its object space (its header's object transform applied to the model
+// file). An instance places the model in the world with `placement` (model file → world, any
+// invertible affine; rigid in practice); queries are in world coordinates.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "csm/csm_file.hpp"
+#include "runtime/profiling.hpp"
+#include "runtime/runtime.hpp"
+#include "splats/geometry.hpp"
+
+namespace splatcl::csm {
+
+namespace device {
+using uint = std::uint32_t;
+#include "../../kernels/csm_query.h"
+}  // namespace device
+
+using splats::Vec4;
+
+enum class Filter : std::uint32_t {
+  None = CSM_FILTER_NONE,          // one texel of the nearest map
+  SameMap = CSM_FILTER_SAME_MAP,   // 4 × 4 texels of the nearest map (16 taps)
+  CrossMap = CSM_FILTER_CROSS_MAP  // 2 × 2 texels in each of the 4 nearest maps (16 taps)
+};
+const char* to_string(Filter value);
+Filter parse_filter(const std::string& text);
+
+using Transform = std::array<double, 16>;  // row-major 4 × 4 affine
+inline constexpr Transform kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+struct Instance {
+  std::uint32_t occluder = 0;  // index into the scene's CSMs
+  Transform placement = kIdentity;
+};
+
+// The packed tables every query reads: occluder types, instances, per-cell cameras, and all CSMs'
+// segment lists concatenated (segment indices made global).
+class VisibilityScene {
+ public:
+  // Copies the CSMs' data. Throws Error for an instance naming a
+  // missing CSM, a singular placement, or more than 2^32 segments in all.
+  VisibilityScene(const std::vector<const Csm*>& csms, const std::vector<Instance>& instances);
+
+  std::vector<device::CsmOccluder> occluders;
+  std::vector<device::CsmInstance> instances;
+  std::vector<device::CsmCell> cells;
+  std::vector<std::uint32_t> offsets, ends;
+  std::vector<float> depths;
+
+  device::CsmScene view() const;
+};
+
+// The world → object transform of an instance of `csm` (object transform · placement⁻¹).
+Transform world_to_object(const CsmInfo& info, const Transform& placement);
+
+// Light vector of a query: light.xyz − light.w · receiver.xyz (w = 1 point light, w = 0 direction).
+// Native reference, multithreaded over queries.
+void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights,
+                          Filter filter, float bias, std::vector<float>& out);
+
+// The kernel's driver; owns the scene's tables on the device.
+class VisibilityQueries {
+ public:
+  VisibilityQueries(Runtime& runtime, const VisibilityScene& scene);
+  // Device buffers of `count` float4 receivers and lights → `out` (count floats).
+  cl::Event run(const cl::Buffer& receivers, const cl::Buffer& lights, std::size_t count, Filter filter, float bias,
+                cl::Buffer& out, Profiler* profiler = nullptr);
+  // Host vectors in and out (uploads, runs, reads back).
+  std::vector<float> run(const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights, Filter filter, float bias,
+                         Profiler* profiler = nullptr);
+
+  // Binds the scene tables as arguments first, first + 1, ... (instances, count, occluders, cells,
+  // offsets, ends, depths): shared with the AO driver.
+  void bind_scene(cl::Kernel& kernel, cl_uint first) const;
+
+ private:
+  Runtime& runtime_;
+  cl_uint instance_count_;
+  cl::Buffer instances_, occluders_, cells_, offsets_, ends_, depths_;
+  cl::Kernel kernel_;
+  cl::Buffer receivers_, lights_, out_;
+};
+
+}  // namespace splatcl::csm

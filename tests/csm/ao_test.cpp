@@ -1,0 +1,133 @@
+// Ambient occlusion: pattern sets (cosine density, stratification properties), the OpenCL kernel
+// against the native reference (identical), analytic cases (open sky, ground plane, a receiver
+// under a slab), the hemisphere rotation and several instances sharing one CSM.
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "csm/ao.hpp"
+#include "csm/build.hpp"
+#include "csm_test_support.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::csm {
+namespace {
+
+using namespace testing;
+
+const Csm& slab_csm() {
+  // A thin wide slab above the origin: receivers under it are occluded upwards.
+  static const Csm csm = [] {
+    BuildOptions options;
+    options.maps = 1024;
+    options.resolution = 64;
+    return build_csm(boxes_mesh({{{-1, 0.5f, -1}, {1, 0.6f, 1}}}, "slab"), options, &runtime()).csm;
+  }();
+  return csm;
+}
+
+constexpr PatternSet kAllSets[] = {PatternSet::MonteCarlo,        PatternSet::Stratified,        PatternSet::LatinHypercube,
+                                   PatternSet::HaltonRotated,     PatternSet::HammersleyRotated, PatternSet::HammersleyScrambled};
+
+TEST(CsmAo, PatternsAreCosineWeightedUnitDirections) {
+  for (PatternSet set : kAllSets) {
+    const std::vector<Vec4> p = make_patterns(set, 256, 36, 1);
+    ASSERT_EQ(p.size(), 256u * 36u);
+    double mean_cos = 0;
+    for (const Vec4& d : p) {
+      EXPECT_NEAR(d.x * d.x + d.y * d.y + d.z * d.z, 1.0f, 1e-5f);
+      EXPECT_GE(d.y, 0.0f);
+      mean_cos += d.y;
+    }
+    // E[cosθ] under the density cosθ/π is 2/3.
+    EXPECT_NEAR(mean_cos / static_cast<double>(p.size()), 2.0 / 3.0, 0.01) << to_string(set);
+    EXPECT_EQ(std::memcmp(p.data(), make_patterns(set, 256, 36, 1).data(), p.size() * sizeof(Vec4)), 0) << "deterministic";
+  }
+  EXPECT_THROW(make_patterns(PatternSet::Stratified, 4, 35, 1), Error);
+  EXPECT_THROW(make_patterns(PatternSet::MonteCarlo, 0, 36, 1), Error);
+  EXPECT_EQ(parse_pattern_set("hammersley-scrambled"), PatternSet::HammersleyScrambled);
+  EXPECT_THROW(parse_pattern_set("sobol"), Error);
+}
+
+TEST(CsmAo, StratifiedAndLatinHypercubeFillTheirCells) {
+  // ξ1 = 1 − y², so the strata in ξ1 are visible through cosθ.
+  for (PatternSet set : {PatternSet::Stratified, PatternSet::LatinHypercube}) {
+    const std::vector<Vec4> p = make_patterns(set, 8, 36, 2);
+    for (std::uint32_t j = 0; j < 8; ++j) {
+      std::vector<int> rows(set == PatternSet::Stratified ? 6 : 36, 0);
+      for (std::uint32_t k = 0; k < 36; ++k) {
+        const float y = p[j * 36 + k].y;
+        const auto row = std::min<std::size_t>(rows.size() - 1, static_cast<std::size_t>((1 - y * y) * static_cast<float>(rows.size())));
+        ++rows[row];
+      }
+      for (int count : rows) EXPECT_EQ(count, set == PatternSet::Stratified ? 6 : 1) << to_string(set);
+    }
+  }
+}
+
+AoRequest request_for(const std::vector<Vec4>& positions, const std::vector<Vec4>& normals, PatternSet set, bool ground) {
+  AoRequest r;
+  r.positions = positions;
+  r.normals = normals;
+  r.patterns = make_patterns(set, 64, 36, 3);
+  r.pattern_of = choose_patterns(positions.size(), 64, 3);
+  r.ground = ground;
+  return r;
+}
+
+TEST(CsmAo, KernelMatchesReferenceForEveryPatternSetAndInstances) {
+  std::mt19937 rng(4);
+  std::vector<Vec4> positions, normals;
+  const auto u = [&] { return static_cast<float>(rng() >> 8) / 16777216.0f * 2 - 1; };
+  for (int k = 0; k < 1000; ++k) {
+    positions.push_back({2 * u(), 1.5f * u(), 2 * u(), 1});
+    Vec3 n{u(), u(), u()};
+    if (k % 100 == 0) n = {0, -1, 0};  // n = −o: the rotation's degenerate case
+    if (k % 100 == 1) n = {0, 1, 0};
+    n = splats::normalized(n);
+    normals.push_back({n.x, n.y, n.z, 0});
+  }
+  const Instance moved{0, {0, 0, 1, 0.5, 0, 1, 0, -0.9, -1, 0, 0, 0.25, 0, 0, 0, 1}};
+  const VisibilityScene scene({&slab_csm()}, {{}, moved});
+  AmbientOcclusion ao(runtime(), scene);
+  for (PatternSet set : kAllSets) {
+    const bool ground = set == PatternSet::Stratified || set == PatternSet::HammersleyScrambled;
+    {
+      const AoRequest request = request_for(positions, normals, set, ground);
+      std::vector<Vec4> ref;
+      ambient_occlusion_reference(scene, request, ref);
+      const std::vector<Vec4> cl = ao.run(request);
+      ASSERT_EQ(cl.size(), ref.size());
+      EXPECT_EQ(std::memcmp(cl.data(), ref.data(), ref.size() * sizeof(Vec4)), 0) << to_string(set) << " ground " << ground;
+    }
+  }
+  AoRequest bad = request_for(positions, normals, PatternSet::MonteCarlo, false);
+  bad.pattern_of[5] = 64;
+  EXPECT_THROW(ao.run(bad), Error);
+  EXPECT_TRUE(ao.run(request_for({}, {}, PatternSet::MonteCarlo, false)).empty());
+}
+
+TEST(CsmAo, AnalyticCases) {
+  const VisibilityScene scene({&slab_csm()}, {{}});
+  // Far from the slab, facing away: open sky, AO 1, bent normal ≈ the normal.
+  // Under the slab's middle facing up: the slab covers θ < atan(1 / 0.5) at least, so only the
+  // cosine-weighted fraction beyond it, cos²(63.4°) = 0.2 (less towards the corners), is open.
+  // Under it facing down with the ground plane on: the whole hemisphere is below the floor.
+  const std::vector<Vec4> positions{{0, -1.2f, 0, 1}, {0, 0, 0, 1}, {0, 0, 0, 1}, {0, 2, 0, 1}};
+  const std::vector<Vec4> normals{{0, -1, 0, 0}, {0, 1, 0, 0}, {0, -1, 0, 0}, {1, 0, 0, 0}};
+  std::vector<Vec4> out;
+  ambient_occlusion_reference(scene, request_for(positions, normals, PatternSet::HammersleyScrambled, false), out);
+  EXPECT_EQ(out[0].w, 1.0f);
+  EXPECT_NEAR(out[0].y, -1.0f, 0.15f);  // the mean of cosine samples is cos ≈ 0.87 off-axis at most
+  EXPECT_NEAR(out[1].w, 0.2f, 0.1f);
+  EXPECT_EQ(out[2].w, 1.0f);
+  EXPECT_GT(out[3].w, 0.8f);  // above the slab facing sideways: only steep downward samples hit it
+  EXPECT_GT(out[3].x, 0.6f);
+  ambient_occlusion_reference(scene, request_for(positions, normals, PatternSet::HammersleyScrambled, true), out);
+  EXPECT_EQ(out[2].w, 0.0f);
+  EXPECT_EQ(out[2].y, -1.0f);  // nothing lit: the bent normal is the normal
+  EXPECT_NEAR(out[3].w, 0.5f, 0.2f);  // a side-facing receiver loses the lower half
+}
+
+}  // namespace
+}  // namespace splatcl::csm
