@@ -11,6 +11,7 @@
 
 #include "bench/measure.hpp"
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
 #include "csm/build.hpp"
 #include "csm/csm_file.hpp"
 #include "csm/quality.hpp"
@@ -47,28 +48,12 @@ struct VerifyCommand {
   bool reference = false;
 };
 
-// One rewritten stderr line when stderr is a terminal; nothing otherwise.
-class Progress {
- public:
-  Progress() : enabled_(isatty(fileno(stderr)) != 0) {}
-  ~Progress() { clear(); }
-  void show(const std::string& text) {
-    if (!enabled_) return;
-    std::fprintf(stderr, "\r\033[Kcsm: %s", text.c_str());
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  BuildProgress maps(const std::string& what) {
-    return [this, what](std::uint32_t done, std::uint32_t total) { show(fmt::format("{} {}/{} maps", what, done, total)); };
-  }
-  void clear() {
-    if (enabled_ && shown_) std::fprintf(stderr, "\r\033[K");
-    shown_ = false;
-  }
-
- private:
-  bool enabled_ = false, shown_ = false;
-};
+// Map counts of a build on the progress line.
+BuildProgress map_progress(ProgressLine& progress, const std::string& what) {
+  return [&progress, what](std::uint32_t done, std::uint32_t total) {
+    progress.show(fmt::format("{} {}/{} maps", what, done, total));
+  };
+}
 
 double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
 
@@ -119,12 +104,12 @@ int run_build(const BuildCommand& c) {
   const Encoding encoding = parse_encoding(c.encoding);
   if (c.resolution == 0 || c.resolution > 8192) throw Error("--res must be between 1 and 8192");
   const SphereGrid check(options.distribution, options.order, options.pole, options.maps);
-  Progress progress;
+  ProgressLine progress("csm");
   progress.show("loading " + c.model);
   const splats::Mesh mesh = splats::load_mesh(c.model);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
-  const BuildResult result = build_csm(mesh, options, runtime.get(), progress.maps("captured and compressed"));
+  const BuildResult result = build_csm(mesh, options, runtime.get(), map_progress(progress, "captured and compressed"));
   progress.show("writing " + c.output);
   Stopwatch write_clock;
   const std::string plain = encode_csm(result.csm, Encoding::Plain);
@@ -165,7 +150,7 @@ int run_info(const InfoCommand& c) {
 }
 
 int run_verify(const VerifyCommand& c) {
-  Progress progress;
+  ProgressLine progress("csm");
   progress.show("reading " + c.file);
   Encoding encoding = Encoding::Plain;
   const Csm csm = read_csm(c.file, &encoding);
@@ -176,7 +161,7 @@ int run_verify(const VerifyCommand& c) {
   const splats::Mesh mesh = splats::load_mesh(c.model);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
-  const LosslessReport report = check_lossless(csm, mesh, runtime.get(), progress.maps("recaptured"));
+  const LosslessReport report = check_lossless(csm, mesh, runtime.get(), map_progress(progress, "recaptured"));
   progress.clear();
   if (report.violations)
     throw Error(fmt::format("{}: not lossless for {} of {} (map, pixel) samples; first at map {}, pixel {}: stored {} outside [{}, {})",
@@ -190,7 +175,7 @@ int run_quality(const QualityCommand& c) {
   if (c.build.model.empty()) throw Error("csm quality: a MODEL is required (see splatcl csm quality --help)");
   QualityOptions options = c.options;
   options.filter = parse_filter(c.filter);
-  Progress progress;
+  ProgressLine progress("csm");
   progress.show("loading " + c.build.model);
   const splats::Mesh mesh = splats::load_mesh(c.build.model);
   std::shared_ptr<Runtime> runtime;
@@ -206,7 +191,7 @@ int run_quality(const QualityCommand& c) {
     build.order = parse_order(c.build.order);
     build.pole = parse_pole_axis(c.build.pole);
     build.single_hit = parse_single_hit(c.build.single_hit);
-    csm = build_csm(mesh, build, runtime.get(), progress.maps("captured and compressed")).csm;
+    csm = build_csm(mesh, build, runtime.get(), map_progress(progress, "captured and compressed")).csm;
   }
   progress.show("rendering " + std::to_string(options.views) + " views");
   const QualityReport report = measure_quality(csm, mesh, options, runtime.get());

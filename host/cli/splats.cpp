@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/error.hpp"
 #include "splats/pipeline.hpp"
@@ -31,26 +32,6 @@ struct SplatsOptions {
 struct VerifyOptions {
   std::string model, splats;
   double eps = 0;
-};
-
-// Phase names on one rewritten stderr line when stderr is a terminal; nothing otherwise.
-class ProgressLine {
- public:
-  ProgressLine() : enabled_(isatty(fileno(stderr)) != 0) {}
-  ~ProgressLine() { clear(); }
-  void show(const std::string& text) {
-    if (!enabled_) return;
-    std::fprintf(stderr, "\r\033[Ksplats: %s…", text.c_str());
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  void clear() {
-    if (enabled_ && shown_) std::fprintf(stderr, "\r\033[K");
-    shown_ = false;
-  }
-
- private:
-  bool enabled_ = false, shown_ = false;
 };
 
 ColorSource color_source(const SplatsOptions& o, const Mesh& mesh, std::string& description) {
@@ -78,7 +59,7 @@ int run_splats(const SplatsOptions& o) {
   options.fit.retest_violator = o.retest_violator;
   options.fit.clip = o.clip;
   if (!(o.eps_diagonal > 0 && std::isfinite(o.eps_diagonal))) throw Error("--eps-diag must be positive");
-  ProgressLine progress;
+  ProgressLine progress("splats");
   progress.show("loading " + o.model);
   Stopwatch load_clock;
   const Mesh mesh = load_mesh(o.model);
@@ -132,7 +113,7 @@ int run_splats(const SplatsOptions& o) {
 }
 
 int run_verify(const VerifyOptions& o) {
-  ProgressLine progress;
+  ProgressLine progress("splats");
   progress.show("reading " + o.splats);
   const SplatFile file = read_splat_file(o.splats);
   const float eps = static_cast<float>(o.eps > 0 ? o.eps : file.info.eps);
