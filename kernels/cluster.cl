@@ -399,6 +399,15 @@ __kernel void cluster_tile_scatter(__global const uint* staging, __global const 
 #define MASK_WORDS (1u << (MAX_BITMASK_LOW_BITS - 5))
 #define CHUNK 16
 
+// Bitwise or of the 16 lanes: 0 iff every lane is 0. Cheaper on PoCL than all()/any(), which it
+// lowers to a chain of shuffles.
+inline uint or_reduce(uint16 v) {
+  const uint8 a = v.lo | v.hi;
+  const uint4 b = a.lo | a.hi;
+  const uint2 c = b.lo | b.hi;
+  return c.x | c.y;
+}
+
 // Sets the mask bit of `key` (not background), growing the cleared word range as needed.
 inline void mark_value(uint key, uint low_mask, uint* mask, uint* first_word, uint* last_word) {
   const uint v = key & low_mask, word = v >> 5;
@@ -434,7 +443,7 @@ __kernel void cluster_tile_mask(__global const uint* restrict keys, __global uin
     uint lx = 0;
     for (; lx + CHUNK <= w; lx += CHUNK) {
       const uint16 chunk = vload16(0, row + lx);
-      if (all((chunk == previous) | (chunk == BACKGROUND))) continue;
+      if (or_reduce((chunk ^ previous) & as_uint16(chunk != BACKGROUND)) == 0) continue;
       for (uint i = lx; i < lx + CHUNK; ++i) {
         const uint key = row[i];
         if (key == previous || key == BACKGROUND) continue;
@@ -494,7 +503,7 @@ __kernel void cluster_tile_mask_write(__global const uint* restrict keys, __glob
     uint lx = 0;
     for (; lx + CHUNK <= w; lx += CHUNK) {
       const uint16 chunk = vload16(0, keys + row + lx);
-      if (all(chunk == previous)) {
+      if (or_reduce(chunk ^ previous) == 0) {
         vstore16((uint16)rank, 0, pixel_cluster + row + lx);
         continue;
       }

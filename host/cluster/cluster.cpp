@@ -152,7 +152,6 @@ ClusterPipeline::ClusterPipeline(Runtime& runtime, const ClusterConfig& config, 
   unique_keys_ = runtime.buffer(CL_MEM_READ_WRITE, pixels * sizeof(std::uint32_t), "unique cluster keys");
   tile_counts_ = runtime.buffer(CL_MEM_READ_WRITE, tiles * sizeof(std::uint32_t), "tile cluster counts");
   tile_offsets_ = runtime.buffer(CL_MEM_READ_WRITE, tiles * sizeof(std::uint32_t), "tile cluster offsets");
-  staging_ = runtime.buffer(CL_MEM_READ_WRITE, tiles * tile_pixels * sizeof(std::uint32_t), "per-tile cluster keys");
   slice_boundaries_ = runtime.buffer(CL_MEM_READ_ONLY, layout_.slice_boundaries.size() * sizeof(float),
                                      "depth slice boundaries");
   // Lane order per 8-bit hit mask with the set lanes first, for 8-wide writes of a leaf's hits.
@@ -332,6 +331,10 @@ void ClusterPipeline::compact_tiles(Compaction compaction, Profiler* profiler) {
   if (!tile_sort_kernel_())
     throw Error("tile-sort compaction supports tiles of at most " + std::to_string(kMaxSortTilePixels) +
                 " pixels; tile " + std::to_string(c.tile_width) + "x" + std::to_string(c.tile_height) + " is larger");
+  if (!staging_())
+    staging_ = runtime_.buffer(CL_MEM_READ_WRITE,
+                               std::size_t{tiles} * c.tile_width * c.tile_height * sizeof(std::uint32_t),
+                               "per-tile cluster keys");
   if (shape_ == Shape::Gpu) {
     const std::size_t local_bytes =
         (2 * std::max<std::size_t>(2, std::bit_ceil(c.tile_width * c.tile_height)) + tile_sort_group_) * 4;

@@ -136,7 +136,8 @@ class ClusterPipeline {
   cl::Buffer depth_, normals_, keys_, pixel_cluster_;
   cl::Buffer sort_keys_, sort_pixels_, run_ends_;  // global-sort scratch, allocated on first use
   // Per tile.
-  cl::Buffer slice_boundaries_, tile_counts_, tile_offsets_, staging_;
+  cl::Buffer slice_boundaries_, tile_counts_, tile_offsets_;
+  cl::Buffer staging_;                   // tile sort, allocated on first use
   cl::Buffer tile_masks_, mask_ranges_;  // bitmask compaction, allocated on first use
   // Per cluster (capacity grows).
   cl::Buffer unique_keys_, bounds_, light_counts_, light_offsets_;

@@ -24,6 +24,9 @@ ClusterLayout ClusterLayout::make(const ClusterConfig& config) {
     throw Error("cluster frame size " + dims(config.width, config.height) + " is empty");
   if (config.tile_width == 0 || config.tile_height == 0)
     throw Error("cluster tile size " + dims(config.tile_width, config.tile_height) + " has a zero side");
+  if (config.tile_width > kMaxTileSide || config.tile_height > kMaxTileSide)
+    throw Error("cluster tile size " + dims(config.tile_width, config.tile_height) + " exceeds " +
+                std::to_string(kMaxTileSide) + " pixels per side");
   if (std::uint64_t{config.width} * config.height > 0x7FFFFFFFu)
     throw Error("cluster frame size " + dims(config.width, config.height) + " exceeds 2^31 pixels");
   if (!(std::isfinite(config.near_plane) && config.near_plane >= FLT_MIN))

@@ -24,6 +24,8 @@ inline constexpr float kBackgroundViewZ = 0.0f;
 inline constexpr unsigned kNormalKeyBits = 6;
 inline constexpr std::uint32_t kNormalCells = 54;
 
+// Largest tile side (pixels) of any layout.
+inline constexpr std::uint32_t kMaxTileSide = 4096;
 // Largest tile (pixels) that the per-tile sort compaction accepts: its buffers live in private or
 // local memory.
 inline constexpr std::uint32_t kMaxSortTilePixels = 4096;

@@ -94,6 +94,9 @@ TEST(ClusterLayout, RejectsBadConfigsWithClearErrors) {
   c.tile_height = 0;
   rejects(c, "zero side");
   c = good;
+  c.tile_width = kMaxTileSide + 1;
+  rejects(c, "per side");
+  c = good;
   c.near_plane = 0;
   rejects(c, "near plane");
   c = good;
