@@ -1,6 +1,6 @@
 // Light assignment to cluster boxes: brute force, and a light hierarchy (a BVH over the lights
 // sorted by Morton code, fanout 8, built bottom-up one level per launch).
-// Build options: BVH_MAX_LEVELS, BVH_STACK, LIST_SLOT_MAX.
+// Build options: BVH_MAX_LEVELS, BVH_STACK, RANK_SORT_MAX.
 //
 // Work is explicitly 8 or 16 wide (vector types), because PoCL does not vectorize loops inside a
 // work-item:
@@ -41,14 +41,6 @@ inline uint touching_lights(float4 lo, float4 hi, __global const float* restrict
   return lane_bits(dx * dx + dy * dy + dz * dz <= r * r);
 }
 
-// Every light that touches the box, in index order, written to out[0 ..).
-inline void scan_all_lights(float4 lo, float4 hi, __global const float* restrict lights, uint stride,
-                            __global uint* restrict out) {
-  for (uint block = 0; block < stride / LANES; ++block)
-    for (uint bits = touching_lights(lo, hi, lights, stride, block); bits != 0; bits &= bits - 1u)
-      *out++ = block * LANES + lowest_bit(bits);
-}
-
 // ---- brute force: one work-item per cluster, every 8-light block; count, then (after a scan) fill.
 
 __kernel void assign_brute_count(__global const float4* restrict bounds, __global const float* restrict lights,
@@ -67,7 +59,11 @@ __kernel void assign_brute_fill(__global const float4* restrict bounds, __global
                                 uint stride) {
   const uint c = get_global_id(0);
   if (c >= clusters) return;
-  scan_all_lights(bounds[2 * (size_t)c], bounds[2 * (size_t)c + 1], lights, stride, indices + offsets[c]);
+  const float4 lo = bounds[2 * (size_t)c], hi = bounds[2 * (size_t)c + 1];
+  __global uint* out = indices + offsets[c];
+  for (uint block = 0; block < stride / LANES; ++block)
+    for (uint bits = touching_lights(lo, hi, lights, stride, block); bits != 0; bits &= bits - 1u)
+      *out++ = block * LANES + lowest_bit(bits);
 }
 
 // ---- light hierarchy: build
@@ -212,12 +208,12 @@ inline uint bvh_traverse(float4 lo, float4 hi, __global const float* restrict no
   return found;
 }
 
-// Sorts a list of n ≤ LIST_SLOT_MAX distinct light indices ascending (the traversal finds them in
-// Morton order): each value goes to the slot given by the number of smaller values, computed for
-// 16 values at once against every value. Branch-free and vectorized, unlike a comparison sort's
-// scalar loop on PoCL.
-inline void sort_light_list(__global uint* restrict a, uint n) {
-  uint list[LIST_SLOT_MAX], slots[16];
+// Sorts a short list of n ≤ RANK_SORT_MAX distinct light indices ascending (the traversal finds
+// them in Morton order): each value goes to the slot given by the number of smaller values,
+// computed for 16 values at once against every value. Branch-free and vectorized, unlike a
+// comparison sort's scalar loop on PoCL; O(n²), so longer lists use radix_sort_light_list.
+inline void rank_sort_light_list(__global uint* restrict a, uint n) {
+  uint list[RANK_SORT_MAX], slots[16];
   for (uint i = 0; i < n; ++i) list[i] = a[i];
   for (uint first = 0; first < n; first += 16u) {
     const uint16 values = vload16(0, list + first);  // lanes past n hold garbage and are not stored
@@ -229,7 +225,7 @@ inline void sort_light_list(__global uint* restrict a, uint n) {
 }
 
 // One traversal per cluster: counts[c] = number of lights; lists of up to `slot` lights are also
-// sorted into scratch[c·slot ...] for assign_bvh_place.
+// stored in scratch[c·slot ...] for assign_bvh_place, sorted when short.
 __kernel void assign_bvh_collect(__global const float4* restrict bounds, __global const float* restrict nodes,
                                  __global const float* restrict sorted_lights, __global const uint* restrict order,
                                  __constant uchar8* compaction, __global uint* restrict counts,
@@ -240,33 +236,62 @@ __kernel void assign_bvh_collect(__global const float4* restrict bounds, __globa
   __global uint* list = scratch + (size_t)c * slot;
   const uint found = bvh_traverse(bounds[2 * (size_t)c], bounds[2 * (size_t)c + 1], nodes, sorted_lights, order,
                                   compaction, stride, level_count, slot, list);
-  if (found <= slot) sort_light_list(list, found);
+  if (found <= min(slot, (uint)RANK_SORT_MAX)) rank_sort_light_list(list, found);
   counts[c] = found;
 }
 
+#define RADIX_DIGIT_BITS_MAX 11
+
+// Sorts a long list of light indices below 2^index_bits ascending: stable LSD radix sort in two
+// (or more) passes of at most RADIX_DIGIT_BITS_MAX bits, ping-ponging between a and temp (n
+// entries each). O(n + buckets) per pass, where a comparison sort would be O(n log n) with
+// PoCL's slow scalar loops.
+inline void radix_sort_light_list(__global uint* a, __global uint* temp, uint n, uint index_bits) {
+  const uint digit_bits = clamp((index_bits + 1u) / 2u, 1u, (uint)RADIX_DIGIT_BITS_MAX);
+  const uint passes = (index_bits + digit_bits - 1u) / digit_bits, buckets = 1u << digit_bits;
+  uint hist[1u << RADIX_DIGIT_BITS_MAX];
+  __global uint* src = a;
+  __global uint* dst = temp;
+  for (uint pass = 0; pass < passes; ++pass) {
+    const uint shift = pass * digit_bits;
+    for (uint b = 0; b < buckets; ++b) hist[b] = 0;
+    for (uint i = 0; i < n; ++i) ++hist[(src[i] >> shift) & (buckets - 1u)];
+    uint running = 0;
+    for (uint b = 0; b < buckets; ++b) {
+      const uint count = hist[b];
+      hist[b] = running;
+      running += count;
+    }
+    for (uint i = 0; i < n; ++i) dst[hist[(src[i] >> shift) & (buckets - 1u)]++] = src[i];
+    __global uint* swap = src;
+    src = dst;
+    dst = swap;
+  }
+  if (src != a)
+    for (uint i = 0; i < n; ++i) a[i] = src[i];
+}
+
 // After the scan of the counts, each list goes to indices[offsets[c] ...]: copied from its scratch
-// slot; or, when it did not fit there, found again and sorted (up to LIST_SLOT_MAX lights) or taken
-// from a scan of every light, which yields index order directly.
+// slot, or found again when it did not fit there; lists longer than RANK_SORT_MAX are then
+// radix-sorted in place (with sort_scratch, laid out like indices).
 __kernel void assign_bvh_place(__global const float4* restrict bounds, __global const float* restrict nodes,
                                __global const float* restrict sorted_lights, __global const uint* restrict order,
-                               __global const float* restrict lights, __constant uchar8* compaction,
-                               __global const uint* restrict counts, __global const uint* restrict offsets,
-                               __global const uint* restrict scratch, __global uint* restrict indices,
-                               uint clusters, uint stride, uint level_count, uint slot) {
+                               __constant uchar8* compaction, __global const uint* restrict counts,
+                               __global const uint* restrict offsets, __global const uint* restrict scratch,
+                               __global uint* restrict indices, __global uint* restrict sort_scratch,
+                               uint clusters, uint stride, uint level_count, uint slot, uint index_bits) {
   const uint c = get_global_id(0);
   if (c >= clusters) return;
   const uint count = counts[c];
   __global uint* out = indices + offsets[c];
-  const float4 lo = bounds[2 * (size_t)c], hi = bounds[2 * (size_t)c + 1];
-  if (count <= slot) {
+  if (count > slot) {
+    bvh_traverse(bounds[2 * (size_t)c], bounds[2 * (size_t)c + 1], nodes, sorted_lights, order, compaction, stride,
+                 level_count, count, out);
+  } else {
     __global const uint* list = scratch + (size_t)c * slot;
     uint i = 0;
     for (; i + 16u <= count; i += 16u) vstore16(vload16(0, list + i), 0, out + i);
     for (; i < count; ++i) out[i] = list[i];
-  } else if (count <= LIST_SLOT_MAX) {
-    bvh_traverse(lo, hi, nodes, sorted_lights, order, compaction, stride, level_count, count, out);
-    sort_light_list(out, count);
-  } else {
-    scan_all_lights(lo, hi, lights, stride, out);
   }
+  if (count > RANK_SORT_MAX) radix_sort_light_list(out, sort_scratch + offsets[c], count, index_bits);
 }

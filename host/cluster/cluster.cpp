@@ -28,8 +28,10 @@ constexpr std::uint32_t kBvhStack = 80;
 constexpr std::uint32_t kMaxLights = 1u << 26;
 constexpr unsigned kMortonBits = 30;
 // Light-list slots of the hierarchy traversal: up to kListSlotMax entries per cluster (a multiple
-// of 16; also the longest list sorted in private memory), within kListScratchEntries in total.
+// of 16), within kListScratchEntries in total. Lists of up to kRankSortMax lights are sorted by
+// rank (O(n²), vectorized), longer ones by radix.
 constexpr std::size_t kListSlotMax = 256;
+constexpr std::size_t kRankSortMax = 64;
 constexpr std::size_t kListScratchEntries = std::size_t{16} << 20;
 
 template <class... Args>
@@ -122,7 +124,7 @@ ClusterPipeline::ClusterPipeline(Runtime& runtime, const ClusterConfig& config, 
   const std::string options = cluster_build_options(runtime, layout_, shape_, tile_sort_group_);
   const std::string light_options = "-DBVH_MAX_LEVELS=" + std::to_string(kBvhMaxLevels) +
                                     " -DBVH_STACK=" + std::to_string(kBvhStack) +
-                                    " -DLIST_SLOT_MAX=" + std::to_string(kListSlotMax);
+                                    " -DRANK_SORT_MAX=" + std::to_string(kRankSortMax);
   keys_view_kernel_ = runtime.kernel(kClusterKernels, "cluster_keys_view", options);
   keys_window_kernel_ = runtime.kernel(kClusterKernels, "cluster_keys_window", options);
   sort_init_kernel_ = runtime.kernel(kClusterKernels, "cluster_sort_init", options);
@@ -445,8 +447,13 @@ std::uint32_t ClusterPipeline::assign_lights(Assignment assignment, Profiler* pr
            list_scratch_, clusters, light_stride_, bvh_levels_, slot);
   enqueue_1d(queue, bvh_collect_kernel_, clusters, kItemGroup, profiler, "assign-bvh-collect");
   scan_counts();
-  set_args(bvh_place_kernel_, bounds_, bvh_nodes_, sorted_lights_, light_order_, lights_, lane_compaction_,
-           light_counts_, light_offsets_, list_scratch_, light_indices_, clusters, light_stride_, bvh_levels_, slot);
+  // Long lists are radix-sorted in place, with a scratch laid out like the indices.
+  ensure_capacity(list_sort_scratch_, list_sort_scratch_capacity_,
+                  std::size_t{light_index_count_} * sizeof(std::uint32_t), "light list sort scratch");
+  const cl_uint index_bits = std::max(1u, static_cast<cl_uint>(std::bit_width(light_count_ - 1)));
+  set_args(bvh_place_kernel_, bounds_, bvh_nodes_, sorted_lights_, light_order_, lane_compaction_, light_counts_,
+           light_offsets_, list_scratch_, light_indices_, list_sort_scratch_, clusters, light_stride_, bvh_levels_, slot,
+           index_bits);
   enqueue_1d(queue, bvh_place_kernel_, clusters, kItemGroup, profiler, "assign-bvh-place");
   return light_index_count_;
 }

@@ -40,7 +40,8 @@ enum class Assignment {
   BruteForce,
   // A BVH over the lights sorted by Morton code (fanout kBvhFanout), rebuilt on every call. One
   // traversal per cluster counts its lights and leaves lists of up to 256 sorted in a per-cluster
-  // slot; after the scan a second kernel copies them into place (longer lists are found again).
+  // slot; after the scan a second kernel copies them into place (longer lists are found again and
+  // radix-sorted there).
   Hierarchy,
 };
 
@@ -146,8 +147,10 @@ class ClusterPipeline {
   cl::Buffer lights_, morton_codes_, light_order_, sorted_lights_, bvh_nodes_, light_indices_;
   std::size_t lights_capacity_ = 0, morton_capacity_ = 0, order_capacity_ = 0, sorted_lights_capacity_ = 0;
   std::size_t nodes_capacity_ = 0, indices_capacity_ = 0;
-  // Per-cluster slots where the hierarchy traversal leaves sorted lists for the placing pass.
-  cl::Buffer list_scratch_;
+  // Per-cluster slots where the hierarchy traversal leaves sorted lists for the placing pass, and
+  // the scratch of the radix sort of lists too long for them.
+  cl::Buffer list_scratch_, list_sort_scratch_;
+  std::size_t list_sort_scratch_capacity_ = 0;
   cl::Buffer lane_compaction_;  // 256 uchar8: the set lanes of each 8-bit mask first
   std::size_t list_scratch_capacity_ = 0;
 };
