@@ -32,7 +32,7 @@ struct FitOptions {
   int color_tolerance = 255;     // φ per channel, 0..255; 255 ignores colour
   bool literal_lambda = false;   // read "λ" in the size corrections literally instead of as √λ
   bool retest_violator = false;  // ellipse phase with b = d1 and the circle's violator re-tested
-  // Clipped splats (digest §3.13, proposed in the thesis, not implemented there): a violator within
+  // Clipped splats (digest §3.13, a proposal the thesis left untried): a violator within
   // 90° of the mean direction to the earlier skipped violators is skipped instead of ending the
   // phase; the splat is then cut by a line perpendicular to that mean direction, halfway between the
   // farthest accepted and the nearest skipped sample along it.
