@@ -34,27 +34,6 @@ constexpr std::size_t kListSlotMax = 256;
 constexpr std::size_t kRankSortMax = 64;
 constexpr std::size_t kListScratchEntries = std::size_t{16} << 20;
 
-template <class... Args>
-void set_args(cl::Kernel& kernel, const Args&... args) {
-  cl_uint index = 0;
-  (kernel.setArg(index++, args), ...);
-}
-
-// Enqueues a kernel over width × height work-items (rounded up to whole groups; kernels check bounds).
-cl::Event enqueue_2d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t width, std::size_t height,
-                     Profiler* profiler, const char* label) {
-  cl::Event event;
-  try {
-    queue.enqueueNDRangeKernel(kernel, cl::NullRange,
-                               cl::NDRange(round_up(width, kPixelGroupWidth), round_up(height, kPixelGroupHeight)),
-                               cl::NDRange(kPixelGroupWidth, kPixelGroupHeight), nullptr, &event);
-  } catch (...) {
-    rethrow_as_error(std::string("launching kernel ") + label);
-  }
-  if (profiler) profiler->add(label, event);
-  return event;
-}
-
 cl_uint to_uint(std::size_t value) { return static_cast<cl_uint>(value); }
 
 // Bytes of one float4 pair (min, max) per cluster.
@@ -271,7 +250,7 @@ void ClusterPipeline::compute_keys(Profiler* profiler) {
     kernel.setArg(13, layout_.near_times_far);
     kernel.setArg(14, layout_.far_minus_near);
   }
-  enqueue_2d(runtime_.queue(), kernel, c.width, c.height, profiler, "cluster-keys");
+  enqueue_2d(runtime_.queue(), kernel, c.width, c.height, kPixelGroupWidth, kPixelGroupHeight, profiler, "cluster-keys");
   stage_ = Stage::Keys;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "runtime/opencl.hpp"
+#include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
 
 namespace splatcl::primitives::detail {
@@ -15,11 +16,7 @@ inline constexpr std::size_t kGroupSize = 256;
 // Build options shared by every primitive kernel file.
 inline std::string group_options() { return "-DGROUP_SIZE=" + std::to_string(kGroupSize); }
 
-template <class... Args>
-void set_args(cl::Kernel& kernel, const Args&... args) {
-  cl_uint index = 0;
-  (kernel.setArg(index++, args), ...);
-}
+using splatcl::set_args;
 
 // Chunks for a CPU-shaped launch over n items: up to runtime.cpu_chunks(), but none smaller than
 // min_chunk items (a tiny chunk costs more to launch than to process). At least 1.

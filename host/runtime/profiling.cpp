@@ -49,4 +49,19 @@ cl::Event enqueue_1d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t gl
   return event;
 }
 
+cl::Event enqueue_2d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t width, std::size_t height,
+                     std::size_t group_width, std::size_t group_height, Profiler* profiler, const char* label) {
+  cl::Event event;
+  if (width == 0 || height == 0) return event;
+  try {
+    queue.enqueueNDRangeKernel(kernel, cl::NullRange,
+                               cl::NDRange(round_up(width, group_width), round_up(height, group_height)),
+                               cl::NDRange(group_width, group_height), nullptr, &event);
+  } catch (...) {
+    rethrow_as_error(std::string("launching kernel ") + label);
+  }
+  if (profiler) profiler->add(label, event);
+  return event;
+}
+
 }  // namespace splatcl

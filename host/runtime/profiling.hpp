@@ -49,6 +49,18 @@ class Stopwatch {
 cl::Event enqueue_1d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t global, std::size_t local,
                      Profiler* profiler, const char* label);
 
+// Enqueues a kernel over width x height work-items in group_width x group_height groups (the range is
+// rounded up to whole groups; kernels check bounds); recorded in `profiler` like enqueue_1d.
+cl::Event enqueue_2d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t width, std::size_t height,
+                     std::size_t group_width, std::size_t group_height, Profiler* profiler, const char* label);
+
+// Sets every argument of `kernel` in order.
+template <class... Args>
+void set_args(cl::Kernel& kernel, const Args&... args) {
+  cl_uint index = 0;
+  (kernel.setArg(index++, args), ...);
+}
+
 // Rounds n up to a multiple of m (m > 0).
 constexpr std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 constexpr std::size_t div_up(std::size_t n, std::size_t m) { return (n + m - 1) / m; }
