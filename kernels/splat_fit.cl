@@ -113,54 +113,71 @@ __kernel void splat_frames(__global const float4* positions, __global const floa
 }
 
 // ---------------------------------------------------------------------------------------------
-// Growth. Per work-item scratch (slot s): q (capacity entries); seen, keys and aux (seen_capacity
-// entries each); a hash set of seen samples (hash_mask + 1 entries). `seen` lists the samples in the
-// order they were first seen, which is the walk's ring order: ring r and the next ring being
-// collected are adjacent ranges of it, so no ring is ever copied. The hash set starts zeroed (the
-// host fills it once) and is left zeroed, by removing exactly the listed samples: clearing the whole
-// table per splat cost more than the walk on small splats. A splat that would accept more than
-// `capacity` samples stops and reports capacity + 1; the host relaunches it with more.
+// Growth. Scratch belongs to a worker (one work-item): seen and aux (seen_capacity entries each),
+// ring keys (seen_capacity ulongs) and a hash set of seen samples (hash_mask + 1 entries); each
+// grown splat (item s) writes its accepted set to q_slots[s * capacity ...] and its size to
+// counts[s]. `seen` lists the samples in the order they were first seen, which is the walk's ring
+// order: ring r and the next ring being collected are adjacent ranges of it, so no ring is ever
+// copied. The hash set starts zeroed (the host fills it once) and is left zeroed, by removing
+// exactly the listed samples: clearing the whole table per splat cost more than the walk on small
+// splats. A splat that would accept more than `capacity` samples stops and reports capacity + 1;
+// the host relaunches it with more.
+//
+// Two shapes (design.md): CPU (block > 0), a few workers each taking blocks of `block` consecutive
+// items from a shared counter until none is left, so a worker's scratch stays in its core's cache
+// from one splat to the next; GPU (block == 0), one item per work-item with its own scratch.
 
-// Sorts idx[0..n) by (k1, k2, idx) ascending: heap sort, no recursion, total order.
-inline bool sort_less(__global const float* k1, __global const float* k2, __global const uint* idx, uint a, uint b) {
-  if (k1[a] != k1[b]) return k1[a] < k1[b];
-  if (k2[a] != k2[b]) return k2[a] < k2[b];
-  return idx[a] < idx[b];
+// A ring entry: the sort key (never -0 or NaN) in the high half, mapped so that unsigned order is
+// float order, and the sample index in the low half: sorting the ulongs sorts by (key, index), the
+// order of the reference's std::pair<float, uint32_t>.
+inline ulong pack_key(float key, uint j) {
+  const uint bits = as_uint(key + 0.0f);  // -0 → +0
+  const uint ordered = (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
+  return ((ulong)ordered << 32) | (ulong)j;
 }
 
-inline void sort_swap(__global float* k1, __global float* k2, __global uint* idx, uint a, uint b) {
-  const float f1 = k1[a];
-  k1[a] = k1[b], k1[b] = f1;
-  if (k2 != k1) {
-    const float f2 = k2[a];
-    k2[a] = k2[b], k2[b] = f2;
-  }
-  const uint t = idx[a];
-  idx[a] = idx[b], idx[b] = t;
+inline float unpack_key(ulong packed) {
+  const uint ordered = (uint)(packed >> 32);
+  return as_float((ordered & 0x80000000u) ? (ordered & 0x7fffffffu) : ~ordered);
 }
 
-void sort_by_keys(__global float* k1, __global float* k2, __global uint* idx, uint n) {
-  if (n < 2) return;
-  if (n <= 16) {
-    for (uint x = 1; x < n; ++x)
-      for (uint y = x; y > 0 && sort_less(k1, k2, idx, y, y - 1); --y) sort_swap(k1, k2, idx, y, y - 1);
-    return;
-  }
-  for (uint start = n / 2; start-- > 0;) {
-    uint root = start;
-    for (uint child; (child = 2 * root + 1) < n; root = child) {
-      if (child + 1 < n && sort_less(k1, k2, idx, child, child + 1)) ++child;
-      if (!sort_less(k1, k2, idx, root, child)) break;
-      sort_swap(k1, k2, idx, root, child);
+// Shell sort gaps (Ciura's, extended by ×2.25), largest first.
+__constant uint kGaps[] = {1035711u, 460316u, 204585u, 90927u, 40412u, 17961u, 7983u, 3548u, 1577u,
+                           701u,     301u,    132u,    57u,    23u,    10u,    4u,    1u};
+
+// Sorts a[0..n) ascending: shell sort, in place, no recursion.
+void sort_packed(__global ulong* a, uint n) {
+  for (uint g = 0; g < sizeof(kGaps) / sizeof(kGaps[0]); ++g) {
+    const uint gap = kGaps[g];
+    if (gap >= n) continue;
+    for (uint x = gap; x < n; ++x) {
+      const ulong value = a[x];
+      uint y = x;
+      for (; y >= gap && a[y - gap] > value; y -= gap) a[y] = a[y - gap];
+      a[y] = value;
     }
   }
-  for (uint end = n - 1; end > 0; --end) {
-    sort_swap(k1, k2, idx, 0, end);
-    uint root = 0;
-    for (uint child; (child = 2 * root + 1) < end; root = child) {
-      if (child + 1 < end && sort_less(k1, k2, idx, child, child + 1)) ++child;
-      if (!sort_less(k1, k2, idx, root, child)) break;
-      sort_swap(k1, k2, idx, root, child);
+}
+
+// Sorts (xs, ys, idx)[0..n) by (x, y, idx) ascending, as the reference's std::tuple sort: shell sort.
+inline bool point_less(float ax, float ay, uint ai, float bx, float by, uint bi) {
+  if (ax != bx) return ax < bx;
+  if (ay != by) return ay < by;
+  return ai < bi;
+}
+
+void sort_points(__global float* xs, __global float* ys, __global uint* idx, uint n) {
+  for (uint g = 0; g < sizeof(kGaps) / sizeof(kGaps[0]); ++g) {
+    const uint gap = kGaps[g];
+    if (gap >= n) continue;
+    for (uint x = gap; x < n; ++x) {
+      const float vx = xs[x], vy = ys[x];
+      const uint vi = idx[x];
+      uint y = x;
+      for (; y >= gap && point_less(vx, vy, vi, xs[y - gap], ys[y - gap], idx[y - gap]); y -= gap) {
+        xs[y] = xs[y - gap], ys[y] = ys[y - gap], idx[y] = idx[y - gap];
+      }
+      xs[y] = vx, ys[y] = vy, idx[y] = vi;
     }
   }
 }
@@ -179,8 +196,8 @@ inline bool seen_insert(__global uint* table, uint mask, uint j) {
   }
 }
 
-// Empties the set by removing `list` in reverse insertion order: every probe chain then still runs
-// through entries inserted before, so each lookup finds its entry.
+// Empties the set by removing `list`. A removal can break the probe chain of a later entry, so
+// each lookup scans on past empty slots until it meets its entry (which is always there).
 void seen_clear(__global uint* table, uint mask, __global const uint* list, uint count) {
   for (uint r = count; r-- > 0;) {
     uint h = (list[r] * 2654435761u) & mask;
@@ -207,21 +224,12 @@ inline float growth_key(int ellipse, float x, float y, float b) {
   return den > 0.0f ? x * x / den : -1.0f;
 }
 
-__kernel void splat_grow(__global const float4* positions, __global const uchar4* colors,
-                         __global const uint* neighbors, uint k, __global const Frame* frames, float eps,
-                         int color_tolerance, __global const uint* items, uint item_count, uint capacity,
-                         uint seen_capacity, uint hash_mask, __global uint* q_slots, __global uint* seen_slots,
-                         __global float* key_slots, __global uint* aux_slots, __global uint* hash_slots,
-                         __global uint* counts, __global float4* splats, __global float4* clips) {
-  const size_t s = get_global_id(0);
-  if (s >= item_count) return;
-  const uint i = items[s];
-  __global uint* q = q_slots + s * capacity;
-  __global uint* seen = seen_slots + s * seen_capacity;
-  __global float* keys = key_slots + s * seen_capacity;
-  __global uint* table = hash_slots + s * (hash_mask + 1u);
-  __global uint* rejected = aux_slots + s * seen_capacity;  // clipped splats: the skipped violators
-
+// Grows the splat of item s (sample items[s]) with one worker's scratch.
+void grow_one(__global const float4* positions, __global const uchar4* colors, __global const uint* neighbors, uint k,
+              __global const Frame* frames, float eps, int color_tolerance, uint i, uint capacity, uint hash_mask,
+              __global uint* q, __global uint* seen, __global ulong* ring, __global uint* aux, __global uint* table,
+              __global uint* count_out, __global float4* splats, __global float4* clips) {
+  __global uint* rejected = aux;  // clipped splats: the skipped violators
   const float4 p0 = positions[i];
   const uchar4 c0 = colors[i];
   const Frame f = frames[i];
@@ -239,28 +247,34 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
   }
   ring_end = seen_len;
 
-  float extent1[2] = {0.0f, 1.0f};   // d1, λ1
-  float extent2[2] = {-1.0f, -1.0f}; // d2, λ2
-  int stop[2] = {STOP_NONE, STOP_NONE};
+  // Per phase: the largest accepted key (d1, λ1), the violator's key (d2, λ2) and what stopped it.
+  float circle_extent1 = 0.0f, circle_extent2 = -1.0f;
+  int circle_stop = STOP_NONE;
+  float extent1 = 0.0f, extent2 = -1.0f;
+  int stop = STOP_NONE;
   float b = 0.0f;
   float clip_x = 0.0f, clip_y = 0.0f;  // sum of the unit in-plane directions to the skipped violators
   uint rejected_count = 0;
   for (int ellipse = 0; ellipse < 2; ++ellipse) {
     if (ellipse) {
+      circle_extent1 = extent1, circle_extent2 = extent2, circle_stop = stop;
+      extent1 = 1.0f, extent2 = -1.0f, stop = STOP_NONE;
       // Continue with the untested rest of the circle's last ring and the collected next ring.
-      b = RETEST_VIOLATOR ? extent1[0] : size_rule(extent1[0], extent2[0], stop[0]);
-      ring_begin = stop[0] != STOP_NONE ? (RETEST_VIOLATOR ? pos : pos + 1u) : seen_len;
+      b = RETEST_VIOLATOR ? circle_extent1 : size_rule(circle_extent1, circle_extent2, circle_stop);
+      ring_begin = circle_stop != STOP_NONE ? (RETEST_VIOLATOR ? pos : pos + 1u) : seen_len;
       ring_end = seen_len;
     }
     for (;;) {
       for (uint r = ring_begin; r < ring_end; ++r) {
-        const float4 w = positions[seen[r]] - p0;
-        keys[r] = growth_key(ellipse, dot3(f.u, w), dot3(f.v, w), b);
+        const uint j = seen[r];
+        const float4 w = positions[j] - p0;
+        ring[r] = pack_key(growth_key(ellipse, dot3(f.u, w), dot3(f.v, w), b), j);
       }
-      sort_by_keys(keys + ring_begin, keys + ring_begin, seen + ring_begin, ring_end - ring_begin);
+      sort_packed(ring + ring_begin, ring_end - ring_begin);
+      for (uint r = ring_begin; r < ring_end; ++r) seen[r] = (uint)ring[r];
       bool stopped = false;
       for (pos = ring_begin; pos < ring_end; ++pos) {
-        const float key = keys[pos];
+        const float key = unpack_key(ring[pos]);
         if (ellipse && key < 1.0f) continue;  // λ < 1: neither tested, accepted nor expanded
         const uint j = seen[pos];
         const float4 w = positions[j] - p0;
@@ -280,17 +294,17 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
             continue;
           }
 #endif
-          stop[ellipse] = violation, extent2[ellipse] = key, stopped = true;
+          stop = violation, extent2 = key, stopped = true;
           break;
         }
         if (qn == capacity) {
           seen_clear(table, hash_mask, seen, seen_len);
-          counts[s] = capacity + 1u;
+          *count_out = capacity + 1u;
           return;
         }
         hmin = lo, hmax = hi;
         q[qn++] = j;
-        extent1[ellipse] = fmax(extent1[ellipse], key);
+        extent1 = fmax(extent1, key);
         __global const uint* row = neighbors + (size_t)j * k;
         for (uint r = 0; r < k; ++r)
           if (seen_insert(table, hash_mask, row[r])) seen[seen_len++] = row[r];
@@ -301,16 +315,16 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
   }
   seen_clear(table, hash_mask, seen, seen_len);
 
-  const float minor = size_rule(extent1[0], extent2[0], stop[0]);
+  const float minor = size_rule(circle_extent1, circle_extent2, circle_stop);
 #if LITERAL_LAMBDA
-  const float ratio = size_rule(extent1[1], extent2[1], stop[1]);
+  const float ratio = size_rule(extent1, extent2, stop);
 #else
-  const float ratio = size_rule(sqrt(extent1[1]), extent2[1] >= 0.0f ? sqrt(extent2[1]) : -1.0f, stop[1]);
+  const float ratio = size_rule(sqrt(extent1), extent2 >= 0.0f ? sqrt(extent2) : -1.0f, stop);
 #endif
   const float major = ratio * minor;
   const float4 c = p0 + f.n * (0.5f * (hmin + hmax));
-  splats[4 * (size_t)i + 0] = (float4)(c.xyz, (float)stop[0]);
-  splats[4 * (size_t)i + 1] = (float4)(f.n.xyz, (float)stop[1]);
+  splats[4 * (size_t)i + 0] = (float4)(c.xyz, (float)circle_stop);
+  splats[4 * (size_t)i + 1] = (float4)(f.n.xyz, (float)stop);
   splats[4 * (size_t)i + 2] = (float4)((f.u * major).xyz, major);
   splats[4 * (size_t)i + 3] = (float4)((f.v * minor).xyz, minor);
   float4 clip = (float4)(0.0f, 0.0f, INFINITY, 0.0f);
@@ -338,8 +352,8 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
   // Safe points (§3.8): flag the samples whose projection lies on the convex hull (vertices and
   // edges, within 1e-6 of the extent), monotone chain; |Q| <= 3 and the start point stay.
   if (qn > 3) {
-    __global float* xs = keys;
-    __global float* ys = (__global float*)(aux_slots + s * seen_capacity);
+    __global float* xs = (__global float*)ring;
+    __global float* ys = (__global float*)aux;
     __global uint* order = seen;
     __global uint* hull = table;  // empty now; cleared again below
     float lo_x = INFINITY, hi_x = -INFINITY, lo_y = INFINITY, hi_y = -INFINITY;
@@ -348,7 +362,7 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
       xs[r] = dot3(f.u, w), ys[r] = dot3(f.v, w), order[r] = r;
       lo_x = fmin(lo_x, xs[r]), hi_x = fmax(hi_x, xs[r]), lo_y = fmin(lo_y, ys[r]), hi_y = fmax(hi_y, ys[r]);
     }
-    sort_by_keys(xs, ys, order, qn);  // reorders xs, ys with order
+    sort_points(xs, ys, order, qn);
     uint hn = 0;
     for (uint r = 0; r < qn; ++r) {
       while (hn >= 2 && (xs[hull[hn - 1]] - xs[hull[hn - 2]]) * (ys[r] - ys[hull[hn - 2]]) -
@@ -382,5 +396,33 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
     // The chain pushes at most 2 qn entries before its pops; empty every slot it may have written.
     for (uint r = 0; r < min(2u * qn, hash_mask + 1u); ++r) hull[r] = 0u;
   }
-  counts[s] = qn;
+  *count_out = qn;
+}
+
+__kernel void splat_grow(__global const float4* positions, __global const uchar4* colors,
+                         __global const uint* neighbors, uint k, __global const Frame* frames, float eps,
+                         int color_tolerance, __global const uint* items, uint item_count, uint capacity,
+                         uint seen_capacity, uint hash_mask, uint block, __global uint* next_block,
+                         __global uint* q_slots, __global uint* seen_slots, __global ulong* ring_slots,
+                         __global uint* aux_slots, __global uint* hash_slots, __global uint* counts,
+                         __global float4* splats, __global float4* clips) {
+  const size_t w = get_global_id(0);
+  __global uint* seen = seen_slots + w * seen_capacity;
+  __global ulong* ring = ring_slots + w * seen_capacity;
+  __global uint* aux = aux_slots + w * seen_capacity;
+  __global uint* table = hash_slots + w * (hash_mask + 1u);
+  if (block == 0u) {
+    if (w < item_count)
+      grow_one(positions, colors, neighbors, k, frames, eps, color_tolerance, items[w], capacity, hash_mask,
+               q_slots + w * capacity, seen, ring, aux, table, counts + w, splats, clips);
+    return;
+  }
+  for (;;) {
+    const uint begin = atomic_add(next_block, block);
+    if (begin >= item_count) return;
+    const uint end = min(item_count, begin + block);
+    for (uint s = begin; s < end; ++s)
+      grow_one(positions, colors, neighbors, k, frames, eps, color_tolerance, items[s], capacity, hash_mask,
+               q_slots + (size_t)s * capacity, seen, ring, aux, table, counts + s, splats, clips);
+  }
 }

@@ -151,7 +151,7 @@ Action register_splats(CLI::App& app) {
   sub->add_option("--color-tol", o->color_tolerance, "Colour tolerance phi per RGB channel, 0..255 (255 ignores colour)")->capture_default_str();
   sub->add_option("--color-field", o->color_field, "Sample colours without a texture: grey, soft (red to white gradient) or hard (3-D checker)")->capture_default_str();
   sub->add_option("--texture", o->texture, "Texture image applied through the mesh's texture coordinates (nearest texel)");
-  sub->add_option("--samples", o->samples, "vertices, or grid:N (vertices plus a face grid of spacing shortest-edge / N)")->capture_default_str();
+  sub->add_option("--samples", o->samples, "vertices, or grid:N (vertices plus, on every face, the grid points of spacing shortest-edge / N strictly inside it)")->capture_default_str();
   sub->add_option("--k", o->k, "Neighbourhood size")->capture_default_str();
   sub->add_option("--rounds", o->rounds, "Optimisation rounds (relaxation + removal)")->capture_default_str();
   sub->add_option("--stats", o->stats, "Write statistics (counts, reduction, errors against eps, time per phase) as JSON");

@@ -15,10 +15,13 @@ namespace {
 using primitives::detail::set_args;
 
 // First growth capacity (accepted samples per splat) and the factor for each relaunch of the splats
-// that outgrew it; scratch per launch stays under kScratchBudget bytes by batching work-items.
+// that outgrew it; the per-splat output (and, in the GPU shape, the per-splat scratch) of one launch
+// stays under kScratchBudget bytes by batching splats.
 constexpr std::uint32_t kFirstCapacity = 96;
 constexpr std::uint32_t kCapacityGrowth = 8;
 constexpr std::size_t kScratchBudget = std::size_t{16} << 20;
+// CPU shape: items a worker takes from the shared counter at a time (few enough atomics, small tail).
+constexpr std::uint32_t kCpuBlock = 16;
 
 template <class T>
 cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what) {
@@ -95,36 +98,45 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
     cl::Buffer splat_buffer = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(SplatShape), "splat shapes");
     cl::Buffer clip_buffer = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(Vec4), "splat clip lines");
     cl::Kernel grow = runtime.kernel("splat_fit.cl", "splat_grow", build);
+    // CPU shape: a few workers pull blocks of consecutive items, each reusing its scratch; GPU
+    // shape: one work-item and one scratch per item.
+    const bool cpu_shape = runtime.resolve(options.shape) == Shape::Cpu;
     std::vector<std::vector<std::uint32_t>> sets(n);
     std::vector<std::uint32_t> pending(n);
     for (std::size_t i = 0; i < n; ++i) pending[i] = static_cast<std::uint32_t>(i);
     std::uint32_t capacity = static_cast<std::uint32_t>(std::min<std::size_t>(kFirstCapacity, n));
-    cl::Buffer items, q_slots, seen_slots, key_slots, aux_slots, hash_slots, counts;
+    cl::Buffer items, q_slots, seen_slots, ring_slots, aux_slots, hash_slots, counts;
+    cl::Buffer next_block = runtime.buffer(CL_MEM_READ_WRITE, sizeof(std::uint32_t), "splat growth block counter");
     for (bool first = true; !pending.empty(); first = false) {
       if (!first) ++t.relaunches;
       // Every seen sample is the start, one of its k neighbours, or a neighbour of an accepted one.
       const std::size_t seen_capacity = std::min<std::size_t>(n, std::size_t{k} * capacity + 1);
       const std::size_t hash_size = std::bit_ceil(2 * seen_capacity);
-      const std::size_t per_item = (capacity + 3 * seen_capacity + hash_size) * sizeof(std::uint32_t);
-      const std::size_t batch = std::clamp<std::size_t>(kScratchBudget / per_item, 1, pending.size());
+      const std::size_t per_worker = seen_capacity * (2 * sizeof(std::uint32_t) + sizeof(cl_ulong)) + hash_size * sizeof(std::uint32_t);
+      const std::size_t per_item = (capacity + 1) * sizeof(std::uint32_t);
+      const std::size_t batch = std::clamp<std::size_t>(kScratchBudget / (per_item + (cpu_shape ? 0 : per_worker)), 1, pending.size());
+      const std::size_t workers = cpu_shape ? std::min(batch, runtime.cpu_chunks()) : batch;
       items = runtime.buffer(CL_MEM_READ_ONLY, batch * sizeof(std::uint32_t), "splat growth items");
       q_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * capacity * sizeof(std::uint32_t), "splat growth sets");
-      seen_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth seen lists");
-      key_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(float), "splat growth keys");
-      aux_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * seen_capacity * sizeof(std::uint32_t), "splat growth hull scratch");
-      hash_slots = runtime.buffer(CL_MEM_READ_WRITE, batch * hash_size * sizeof(std::uint32_t), "splat growth seen sets");
-      // Zeroed once: every work-item leaves its set empty for the next one in its slot.
-      queue.enqueueFillBuffer(hash_slots, std::uint32_t{0}, 0, batch * hash_size * sizeof(std::uint32_t));
       counts = runtime.buffer(CL_MEM_READ_WRITE, batch * sizeof(std::uint32_t), "splat growth counts");
+      seen_slots = runtime.buffer(CL_MEM_READ_WRITE, workers * seen_capacity * sizeof(std::uint32_t), "splat growth seen lists");
+      ring_slots = runtime.buffer(CL_MEM_READ_WRITE, workers * seen_capacity * sizeof(cl_ulong), "splat growth ring keys");
+      aux_slots = runtime.buffer(CL_MEM_READ_WRITE, workers * seen_capacity * sizeof(std::uint32_t), "splat growth hull scratch");
+      hash_slots = runtime.buffer(CL_MEM_READ_WRITE, workers * hash_size * sizeof(std::uint32_t), "splat growth seen sets");
+      // Zeroed once: every splat leaves its worker's set empty for the next one.
+      queue.enqueueFillBuffer(hash_slots, std::uint32_t{0}, 0, workers * hash_size * sizeof(std::uint32_t));
       std::vector<std::uint32_t> overflow, batch_counts(batch), batch_sets(batch * capacity);
       for (std::size_t begin = 0; begin < pending.size(); begin += batch) {
         const std::size_t count = std::min(batch, pending.size() - begin);
-        queue.enqueueWriteBuffer(items, CL_TRUE, 0, count * sizeof(std::uint32_t), pending.data() + begin);
+        queue.enqueueWriteBuffer(items, CL_FALSE, 0, count * sizeof(std::uint32_t), pending.data() + begin);
+        queue.enqueueFillBuffer(next_block, std::uint32_t{0}, 0, sizeof(std::uint32_t));
         set_args(grow, positions, colors, neighbor_buffer, k, frame_buffer, options.eps,
                  static_cast<cl_int>(options.color_tolerance), items, static_cast<cl_uint>(count), capacity,
-                 static_cast<cl_uint>(seen_capacity), static_cast<cl_uint>(hash_size - 1), q_slots, seen_slots,
-                 key_slots, aux_slots, hash_slots, counts, splat_buffer, clip_buffer);
-        t.grow_ms += event_ms(enqueue_1d(queue, grow, count, 8, profiler, "splat grow"));
+                 static_cast<cl_uint>(seen_capacity), static_cast<cl_uint>(hash_size - 1),
+                 static_cast<cl_uint>(cpu_shape ? kCpuBlock : 0), next_block, q_slots, seen_slots, ring_slots,
+                 aux_slots, hash_slots, counts, splat_buffer, clip_buffer);
+        const std::size_t launched = cpu_shape ? std::min(workers, count) : count;
+        t.grow_ms += event_ms(enqueue_1d(queue, grow, launched, cpu_shape ? 1 : 8, profiler, "splat grow"));
         Stopwatch read;
         queue.enqueueReadBuffer(counts, CL_TRUE, 0, count * sizeof(std::uint32_t), batch_counts.data());
         queue.enqueueReadBuffer(q_slots, CL_TRUE, 0, count * capacity * sizeof(std::uint32_t), batch_sets.data());

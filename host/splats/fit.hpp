@@ -37,6 +37,10 @@ struct FitOptions {
   // phase; the splat is then cut by a line perpendicular to that mean direction, halfway between the
   // farthest accepted and the nearest skipped sample along it.
   bool clip = false;
+  // Growth kernel shape (design.md): Cpu = a few workers each growing blocks of consecutive splats
+  // with scratch kept warm in its cache; Gpu = one work-item per splat. Auto picks by device type.
+  // Both give the same splats.
+  Shape shape = Shape::Auto;
 };
 
 // Throws Error for ε not positive and finite, or φ outside 0..255.

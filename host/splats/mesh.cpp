@@ -64,7 +64,11 @@ Mesh convert(OmMesh& om, bool file_normals, bool halfedge_texcoords, bool vertex
     }
     mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.corners.size()));
   }
-  if (mesh.face_count() == 0) throw Error(source + ": the mesh has no faces");
+  // OpenMesh's readers drop a vertex they cannot parse (such as a "nan" or out-of-range coordinate)
+  // and then every face using it, so say so: the file may well list faces.
+  if (mesh.face_count() == 0)
+    throw Error(source + ": the mesh has no faces (none listed, or every face uses a vertex OpenMesh could not read, "
+                         "such as a non-finite coordinate)");
   return mesh;
 }
 

@@ -73,9 +73,13 @@ struct SampleBuilder {
   }
 };
 
-// The grid of one face, in the face's plane: x along its first edge, origin at its first corner,
-// rows of spacing d, points inside or on the boundary of the (convex) polygon. Colour and normal
-// come from the fan triangle (corner 0, c, c + 1) holding the point, by barycentric interpolation.
+// The grid of one face (digest §3.1, thesis §2.1.1 / Fig. 2.4): the face's bounding rectangle in its
+// own plane, x along its first edge, walked row by row from the rectangle's lower corner with spacing
+// d; the points strictly inside the (convex) polygon are kept. Points on the boundary are left out:
+// they lie on an edge shared with the neighbouring face or on a vertex, which the vertex samples
+// already hold, and keeping them puts long rows of near-duplicates along the edges (this reading gives
+// the thesis's 110,174 samples on the bunny at n = 0.3 within 0.3 %). Colour and normal come from the
+// fan triangle (corner 0, c, c + 1) holding the point, by barycentric interpolation.
 void sample_face(const Mesh& mesh, std::size_t f, double d, const ColorSource& colors, SampleBuilder& out,
                  std::size_t max_samples) {
   const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
@@ -94,25 +98,26 @@ void sample_face(const Mesh& mesh, std::size_t f, double d, const ColorSource& c
     ys[c] = dot(r, ey);
     x0 = std::min(x0, xs[c]), x1 = std::max(x1, xs[c]), y0 = std::min(y0, ys[c]), y1 = std::max(y1, ys[c]);
   }
-  // Signed area orients the inside test; a tolerance keeps grid points on the boundary.
+  // Signed area orients the inside test. A point closer than `margin` to an edge counts as on it:
+  // float positions cannot tell such a point from the edge's.
   double area2 = 0;
   for (std::uint32_t c = 0; c < count; ++c) area2 += xs[c] * ys[(c + 1) % count] - xs[(c + 1) % count] * ys[c];
   if (area2 == 0) return;
   const double sign = area2 > 0 ? 1.0 : -1.0;
-  const double tolerance = 1e-9 * std::max(x1 - x0, y1 - y0);
+  const double margin = kFaceSampleMargin * std::max(x1 - x0, y1 - y0);
   const auto edge_side = [&](std::uint32_t c, double x, double y) {
     const std::uint32_t e = (c + 1) % count;
     const double ex_ = xs[e] - xs[c], ey_ = ys[e] - ys[c];
     return sign * (ex_ * (y - ys[c]) - ey_ * (x - xs[c])) / std::hypot(ex_, ey_);
   };
-  const double rows = std::floor(y1 / d) - std::ceil(y0 / d) + 1, columns = std::floor(x1 / d) - std::ceil(x0 / d) + 1;
+  const double rows = std::floor((y1 - y0) / d) + 1, columns = std::floor((x1 - x0) / d) + 1;
   if (rows * columns + static_cast<double>(out.samples.size()) > static_cast<double>(max_samples))
     throw Error(fmt::format("{}: grid sampling would exceed {} samples; use a smaller n", mesh.source, max_samples));
-  for (double j = std::ceil(y0 / d); j * d <= y1; j += 1) {
-    for (double i = std::ceil(x0 / d); i * d <= x1; i += 1) {
-      const double x = i * d, y = j * d;
+  for (double j = 0; y0 + j * d <= y1; j += 1) {
+    for (double i = 0; x0 + i * d <= x1; i += 1) {
+      const double x = x0 + i * d, y = y0 + j * d;
       bool inside = true;
-      for (std::uint32_t c = 0; c < count && inside; ++c) inside = edge_side(c, x, y) >= -tolerance;
+      for (std::uint32_t c = 0; c < count && inside; ++c) inside = edge_side(c, x, y) > margin;
       if (!inside) continue;
       // Fan triangle (0, c, c+1) holding the point; barycentric weights in it.
       double w0 = 1, w1 = 0, w2 = 0;

@@ -59,9 +59,15 @@ struct Samples {
   std::size_t size() const { return positions.size(); }
 };
 
-// Samples `mesh`. Samples at exactly the same position as an earlier one are dropped (zero-distance
-// neighbours make d_i and the PCA degenerate); mode B's corner-anchored grid would otherwise copy a
-// vertex per face. Throws Error when the mesh yields no sample or too many.
+// Mode B keeps a face's grid points only when they lie farther than this fraction of the face's
+// extent inside every edge: boundary points belong to the vertices and the neighbouring faces.
+inline constexpr double kFaceSampleMargin = 1e-6;
+
+// Samples `mesh`: the vertices first, then (mode B) each face's grid, row by row from the lower
+// corner of its bounding rectangle in its own plane (x along its first edge), strictly inside the
+// face. Samples at exactly the same position as an earlier one are dropped (duplicate vertices;
+// zero-distance neighbours make d_i and the PCA degenerate). Throws Error when the mesh yields no
+// sample or too many.
 Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const ColorSource& colors);
 
 }  // namespace splatcl::splats

@@ -66,9 +66,14 @@ void compare(const Input& in, const FitOptions& options) {
   FitTimings timings;
   const FitResult device = fit_splats(runtime(), in.samples, in.neighbors, options, nullptr, &timings);
   expect_frames_close(device.frames, frames);
-  // Growth from identical frames must agree exactly.
-  expect_same(fit_splats(runtime(), in.samples, in.neighbors, options, &frames),
-              reference::grow_splats(in.samples, in.neighbors, frames, options));
+  // Growth from identical frames must agree exactly, in both kernel shapes.
+  const FitResult expected = reference::grow_splats(in.samples, in.neighbors, frames, options);
+  for (const Shape shape : {Shape::Cpu, Shape::Gpu}) {
+    SCOPED_TRACE(to_string(shape));
+    FitOptions shaped = options;
+    shaped.shape = shape;
+    expect_same(fit_splats(runtime(), in.samples, in.neighbors, shaped, &frames), expected);
+  }
 }
 
 FitOptions geometry(float eps) {
