@@ -193,6 +193,72 @@ inline float csm_visibility(const CsmScene* scene, float px, float py, float pz,
   return lit;
 }
 
+// What a run of filter-free queries through one instance can reuse from the query before: the map
+// chosen for the same light vector, and the stored depth of the same (pixel, map). Coherent batches
+// (a screen of receivers, one light or a small area light) hit both most of the time.
+typedef struct {
+  float wx, wy, wz;  // light vector of the cached map choice
+  int valid;         // 1: wx, wy, wz hold a light vector whose choice is cached
+  int lit;           // 1: that light vector is zero or non-finite (always lit)
+  uint cell;         // cells index of the chosen map
+  uint entry, sequence;  // cached (pixel entry, map) ...
+  float g;               // ... and its stored depth (entry == UINT_MAX: none)
+} CsmQueryCache;
+
+inline void csm_cache_reset(CsmQueryCache* cache) {
+  cache->valid = 0;
+  cache->entry = 0xffffffffu;
+}
+
+// csm_instance_visibility(scene, k, p, w, CSM_FILTER_NONE, bias), exactly, reusing `cache`.
+inline float csm_instance_visibility_cached(const CsmScene* scene, uint k, float px, float py, float pz, float wx, float wy,
+                                            float wz, float bias, CsmQueryCache* cache) {
+  CSM_GLOBAL const CsmInstance* in = scene->instances + k;
+  CSM_GLOBAL const CsmOccluder* oc = scene->occluders + in->occluder;
+  if (!(cache->valid && wx == cache->wx && wy == cache->wy && wz == cache->wz)) {
+    CSM_GLOBAL const float* f = in->to_frame;
+    const float fx = f[0] * wx + f[1] * wy + f[2] * wz;
+    const float fy = f[3] * wx + f[4] * wy + f[5] * wz;
+    const float fz = f[6] * wx + f[7] * wy + f[8] * wz;
+    float sr = 0.0f, tc = 0.0f;
+    cache->lit = !csm_grid_coords(oc, fx, fy, fz, &sr, &tc);
+    const float corner_shift = oc->centred ? 0.5f : 0.0f;
+    const uint a = csm_clamp_row(oc, csm_floor(sr + (0.5f - corner_shift)));
+    const uint b = csm_wrap_col(oc, csm_floor(tc + (0.5f - corner_shift)));
+    cache->cell = oc->cell_base + a * oc->cols + b;
+    cache->wx = wx;
+    cache->wy = wy;
+    cache->wz = wz;
+    // NaN never equals itself: such a vector is recomputed each time (and is lit).
+    cache->valid = 1;
+  }
+  if (cache->lit) return 1.0f;
+  CSM_GLOBAL const float* m = in->to_object;
+  const float rx = m[0] * px + m[1] * py + m[2] * pz + m[3] - oc->centre[0];
+  const float ry = m[4] * px + m[5] * py + m[6] * pz + m[7] - oc->centre[1];
+  const float rz = m[8] * px + m[9] * py + m[10] * pz + m[11] - oc->centre[2];
+  CSM_GLOBAL const CsmCell* cell = scene->cells + cache->cell;
+  // csm_map_taps with width 1.
+  const float x = rx * cell->u[0] + ry * cell->u[1] + rz * cell->u[2];
+  const float y = rx * cell->v[0] + ry * cell->v[1] + rz * cell->v[2];
+  const float depth = (oc->radius - (rx * cell->d[0] + ry * cell->d[1] + rz * cell->d[2])) * oc->depth_scale;
+  const float mres = (float)oc->resolution;
+  float tx = (x + oc->radius) * oc->pixel_scale, ty = (y + oc->radius) * oc->pixel_scale;
+  if (!(tx >= -8.0f)) tx = -8.0f;
+  if (!(tx <= mres + 8.0f)) tx = mres + 8.0f;
+  if (!(ty >= -8.0f)) ty = -8.0f;
+  if (!(ty <= mres + 8.0f)) ty = mres + 8.0f;
+  const int i = csm_floor(tx), j = csm_floor(ty), res = (int)oc->resolution;
+  if (i < 0 || i >= res || j < 0 || j >= res) return 1.0f;
+  const uint entry = oc->pixel_base + (uint)j * oc->resolution + (uint)i;
+  if (entry != cache->entry || cell->sequence != cache->sequence) {
+    cache->g = csm_fetch(scene, entry, cell->sequence);
+    cache->entry = entry;
+    cache->sequence = cell->sequence;
+  }
+  return cache->g < depth - bias ? 0.0f : 1.0f;
+}
+
 // Ambient occlusion of one receiver (AO digest §5.2): `samples` cosine-weighted directions of one
 // pattern (+y hemisphere, xyz of 4 floats each) rotated into the normal's hemisphere by the 180°
 // rotation about h = normalize(n + o), o = +y (d = 2(h·s)h − s, digest §16 #2; h = (1, 0, 0) when

@@ -9,10 +9,11 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
-  libglfw3-dev libglm-dev libegl-dev libgl-dev
+  libglfw3-dev libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
   libopenmesh-dev libopenimageio-dev libflann-dev liblz4-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libembree-dev gnuplot-nox
 )
 
 missing=()
@@ -37,7 +38,10 @@ build_config build
 case "${1:-build}" in
   build) ;;
   run)
-    mkdir -p out && build/splatcl cluster -o out/cluster
+    # The presenter offscreen (EGL, no display needed) on the embedded default scene: per-stage timings,
+    # the last frame and the timings as JSON in out/presenter/; assets cached in out/cache/.
+    mkdir -p out/presenter && build/splatcl render --frames 10 --cache out/cache -o out/presenter/frame.png \
+      --json out/presenter/timings.json
     ;;
   test)
     ctest --test-dir build --output-on-failure -j "$jobs"

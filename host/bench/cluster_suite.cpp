@@ -48,12 +48,16 @@ struct Frame {
   clu::ClusterConfig config;
 };
 
-Frame make_frame() {
+// --quick: a 320×180 frame with 1k lights, for smoke tests.
+constexpr std::uint32_t kQuickWidth = 320;
+constexpr std::uint32_t kQuickHeight = 180;
+
+Frame make_frame(std::uint32_t width, std::uint32_t height) {
   Frame frame;
   frame.scene = clu::random_scene(kSceneSeed);
-  frame.depth = clu::ray_cast(frame.scene, kWidth, kHeight);
+  frame.depth = clu::ray_cast(frame.scene, width, height);
   frame.window_depth = clu::window_depth(frame.depth, frame.scene.camera);
-  frame.config = clu::cluster_config(frame.scene.camera, kWidth, kHeight, kTileSize, kTileSize);
+  frame.config = clu::cluster_config(frame.scene.camera, width, height, kTileSize, kTileSize);
   return frame;
 }
 
@@ -88,7 +92,8 @@ void measure_pipelines(Session& session, std::vector<ShapedPipeline>& pipelines,
 }  // namespace
 
 void run_cluster_suite(Session& session) {
-  Frame frame = make_frame();
+  const bool quick = session.options().quick;
+  Frame frame = quick ? make_frame(kQuickWidth, kQuickHeight) : make_frame(kWidth, kHeight);
   const clu::ClusterLayout layout = clu::ClusterLayout::make(frame.config);
   const std::uint64_t pixels = layout.pixel_count();
 
@@ -139,6 +144,7 @@ void run_cluster_suite(Session& session) {
   // Light assignment, per light count. The device lists are checked against the reference's after
   // it has been timed, since at 256k lights one reference run is itself expensive.
   for (const std::uint32_t light_count : kLightCounts) {
+    if (quick && light_count != kLightCounts[0]) continue;
     const std::vector<clu::PointLight> lights = make_lights(frame, light_count);
     for (auto& entry : pipelines) entry.pipeline->upload_lights(lights);
     const auto [radius_min, radius_max] = light_radius_range(light_count);
@@ -161,7 +167,7 @@ void run_cluster_suite(Session& session) {
     }
   }
 
-  measure_stream_copy(session);
+  measure_stream_copy(session, quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
 }
 
 }  // namespace splatcl::bench

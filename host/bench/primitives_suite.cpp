@@ -39,28 +39,6 @@ std::vector<std::uint64_t> random_keys_64(std::size_t n, std::uint64_t seed) {
   return keys;
 }
 
-template <class T>
-cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what) {
-  cl::Buffer buffer = runtime.buffer(CL_MEM_READ_WRITE, data.size() * sizeof(T), what);
-  try {
-    if (!data.empty()) runtime.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, data.size() * sizeof(T), data.data());
-  } catch (...) {
-    rethrow_as_error(std::string("uploading ") + what);
-  }
-  return buffer;
-}
-
-template <class T>
-std::vector<T> download(Runtime& runtime, const cl::Buffer& buffer, std::size_t n) {
-  std::vector<T> data(n);
-  try {
-    if (n > 0) runtime.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, n * sizeof(T), data.data());
-  } catch (...) {
-    rethrow_as_error("reading back benchmark output");
-  }
-  return data;
-}
-
 // Restores a sort's input before each timed run, outside the timing.
 void copy_buffer(Runtime& runtime, const cl::Buffer& from, const cl::Buffer& to, std::size_t bytes) {
   try {
@@ -86,13 +64,15 @@ void bench_scan(Session& session, std::size_t n) {
   const auto values = random_keys(n, 16, kSeed);
   std::vector<std::uint32_t> expected(n);
   prim::reference::scan(values, expected, prim::ScanKind::Exclusive);
+  // The least memory traffic: read every value, write every sum.
+  const Json scan_bytes{{"bytes", 8 * n}};
 
   const cl::Buffer in = upload(runtime, values, "scan input");
   const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "scan output");
   for (const Shape shape : kBothShapes) {
     prim::Scanner scanner(runtime, shape);
     Profiler profiler;
-    const Case c = opencl_case("scan-exclusive", shape, n, "elements");
+    const Case c = opencl_case("scan-exclusive", shape, n, "elements", {}, scan_bytes);
     session.measure(c, {}, [&] {
       scanner.run(in, out, n, prim::ScanKind::Exclusive, false, &profiler);
       finish(runtime);
@@ -101,7 +81,8 @@ void bench_scan(Session& session, std::size_t n) {
   }
 
   std::vector<std::uint32_t> host_out(n);
-  const Case c = reference_case("scan-exclusive", n, "elements", {}, reference_threads());
+  Case c = reference_case("scan-exclusive", n, "elements", {}, reference_threads());
+  c.extra.update(scan_bytes);
   session.measure(c, {}, [&] { prim::reference::scan(values, host_out, prim::ScanKind::Exclusive); });
   expect_same_output(describe(c), host_out, expected);
 }
@@ -111,6 +92,7 @@ void bench_compact_flagged(Session& session, std::size_t n) {
   const auto values = random_keys(n, 32, kSeed + 1);
   const auto flags = random_keys(n, 1, kSeed + 2);  // about half kept
   const auto expected = prim::reference::keep_flagged(values, flags);
+  const Json flagged_bytes{{"bytes", 8 * n + 4 * expected.size()}};  // values and flags in, kept values out
 
   const cl::Buffer values_buffer = upload(runtime, values, "compaction values");
   const cl::Buffer flags_buffer = upload(runtime, flags, "compaction flags");
@@ -119,7 +101,7 @@ void bench_compact_flagged(Session& session, std::size_t n) {
     prim::Compactor compactor(runtime, shape);
     Profiler profiler;
     std::size_t kept = 0;
-    const Case c = opencl_case("compact-flagged", shape, n, "elements");
+    const Case c = opencl_case("compact-flagged", shape, n, "elements", {}, flagged_bytes);
     session.measure(c, {}, [&] {
       kept = compactor.keep_flagged(values_buffer, flags_buffer, out, n, &profiler);
       finish(runtime);
@@ -129,7 +111,8 @@ void bench_compact_flagged(Session& session, std::size_t n) {
 
   std::vector<std::uint32_t> host_out(n);
   std::size_t kept = 0;
-  const Case c = reference_case("compact-flagged", n, "elements", {}, reference_threads());
+  Case c = reference_case("compact-flagged", n, "elements", {}, reference_threads());
+  c.extra.update(flagged_bytes);
   session.measure(c, {}, [&] { kept = prim::reference::keep_flagged(values, flags, host_out); });
   host_out.resize(kept);
   expect_same_output(describe(c), host_out, expected);
@@ -141,6 +124,7 @@ void bench_compact_unique(Session& session, std::size_t n) {
   auto keys = random_keys(n, kClusterKeyBits, kSeed + 3);
   std::sort(keys.begin(), keys.end());
   const auto expected = prim::reference::unique(keys);
+  const Json unique_bytes{{"bytes", 4 * n + 4 * expected.size()}};  // keys in, unique keys out
 
   const cl::Buffer in = upload(runtime, keys, "unique input");
   const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "unique output");
@@ -148,7 +132,7 @@ void bench_compact_unique(Session& session, std::size_t n) {
     prim::Compactor compactor(runtime, shape);
     Profiler profiler;
     std::size_t kept = 0;
-    const Case c = opencl_case("compact-unique", shape, n, "keys");
+    const Case c = opencl_case("compact-unique", shape, n, "keys", {}, unique_bytes);
     session.measure(c, {}, [&] {
       kept = compactor.unique(in, out, n, &profiler);
       finish(runtime);
@@ -158,7 +142,8 @@ void bench_compact_unique(Session& session, std::size_t n) {
 
   std::vector<std::uint32_t> host_out(n);
   std::size_t kept = 0;
-  const Case c = reference_case("compact-unique", n, "keys", {}, reference_threads());
+  Case c = reference_case("compact-unique", n, "keys", {}, reference_threads());
+  c.extra.update(unique_bytes);
   session.measure(c, {}, [&] { kept = prim::reference::unique(keys, host_out); });
   host_out.resize(kept);
   expect_same_output(describe(c), host_out, expected);
@@ -270,7 +255,8 @@ void bench_sort_unique(Session& session, std::size_t n) {
 }  // namespace
 
 void run_primitives_suite(Session& session) {
-  const auto n = static_cast<std::size_t>(session.options().size);
+  // --quick: 64k elements instead of --size.
+  const auto n = static_cast<std::size_t>(scaled(session, session.options().quick ? 1u << 16 : session.options().size));
   bench_scan(session, n);
   bench_compact_flagged(session, n);
   bench_compact_unique(session, n);
@@ -281,7 +267,7 @@ void run_primitives_suite(Session& session) {
   bench_radix_sort<std::uint32_t>(session, "radix-sort-kv", random_keys(n, 32, kSeed + 7), indices, 32);
   bench_radix_sort<std::uint64_t>(session, "radix-sort-u64", random_keys_64(n, kSeed + 8), {}, 64);
   bench_sort_unique(session, n);
-  measure_stream_copy(session);
+  measure_stream_copy(session, session.options().quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
 }
 
 }  // namespace splatcl::bench

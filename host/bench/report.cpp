@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <optional>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -96,6 +97,8 @@ std::string impl_label(const Record& record) {
     label += fmt::format(" {}", scalar_text(*variant));
   if (const auto shape = record.extra.find("shape"); shape != record.extra.end())
     label += fmt::format(" ({} shape)", scalar_text(*shape));
+  if (const auto threads = record.extra.find("pocl_threads"); threads != record.extra.end())
+    label += fmt::format(" [{} threads]", scalar_text(*threads));
   return label;
 }
 
@@ -132,34 +135,72 @@ std::string machine_line(const Json& machine) {
   return "**Machine:** " + (parts.empty() ? std::string("not recorded") : fmt::format("{}", fmt::join(parts, "; "))) + "\n";
 }
 
-std::string markdown_table(const std::vector<Record>& records) {
-  // The baseline of each comparison group: the reference, else the first peer.
-  std::vector<std::pair<std::string, const Record*>> baselines;
+std::string markdown_table(const std::vector<Record>& records, const std::vector<Record>& context) {
+  // The baseline of each comparison group: the reference, else the first peer; and the first peer.
+  struct Group {
+    std::string key;
+    const Record* baseline = nullptr;
+    const Record* peer = nullptr;
+  };
+  std::vector<Group> groups;
   for (const auto& record : records) {
     const std::string key = group_key(record);
-    auto it = std::find_if(baselines.begin(), baselines.end(), [&](const auto& b) { return b.first == key; });
-    if (it == baselines.end()) it = baselines.insert(baselines.end(), {key, nullptr});
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const Group& g) { return g.key == key; });
+    if (it == groups.end()) it = groups.insert(groups.end(), Group{key});
     const bool is_reference = record.impl == kImplReference;
     const bool is_peer = !is_reference && record.impl != kImplOpenCL;
-    if (is_reference && (!it->second || it->second->impl != kImplReference)) it->second = &record;
-    if (is_peer && !it->second) it->second = &record;
+    if (is_reference && (!it->baseline || it->baseline->impl != kImplReference)) it->baseline = &record;
+    if (is_peer && !it->baseline) it->baseline = &record;
+    if (is_peer && !it->peer) it->peer = &record;
   }
+  // Streaming-copy bandwidth per device: the OpenCL copy on a device, the host copy loop on the host.
+  auto stream_bandwidth = [&](const Record& record) -> std::optional<double> {
+    const char* impl = record.device == kHostDevice ? "std::thread copy loop" : kImplOpenCL;
+    for (const auto& r : context)
+      if (r.case_name == "stream-copy" && r.impl == impl && r.device == record.device && r.throughput) return r.throughput;
+    return std::nullopt;
+  };
+  std::vector<std::string> devices;
+  for (const auto& record : records)
+    if (record.device != kHostDevice && std::find(devices.begin(), devices.end(), record.device) == devices.end())
+      devices.push_back(record.device);
+  const bool show_device = devices.size() > 1;
+  bool show_peer = false, show_bandwidth = false;
+  for (const auto& g : groups) show_peer = show_peer || g.peer;
+  for (const auto& record : records) show_bandwidth = show_bandwidth || record.extra.contains("bytes");
+
   std::vector<std::vector<std::string>> rows;
   for (const auto& record : records) {
     const std::string key = group_key(record);
-    const Record* baseline =
-        std::find_if(baselines.begin(), baselines.end(), [&](const auto& b) { return b.first == key; })->second;
-    std::string speedup = "—";
-    if (baseline && record.median_ms > 0) speedup = fmt::format("{:.2f}×", baseline->median_ms / record.median_ms);
-    rows.push_back({case_label(record), impl_label(record),
-                    record.size ? fmt::format("{} {}", *record.size, record.size_unit) : "—", format_ms(record.median_ms),
-                    format_ms(record.min_ms), format_ms(record.max_ms),
-                    record.throughput ? format_throughput(*record.throughput, record.throughput_unit) : "—", speedup,
-                    record.peak_rss_mb ? fmt::format("{:.0f}", *record.peak_rss_mb) : "—"});
+    const Group& group = *std::find_if(groups.begin(), groups.end(), [&](const Group& g) { return g.key == key; });
+    std::string speedup = "—", versus_peer = "—", bandwidth = "—";
+    if (group.baseline && record.median_ms > 0) speedup = fmt::format("{:.2f}×", group.baseline->median_ms / record.median_ms);
+    if (group.peer && record.median_ms > 0) versus_peer = fmt::format("{:.2f}×", group.peer->median_ms / record.median_ms);
+    if (const auto bytes = record.extra.find("bytes"); bytes != record.extra.end() && bytes->is_number() && record.median_ms > 0)
+      if (const auto stream = stream_bandwidth(record); stream && *stream > 0)
+        bandwidth = fmt::format("{:.0f} %", bytes->get<double>() / (record.median_ms * 1e-3) / *stream * 100.0);
+    std::vector<std::string> row{case_label(record), impl_label(record)};
+    if (show_device) row.push_back(record.device);
+    row.insert(row.end(), {record.size ? fmt::format("{} {}", *record.size, record.size_unit) : "—", format_ms(record.median_ms),
+                           format_ms(record.min_ms), format_ms(record.max_ms),
+                           record.throughput ? format_throughput(*record.throughput, record.throughput_unit) : "—", speedup});
+    if (show_peer) row.push_back(versus_peer);
+    if (show_bandwidth) row.push_back(bandwidth);
+    row.push_back(record.peak_rss_mb ? fmt::format("{:.0f}", *record.peak_rss_mb) : "—");
+    rows.push_back(std::move(row));
   }
-  return render({"case", "impl", "size", "median ms", "min ms", "max ms", "throughput", "speedup", "peak RSS MiB"},
-                {false, false, true, true, true, true, true, true, true}, rows);
+  std::vector<std::string> header{"case", "impl"};
+  std::vector<bool> right{false, false};
+  if (show_device) header.push_back("device"), right.push_back(false);
+  for (const char* column : {"size", "median ms", "min ms", "max ms", "throughput", "speedup"}) header.push_back(column), right.push_back(true);
+  if (show_peer) header.push_back("vs peer"), right.push_back(true);
+  if (show_bandwidth) header.push_back("of stream BW"), right.push_back(true);
+  header.push_back("peak RSS MiB");
+  right.push_back(true);
+  return render(header, right, rows);
 }
+
+std::string markdown_table(const std::vector<Record>& records) { return markdown_table(records, records); }
 
 std::string markdown_report(const Results& results) {
   std::string text = machine_line(results.machine);
@@ -170,9 +211,11 @@ std::string markdown_report(const Results& results) {
     std::vector<Record> records;
     std::copy_if(results.records.begin(), results.records.end(), std::back_inserter(records),
                  [&](const Record& r) { return r.suite == suite; });
-    text += "\n### " + suite + "\n\n" + markdown_table(records);
+    text += "\n### " + suite + "\n\n" + markdown_table(records, results.records);
   }
-  text += "\nspeedup = baseline median / median, where the baseline of a case is its reference, else its first peer.\n";
+  text += "\nspeedup = baseline median / median, where the baseline of a case is its reference, else its first peer; "
+          "vs peer = the first peer's median / median; of stream BW = bytes the case must move per run / median time, "
+          "as a share of the same device's streaming-copy bandwidth (stream-copy rows).\n";
   return text;
 }
 

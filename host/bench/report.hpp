@@ -20,6 +20,10 @@ std::string machine_line(const Json& machine);
 // median/min/max ms, throughput, speedup over the baseline of the case, peak RSS. Records with the
 // same case label and size are compared (see describes_implementation); the baseline is the
 // reference, else the first record that is neither the reference nor opencl.
+// Optional columns appear when they apply: device (records from several devices), vs peer (the
+// first peer's median / median), of stream BW (records with "bytes": bytes / median as a share of
+// the stream-copy throughput of the same device found in `context`).
+std::string markdown_table(const std::vector<Record>& records, const std::vector<Record>& context);
 std::string markdown_table(const std::vector<Record>& records);
 
 // Machine line, then one table per suite under a "### suite" heading, then the legend.

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -70,6 +71,13 @@ const Record& Session::measure(const Case& c, const std::function<void()>& setup
                                Profiler* profiler) {
   Record record = record_of(c, suite_, runtime_->info().name);
   const std::string label = describe(c);
+  if (!c.on_device && !options_.measure_host) {
+    show_progress(label + ": measured with the first device", false);
+    if (setup) setup();
+    run();
+    unrecorded_ = std::move(record);
+    return unrecorded_;
+  }
 
   const bool exact_peak = reset_peak_rss();
   const Timing timing = measure_runs(options_.measure, setup, run, profiler,
@@ -108,6 +116,11 @@ void Session::finish() const {
   std::fputs(markdown_report(all).c_str(), stdout);
   std::fflush(stdout);
   if (!options_.json_path.empty()) write_results(options_.json_path, all);
+}
+
+std::uint64_t scaled(const Session& session, std::uint64_t standard) {
+  const double value = std::round(static_cast<double>(standard) * session.options().scale);
+  return value < 1 ? 1 : static_cast<std::uint64_t>(value);
 }
 
 Session::~Session() {

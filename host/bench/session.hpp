@@ -22,6 +22,13 @@ struct SessionOptions {
   MeasureOptions measure;
   std::string device;     // selector as for choose_device
   std::string json_path;  // empty: no file
+  // Small inputs, for tests and smoke runs: suites shrink their problems (figures not comparable).
+  bool quick = false;
+  // Problem size factor of size scaling (--scaling size): suites multiply their standard sizes by it.
+  double scale = 1.0;
+  // False for every device after the first of a multi-device run: host rows (reference, std,
+  // Embree) run once untimed, so their outputs still exist, but are not measured and recorded again.
+  bool measure_host = true;
 };
 
 // What one measured row is; the session adds timing, throughput and peak RSS.
@@ -61,8 +68,12 @@ class Session {
 
   // Times one case (see measure()): setup() is untimed, run() is timed and must return after its
   // work has finished. With a profiler, per-kernel device times are recorded as "device_ms".
+  // A host row (c.on_device false) when !options().measure_host runs once, untimed and unrecorded.
   const Record& measure(const Case& c, const std::function<void()>& setup, const std::function<void()>& run,
                         Profiler* profiler = nullptr);
+
+  // The record the last measure() call added, for fields known only after the run.
+  Record& last_record() { return records_.empty() ? unrecorded_ : records_.back(); }
 
   Results results() const;
   // Prints the markdown report on stdout and writes the --json file when one was asked for.
@@ -77,7 +88,11 @@ class Session {
   std::vector<Record> records_;
   bool progress_;  // stderr is a terminal
   bool progress_line_open_ = false;
+  Record unrecorded_;  // what measure() returns for a host row it does not record
 };
+
+// A suite's standard size scaled by SessionOptions::scale, at least 1.
+std::uint64_t scaled(const Session& session, std::uint64_t standard);
 
 // Benchmarks time only correct work: throws Error naming the case when `actual` differs from
 // `expected`.

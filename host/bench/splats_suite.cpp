@@ -89,7 +89,9 @@ void run_model(Session& session, const BenchModel& model, const ScratchFile& scr
 
   session.measure(host_case("sampling"), {}, [&] { samples = spl::sample_mesh(mesh, options.sampling, colors); });
   spl::Neighborhoods neighbors;
-  session.measure(host_case("knn"), {}, [&] { neighbors = spl::find_neighbors(samples.positions, options.k); });
+  // The kNN graph is FLANN's exact single kd-tree (splats/neighbors.hpp): the peer library itself.
+  session.measure(Case{"knn", "flann", false, n, "samples", problem}, {},
+                  [&] { neighbors = spl::find_neighbors(samples.positions, options.k); });
 
   // Fit: PCA frames, growth and safe points.
   spl::FitResult expected, fit;
@@ -156,7 +158,11 @@ std::string& splats_models_dir() {
 void run_splats_suite(Session& session) {
   check_models();
   const ScratchFile scratch;
-  for (const BenchModel& model : kModels) run_model(session, model, scratch);
+  // --quick: the bunny only.
+  for (const BenchModel& model : kModels) {
+    run_model(session, model, scratch);
+    if (session.options().quick) break;
+  }
 }
 
 }  // namespace splatcl::bench

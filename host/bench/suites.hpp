@@ -13,6 +13,7 @@ struct Suite {
   const char* description;
   void (*run)(Session& session);
   bool takes_size;  // whether --size applies (else the suite's inputs have a fixed size)
+  bool scalable;    // whether --scaling size applies (SessionOptions::scale)
 };
 
 // Every suite, in the order `splatcl bench --help` lists them.
@@ -34,5 +35,11 @@ void run_cluster_suite(Session& session);
 // `--models` sets (default: the shared models next to the repository).
 void run_splats_suite(Session& session);
 std::string& splats_models_dir();
+
+// The coherent-shadow-map kernels on stanford-bunny (from splats_models_dir()): capture rays/s
+// beside the native reference and Embree (same first/second-hit rays), streaming compression
+// samples/s, visibility queries/s on a coherent floor grid and AO samples/s, each beside the native
+// reference. Under a minute at the standard sizes; --quick shrinks them for tests.
+void run_csm_suite(Session& session);
 
 }  // namespace splatcl::bench

@@ -1,71 +1,188 @@
-// splatcl bench <suite> [--size N] [--runs N] [--warmup N] [--device D] [--json FILE]
+// splatcl bench [SUITE] [--quick] [--runs N] [--warmup N] [--device D ...] [--scaling size|threads]
+//               [--json FILE] [--csv FILE] [--compare BASELINE.json [--threshold PCT]] [--plot DIR]
 // splatcl bench report FILE.json
+// splatcl bench compare RESULTS.json BASELINE.json [--threshold PCT]
+// splatcl bench plot RESULTS.json -o DIR
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "bench/compare.hpp"
+#include "bench/csv.hpp"
+#include "bench/plot.hpp"
 #include "bench/record.hpp"
 #include "bench/report.hpp"
-#include "bench/session.hpp"
+#include "bench/runner.hpp"
 #include "bench/suites.hpp"
 #include "cli/commands.hpp"
+#include "runtime/error.hpp"
 
 namespace splatcl::cli {
+namespace {
+
+struct BenchOptions {
+  bench::RunOptions run;
+  std::string scaling = "none";
+  std::string json_path, csv_path, compare_path, plot_dir;
+  double threshold_pct = 10;
+  // bench report / compare / plot
+  std::string results_path, baseline_path, output_dir;
+};
+
+// Fails before a long run, not after it, when a result could not be written.
+void check_output_directory(const std::string& path, const char* option) {
+  if (path.empty()) return;
+  const std::filesystem::path target(path);
+  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(dir))
+    throw Error(std::string("cannot write ") + option + " " + path + ": directory " + dir.string() + " does not exist");
+}
+
+// Results from a .json file, or a .csv file written by --csv.
+bench::Results read_any_results(const std::string& path) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  return extension == ".csv" ? bench::read_csv(path) : bench::read_results(path);
+}
+
+// The run options, on `bench` itself and on every suite, so they may come before or after the suite.
+void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splats_models) {
+  if (takes_size)
+    app.add_option("--size", o.run.session.size, "Elements per case of the primitives suite (default: one key per pixel of 1920x1080)")
+        ->capture_default_str()
+        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{std::numeric_limits<std::uint32_t>::max()}));
+  app.add_flag("--quick", o.run.session.quick, "Small inputs and few runs, for smoke tests (figures not comparable)");
+  app.add_option("--runs", o.run.session.measure.runs, "Timed runs per case; median, min and max are reported")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  app.add_option("--warmup", o.run.session.measure.warmup, "Untimed runs before timing (kernel builds, caches); 0 times the first build too")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  app.add_option("--device", o.run.devices,
+                 "OpenCL device(s): index, type (cpu, gpu) or name substring; repeat or comma-separate for several. "
+                 "Default $SPLATCL_DEVICE, else every device present")
+      ->delimiter(',')
+      ->type_name("DEVICE");
+  app.add_option("--scaling", o.scaling,
+                 "size: scalable suites (primitives, csm) at 1/8, 1/4, 1/2 and 1x their sizes (--steps); threads: rerun "
+                 "with POCL_MAX_PTHREAD_COUNT = 1 .. cores and merge")
+      ->capture_default_str();
+  app.add_option("--steps", o.run.size_steps, "Sizes of --scaling size (x2 steps ending at the standard size)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
+  app.add_option("--json", o.json_path, "Write the records to FILE (benchmark record format; whole or not at all)")->type_name("FILE");
+  app.add_option("--csv", o.csv_path, "Write the records to FILE as CSV")->type_name("FILE");
+  app.add_option("--compare", o.compare_path,
+                 "Compare with a baseline results file (.json or .csv); exit status 1 when a record's median time grew "
+                 "by more than --threshold")
+      ->type_name("BASELINE");
+  app.add_option("--threshold", o.threshold_pct, "Regression threshold of --compare, in percent")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+  app.add_option("--plot", o.plot_dir, "Also draw PNG plots with gnuplot into DIR (see 'bench plot')")->type_name("DIR");
+  if (splats_models)
+    app.add_option("--models", bench::splats_models_dir(), "Directory holding the shared models (splats and csm suites)")
+        ->capture_default_str();
+}
+
+// Regressions against the baseline: the table on stdout, the verdict as the exit status.
+int report_comparison(const bench::Results& current, const std::string& baseline_path, double threshold_pct) {
+  const bench::Comparison comparison = bench::compare_results(current, read_any_results(baseline_path), threshold_pct);
+  std::fputs(("\n### comparison with " + baseline_path + "\n\n" + bench::comparison_report(comparison)).c_str(), stdout);
+  std::fflush(stdout);
+  if (comparison.matched.empty()) throw Error("no record matches one in " + baseline_path);
+  if (comparison.regressions() > 0) {
+    std::fprintf(stderr, "splatcl: %zu regression(s) beyond %g %% against %s\n", comparison.regressions(), threshold_pct,
+                 baseline_path.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+void print_plots(const std::vector<std::string>& pngs) {
+  for (const auto& png : pngs) std::printf("wrote %s\n", png.c_str());
+}
+
+}  // namespace
 
 Action register_bench(CLI::App& app) {
   auto* bench = app.add_subcommand(
-      "bench", "Time every kernel against its native reference and peer libraries; a table on stdout, --json for records");
-  bench->require_subcommand(1);
-
-  struct Options {
-    bench::SessionOptions session;
-    DeviceOptions device;
-    std::string report_path;
-  };
-  auto options = std::make_shared<Options>();
+      "bench",
+      "Time every kernel family on every OpenCL device against its native reference and peer libraries (no suite: all "
+      "suites); a table on stdout, --json/--csv for records, --compare for regressions, --plot for PNGs");
+  bench->require_subcommand(0, 1);
+  auto options = std::make_shared<BenchOptions>();
+  add_run_options(*bench, *options, true, true);
 
   std::vector<std::pair<CLI::App*, const bench::Suite*>> suite_commands;
   for (const auto& suite : bench::suites()) {
     auto* sub = bench->add_subcommand(suite.name, suite.description);
-    if (suite.takes_size)
-      sub->add_option("--size", options->session.size, "Elements per case (default: one key per pixel of 1920x1080)")
-          ->capture_default_str()
-          ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{std::numeric_limits<std::uint32_t>::max()}));
-    sub->add_option("--runs", options->session.measure.runs, "Timed runs per case; median, min and max are reported")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1000000));
-    sub->add_option("--warmup", options->session.measure.warmup,
-                    "Untimed runs before timing (kernel builds, caches); 0 times the first build too")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 1000000));
-    sub->add_option("--json", options->session.json_path, "Also write the records to FILE (written whole or not at all)")
-        ->type_name("FILE");
-    add_device_option(*sub, options->device);
-    if (std::string_view(suite.name) == "splats") sub->add_option("--models", bench::splats_models_dir(), "Directory holding the models")->capture_default_str();
+    const std::string_view name(suite.name);
+    add_run_options(*sub, *options, suite.takes_size, name == "splats" || name == "csm");
     suite_commands.emplace_back(sub, &suite);
   }
 
-  auto* report = bench->add_subcommand("report", "Print a results file written by --json as a markdown table, for docs");
-  report->add_option("FILE", options->report_path, "Results JSON written by 'splatcl bench <suite> --json'")
-      ->required()
-      ->type_name("FILE");
+  auto* report = bench->add_subcommand("report", "Print a results file written by --json (or --csv) as markdown tables, for docs");
+  report->add_option("FILE", options->results_path, "Results written by 'splatcl bench --json'")->required()->type_name("FILE");
 
-  return [options, suite_commands, report] {
+  auto* compare = bench->add_subcommand(
+      "compare", "Compare a results file with a baseline: exit status 1 when a record's median time grew beyond the threshold");
+  compare->add_option("RESULTS", options->results_path, "Results (.json or .csv)")->required()->type_name("RESULTS");
+  compare->add_option("BASELINE", options->baseline_path, "Baseline results (.json or .csv)")->required()->type_name("BASELINE");
+  compare->add_option("--threshold", options->threshold_pct, "Regression threshold, in percent of the baseline's median time")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+
+  auto* plot = bench->add_subcommand(
+      "plot", "Draw PNG plots of a results file with gnuplot: throughput per case and device, size and thread scaling");
+  plot->add_option("RESULTS", options->results_path, "Results (.json or .csv)")->required()->type_name("RESULTS");
+  plot->add_option("-o,--output", options->output_dir, "Directory for plots.gp, its data and the PNGs")->required()->type_name("DIR");
+
+  return [options, suite_commands, report, compare, plot] {
+    BenchOptions& o = *options;
     if (report->parsed()) {
-      std::fputs(bench::markdown_report(bench::read_results(options->report_path)).c_str(), stdout);
+      std::fputs(bench::markdown_report(read_any_results(o.results_path)).c_str(), stdout);
       return 0;
     }
-    for (const auto& [sub, suite] : suite_commands) {
-      if (!sub->parsed()) continue;
-      bench::SessionOptions session_options = options->session;
-      session_options.device = options->device.device;
-      bench::Session session(suite->name, session_options);
-      suite->run(session);
-      session.finish();
+    if (compare->parsed()) {
+      const bench::Results current = read_any_results(o.results_path);
+      return report_comparison(current, o.baseline_path, o.threshold_pct);
     }
+    if (plot->parsed()) {
+      print_plots(bench::write_plots(read_any_results(o.results_path), o.output_dir));
+      return 0;
+    }
+
+    std::vector<const bench::Suite*> chosen;
+    for (const auto& [sub, suite] : suite_commands)
+      if (sub->parsed()) chosen.push_back(suite);
+    if (chosen.empty())
+      for (const auto& suite : bench::suites()) chosen.push_back(&suite);
+
+    check_output_directory(o.json_path, "--json");
+    check_output_directory(o.csv_path, "--csv");
+    if (!o.compare_path.empty()) read_any_results(o.compare_path);  // a bad baseline fails before the run
+    bench::RunOptions run = o.run;
+    run.scaling = bench::parse_scaling(o.scaling);
+    if (run.session.quick) {
+      run.session.measure.runs = std::min(run.session.measure.runs, 2);
+      run.session.measure.warmup = std::min(run.session.measure.warmup, 1);
+    }
+    if (run.devices.empty())
+      if (const char* env = std::getenv(kDeviceEnvVar); env && *env) run.devices.push_back(env);
+    if (run.scaling == bench::Scaling::Threads) run.arguments = bench::child_arguments(bench::own_arguments());
+
+    const bench::Results results = bench::run_benchmarks(chosen, run);
+    std::fputs(bench::markdown_report(results).c_str(), stdout);
+    std::fflush(stdout);
+    if (!o.json_path.empty()) bench::write_results(o.json_path, results);
+    if (!o.csv_path.empty()) bench::write_csv(o.csv_path, results);
+    if (!o.plot_dir.empty()) print_plots(bench::write_plots(results, o.plot_dir));
+    if (!o.compare_path.empty()) return report_comparison(results, o.compare_path, o.threshold_pct);
     return 0;
   };
 }

@@ -19,5 +19,9 @@ Action register_cluster(CLI::App& app);
 Action register_bench(CLI::App& app);
 Action register_splats(CLI::App& app);
 Action register_csm(CLI::App& app);
+Action register_ao(CLI::App& app);
+Action register_batch(CLI::App& app);
+Action register_render(CLI::App& app);
+Action register_view(CLI::App& app);
 
 }  // namespace splatcl::cli

@@ -12,6 +12,7 @@
 #include "bench/measure.hpp"
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "csm/analysis.hpp"
 #include "csm/build.hpp"
 #include "csm/csm_file.hpp"
 #include "csm/quality.hpp"
@@ -27,7 +28,8 @@ using namespace splatcl::csm;
 struct BuildCommand {
   DeviceOptions device;
   std::string model, output, coherence, distribution = "uniform", order = "zigzag-h", pole = "y", single_hit = "sphere-exit",
-                                        encoding = "plain";
+                                        encoding = "plain", mode = "per-pixel", pixel_order = "hilbert",
+                                        capture = to_string(kDefaultCaptureMethod);
   std::uint32_t maps = 4096, resolution = 128, batch = 0;
   bool reference = false;
 };
@@ -42,9 +44,16 @@ struct QualityCommand {
   QualityOptions options;
 };
 
+struct AnalyzeCommand {
+  BuildCommand build;
+  std::vector<std::uint32_t> kmeans;
+  bool wavelet = false;
+  std::uint32_t seed = 1, iterations = 20;
+};
+
 struct VerifyCommand {
   DeviceOptions device;
-  std::string file, model;
+  std::string file, model, capture = to_string(kDefaultCaptureMethod);
   bool reference = false;
 };
 
@@ -90,9 +99,7 @@ void print_sizes(const Csm& csm, double plain_bytes, double compact_bytes) {
              mib(raw), mib(plain_bytes), raw / plain_bytes, mib(compact_bytes), raw / compact_bytes, 100.0 * compact_bytes / plain_bytes);
 }
 
-int run_build(const BuildCommand& c) {
-  if (c.model.empty()) throw Error("csm build: a MODEL is required (see splatcl csm build --help)");
-  if (c.output.empty()) throw Error("csm build: an output file is required (-o OUT.csm)");
+BuildOptions build_options(const BuildCommand& c) {
   BuildOptions options;
   options.maps = c.maps;
   options.resolution = c.resolution;
@@ -100,10 +107,53 @@ int run_build(const BuildCommand& c) {
   options.order = parse_order(c.order);
   options.pole = parse_pole_axis(c.pole);
   options.single_hit = parse_single_hit(c.single_hit);
+  options.capture = parse_capture_method(c.capture);
   options.batch_maps = c.batch;
-  const Encoding encoding = parse_encoding(c.encoding);
   if (c.resolution == 0 || c.resolution > 8192) throw Error("--res must be between 1 and 8192");
   const SphereGrid check(options.distribution, options.order, options.pole, options.maps);
+  return options;
+}
+
+// --mode other than per-pixel: the thesis's alternatives, compared by size (no .csm written).
+int run_mode(const BuildCommand& c, CompressionMode mode) {
+  if (!c.output.empty()) throw Error(fmt::format("csm build: --mode {} only measures sizes; -o writes per-pixel CSMs only", to_string(mode)));
+  const BuildOptions options = build_options(c);
+  ModeOptions mode_options;
+  mode_options.mode = mode;
+  mode_options.pixel_curve = parse_pixel_curve(c.pixel_order);
+  ProgressLine progress("csm");
+  progress.show("loading " + c.model);
+  const splats::Mesh mesh = splats::load_mesh(c.model);
+  std::shared_ptr<Runtime> runtime;
+  if (!c.reference) runtime = Runtime::create(c.device.device);
+  const ModeResult r = compress_in_mode(mesh, options, mode_options, runtime.get(), map_progress(progress, "captured and compressed"));
+  progress.clear();
+  CsmInfo info;
+  info.maps = options.maps;
+  info.resolution = options.resolution;
+  const double raw = uncompressed_bytes(info);
+  fmt::print("mode       {}{} on {} maps of {}x{} ({} distribution, {} order)\n", to_string(mode),
+             mode == CompressionMode::PerMap ? fmt::format(" (pixel order {})", to_string(mode_options.pixel_curve)) : std::string(),
+             options.maps, options.resolution, options.resolution, to_string(options.distribution), to_string(options.order));
+  fmt::print("segments   {} in {} lists ({:.4f} per (pixel, map))\n", r.segments, r.lists,
+             static_cast<double>(r.segments) / static_cast<double>(r.samples));
+  fmt::print("size       uncompressed {:.2f} MiB; plain {:.2f} MiB ({:.1f}:1)\n", mib(raw), mib(static_cast<double>(r.plain_bytes())),
+             raw / static_cast<double>(r.plain_bytes()));
+  fmt::print("time       capture {:.2f} s, compression + check {:.2f} s; peak resident {:.0f} MiB\n", r.capture_ms / 1000,
+             r.compress_ms / 1000, bench::peak_rss_mb());
+  if (r.violations)
+    throw Error(fmt::format("--mode {}: not lossless for {} of {} (map, pixel) samples", to_string(mode), r.violations, r.samples));
+  fmt::print("lossless   all {} (map, pixel) samples decode through the mode's lookup to a depth in [z1, z2)\n", r.samples);
+  return 0;
+}
+
+int run_build(const BuildCommand& c) {
+  if (c.model.empty()) throw Error("csm build: a MODEL is required (see splatcl csm build --help)");
+  const CompressionMode mode = parse_compression_mode(c.mode);
+  if (mode != CompressionMode::PerPixel) return run_mode(c, mode);
+  if (c.output.empty()) throw Error("csm build: an output file is required (-o OUT.csm)");
+  const BuildOptions options = build_options(c);
+  const Encoding encoding = parse_encoding(c.encoding);
   ProgressLine progress("csm");
   progress.show("loading " + c.model);
   const splats::Mesh mesh = splats::load_mesh(c.model);
@@ -149,6 +199,49 @@ int run_info(const InfoCommand& c) {
   return 0;
 }
 
+int run_analyze(const AnalyzeCommand& c) {
+  if (c.build.model.empty()) throw Error("csm analyze: a MODEL is required (see splatcl csm analyze --help)");
+  if (c.kmeans.empty() && !c.wavelet) throw Error("csm analyze: choose --kmeans K (repeatable) and/or --wavelet");
+  const BuildOptions options = build_options(c.build);
+  ProgressLine progress("csm");
+  progress.show("loading " + c.build.model);
+  const splats::Mesh mesh = splats::load_mesh(c.build.model);
+  std::shared_ptr<Runtime> runtime;
+  if (!c.build.reference) runtime = Runtime::create(c.build.device.device);
+  CsmInfo info;
+  info.maps = options.maps;
+  info.resolution = options.resolution;
+  const double raw = uncompressed_bytes(info);
+  fmt::print("analysis   {} maps of {}x{} of {} ({} distribution, {} order); uncompressed {:.2f} MiB\n", options.maps, options.resolution,
+             options.resolution, c.build.model, to_string(options.distribution), to_string(options.order), mib(raw));
+  const BuildResult built = build_csm(mesh, options, runtime.get(), map_progress(progress, "per-pixel"));
+  const double plain = static_cast<double>(encode_csm(built.csm, Encoding::Plain).size());
+  progress.clear();
+  fmt::print("per-pixel  {} segments, {:.2f} MiB plain ({:.1f}:1)\n", built.csm.segments(), mib(plain), raw / plain);
+  if (c.wavelet) {
+    const WaveletResult w = wavelet_analysis(built.csm);
+    fmt::print("wavelet    {} layers x 2 (depths, end indices) of {}x{}; transformed {:.2f} MiB, {:.1f} % zero coefficients, "
+               "estimated {:.2f} MiB ({:.2f}x per-pixel)\n",
+               w.layers, options.resolution, options.resolution, mib(static_cast<double>(w.transformed_bytes())),
+               100.0 * static_cast<double>(w.zeros) / static_cast<double>(w.coefficients), mib(w.estimated_bytes()), w.estimated_bytes() / plain);
+  }
+  if (!c.kmeans.empty()) {
+    std::vector<float> z1, z2;
+    capture_all_maps(mesh, options, runtime.get(), z1, z2, std::uint64_t{6} << 30, map_progress(progress, "captured"));
+    progress.show("k-means");
+    const std::vector<KMeansResult> results =
+        kmeans_analysis(z1, z2, options.maps, std::size_t{options.resolution} * options.resolution, c.kmeans, c.seed, c.iterations);
+    progress.clear();
+    for (const KMeansResult& r : results)
+      fmt::print("k-means    k = {:>5}: {} iterations; {} segments, {:.2f} MiB plain ({:.1f}:1); wrong samples {} ({:.3f} %); "
+                 "with corrections {:.2f} MiB ({:.1f}:1)\n",
+                 r.k, r.iterations, r.segments, mib(static_cast<double>(r.plain_bytes)), raw / static_cast<double>(r.plain_bytes),
+                 r.wrong_samples, 100.0 * static_cast<double>(r.wrong_samples) / static_cast<double>(r.samples),
+                 mib(static_cast<double>(r.corrected_bytes())), raw / static_cast<double>(r.corrected_bytes()));
+  }
+  return 0;
+}
+
 int run_verify(const VerifyCommand& c) {
   ProgressLine progress("csm");
   progress.show("reading " + c.file);
@@ -161,7 +254,8 @@ int run_verify(const VerifyCommand& c) {
   const splats::Mesh mesh = splats::load_mesh(c.model);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
-  const LosslessReport report = check_lossless(csm, mesh, runtime.get(), map_progress(progress, "recaptured"));
+  const LosslessReport report =
+      check_lossless(csm, mesh, runtime.get(), map_progress(progress, "recaptured"), parse_capture_method(c.capture));
   progress.clear();
   if (report.violations)
     throw Error(fmt::format("{}: not lossless for {} of {} (map, pixel) samples; first at map {}, pixel {}: stored {} outside [{}, {})",
@@ -191,6 +285,7 @@ int run_quality(const QualityCommand& c) {
     build.order = parse_order(c.build.order);
     build.pole = parse_pole_axis(c.build.pole);
     build.single_hit = parse_single_hit(c.build.single_hit);
+    build.capture = parse_capture_method(c.build.capture);
     csm = build_csm(mesh, build, runtime.get(), map_progress(progress, "captured and compressed")).csm;
   }
   progress.show("rendering " + std::to_string(options.views) + " views");
@@ -203,6 +298,10 @@ int run_quality(const QualityCommand& c) {
   fmt::print("wrong      {:.3f} % of image pixels, {:.3f} % of object pixels ({} of {} object pixels; {:.1f} % of them in shadow)\n",
              report.percent_of_image(), report.percent_of_object(), report.wrong, report.object_pixels,
              report.object_pixels ? 100.0 * static_cast<double>(report.exact_shadowed) / static_cast<double>(report.object_pixels) : 0.0);
+  fmt::print("shaded     {:.3f} % of image pixels, {:.3f} % of object pixels differ in a diffusely shaded render ({} wrong among {} "
+             "pixels facing the light, {} of them falsely shadowed; the thesis's metric)\n",
+             report.shaded_percent_of_image(), report.shaded_percent_of_object(), report.wrong_facing, report.facing_pixels,
+             report.false_shadow_facing);
   fmt::print("queries    {} CSM visibility queries (screen order) in {:.1f} ms wall on {}", report.object_pixels, report.query_ms,
              runtime ? runtime->info().name : std::string("the native reference"));
   if (report.kernel_ms > 0)
@@ -233,6 +332,13 @@ Action register_csm(CLI::App& app) {
       ->capture_default_str();
   build->add_option("--encoding", b->encoding, "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)")
       ->capture_default_str();
+  build->add_option("--mode", b->mode, "Compression: per-pixel (writes the .csm), or for size comparison only: per-map, hilbert-3d "
+                                       "(blocks of M maps), hilbert-4d (all maps in memory)")
+      ->capture_default_str();
+  build->add_option("--pixel-order", b->pixel_order, "Pixel curve of --mode per-map: hilbert, zigzag-h, zigzag-v")->capture_default_str();
+  build->add_option("--capture", b->capture, "Capture method of the per-pixel build: raster (two-layer depth buffer) or raycast (SAH BVH); "
+                                             "same depths up to rounding and triangle-edge pixels (the other --mode values ray-cast)")
+      ->capture_default_str();
   build->add_option("--batch", b->batch, "Maps captured per batch (default: about 8 M samples)");
   build->add_option("--coherence", b->coherence, "Also write the coherence map (PNG: white = one segment, black = one per map)");
   build->add_flag("--reference", b->reference, "Use the native C++ reference instead of the OpenCL kernels (keeps all maps in memory)");
@@ -249,6 +355,7 @@ Action register_csm(CLI::App& app) {
   verify->add_option("file", v->file, "A .csm file")->required();
   verify->add_option("model", v->model, "The mesh it was built from");
   verify->add_flag("--reference", v->reference, "Recapture with the native C++ reference");
+  verify->add_option("--capture", v->capture, "Capture method the file was built with: raster or raycast")->capture_default_str();
 
   auto* quality = sub->add_subcommand("quality", "Shadow quality study (compression digest §10.1): % of pixels whose CSM shadow test "
                                                   "differs from exact ray casting, over random views and point lights");
@@ -262,6 +369,7 @@ Action register_csm(CLI::App& app) {
   quality->add_option("--order", q->build.order, "Map order")->capture_default_str();
   quality->add_option("--pole", q->build.pole, "Object axis of the sphere's pole")->capture_default_str();
   quality->add_option("--single-hit", q->build.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
+  quality->add_option("--capture", q->build.capture, "Capture method of the CSM built: raster or raycast")->capture_default_str();
   quality->add_option("--views", q->options.views, "Random camera and light configurations")->capture_default_str();
   quality->add_option("--image", q->options.image, "Image size (square) per view")->capture_default_str();
   quality->add_option("--fov", q->options.fov_degrees, "Camera field of view in degrees")->capture_default_str();
@@ -271,8 +379,26 @@ Action register_csm(CLI::App& app) {
   quality->add_option("--bias", q->options.bias, "Shadow offset in depth units (shadow when g < depth - bias)")->capture_default_str();
   quality->add_flag("--reference", q->build.reference, "Use the native C++ references instead of the OpenCL kernels");
 
-  return [b, i, v, q, build, info, verify, quality]() -> int {
+  auto* analyze = sub->add_subcommand("analyze", "Offline analyses of the compression thesis: k-means clustering of maps before "
+                                                  "per-pixel compression (lossy; errors and correction cost) and the Haar-wavelet layer re-layout");
+  auto a = std::make_shared<AnalyzeCommand>();
+  add_device_option(*analyze, a->build.device);
+  analyze->add_option("model", a->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
+  analyze->add_option("--maps", a->build.maps, "Number of maps N")->capture_default_str();
+  analyze->add_option("--res", a->build.resolution, "Map resolution M")->capture_default_str();
+  analyze->add_option("--dist", a->build.distribution, "Direction grid: uniform, regular or ao")->capture_default_str();
+  analyze->add_option("--order", a->build.order, "Map order")->capture_default_str();
+  analyze->add_option("--pole", a->build.pole, "Object axis of the sphere's pole")->capture_default_str();
+  analyze->add_option("--single-hit", a->build.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
+  analyze->add_option("--kmeans", a->kmeans, "Cluster the maps into K clusters (repeatable; all maps are kept in memory)");
+  analyze->add_option("--iterations", a->iterations, "Largest number of k-means (Lloyd) iterations")->capture_default_str();
+  analyze->add_option("--seed", a->seed, "Seed of the k-means start")->capture_default_str();
+  analyze->add_flag("--wavelet", a->wavelet, "Haar-wavelet re-layout of the per-pixel segments: zero coefficients and size estimate");
+  analyze->add_flag("--reference", a->build.reference, "Use the native C++ references instead of the OpenCL kernels");
+
+  return [b, i, v, q, a, build, info, verify, quality, analyze]() -> int {
     if (build->parsed()) return run_build(*b);
+    if (analyze->parsed()) return run_analyze(*a);
     if (info->parsed()) return run_info(*i);
     if (quality->parsed()) return run_quality(*q);
     return run_verify(*v);

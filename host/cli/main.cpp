@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
   add(splatcl::cli::register_bench);
   add(splatcl::cli::register_splats);
   add(splatcl::cli::register_csm);
+  add(splatcl::cli::register_ao);
+  add(splatcl::cli::register_batch);
+  add(splatcl::cli::register_render);
+  add(splatcl::cli::register_view);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

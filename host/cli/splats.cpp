@@ -149,7 +149,7 @@ Action register_splats(CLI::App& app) {
   sub->add_option("--eps", o->eps, "Geometric tolerance epsilon, absolute in model units (default: --eps-diag times the bounding-box diagonal)");
   sub->add_option("--eps-diag", o->eps_diagonal, "Epsilon as a fraction of the bounding-box diagonal when --eps is not given")->capture_default_str();
   sub->add_option("--color-tol", o->color_tolerance, "Colour tolerance phi per RGB channel, 0..255 (255 ignores colour)")->capture_default_str();
-  sub->add_option("--color-field", o->color_field, "Sample colours without a texture: grey, soft (red to white gradient) or hard (3-D checker)")->capture_default_str();
+  sub->add_option("--color-field", o->color_field, "Sample colours without a texture: grey, soft (red to white gradient), hard (3-D checker of flat colours) or rainbow (cells of continuous hue bands with hard edges between cells)")->capture_default_str();
   sub->add_option("--texture", o->texture, "Texture image applied through the mesh's texture coordinates (nearest texel)");
   sub->add_option("--samples", o->samples, "vertices, or grid:N (vertices plus, on every face, the grid points of spacing shortest-edge / N strictly inside it)")->capture_default_str();
   sub->add_option("--k", o->k, "Neighbourhood size")->capture_default_str();

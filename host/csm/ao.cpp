@@ -44,7 +44,11 @@ Vec4 cosine_direction(double xi1, double xi2) {
 const char* to_string(PatternSet value) { return kPatternNames[static_cast<std::uint32_t>(value)]; }
 
 PatternSet parse_pattern_set(const std::string& text) {
-  std::string accepted;
+  // Short names of the `splatcl ao --pattern` option.
+  if (text == "mc") return PatternSet::MonteCarlo;
+  if (text == "lhs") return PatternSet::LatinHypercube;
+  if (text == "halton") return PatternSet::HaltonRotated;
+  std::string accepted = "mc, lhs, halton, ";
   for (std::uint32_t i = 0; i < std::size(kPatternNames); ++i) {
     if (text == kPatternNames[i]) return static_cast<PatternSet>(i);
     accepted += (i ? ", " : "") + std::string(kPatternNames[i]);

@@ -51,7 +51,7 @@ BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* 
   result.setup_ms = total.elapsed_ms();
   const std::size_t pixels = scene.pixels();
   if (runtime) {
-    DepthCapture capture(*runtime, scene);
+    MapCapture capture(*runtime, scene, mesh, o.capture);
     StreamingCompressor compressor(*runtime, pixels, o.maps);
     const std::size_t bytes = std::size_t{result.batch_maps} * pixels * sizeof(float);
     cl::Buffer z1 = runtime->buffer(CL_MEM_READ_WRITE, bytes, "CSM batch depths z1");
@@ -67,7 +67,7 @@ BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* 
     std::vector<float> z1(std::size_t{o.maps} * pixels), z2(z1.size()), b1, b2;
     Stopwatch capture_clock;
     for_each_batch(o.maps, result.batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
-      capture_reference(scene, grid, first, count, b1, b2);
+      capture_reference(scene, mesh, o.capture, grid, first, count, b1, b2);
       std::copy(b1.begin(), b1.end(), z1.begin() + static_cast<std::ptrdiff_t>(first * pixels));
       std::copy(b2.begin(), b2.end(), z2.begin() + static_cast<std::ptrdiff_t>(first * pixels));
     });
@@ -81,7 +81,8 @@ BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* 
   return result;
 }
 
-LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress) {
+LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress,
+                              CaptureMethod method) {
   const CsmInfo& info = csm.info;
   const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
   const CaptureScene scene(mesh, info.sphere, info.resolution, info.single_hit, info.hit_epsilon);
@@ -89,10 +90,10 @@ LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime*
   if (csm.pixels() != pixels) throw Error("check_lossless: the CSM's pixel count does not match its resolution");
   const std::uint32_t batch_maps = default_batch_maps(info.resolution, info.maps);
   std::vector<float> z1, z2;
-  std::unique_ptr<DepthCapture> capture;
+  std::unique_ptr<MapCapture> capture;
   cl::Buffer d1, d2;
   if (runtime) {
-    capture = std::make_unique<DepthCapture>(*runtime, scene);
+    capture = std::make_unique<MapCapture>(*runtime, scene, mesh, method);
     d1 = runtime->buffer(CL_MEM_READ_WRITE, std::size_t{batch_maps} * pixels * sizeof(float), "CSM check z1");
     d2 = runtime->buffer(CL_MEM_READ_WRITE, std::size_t{batch_maps} * pixels * sizeof(float), "CSM check z2");
   }
@@ -108,7 +109,7 @@ LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime*
       runtime->queue().enqueueReadBuffer(d1, CL_FALSE, 0, z1.size() * sizeof(float), z1.data());
       runtime->queue().enqueueReadBuffer(d2, CL_TRUE, 0, z2.size() * sizeof(float), z2.data());
     } else {
-      capture_reference(scene, grid, first, count, z1, z2);
+      capture_reference(scene, mesh, method, grid, first, count, z1, z2);
     }
     splats::parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
       LosslessReport& r = per_worker[w];

@@ -11,6 +11,7 @@
 #include "csm/capture.hpp"
 #include "csm/compress.hpp"
 #include "csm/csm_file.hpp"
+#include "csm/raster_capture.hpp"
 #include "csm/sphere_grid.hpp"
 #include "runtime/runtime.hpp"
 #include "splats/mesh.hpp"
@@ -24,6 +25,8 @@ struct BuildOptions {
   PoleAxis pole = PoleAxis::Y;
   SingleHit single_hit = SingleHit::SphereExit;
   float hit_epsilon = kDefaultHitEpsilon;
+  // Capture by rasterization or by ray casting (same values up to rounding and edge pixels).
+  CaptureMethod capture = kDefaultCaptureMethod;
   // Maps per batch; 0 picks about 8 M samples per batch (64 MiB of depths).
   std::uint32_t batch_maps = 0;
 };
@@ -46,13 +49,14 @@ std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps);
 
 // Losslessness check (compression digest §13): every (map, pixel) of `csm` recaptured from `mesh`
 // and its stored depth tested with lossless(). Captures in batches on `runtime` (native reference
-// when null).
+// when null) with `method`, which must be the method that built the CSM.
 struct LosslessReport {
   std::uint64_t samples = 0, violations = 0;
   std::uint32_t first_map = 0;
   std::size_t first_pixel = 0;
   float first_depth = 0, first_z1 = 0, first_z2 = 0;
 };
-LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {});
+LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {},
+                              CaptureMethod method = kDefaultCaptureMethod);
 
 }  // namespace splatcl::csm

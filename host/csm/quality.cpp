@@ -20,6 +20,43 @@ Vec3 random_direction(std::mt19937& rng) {
   return {s * std::cos(phi), y, s * std::sin(phi)};
 }
 
+// Nearest triangle hit along o + t·dir (t > 0) and its index, or t = INFINITY: the primary rays
+// need the hit triangle's normal, which first_two_hits does not return.
+struct Hit {
+  float t = INFINITY;
+  std::uint32_t triangle = 0;
+};
+
+Hit closest_hit(const Bvh& bvh, const float o[3], const float dir[3], const float inv[3]) {
+  Hit best;
+  if (bvh.nodes.empty()) return best;
+  std::uint32_t stack[kBvhMaxDepth + 2];
+  std::uint32_t top = 0;
+  stack[top++] = 0;
+  while (top) {
+    const BvhNode& node = bvh.nodes[stack[--top]];
+    float t0 = 0, t1 = best.t;
+    for (int k = 0; k < 3; ++k) {
+      float a = (node.lo[k] - o[k]) * inv[k], b = (node.hi[k] - o[k]) * inv[k];
+      if (a > b) std::swap(a, b);
+      t0 = std::max(t0, a);
+      t1 = std::min(t1, b);
+    }
+    if (t0 > t1) continue;
+    if (node.count == 0) {
+      const auto self = static_cast<std::uint32_t>(&node - bvh.nodes.data());
+      stack[top++] = node.index;
+      stack[top++] = self + 1;
+      continue;
+    }
+    for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
+      const float t = triangle_hit(bvh.triangles[k], o, dir);
+      if (t > 0 && t < best.t) best = {t, k};
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const QualityOptions& options, Runtime* runtime) {
@@ -46,21 +83,29 @@ QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const Qu
     const Vec3 right = splats::normalized(cross(forward, helper)), up = cross(right, forward);
     const Vec3 eye = r * back;  // relative to c, as the BVH is
     std::vector<Vec4> receivers, lights;
-    std::vector<std::uint8_t> exact_lit;
-    std::vector<Vec4> hit(std::size_t{w} * w);
+    std::vector<std::uint8_t> exact_lit, facing;
+    std::vector<Vec4> hit(std::size_t{w} * w), normal(hit.size());
     splats::parallel_for(hit.size(), 256, [&](std::size_t p, std::size_t) {
       const float x = (2 * (static_cast<float>(p % w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
       const float y = (2 * (static_cast<float>(p / w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
       const Vec3 d = splats::normalized(forward + x * right + y * up);
       const float o[3] = {eye.x, eye.y, eye.z}, dir[3] = {d.x, d.y, d.z};
       const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
-      const float t = first_two_hits(bvh, o, dir, inv, 0.0f).t1;
+      const Hit h = closest_hit(bvh, o, dir, inv);
+      const float t = h.t;
       hit[p] = t == INFINITY ? Vec4{0, 0, 0, 0} : Vec4{c.x + eye.x + t * d.x, c.y + eye.y + t * d.y, c.z + eye.z + t * d.z, 1};
+      if (t == INFINITY) return;
+      const BvhTriangle& tri = bvh.triangles[h.triangle];
+      Vec3 n = cross(Vec3{tri.e1[0], tri.e1[1], tri.e1[2]}, Vec3{tri.e2[0], tri.e2[1], tri.e2[2]});
+      if (dot(n, d) > 0) n = -1.0f * n;  // towards the camera: the side the image shows
+      normal[p] = {n.x, n.y, n.z, 0};
     });
-    for (const Vec4& p : hit)
-      if (p.w == 1) {
-        receivers.push_back(p);
+    for (std::size_t p = 0; p < hit.size(); ++p)
+      if (hit[p].w == 1) {
+        receivers.push_back(hit[p]);
         lights.push_back({light.x, light.y, light.z, 1});
+        const Vec3 n{normal[p].x, normal[p].y, normal[p].z}, to_light{light.x - hit[p].x, light.y - hit[p].y, light.z - hit[p].z};
+        facing.push_back(dot(n, to_light) > 0);
       }
     exact_lit.resize(receivers.size());
     splats::parallel_for(receivers.size(), 256, [&](std::size_t k, std::size_t) {
@@ -80,7 +125,11 @@ QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const Qu
     report.query_ms += clock.elapsed_ms();
     report.kernel_ms += profiler.total_device_ms();
     for (std::size_t k = 0; k < receivers.size(); ++k) {
-      report.wrong += (vis[k] >= 0.5f) != (exact_lit[k] != 0);
+      const bool wrong = (vis[k] >= 0.5f) != (exact_lit[k] != 0);
+      report.wrong += wrong;
+      report.facing_pixels += facing[k];
+      report.wrong_facing += wrong && facing[k];
+      report.false_shadow_facing += wrong && facing[k] && exact_lit[k];
       report.exact_shadowed += exact_lit[k] == 0;
     }
     report.pixels += hit.size();

@@ -5,6 +5,12 @@
 // percentage of pixels whose answers differ. The thesis leaves the image size, view count, light
 // distance, camera lens and denominator open; they are fixed here and reported, and both
 // denominators (all image pixels, pixels showing the object) are given.
+//
+// Two counts of "wrong": every object pixel whose shadow answer differs (visibility), and only the
+// pixels whose diffusely shaded colour differs, i.e. those facing the light (n·l > 0 with n the hit
+// triangle's normal turned towards the camera): a pixel facing away is black in both renders
+// whatever the shadow test says. The thesis compared rendered images (digest §10.1), so the second
+// is its metric; the CSM's answers differ most right at the terminator, where it does not show.
 #include <cstdint>
 
 #include "csm/csm_file.hpp"
@@ -25,9 +31,15 @@ struct QualityOptions {
 
 struct QualityReport {
   std::uint64_t pixels = 0, object_pixels = 0, wrong = 0, exact_shadowed = 0;
+  std::uint64_t facing_pixels = 0, wrong_facing = 0;  // pixels with n·l > 0, and those whose answer differs
+  std::uint64_t false_shadow_facing = 0;              // of wrong_facing: shadowed by the CSM, lit in truth
   double query_ms = 0;   // wall time of the CSM visibility batches (upload, kernel, read back)
   double kernel_ms = 0;  // device time of the visibility kernel (0 on the reference)
   double percent_of_image() const { return pixels ? 100.0 * static_cast<double>(wrong) / static_cast<double>(pixels) : 0; }
+  double shaded_percent_of_image() const { return pixels ? 100.0 * static_cast<double>(wrong_facing) / static_cast<double>(pixels) : 0; }
+  double shaded_percent_of_object() const {
+    return object_pixels ? 100.0 * static_cast<double>(wrong_facing) / static_cast<double>(object_pixels) : 0;
+  }
   double percent_of_object() const {
     return object_pixels ? 100.0 * static_cast<double>(wrong) / static_cast<double>(object_pixels) : 0;
   }

@@ -12,6 +12,10 @@ namespace splatcl::csm {
 
 using primitives::detail::set_args;
 
+// Queries per work-item of the chunked filter-free kernel: long enough runs for the reuse of map
+// choices and stored depths, and still thousands of work-items per million queries.
+constexpr std::size_t kQueryChunk = 256;
+
 static_assert(sizeof(device::CsmCell) == 40 && sizeof(device::CsmOccluder) == 52 && sizeof(device::CsmInstance) == 88,
               "the query tables must match kernels/csm_query.h byte for byte");
 
@@ -133,26 +137,18 @@ void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>&
 
 namespace {
 
-template <class T>
-cl::Buffer upload(Runtime& runtime, const std::vector<T>& values, const char* what) {
-  // A zero-sized buffer is invalid in OpenCL; empty tables get one unused element.
-  const std::size_t bytes = std::max<std::size_t>(values.size(), 1) * sizeof(T);
-  cl::Buffer buffer = runtime.buffer(CL_MEM_READ_ONLY, bytes, what);
-  if (!values.empty()) runtime.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, values.size() * sizeof(T), values.data());
-  return buffer;
-}
-
 }  // namespace
 
 VisibilityQueries::VisibilityQueries(Runtime& runtime, const VisibilityScene& scene)
     : runtime_(runtime), instance_count_(static_cast<cl_uint>(scene.instances.size())) {
-  instances_ = upload(runtime, scene.instances, "CSM instances");
-  occluders_ = upload(runtime, scene.occluders, "CSM occluders");
-  cells_ = upload(runtime, scene.cells, "CSM cameras");
-  offsets_ = upload(runtime, scene.offsets, "CSM offsets");
-  ends_ = upload(runtime, scene.ends, "CSM segment ends");
-  depths_ = upload(runtime, scene.depths, "CSM segment depths");
+  instances_ = upload(runtime, scene.instances, "CSM instances", CL_MEM_READ_ONLY);
+  occluders_ = upload(runtime, scene.occluders, "CSM occluders", CL_MEM_READ_ONLY);
+  cells_ = upload(runtime, scene.cells, "CSM cameras", CL_MEM_READ_ONLY);
+  offsets_ = upload(runtime, scene.offsets, "CSM offsets", CL_MEM_READ_ONLY);
+  ends_ = upload(runtime, scene.ends, "CSM segment ends", CL_MEM_READ_ONLY);
+  depths_ = upload(runtime, scene.depths, "CSM segment depths", CL_MEM_READ_ONLY);
   kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_queries");
+  chunk_kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_chunks");
 }
 
 void VisibilityQueries::bind_scene(cl::Kernel& kernel, cl_uint first) const {
@@ -172,6 +168,22 @@ cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& 
   primitives::detail::require_bytes(receivers, count * sizeof(Vec4), "CSM query receivers");
   primitives::detail::require_bytes(lights, count * sizeof(Vec4), "CSM query lights");
   primitives::detail::require_bytes(out, count * sizeof(float), "CSM query output");
+  if (filter == Filter::None) {
+    // One launch per instance, multiplying into `out`; no instance: everything is lit.
+    if (instance_count_ == 0) {
+      cl::Event event;
+      runtime_.queue().enqueueFillBuffer(out, 1.0f, 0, count * sizeof(float), nullptr, &event);
+      return event;
+    }
+    const std::size_t items = (count + kQueryChunk - 1) / kQueryChunk;
+    cl::Event last;
+    for (cl_uint k = 0; k < instance_count_; ++k) {
+      set_args(chunk_kernel_, receivers, lights, static_cast<cl_uint>(count), static_cast<cl_uint>(kQueryChunk), instances_, k,
+               occluders_, cells_, offsets_, ends_, depths_, bias, static_cast<cl_uint>(k > 0 ? 1 : 0), out);
+      last = enqueue_1d(runtime_.queue(), chunk_kernel_, items, 0, profiler, "csm visibility");
+    }
+    return last;
+  }
   set_args(kernel_, receivers, lights, static_cast<cl_uint>(count));
   bind_scene(kernel_, 3);
   kernel_.setArg(10, static_cast<cl_uint>(filter));

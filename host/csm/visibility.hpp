@@ -86,6 +86,8 @@ class VisibilityQueries {
  private:
   Runtime& runtime_;
   cl_uint instance_count_;
+  // Filter-free batches: chunks of consecutive queries per work-item, one launch per instance.
+  cl::Kernel chunk_kernel_;
   cl::Buffer instances_, occluders_, cells_, offsets_, ends_, depths_;
   cl::Kernel kernel_;
   cl::Buffer receivers_, lights_, out_;

@@ -7,18 +7,6 @@
 namespace splatcl::primitives {
 namespace {
 
-template <class T>
-cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what) {
-  cl::Buffer buffer = runtime.buffer(CL_MEM_READ_WRITE, data.size() * sizeof(T), what);
-  if (!data.empty()) runtime.queue().enqueueWriteBuffer(buffer, CL_FALSE, 0, data.size() * sizeof(T), data.data());
-  return buffer;
-}
-
-template <class T>
-void download(Runtime& runtime, const cl::Buffer& buffer, std::vector<T>& data) {
-  if (!data.empty()) runtime.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, data.size() * sizeof(T), data.data());
-}
-
 template <class Key>
 void sort_host(Runtime& runtime, std::vector<Key>& keys, std::vector<std::uint32_t>* values, unsigned bits,
                Shape shape) {
@@ -31,8 +19,8 @@ void sort_host(Runtime& runtime, std::vector<Key>& keys, std::vector<std::uint32
     cl::Buffer values_buffer;
     if (values) values_buffer = upload(runtime, *values, "radix sort values");
     sorter.sort(keys_buffer, values ? &values_buffer : nullptr, keys.size(), bits);
-    download(runtime, keys_buffer, keys);
-    if (values) download(runtime, values_buffer, *values);
+    keys = download<Key>(runtime, keys_buffer, keys.size(), "sorted keys");
+    if (values) *values = download<std::uint32_t>(runtime, values_buffer, values->size(), "sorted values");
   } catch (...) {
     rethrow_as_error("radix sort of " + std::to_string(keys.size()) + " host keys");
   }
@@ -45,9 +33,7 @@ std::vector<std::uint32_t> scan(Runtime& runtime, const std::vector<std::uint32_
     Scanner scanner(runtime, shape);
     const cl::Buffer buffer = upload(runtime, in, "scan values");
     scanner.run(buffer, buffer, in.size(), kind, false);
-    std::vector<std::uint32_t> out(in.size());
-    download(runtime, buffer, out);
-    return out;
+    return download<std::uint32_t>(runtime, buffer, in.size(), "scan results");
   } catch (...) {
     rethrow_as_error("scan of " + std::to_string(in.size()) + " host values");
   }
@@ -64,9 +50,8 @@ std::vector<std::uint32_t> keep_flagged(Runtime& runtime, const std::vector<std:
     const cl::Buffer flags_buffer = upload(runtime, flags, "compaction flags");
     const cl::Buffer out =
         runtime.buffer(CL_MEM_READ_WRITE, values.size() * sizeof(std::uint32_t), "compaction output");
-    std::vector<std::uint32_t> kept(compactor.keep_flagged(values_buffer, flags_buffer, out, values.size()));
-    download(runtime, out, kept);
-    return kept;
+    return download<std::uint32_t>(runtime, out, compactor.keep_flagged(values_buffer, flags_buffer, out, values.size()),
+                                   "compaction results");
   } catch (...) {
     rethrow_as_error("keep_flagged of " + std::to_string(values.size()) + " host values");
   }
@@ -77,9 +62,7 @@ std::vector<std::uint32_t> unique(Runtime& runtime, const std::vector<std::uint3
     Compactor compactor(runtime, shape);
     const cl::Buffer values_buffer = upload(runtime, values, "unique values");
     const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, values.size() * sizeof(std::uint32_t), "unique output");
-    std::vector<std::uint32_t> kept(compactor.unique(values_buffer, out, values.size()));
-    download(runtime, out, kept);
-    return kept;
+    return download<std::uint32_t>(runtime, out, compactor.unique(values_buffer, out, values.size()), "unique results");
   } catch (...) {
     rethrow_as_error("unique of " + std::to_string(values.size()) + " host values");
   }

@@ -87,4 +87,30 @@ const char* cl_error_name(cl_int code);
 // Rethrows a cl::Error (or anything else) as splatcl::Error with `what` prefixed.
 [[noreturn]] void rethrow_as_error(const std::string& what);
 
+// Blocking copy of `data` into a new buffer named `what` in errors. An empty vector gets a
+// one-element buffer: OpenCL has no zero-sized buffers.
+template <class T>
+cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what,
+                  cl_mem_flags flags = CL_MEM_READ_WRITE) {
+  cl::Buffer buffer = runtime.buffer(flags, (data.empty() ? 1 : data.size()) * sizeof(T), what);
+  try {
+    if (!data.empty()) runtime.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, data.size() * sizeof(T), data.data());
+  } catch (...) {
+    rethrow_as_error(std::string("uploading ") + what);
+  }
+  return buffer;
+}
+
+// Blocking read of the first n elements of `buffer`.
+template <class T>
+std::vector<T> download(Runtime& runtime, const cl::Buffer& buffer, std::size_t n, const char* what = "device results") {
+  std::vector<T> data(n);
+  try {
+    if (n > 0) runtime.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, n * sizeof(T), data.data());
+  } catch (...) {
+    rethrow_as_error(std::string("reading back ") + what);
+  }
+  return data;
+}
+
 }  // namespace splatcl

@@ -23,13 +23,6 @@ constexpr std::size_t kScratchBudget = std::size_t{16} << 20;
 // CPU shape: items a worker takes from the shared counter at a time (few enough atomics, small tail).
 constexpr std::uint32_t kCpuBlock = 16;
 
-template <class T>
-cl::Buffer upload(Runtime& runtime, const std::vector<T>& data, const char* what) {
-  cl::Buffer buffer = runtime.buffer(CL_MEM_READ_ONLY, std::max<std::size_t>(data.size(), 1) * sizeof(T), what);
-  if (!data.empty()) runtime.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, data.size() * sizeof(T), data.data());
-  return buffer;
-}
-
 std::string build_options(const Runtime& runtime, const FitOptions& options) {
   std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DCLIP={} -DON_HULL_BIT={}u",
                                  options.literal_lambda ? 1 : 0, options.retest_violator ? 1 : 0, options.clip ? 1 : 0, kOnHullBit);
@@ -77,11 +70,11 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
   auto& queue = runtime.queue();
   try {
     Stopwatch transfer;
-    const cl::Buffer positions = upload(runtime, samples.positions, "splat sample positions");
-    const cl::Buffer normals = upload(runtime, samples.normals, "splat sample normals");
-    const cl::Buffer colors = upload(runtime, samples.colors, "splat sample colours");
-    const cl::Buffer neighbor_buffer = upload(runtime, neighbors.indices, "splat neighbour lists");
-    const cl::Buffer kth = upload(runtime, neighbors.kth_distance, "splat neighbour distances");
+    const cl::Buffer positions = upload(runtime, samples.positions, "splat sample positions", CL_MEM_READ_ONLY);
+    const cl::Buffer normals = upload(runtime, samples.normals, "splat sample normals", CL_MEM_READ_ONLY);
+    const cl::Buffer colors = upload(runtime, samples.colors, "splat sample colours", CL_MEM_READ_ONLY);
+    const cl::Buffer neighbor_buffer = upload(runtime, neighbors.indices, "splat neighbour lists", CL_MEM_READ_ONLY);
+    const cl::Buffer kth = upload(runtime, neighbors.kth_distance, "splat neighbour distances", CL_MEM_READ_ONLY);
     cl::Buffer frame_buffer = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(Frame), "splat frames");
     t.transfer_ms += transfer.elapsed_ms();
     if (frames) {

@@ -16,6 +16,29 @@ namespace {
 
 std::uint8_t channel(float value) { return static_cast<std::uint8_t>(std::clamp(std::lround(value * 255.0f), 0L, 255L)); }
 
+// splitmix64's finaliser: a well-mixed, platform-independent hash step.
+std::uint64_t mix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+// Fully saturated HSV colour: hue in [0, 1), value in [0, 1]; continuous in hue, also across 1 → 0.
+Rgba8 hue_color(float hue, float value) {
+  const float sector = hue * 6.0f;
+  const float ramp = sector - std::floor(sector);
+  const auto up = channel(value * ramp), down = channel(value * (1.0f - ramp)), full = channel(value);
+  switch (static_cast<int>(sector) % 6) {
+    case 0: return {full, up, 0, 255};
+    case 1: return {down, full, 0, 255};
+    case 2: return {0, full, up, 255};
+    case 3: return {0, down, full, 255};
+    case 4: return {up, 0, full, 255};
+    default: return {full, 0, down, 255};
+  }
+}
+
 Rgba8 field_color(ColorField field, const Box& bounds, Vec3 p) {
   const Vec3 extent = bounds.hi - bounds.lo;
   if (field == ColorField::Soft) {
@@ -28,11 +51,29 @@ Rgba8 field_color(ColorField field, const Box& bounds, Vec3 p) {
     const float t = size > 0 ? std::clamp((value - lo) / size, 0.0f, 1.0f) : 0.0f;
     return {255, channel(t), channel(t), 255};
   }
-  // Eight cells along the diagonal's length, each a saturated colour picked by a hash of the cell.
+  // Eight cells along the diagonal's length (both the checker and the rainbow).
   const float cell = bounds.diagonal() / 8.0f;
   if (!(cell > 0)) return {};
   const auto index = [&](float v, float lo) { return static_cast<std::int64_t>(std::floor((v - lo) / cell)); };
   const std::int64_t cx = index(p.x, bounds.lo.x), cy = index(p.y, bounds.lo.y), cz = index(p.z, bounds.lo.z);
+  if (field == ColorField::Rainbow) {
+    // Hue runs along a direction picked per cell, so colours vary continuously inside a cell (the
+    // hue circle wraps without a jump); a cell's hue offset, direction and frequency come from a hash
+    // of the cell, and face-adjacent cells differ in brightness (value 1 vs 1/2), so every cell face
+    // is a hard edge whatever the hues. Frequencies 1/4 … 4 hue cycles per cell, log-uniform, give
+    // both gentle and steep places, as a rainbow texture mapped onto a model would.
+    const std::uint64_t h = mix64(mix64(mix64(static_cast<std::uint64_t>(cx)) ^ static_cast<std::uint64_t>(cy)) ^
+                                  static_cast<std::uint64_t>(cz));
+    const auto uniform = [&](int slot) { return static_cast<float>((h >> (16 * slot)) & 0xffff) / 65536.0f; };
+    const float z = 2.0f * uniform(0) - 1.0f, azimuth = 6.2831853f * uniform(1), r = std::sqrt(1.0f - z * z);
+    const Vec3 direction{r * std::cos(azimuth), r * std::sin(azimuth), z};
+    const float cycles_per_cell = std::exp2(4.0f * uniform(2) - 2.0f);
+    const Vec3 corner{bounds.lo.x + static_cast<float>(cx) * cell, bounds.lo.y + static_cast<float>(cy) * cell,
+                      bounds.lo.z + static_cast<float>(cz) * cell};
+    const float along = dot(p - corner, direction) / cell;
+    const float hue = uniform(3) + cycles_per_cell * along;
+    return hue_color(hue - std::floor(hue), ((cx + cy + cz) & 1) == 0 ? 1.0f : 0.5f);
+  }
   static constexpr Rgba8 palette[] = {{230, 25, 75, 255},  {60, 180, 75, 255},  {255, 225, 25, 255},
                                       {0, 130, 200, 255},  {245, 130, 48, 255}, {145, 30, 180, 255},
                                       {70, 240, 240, 255}, {20, 20, 20, 255}};
@@ -200,6 +241,7 @@ const char* to_string(ColorField field) {
   switch (field) {
     case ColorField::Soft: return "soft";
     case ColorField::Hard: return "hard";
+    case ColorField::Rainbow: return "rainbow";
     default: return "grey";
   }
 }
@@ -208,7 +250,8 @@ ColorField parse_color_field(const std::string& text) {
   if (text == "grey" || text == "gray") return ColorField::Grey;
   if (text == "soft") return ColorField::Soft;
   if (text == "hard") return ColorField::Hard;
-  throw Error("colour field '" + text + "' is not grey, soft or hard");
+  if (text == "rainbow") return ColorField::Rainbow;
+  throw Error("colour field '" + text + "' is not grey, soft, hard or rainbow");
 }
 
 Rgba8 ColorSource::at(Vec3 position, const float* texcoord) const {

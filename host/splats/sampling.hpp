@@ -23,10 +23,12 @@ Texture load_texture(const std::string& path);
 
 // A colour for samples of models without a texture file, so the colour variant can be exercised on
 // any mesh. Soft: red → white along the bounding box's longest axis (the thesis's Fig. 3.8
-// gradient). Hard: 3-D checker cells of saturated colours with sharp boundaries (like Fig. 3.9).
-enum class ColorField { Grey, Soft, Hard };
+// gradient). Hard: 3-D checker cells of saturated colours with sharp boundaries, constant inside a
+// cell. Rainbow (like Fig. 3.9's rainbow texture): the same cells, each with hue varying continuously
+// along a direction at its own frequency, and a brightness jump across every cell face.
+enum class ColorField { Grey, Soft, Hard, Rainbow };
 const char* to_string(ColorField field);
-ColorField parse_color_field(const std::string& text);  // "grey", "soft", "hard"; Error otherwise
+ColorField parse_color_field(const std::string& text);  // "grey", "soft", "hard", "rainbow"; Error otherwise
 
 // Where sample colours come from: a texture (through the mesh's texture coordinates, nearest texel,
 // wrapping), else a colour field over the mesh bounds, else grey (128, 128, 128).

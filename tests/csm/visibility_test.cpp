@@ -2,6 +2,9 @@
 // queries and edge cases, for every distribution, filter and several placed instances; map selection
 // against SphereGrid::nearest_cell; CSM visibility against exact ray casting.
 #include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <cstdlib>
 #include <cstring>
 #include <numbers>
 #include <random>
@@ -117,6 +120,44 @@ TEST(CsmVisibility, KernelMatchesReferenceWithSeveralPlacedInstances) {
   const double c = std::cos(0.7), s = std::sin(0.7);
   const Instance moved{0, {0.5 * c, 0, 0.5 * s, 1.5, 0, 0.5, 0, -0.25, -0.5 * s, 0, 0.5 * c, 0.75, 0, 0, 0, 1}};
   expect_kernel_matches_reference(scene_csm(), {{}, moved}, 4);
+}
+
+// Coherent batches exercise the chunked kernel's reuse of map choices and stored depths: rows of
+// receivers sharing one light vector (directional, pole, φ wrap-around, zero, NaN), a point light,
+// an area light's few samples; a count that is not a multiple of the chunk; two instances.
+TEST(CsmVisibility, ChunkedQueriesMatchReferenceOnCoherentBatches) {
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  const Instance moved{0, {0.5 * c, 0, 0.5 * s, 1.5, 0, 0.5, 0, -0.25, -0.5 * s, 0, 0.5 * c, 0.75, 0, 0, 0, 1}};
+  const Csm& csm = scene_csm();
+  const Vec3 centre = csm.info.sphere.centre;
+  const float r = csm.info.sphere.radius;
+  const Vec3 directions[] = {{0.3f, 3, 0.2f}, {0, 1, 0}, {0, -1, 0}, {-0.0f, 0.3f, -1}, {1e-7f, 0.3f, -1}, {-1e-7f, 0.3f, -1},
+                             {0, 0, 0}, {NAN, 1, 0}};
+  Queries q;
+  std::mt19937 rng(9);
+  constexpr int kWidth = 61;
+  for (int row = 0; row < 200; ++row) {
+    const int kind = row % 11;
+    for (int col = 0; col < kWidth; ++col) {
+      const Vec3 p = centre + Vec3{(2.0f * static_cast<float>(col) / kWidth - 1) * 1.5f * r, -0.5f * r + 0.01f * static_cast<float>(row % 7),
+                                   (2.0f * static_cast<float>(row) / 200 - 1) * 1.5f * r};
+      if (kind < 8) q.add(p, directions[kind], 0);
+      else if (kind == 8) q.add(p, centre + Vec3{0.3f * r, 3 * r, 0.2f * r}, 1);
+      else q.add(p, centre + Vec3{0.3f * r + 0.1f * r * static_cast<float>(rng() % 4), 3 * r, 0.2f * r}, 1);
+    }
+  }
+  q.add(centre, {0, 1, 0}, 0);
+  for (const auto& instances : {std::vector<Instance>{{}}, std::vector<Instance>{{}, moved}}) {
+    const VisibilityScene scene({&csm}, instances);
+    VisibilityQueries queries(runtime(), scene);
+    std::vector<float> ref;
+    visibility_reference(scene, q.receivers, q.lights, Filter::None, 0.0f, ref);
+    expect_identical(ref, queries.run(q.receivers, q.lights, Filter::None, 0.0f), "coherent batch");
+    std::size_t lit = 0;
+    for (float v : ref) lit += v == 1.0f;
+    EXPECT_GT(lit, ref.size() / 10);
+    EXPECT_LT(lit, ref.size() - ref.size() / 100);
+  }
 }
 
 TEST(CsmVisibility, NoInstanceMeansLitAndEmptyBatches) {
@@ -247,6 +288,72 @@ TEST(CsmVisibility, AgreesWithRayCastingForFreeSpaceReceivers) {
   // 3.07 % measured: 1024 maps are about 0.11 rad apart, so shadow edges far from their occluder
   // shift; the receivers are never on a surface, so there is no self-shadowing term.
   EXPECT_LT(percent, 4.0) << wrong << " of " << vis.size();
+}
+
+}  // namespace
+}  // namespace splatcl::csm
+
+namespace splatcl::csm {
+namespace {
+
+// Side-by-side timing of the visibility kernel and the native reference on coherent, screen-like
+// batches: receivers on a grid over a floor under the bunny, lit by a point light above it (as in
+// `splatcl bench csm`) or by one directional light. Run with --gtest_also_run_disabled_tests;
+// SPLATCL_QUERY_MAPS / SPLATCL_QUERY_RES / SPLATCL_QUERIES set the sizes (1024, 64, 2^20).
+TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
+  const std::string path = model_path("stanford-bunny.obj");
+  if (path.empty()) GTEST_SKIP() << "stanford-bunny.obj not found";
+  const auto env = [](const char* name, std::uint32_t fallback) {
+    const char* value = std::getenv(name);
+    return value ? static_cast<std::uint32_t>(std::stoul(value)) : fallback;
+  };
+  const Csm csm = build(splats::load_mesh(path), Distribution::Uniform, Order::ZigzagH, PoleAxis::Y, env("SPLATCL_QUERY_MAPS", 1024),
+                        env("SPLATCL_QUERY_RES", 64));
+  const VisibilityScene scene({&csm}, {Instance{}});
+  VisibilityQueries kernel(runtime(), scene);
+  const Vec3 c = csm.info.sphere.centre;
+  const float r = csm.info.sphere.radius;
+  const std::uint32_t n = env("SPLATCL_QUERIES", 1u << 20), width = static_cast<std::uint32_t>(std::ceil(std::sqrt(double(n))));
+  for (const bool point : {true, false}) {
+    Queries q;
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const float s = (static_cast<float>(k % width) + 0.5f) / static_cast<float>(width);
+      const float t = (static_cast<float>(k / width) + 0.5f) / static_cast<float>(width);
+      const Vec3 p{c.x + (2 * s - 1) * 1.5f * r, c.y - 0.5f * r, c.z + (2 * t - 1) * 1.5f * r};
+      if (point) q.add(p, {c.x + 0.3f * r, c.y + 3 * r, c.z + 0.2f * r}, 1);
+      else q.add(p, {0.3f, 3.0f, 0.2f}, 0);
+    }
+    std::vector<float> expected;
+    Stopwatch ref_clock;
+    const std::clock_t ref_cpu = std::clock();
+    visibility_reference(scene, q.receivers, q.lights, Filter::None, 0.0f, expected);
+    const double ref_ms = ref_clock.elapsed_ms(), ref_cpu_ms = 1e3 * static_cast<double>(std::clock() - ref_cpu) / CLOCKS_PER_SEC;
+    const cl::Buffer receivers = runtime().buffer(CL_MEM_READ_ONLY, n * sizeof(Vec4), "receivers");
+    const cl::Buffer lights = runtime().buffer(CL_MEM_READ_ONLY, n * sizeof(Vec4), "lights");
+    cl::Buffer out = runtime().buffer(CL_MEM_READ_WRITE, n * sizeof(float), "out");
+    runtime().queue().enqueueWriteBuffer(receivers, CL_TRUE, 0, n * sizeof(Vec4), q.receivers.data());
+    runtime().queue().enqueueWriteBuffer(lights, CL_TRUE, 0, n * sizeof(Vec4), q.lights.data());
+    kernel.run(receivers, lights, n, Filter::None, 0.0f, out);  // warm-up
+    runtime().queue().finish();
+    double best = 1e30, best_cpu = 1e30;
+    for (int run = 0; run < 5; ++run) {
+      Stopwatch clock;
+      const std::clock_t cpu = std::clock();
+      kernel.run(receivers, lights, n, Filter::None, 0.0f, out);
+      runtime().queue().finish();
+      best = std::min(best, clock.elapsed_ms());
+      best_cpu = std::min(best_cpu, 1e3 * static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC);
+    }
+    std::vector<float> got(n);
+    runtime().queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), got.data());
+    EXPECT_EQ(std::memcmp(got.data(), expected.data(), n * sizeof(float)), 0);
+    std::size_t lit = 0;
+    for (float v : got) lit += v > 0;
+    std::printf("%s light, %u queries (%zu lit), %u maps of %u^2: kernel %.2f ms (%.2f ms CPU) = %.1f M queries/s; "
+                "reference %.2f ms (%.2f ms CPU) = %.1f M/s\n",
+                point ? "point" : "directional", n, lit, csm.info.maps, csm.info.resolution, best, best_cpu, n / best / 1e3, ref_ms,
+                ref_cpu_ms, n / ref_ms / 1e3);
+  }
 }
 
 }  // namespace

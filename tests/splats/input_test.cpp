@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <fstream>
 #include <random>
 
@@ -197,6 +198,47 @@ TEST(Sampling, ColorFields) {
   bool changes = false;
   for (float x = 0; x < 2; x += 0.05f) changes |= !(hard.at({x, 0.01f, 0.01f}, nullptr) == hard.at({0.01f, 0.01f, 0.01f}, nullptr));
   EXPECT_TRUE(changes);
+}
+
+// The rainbow field: deterministic, fully saturated colours (min channel 0, max channel 255 or 128),
+// every hue sector present, continuous inside a cell, a jump of ≥ 127 across every cell face.
+TEST(Sampling, RainbowFieldContinuousInCellsHardAcrossFaces) {
+  EXPECT_EQ(parse_color_field("rainbow"), ColorField::Rainbow);
+  EXPECT_STREQ(to_string(ColorField::Rainbow), "rainbow");
+  ColorSource rainbow;
+  rainbow.field = ColorField::Rainbow;
+  rainbow.bounds.add({0, 0, 0});
+  rainbow.bounds.add({2, 1, 1});
+  const float cell = rainbow.bounds.diagonal() / 8.0f;
+  const auto channels = [](Rgba8 c) { return std::array<int, 3>{c.r, c.g, c.b}; };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::array<bool, 6> sectors{};
+  for (int trial = 0; trial < 2000; ++trial) {
+    // A point well inside a random cell, and a step of cell / 1000 that stays inside it.
+    const Vec3 cell_index{std::floor(unit(rng) * 12), std::floor(unit(rng) * 6), std::floor(unit(rng) * 6)};
+    const auto inside = [&] { return 0.1f + 0.8f * unit(rng); };
+    const Vec3 p{(cell_index.x + inside()) * cell, (cell_index.y + inside()) * cell, (cell_index.z + inside()) * cell};
+    const Vec3 q{p.x + cell / 1000, p.y - cell / 2000, p.z + cell / 1500};
+    const Rgba8 a = rainbow.at(p, nullptr), b = rainbow.at(q, nullptr);
+    ASSERT_TRUE(a == rainbow.at(p, nullptr)) << "deterministic";
+    const auto ca = channels(a), cb = channels(b);
+    const int hi = *std::max_element(ca.begin(), ca.end()), lo = *std::min_element(ca.begin(), ca.end());
+    EXPECT_EQ(lo, 0);
+    EXPECT_TRUE(hi == 255 || hi == 128) << hi;
+    EXPECT_EQ(a.a, 255);
+    // Slope ≤ 6 · 255 levels per hue cycle · 4 cycles per cell; the step is ≤ 1.3 / 1000 cell; + 1 rounding.
+    for (int c = 0; c < 3; ++c) EXPECT_LE(std::abs(ca[c] - cb[c]), 9) << "continuous inside a cell";
+    const int top = static_cast<int>(std::max_element(ca.begin(), ca.end()) - ca.begin());
+    sectors[static_cast<std::size_t>(2 * top + (ca[(top + 1) % 3] > ca[(top + 2) % 3] ? 0 : 1))] = true;
+    // Across the cell's x face (and so every face, by symmetry of the parity rule) the brightness jumps.
+    const float face = (cell_index.x + 1) * cell;
+    const auto cx = channels(rainbow.at({face - cell / 1e4f, p.y, p.z}, nullptr)),
+               cy = channels(rainbow.at({face + cell / 1e4f, p.y, p.z}, nullptr));
+    EXPECT_GE(std::abs(*std::max_element(cx.begin(), cx.end()) - *std::max_element(cy.begin(), cy.end())), 127)
+        << "hard edge across the face";
+  }
+  for (std::size_t s = 0; s < sectors.size(); ++s) EXPECT_TRUE(sectors[s]) << "hue sector " << s;
 }
 
 TEST(Neighbors, ExactAgainstBruteForceWithIndexTies) {

@@ -1,0 +1,453 @@
+#include "batch/manifest.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "csm/capture.hpp"
+#include "csm/csm_file.hpp"
+#include "csm/sphere_grid.hpp"
+#include "io/checksum.hpp"
+#include "runtime/error.hpp"
+#include "splats/sampling.hpp"
+
+namespace splatcl::batch {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+// A JSON value as it would be written in a manifest, for messages.
+std::string shown(const nlohmann::json& value) {
+  return value.is_string() ? fmt::format("'{}'", value.get<std::string>()) : value.dump();
+}
+
+// CSV cells are strings; JSON may carry numbers as numbers or strings.
+double number_value(const std::string& key, const nlohmann::json& value) {
+  if (value.is_number()) return value.get<double>();
+  if (value.is_string()) {
+    const std::string text = value.get<std::string>();
+    char* end = nullptr;
+    errno = 0;
+    const double parsed = std::strtod(text.c_str(), &end);
+    if (!text.empty() && end == text.c_str() + text.size() && errno == 0) return parsed;
+  }
+  throw Error(fmt::format("'{}' must be a number, got {}", key, shown(value)));
+}
+
+long long integer_value(const std::string& key, const nlohmann::json& value, long long low, long long high) {
+  long long parsed = 0;
+  bool ok = false;
+  if (value.is_number_integer()) {
+    parsed = value.get<long long>();
+    ok = true;
+  } else if (value.is_string()) {
+    const std::string text = value.get<std::string>();
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), parsed);
+    ok = !text.empty() && ec == std::errc() && end == text.data() + text.size();
+  }
+  if (!ok || parsed < low || parsed > high)
+    throw Error(fmt::format("'{}' must be an integer from {} to {}, got {}", key, low, high, shown(value)));
+  return parsed;
+}
+
+std::string string_value(const std::string& key, const nlohmann::json& value) {
+  if (!value.is_string() || value.get<std::string>().empty()) throw Error(fmt::format("'{}' must be a non-empty string, got {}", key, shown(value)));
+  return value.get<std::string>();
+}
+
+bool bool_value(const std::string& key, const nlohmann::json& value) {
+  if (value.is_boolean()) return value.get<bool>();
+  if (value.is_string()) {
+    const std::string text = lower(value.get<std::string>());
+    if (text == "true" || text == "yes" || text == "1") return true;
+    if (text == "false" || text == "no" || text == "0") return false;
+  }
+  throw Error(fmt::format("'{}' must be true or false, got {}", key, shown(value)));
+}
+
+void set_outputs(ModelParams& params, const nlohmann::json& value) {
+  std::vector<std::string> names;
+  if (value.is_array()) {
+    for (const auto& item : value) {
+      if (!item.is_string()) throw Error(fmt::format("'outputs' entries must be \"splats\" or \"csm\", got {}", item.dump()));
+      names.push_back(item.get<std::string>());
+    }
+  } else if (value.is_string()) {
+    std::stringstream list(value.get<std::string>());
+    for (std::string name; std::getline(list, name, '+');) names.push_back(name);
+  } else {
+    throw Error(fmt::format("'outputs' must be a list of \"splats\" and \"csm\" (CSV: splats+csm), got {}", value.dump()));
+  }
+  bool splats = false, csm = false;
+  for (const auto& name : names) {
+    if (name == "splats") splats = true;
+    else if (name == "csm") csm = true;
+    else throw Error(fmt::format("'outputs' has unknown output '{}' (one of: splats, csm)", name));
+  }
+  if (!splats && !csm) throw Error("'outputs' must name at least one of splats, csm");
+  params.want_splats = splats;
+  params.want_csm = csm;
+}
+
+void apply_overrides(ModelParams& params, const nlohmann::json& overrides, const std::string& where) {
+  for (const auto& [key, value] : overrides.items()) {
+    try {
+      apply_parameter(params, key, value);
+    } catch (const Error& e) {
+      throw Error(where + ": " + e.what());
+    }
+  }
+}
+
+std::string read_text(const std::string& path, const char* what) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(fmt::format("cannot read {} {}: it is a directory", what, path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(fmt::format("cannot read {} {}: {}", what, path, std::strerror(errno)));
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string resolve(const std::string& folder, const std::string& path) {
+  const fs::path p(path);
+  if (p.is_absolute() || folder.empty()) return p.lexically_normal().string();
+  return (fs::path(folder) / p).lexically_normal().string();
+}
+
+std::string stem_id(const std::string& path) { return fs::path(path).stem().string(); }
+
+// Sorted by id; a repeated id is an error naming both declarations.
+std::vector<ModelEntry> finish(std::vector<ModelEntry> models, const std::string& name,
+                               const char* remedy = "give one an \"id\"") {
+  if (models.empty()) throw Error(name + ": no models");
+  std::sort(models.begin(), models.end(), [](const ModelEntry& a, const ModelEntry& b) { return a.id < b.id; });
+  for (std::size_t i = 1; i < models.size(); ++i)
+    if (models[i].id == models[i - 1].id)
+      throw Error(fmt::format("{}: model id '{}' is used twice ({} and {}); {}", models[i].origin, models[i].id, models[i - 1].origin,
+                              models[i].origin, remedy));
+  return models;
+}
+
+ModelEntry checked_entry(ModelEntry entry) {
+  try {
+    check_model_id(entry.id);
+    validate(entry.params);
+  } catch (const Error& e) {
+    throw Error(fmt::format("{} ({}): {}", entry.origin, entry.id, e.what()));
+  }
+  return entry;
+}
+
+// One CSV record (RFC 4180 quoting: "a, b" and "" for a quote inside quotes).
+std::vector<std::string> csv_fields(const std::string& line, const std::string& where) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else fields.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  if (quoted) throw Error(where + ": unterminated quote");
+  for (auto& f : fields) {
+    const auto first = f.find_first_not_of(" \t"), last = f.find_last_not_of(" \t");
+    f = first == std::string::npos ? std::string() : f.substr(first, last - first + 1);
+  }
+  return fields;
+}
+
+}  // namespace
+
+nlohmann::json to_json(const SplatParams& p) {
+  return {{"eps", p.eps},       {"eps_diag", p.eps_diag},       {"k", p.k},           {"samples", p.samples},
+          {"color_tol", p.color_tol}, {"color_field", p.color_field}, {"rounds", p.rounds}, {"clip", p.clip}};
+}
+
+nlohmann::json to_json(const CsmParams& p) {
+  return {{"maps", p.maps}, {"res", p.res},         {"dist", p.dist},           {"order", p.order},
+          {"pole", p.pole}, {"single_hit", p.single_hit}, {"encoding", p.encoding}};
+}
+
+const std::vector<std::string>& parameter_keys() {
+  static const std::vector<std::string> keys{"eps",  "eps_diag", "k",    "samples", "color_tol",  "color_field", "rounds", "clip",
+                                             "maps", "res",      "dist", "order",   "pole",       "single_hit",  "encoding", "outputs"};
+  return keys;
+}
+
+void apply_parameter(ModelParams& params, const std::string& key, const nlohmann::json& value) {
+  auto& s = params.splats;
+  auto& c = params.csm;
+  if (key == "eps") {
+    s.eps = number_value(key, value);
+    if (!(s.eps >= 0 && std::isfinite(s.eps))) throw Error(fmt::format("'eps' must be >= 0 (0: use eps_diag), got {}", shown(value)));
+  } else if (key == "eps_diag") {
+    s.eps_diag = number_value(key, value);
+    if (!(s.eps_diag > 0 && std::isfinite(s.eps_diag))) throw Error(fmt::format("'eps_diag' must be positive, got {}", shown(value)));
+  } else if (key == "k") {
+    s.k = static_cast<unsigned>(integer_value(key, value, 1, 1024));
+  } else if (key == "samples") {
+    s.samples = string_value(key, value);
+  } else if (key == "color_tol") {
+    s.color_tol = static_cast<int>(integer_value(key, value, 0, 255));
+  } else if (key == "color_field") {
+    s.color_field = string_value(key, value);
+  } else if (key == "rounds") {
+    s.rounds = static_cast<unsigned>(integer_value(key, value, 0, 1000));
+  } else if (key == "clip") {
+    s.clip = bool_value(key, value);
+  } else if (key == "maps") {
+    c.maps = static_cast<std::uint32_t>(integer_value(key, value, 1, 1 << 24));
+  } else if (key == "res") {
+    c.res = static_cast<std::uint32_t>(integer_value(key, value, 1, 8192));
+  } else if (key == "dist") {
+    c.dist = string_value(key, value);
+  } else if (key == "order") {
+    c.order = string_value(key, value);
+  } else if (key == "pole") {
+    c.pole = string_value(key, value);
+  } else if (key == "single_hit") {
+    c.single_hit = string_value(key, value);
+  } else if (key == "encoding") {
+    c.encoding = string_value(key, value);
+  } else if (key == "outputs") {
+    set_outputs(params, value);
+  } else {
+    throw Error(fmt::format("unknown key '{}' (known: id, path, {})", key, joined(parameter_keys())));
+  }
+}
+
+void validate(const ModelParams& params) {
+  const auto& s = params.splats;
+  const auto& c = params.csm;
+  auto in_key = [](const char* key, auto&& check) {
+    try {
+      check();
+    } catch (const Error& e) {
+      throw Error(fmt::format("'{}': {}", key, e.what()));
+    }
+  };
+  in_key("samples", [&] { splats::parse_sampling(s.samples); });
+  in_key("color_field", [&] { splats::parse_color_field(s.color_field); });
+  in_key("dist", [&] { csm::parse_distribution(c.dist); });
+  in_key("order", [&] { csm::parse_order(c.order); });
+  in_key("pole", [&] { csm::parse_pole_axis(c.pole); });
+  in_key("single_hit", [&] { csm::parse_single_hit(c.single_hit); });
+  in_key("encoding", [&] { csm::parse_encoding(c.encoding); });
+  if (params.want_csm)
+    in_key("maps", [&] { csm::SphereGrid(csm::parse_distribution(c.dist), csm::parse_order(c.order), csm::parse_pole_axis(c.pole), c.maps); });
+}
+
+void check_model_id(const std::string& id) {
+  auto fail = [&](const std::string& why) { throw Error(fmt::format("model id '{}' {}", id, why)); };
+  if (id.empty()) fail("is empty");
+  std::stringstream parts(id);
+  for (std::string part; std::getline(parts, part, '/');) {
+    if (part.empty()) fail("has an empty path segment");
+    if (part.front() == '.') fail("has a segment starting with '.'");
+    for (const char ch : part)
+      if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-'))
+        fail(fmt::format("has the character '{}' (use letters, digits, '.', '_', '-' and '/')", ch));
+  }
+  if (id.back() == '/') fail("ends with '/'");
+}
+
+std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::string& name, const std::string& folder,
+                                            const nlohmann::json& overrides, const ModelParams& base) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    std::string what = e.what();
+    if (const auto at = what.find("] "); what.rfind("[json.exception", 0) == 0 && at != std::string::npos) what = what.substr(at + 2);
+    throw Error(fmt::format("{}: not valid JSON: {}", name, what));
+  }
+  if (!doc.is_object()) throw Error(name + ": expected an object with \"models\" (and optional \"defaults\")");
+  for (const auto& [key, value] : doc.items())
+    if (key != "models" && key != "defaults") throw Error(fmt::format("{}: unknown top-level key '{}' (known: defaults, models)", name, key));
+  if (!doc.contains("models") || !doc["models"].is_array()) throw Error(name + ": \"models\" must be a list");
+
+  ModelParams defaults = base;
+  if (doc.contains("defaults")) {
+    const auto& d = doc["defaults"];
+    if (!d.is_object()) throw Error(name + ": \"defaults\" must be an object");
+    for (const auto& [key, value] : d.items()) {
+      try {
+        apply_parameter(defaults, key, value);
+      } catch (const Error& e) {
+        throw Error(fmt::format("{}: defaults: {}", name, e.what()));
+      }
+    }
+  }
+  apply_overrides(defaults, overrides, "command line");
+
+  std::vector<ModelEntry> models;
+  const auto& list = doc["models"];
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const auto& item = list[i];
+    ModelEntry entry;
+    entry.origin = fmt::format("{}: models[{}]", name, i);
+    entry.params = defaults;
+    if (item.is_string()) {
+      if (item.get<std::string>().empty()) throw Error(entry.origin + ": empty path");
+      entry.input = resolve(folder, item.get<std::string>());
+      entry.id = stem_id(entry.input);
+    } else if (item.is_object()) {
+      if (!item.contains("path")) throw Error(entry.origin + ": missing \"path\"");
+      for (const auto& [key, value] : item.items()) {
+        try {
+          if (key == "path") {
+            entry.input = resolve(folder, string_value(key, value));
+          } else if (key == "id") {
+            entry.id = string_value(key, value);
+          } else {
+            apply_parameter(entry.params, key, value);
+          }
+        } catch (const Error& e) {
+          throw Error(fmt::format("{}: {}", entry.origin, e.what()));
+        }
+      }
+      if (entry.id.empty()) entry.id = stem_id(entry.input);
+    } else {
+      throw Error(fmt::format("{}: expected a path or an object with \"path\", got {}", entry.origin, item.dump()));
+    }
+    models.push_back(checked_entry(std::move(entry)));
+  }
+  return finish(std::move(models), name);
+}
+
+std::vector<ModelEntry> parse_csv_manifest(const std::string& text, const std::string& name, const std::string& folder,
+                                           const nlohmann::json& overrides, const ModelParams& base) {
+  ModelParams defaults = base;
+  apply_overrides(defaults, overrides, "command line");
+  std::vector<std::string> header;
+  std::vector<ModelEntry> models;
+  std::stringstream lines(text);
+  std::size_t number = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+    const std::string where = fmt::format("{}:{}", name, number);
+    auto fields = csv_fields(line, where);
+    if (header.empty()) {
+      header = std::move(fields);
+      bool has_path = false;
+      for (std::size_t i = 0; i < header.size(); ++i) {
+        const auto& column = header[i];
+        if (column == "path") has_path = true;
+        else if (column != "id" && std::find(parameter_keys().begin(), parameter_keys().end(), column) == parameter_keys().end())
+          throw Error(fmt::format("{}: unknown column '{}' (known: id, path, {})", where, column, joined(parameter_keys())));
+        if (std::count(header.begin(), header.end(), column) > 1) throw Error(fmt::format("{}: column '{}' appears twice", where, column));
+      }
+      if (!has_path) throw Error(where + ": the header has no 'path' column");
+      continue;
+    }
+    if (fields.size() != header.size())
+      throw Error(fmt::format("{}: {} fields, but the header has {}", where, fields.size(), header.size()));
+    ModelEntry entry;
+    entry.origin = where;
+    entry.params = defaults;
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      const std::string& cell = fields[i];
+      if (header[i] == "path") {
+        if (cell.empty()) throw Error(where + ": empty path");
+        entry.input = resolve(folder, cell);
+      } else if (header[i] == "id") {
+        entry.id = cell;
+      } else if (!cell.empty()) {  // empty cell: the default
+        try {
+          apply_parameter(entry.params, header[i], cell);
+        } catch (const Error& e) {
+          throw Error(fmt::format("{}: {}", where, e.what()));
+        }
+      }
+    }
+    if (entry.id.empty()) entry.id = stem_id(entry.input);
+    models.push_back(checked_entry(std::move(entry)));
+  }
+  if (header.empty()) throw Error(name + ": empty (expected a header line with a 'path' column)");
+  return finish(std::move(models), name);
+}
+
+std::vector<ModelEntry> load_manifest(const std::string& path, const nlohmann::json& overrides, const ModelParams& base) {
+  const std::string extension = lower(fs::path(path).extension().string());
+  if (extension != ".json" && extension != ".csv")
+    throw Error(fmt::format("cannot tell the manifest format of {}: name it .json or .csv (or pass a directory of meshes)", path));
+  const std::string text = read_text(path, "manifest");
+  const std::string folder = fs::path(path).parent_path().string();
+  return extension == ".json" ? parse_json_manifest(text, path, folder, overrides, base)
+                              : parse_csv_manifest(text, path, folder, overrides, base);
+}
+
+std::vector<ModelEntry> scan_directory(const std::string& folder, const std::string& exclude, const nlohmann::json& overrides,
+                                       const ModelParams& base) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) throw Error("cannot read directory " + folder + ": it does not exist");
+  ModelParams defaults = base;
+  apply_overrides(defaults, overrides, "command line");
+  const fs::path excluded = exclude.empty() ? fs::path() : fs::weakly_canonical(exclude, ec);
+  std::vector<ModelEntry> models;
+  fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec), end;
+  if (ec) throw Error("cannot read directory " + folder + ": " + ec.message());
+  for (; it != end; it.increment(ec)) {
+    if (ec) throw Error("cannot read directory " + folder + ": " + ec.message());
+    const fs::path& p = it->path();
+    const bool hidden = p.filename().string().front() == '.';
+    if (it->is_directory(ec)) {
+      if (hidden || (!excluded.empty() && fs::weakly_canonical(p, ec) == excluded)) it.disable_recursion_pending();
+      continue;
+    }
+    const std::string extension = lower(p.extension().string());
+    if (hidden || (extension != ".obj" && extension != ".ply" && extension != ".off" && extension != ".stl")) continue;
+    ModelEntry entry;
+    entry.input = p.lexically_normal().string();
+    entry.id = fs::path(p.lexically_relative(folder)).replace_extension().generic_string();
+    entry.origin = entry.input;
+    entry.params = defaults;
+    models.push_back(checked_entry(std::move(entry)));
+  }
+  if (models.empty()) throw Error("no meshes (.obj, .ply, .off, .stl) in " + folder);
+  return finish(std::move(models), folder, "list them in a manifest with distinct ids");
+}
+
+std::string manifest_checksum(const std::vector<ModelEntry>& models) {
+  std::vector<const ModelEntry*> sorted;
+  for (const auto& m : models) sorted.push_back(&m);
+  std::sort(sorted.begin(), sorted.end(), [](const ModelEntry* a, const ModelEntry* b) { return a->id < b->id; });
+  nlohmann::json all = nlohmann::json::array();
+  for (const ModelEntry* m : sorted)
+    all.push_back({m->id, m->input, m->params.want_splats ? to_json(m->params.splats) : nlohmann::json(),
+                   m->params.want_csm ? to_json(m->params.csm) : nlohmann::json()});
+  return checksum_of(all.dump());
+}
+
+}  // namespace splatcl::batch

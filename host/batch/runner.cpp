@@ -1,0 +1,396 @@
+#include "batch/runner.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "csm/build.hpp"
+#include "csm/csm_file.hpp"
+#include "io/atomic_file.hpp"
+#include "io/checksum.hpp"
+#include "runtime/error.hpp"
+#include "runtime/profiling.hpp"
+#include "runtime/runtime.hpp"
+#include "splats/pipeline.hpp"
+
+namespace splatcl::batch {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The kill-after-N-writes test hook (see kKillAfterWritesVariable).
+std::atomic<long> writes_done{0};
+long kill_after_writes = 0;
+
+void count_write() {
+  const long n = ++writes_done;
+  if (kill_after_writes > 0 && n == kill_after_writes) std::raise(SIGKILL);
+}
+
+void write_counted(const std::string& path, std::string_view contents) {
+  write_file_atomically(path, contents);
+  count_write();
+}
+
+// A problem every model would hit alike (no OpenCL device): ends the run instead of failing models.
+struct FatalError {
+  std::exception_ptr error;
+};
+
+std::string describe(const std::exception_ptr& error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::bad_alloc&) {
+    return "out of memory";
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "unknown error";
+  }
+}
+
+std::optional<nlohmann::json> read_record(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  try {
+    nlohmann::json record = nlohmann::json::parse(in);
+    if (record.is_object()) return record;
+  } catch (const nlohmann::json::exception&) {
+  }
+  return std::nullopt;  // unreadable or damaged: rebuild
+}
+
+OutputFile describe_file(const std::string& name, const std::string& contents) {
+  return {name, contents.size(), checksum_of(contents)};
+}
+
+OutputFile describe_written_file(const fs::path& dir, const std::string& name) {
+  OutputFile file{name, 0, {}};
+  file.checksum = checksum_of_file((dir / name).string(), &file.bytes);
+  return file;
+}
+
+// The recorded output, when its input and parameters match and every file still has its checksum.
+std::optional<OutputResult> reusable_output(const std::optional<nlohmann::json>& record, const fs::path& dir, const std::string& kind,
+                                            const std::string& input_checksum, const nlohmann::json& params, const std::string& params_checksum) {
+  if (!record || record->value("input_checksum", "") != input_checksum) return std::nullopt;
+  const auto outputs = record->find("outputs");
+  if (outputs == record->end() || !outputs->is_object() || !outputs->contains(kind)) return std::nullopt;
+  const auto& entry = (*outputs)[kind];
+  if (!entry.is_object() || entry.value("params_checksum", "") != params_checksum) return std::nullopt;
+  const auto files = entry.find("files");
+  if (files == entry.end() || !files->is_array() || files->empty()) return std::nullopt;
+  OutputResult result{kind, true, params, params_checksum, {}, 0};
+  try {
+    for (const auto& f : *files) {
+      const std::string name = f.at("path").get<std::string>();
+      std::error_code ec;
+      const auto size = fs::file_size(dir / name, ec);
+      if (ec || size != f.at("bytes").get<std::uint64_t>()) return std::nullopt;
+      const OutputFile now = describe_written_file(dir, name);
+      if (now.checksum != f.at("checksum").get<std::string>()) return std::nullopt;
+      result.files.push_back(now);
+    }
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  return result;
+}
+
+// A record of the wrong shape (edited by hand, another version) counts as no record.
+std::optional<OutputResult> reusable(const std::optional<nlohmann::json>& record, const fs::path& dir, const std::string& kind,
+                                     const std::string& input_checksum, const nlohmann::json& params, const std::string& params_checksum) {
+  try {
+    return reusable_output(record, dir, kind, input_checksum, params, params_checksum);
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
+
+nlohmann::json files_json(const std::vector<OutputFile>& files) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& f : files) out.push_back({{"path", f.path}, {"bytes", f.bytes}, {"checksum", f.checksum}});
+  return out;
+}
+
+nlohmann::json record_json(const ModelResult& r) {
+  nlohmann::json outputs = nlohmann::json::object();
+  for (const auto& o : r.outputs)
+    outputs[o.kind] = {{"params", o.params}, {"params_checksum", o.params_checksum}, {"files", files_json(o.files)}};
+  return {{"format", "splatcl-batch-record"}, {"version", 1},          {"id", r.id},
+          {"input", r.input},                 {"input_checksum", r.input_checksum}, {"input_bytes", r.input_bytes},
+          {"status", r.ok ? "ok" : "failed"}, {"reason", r.reason},    {"outputs", outputs}};
+}
+
+class Worker {
+ public:
+  Worker(const RunOptions& options, std::function<void(const std::string&)> report) : options_(options), report_(std::move(report)) {}
+
+  ModelResult process(const ModelEntry& entry) {
+    Stopwatch clock;
+    ModelResult r;
+    r.id = entry.id;
+    r.input = entry.input;
+    const fs::path dir(options_.output_dir);
+    try {
+      fs::create_directories((dir / entry.id).parent_path());
+      r.input_checksum = checksum_of_file(entry.input, &r.input_bytes);
+      build_outputs(entry, r, dir);
+    } catch (const FatalError&) {
+      throw;
+    } catch (...) {
+      add_reason(r, describe(std::current_exception()));
+    }
+    r.ok = r.reason.empty();
+    try {
+      write_counted((dir / record_name(entry.id)).string(), record_json(r).dump(2) + "\n");
+    } catch (...) {
+      add_reason(r, describe(std::current_exception()));
+      r.ok = false;
+    }
+    r.total_ms = clock.elapsed_ms();
+    return r;
+  }
+
+ private:
+  static void add_reason(ModelResult& r, const std::string& reason) { r.reason += (r.reason.empty() ? "" : "; ") + reason; }
+
+  Runtime* runtime() {
+    if (options_.reference) return nullptr;
+    if (!runtime_) {
+      try {
+        runtime_ = Runtime::create(options_.device);
+      } catch (...) {
+        throw FatalError{std::current_exception()};
+      }
+    }
+    return runtime_.get();
+  }
+
+  void build_outputs(const ModelEntry& entry, ModelResult& r, const fs::path& dir) {
+    const auto record = options_.force ? std::nullopt : read_record(dir / record_name(entry.id));
+    struct Pending {
+      std::string kind;
+      nlohmann::json params;
+      std::string checksum;
+    };
+    std::vector<Pending> pending;
+    auto consider = [&](const std::string& kind, const nlohmann::json& params) {
+      const std::string checksum = checksum_of(params.dump());
+      if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum)) r.outputs.push_back(std::move(*reused));
+      else pending.push_back({kind, params, checksum});
+    };
+    if (entry.params.want_splats) consider("splats", to_json(entry.params.splats));
+    if (entry.params.want_csm) consider("csm", to_json(entry.params.csm));
+    if (pending.empty()) return;
+
+    report_(entry.id + ": loading");
+    const splats::Mesh mesh = splats::load_mesh(entry.input);
+    for (const auto& p : pending) {
+      try {
+        Stopwatch clock;
+        OutputResult out{p.kind, false, p.params, p.checksum, {}, 0};
+        out.files = p.kind == "splats" ? build_splats(entry, mesh, dir) : build_csm(entry, mesh, dir);
+        out.build_ms = clock.elapsed_ms();
+        r.outputs.push_back(std::move(out));
+      } catch (const FatalError&) {
+        throw;
+      } catch (...) {
+        add_reason(r, p.kind + ": " + describe(std::current_exception()));
+      }
+    }
+    std::sort(r.outputs.begin(), r.outputs.end(), [](const OutputResult& a, const OutputResult& b) { return a.kind > b.kind; });
+  }
+
+  std::vector<OutputFile> build_splats(const ModelEntry& entry, const splats::Mesh& mesh, const fs::path& dir) {
+    using namespace splatcl::splats;
+    const SplatParams& p = entry.params.splats;
+    PipelineOptions options;
+    options.sampling = parse_sampling(p.samples);
+    options.k = p.k;
+    options.rounds = p.rounds;
+    options.fit.color_tolerance = p.color_tol;
+    options.fit.clip = p.clip;
+    const double diagonal = mesh.bounds().diagonal();
+    options.fit.eps = static_cast<float>(p.eps > 0 ? p.eps : p.eps_diag * diagonal);
+    ColorSource colors;
+    colors.bounds = mesh.bounds();
+    colors.field = parse_color_field(p.color_field);
+    Runtime* device = runtime();
+    SplatRun run = generate_splats(mesh, colors, options, device, [&](const std::string& phase) { report_(entry.id + ": splats " + phase); });
+    report_(entry.id + ": writing splats");
+    const std::string ply = splats_name(entry.id), stats_name = entry.id + ".splats.json";
+    const SplatFileInfo info{entry.input, to_string(options.sampling), options.fit.eps, run.neighbors.k, options.fit.color_tolerance,
+                             to_string(colors.field), options.fit.clip};
+    write_splat_file((dir / ply).string(), run.records(), info);
+    count_write();
+    nlohmann::json stats = run_statistics(run, options);
+    stats["model"] = entry.input;
+    stats["bbox_diagonal"] = diagonal;
+    stats["color_source"] = to_string(colors.field);
+    stats["output"] = ply;
+    const std::string stats_text = stats.dump(2) + "\n";
+    write_counted((dir / stats_name).string(), stats_text);
+    return {describe_written_file(dir, ply), describe_file(stats_name, stats_text)};
+  }
+
+  std::vector<OutputFile> build_csm(const ModelEntry& entry, const splats::Mesh& mesh, const fs::path& dir) {
+    using namespace splatcl::csm;
+    const CsmParams& p = entry.params.csm;
+    BuildOptions options;
+    options.maps = p.maps;
+    options.resolution = p.res;
+    options.distribution = parse_distribution(p.dist);
+    options.order = parse_order(p.order);
+    options.pole = parse_pole_axis(p.pole);
+    options.single_hit = parse_single_hit(p.single_hit);
+    const Encoding encoding = parse_encoding(p.encoding);
+    Runtime* device = runtime();
+    const BuildResult result = splatcl::csm::build_csm(mesh, options, device, [&](std::uint32_t done, std::uint32_t total) {
+      report_(fmt::format("{}: csm {}/{} maps", entry.id, done, total));
+    });
+    report_(entry.id + ": writing csm");
+    const std::string bytes = encode_csm(result.csm, encoding, encoding == Encoding::Compact ? &result.segments : nullptr);
+    const std::string name = csm_name(entry.id), stats_name = entry.id + ".csm.json";
+    write_counted((dir / name).string(), bytes);
+    const auto& info = result.csm.info;
+    const double uncompressed = 8.0 * info.maps * info.resolution * info.resolution;
+    const nlohmann::json stats{
+        {"model", entry.input},
+        {"output", name},
+        {"maps", info.maps},
+        {"resolution", info.resolution},
+        {"distribution", to_string(info.distribution)},
+        {"order", to_string(info.order)},
+        {"pole", to_string(info.pole)},
+        {"single_hit", to_string(info.single_hit)},
+        {"encoding", to_string(encoding)},
+        {"triangles", info.triangles},
+        {"segments", result.csm.segments()},
+        {"segments_per_pixel", static_cast<double>(result.csm.segments()) / static_cast<double>(result.csm.pixels())},
+        {"file_bytes", bytes.size()},
+        {"uncompressed_bytes", uncompressed},
+        {"compression_ratio", uncompressed / static_cast<double>(bytes.size())},
+        {"batch_maps", result.batch_maps},
+        {"device", device ? device->info().name : std::string("reference")},
+        {"time_ms", {{"setup", result.setup_ms}, {"capture", result.capture_ms}, {"compress", result.compress_ms}, {"total", result.total_ms}}}};
+    const std::string stats_text = stats.dump(2) + "\n";
+    write_counted((dir / stats_name).string(), stats_text);
+    return {describe_file(name, bytes), describe_file(stats_name, stats_text)};
+  }
+
+  const RunOptions& options_;
+  std::function<void(const std::string&)> report_;
+  std::shared_ptr<Runtime> runtime_;
+};
+
+// A write killed mid-way leaves NAME.tmpPID beside NAME (io/atomic_file.hpp); remove those of this
+// run's models before starting. Each model belongs to exactly one shard, so no other shard's
+// temporaries are touched.
+void remove_stale_temporaries(const std::vector<ModelEntry>& models, const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& m : models)
+    for (const std::string& name : {record_name(m.id), splats_name(m.id), m.id + ".splats.json", csm_name(m.id), m.id + ".csm.json"})
+      names.insert((dir / name).lexically_normal().string());
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string path = it->path().lexically_normal().string();
+    const auto at = path.rfind(".tmp");
+    if (at == std::string::npos || at + 4 == path.size()) continue;
+    if (path.find_first_not_of("0123456789", at + 4) != std::string::npos) continue;
+    if (names.count(path.substr(0, at))) stale.push_back(it->path());
+  }
+  for (const auto& p : stale) fs::remove(p, ec);
+}
+
+}  // namespace
+
+bool ModelResult::reused() const {
+  return ok && !outputs.empty() && std::all_of(outputs.begin(), outputs.end(), [](const OutputResult& o) { return o.reused; });
+}
+
+nlohmann::json to_json(const ModelResult& r) {
+  nlohmann::json outputs = nlohmann::json::object();
+  for (const auto& o : r.outputs)
+    outputs[o.kind] = {{"reused", o.reused}, {"params", o.params}, {"params_checksum", o.params_checksum},
+                       {"files", files_json(o.files)}, {"build_ms", o.build_ms}};
+  nlohmann::json out{{"id", r.id},
+                     {"input", r.input},
+                     {"status", r.ok ? "ok" : "failed"},
+                     {"reused", r.reused()},
+                     {"input_checksum", r.input_checksum},
+                     {"input_bytes", r.input_bytes},
+                     {"outputs", outputs},
+                     {"total_ms", r.total_ms}};
+  if (!r.ok) out["reason"] = r.reason;
+  return out;
+}
+
+std::string record_name(const std::string& id) { return id + ".batch.json"; }
+std::string splats_name(const std::string& id) { return id + ".splats.ply"; }
+std::string csm_name(const std::string& id) { return id + ".csm"; }
+
+std::vector<ModelResult> run_batch(const std::vector<ModelEntry>& models, const RunOptions& options, const BatchProgress& progress,
+                                   const ModelFinished& finished_model) {
+  if (options.output_dir.empty()) throw Error("batch: an output directory is required");
+  std::error_code ec;
+  fs::create_directories(options.output_dir, ec);
+  if (ec || !fs::is_directory(options.output_dir)) throw Error("cannot create output directory " + options.output_dir + (ec ? ": " + ec.message() : ""));
+  if (const char* hook = std::getenv(kKillAfterWritesVariable)) kill_after_writes = std::atol(hook);
+  remove_stale_temporaries(models, options.output_dir);
+
+  std::vector<ModelResult> results(models.size());
+  std::mutex mutex;
+  std::size_t finished = 0, failed = 0;
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> stop{false};
+  std::exception_ptr fatal;
+  auto report = [&](const std::string& now) {
+    std::lock_guard lock(mutex);
+    if (progress) progress(finished, models.size(), failed, now);
+  };
+  auto work = [&] {
+    Worker worker(options, report);
+    for (std::size_t i; !stop && (i = next.fetch_add(1)) < models.size();) {
+      try {
+        results[i] = worker.process(models[i]);
+      } catch (const FatalError& e) {
+        std::lock_guard lock(mutex);
+        if (!fatal) fatal = e.error;
+        stop = true;
+        return;
+      }
+      std::lock_guard lock(mutex);
+      ++finished;
+      if (!results[i].ok) ++failed;
+      if (finished_model) finished_model(results[i]);
+      if (progress) progress(finished, models.size(), failed, results[i].id + (results[i].ok ? " done" : " failed"));
+    }
+  };
+  const unsigned jobs = std::max(1u, std::min<unsigned>(options.jobs, static_cast<unsigned>(std::max<std::size_t>(1, models.size()))));
+  if (jobs == 1) {
+    work();
+  } else {
+    std::vector<std::thread> threads;
+    for (unsigned j = 0; j < jobs; ++j) threads.emplace_back(work);
+    for (auto& t : threads) t.join();
+  }
+  if (fatal) std::rethrow_exception(fatal);
+  return results;
+}
+
+}  // namespace splatcl::batch

@@ -1,0 +1,70 @@
+#include "bench/compare.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+
+#include "runtime/error.hpp"
+
+namespace splatcl::bench {
+
+std::string comparison_key(const Record& record) {
+  std::string key = record.suite + "/" + record.case_name + "/" + record.impl + "/" + record.device;
+  if (record.size) key += fmt::format("/{} {}", *record.size, record.size_unit);
+  for (const auto& [field, value] : record.extra.items()) {
+    // Measured figures, not identity.
+    if (value.is_structured() || field == "bytes" || field == "device_total_ms") continue;
+    key += "/" + field + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+  }
+  return key;
+}
+
+std::size_t Comparison::regressions() const {
+  return static_cast<std::size_t>(std::count_if(matched.begin(), matched.end(), [](const ComparedRecord& r) { return r.regression; }));
+}
+
+Comparison compare_results(const Results& current, const Results& baseline, double threshold_pct) {
+  if (!(threshold_pct >= 0)) throw Error("the regression threshold must not be negative");
+  Comparison comparison;
+  comparison.threshold_pct = threshold_pct;
+  std::map<std::string, const Record*> base;
+  for (const auto& record : baseline.records) base.emplace(comparison_key(record), &record);
+  std::map<std::string, bool> seen;
+  for (const auto& record : current.records) {
+    const std::string key = comparison_key(record);
+    const auto it = base.find(key);
+    if (it == base.end()) {
+      comparison.only_current.push_back(key);
+      continue;
+    }
+    seen[key] = true;
+    ComparedRecord compared;
+    compared.key = key;
+    compared.baseline_ms = it->second->median_ms;
+    compared.current_ms = record.median_ms;
+    compared.change_pct = compared.baseline_ms > 0 ? (compared.current_ms - compared.baseline_ms) / compared.baseline_ms * 100.0 : 0.0;
+    compared.regression = compared.change_pct > threshold_pct;
+    comparison.matched.push_back(compared);
+  }
+  for (const auto& record : baseline.records) {
+    const std::string key = comparison_key(record);
+    if (!seen.count(key)) comparison.only_baseline.push_back(key);
+  }
+  return comparison;
+}
+
+std::string comparison_report(const Comparison& comparison) {
+  std::string text = "| record | baseline ms | current ms | change | |\n|---|---:|---:|---:|---|\n";
+  for (const auto& r : comparison.matched)
+    text += fmt::format("| {} | {:.3f} | {:.3f} | {:+.1f} % | {} |\n", r.key, r.baseline_ms, r.current_ms, r.change_pct,
+                        r.regression ? "**regression**" : "");
+  for (const auto& key : comparison.only_current) text += "\nnot in the baseline: " + key;
+  for (const auto& key : comparison.only_baseline) text += "\nonly in the baseline: " + key;
+  if (!comparison.only_current.empty() || !comparison.only_baseline.empty()) text += "\n";
+  text += fmt::format("\n{} of {} matched records regressed by more than {:g} % (median time).\n", comparison.regressions(),
+                      comparison.matched.size(), comparison.threshold_pct);
+  return text;
+}
+
+}  // namespace splatcl::bench

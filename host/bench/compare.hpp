@@ -1,0 +1,37 @@
+#pragma once
+// Regression check of a benchmark run against a baseline results file: records are matched by
+// suite, case, impl, device, size and every scalar extra field (problem variant, kernel shape,
+// implementation variant, thread count); a matched record whose median time grew by more than the
+// threshold is a regression.
+#include <string>
+#include <vector>
+
+#include "bench/record.hpp"
+
+namespace splatcl::bench {
+
+// The identity of a record across runs: "cluster/compact/opencl/<device>/2073600 keys/shape=cpu ...".
+std::string comparison_key(const Record& record);
+
+struct ComparedRecord {
+  std::string key;
+  double baseline_ms = 0, current_ms = 0;
+  double change_pct = 0;  // (current − baseline) / baseline × 100; positive = slower
+  bool regression = false;
+};
+
+struct Comparison {
+  double threshold_pct = 0;
+  std::vector<ComparedRecord> matched;  // in the current run's order
+  std::vector<std::string> only_current, only_baseline;
+  std::size_t regressions() const;
+};
+
+// Throws Error for a negative threshold.
+Comparison compare_results(const Results& current, const Results& baseline, double threshold_pct);
+
+// A markdown table of the matched records, regressions flagged, then the unmatched keys and a
+// summary line.
+std::string comparison_report(const Comparison& comparison);
+
+}  // namespace splatcl::bench

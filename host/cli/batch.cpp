@@ -1,0 +1,215 @@
+// splatcl batch: many meshes → splats and coherent shadow maps, resumable, shardable over machines;
+// `splatcl batch merge` combines the summaries of the shards of one run.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "batch/manifest.hpp"
+#include "batch/runner.hpp"
+#include "batch/shard.hpp"
+#include "batch/summary.hpp"
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "io/atomic_file.hpp"
+#include "runtime/error.hpp"
+#include "runtime/profiling.hpp"
+#include "runtime/runtime.hpp"
+
+namespace splatcl::cli {
+namespace {
+
+using namespace splatcl::batch;
+namespace fs = std::filesystem;
+
+// Exit status when the run completed but at least one model failed (docs/batch.md).
+constexpr int kSomeModelsFailed = 2;
+
+struct BatchCommand {
+  DeviceOptions device;
+  std::string input, output, shard = "0/1", summary;
+  unsigned jobs = 1;
+  bool force = false, list = false, reference = false;
+  // Parameter options: kept as text and validated by the manifest's own rules.
+  std::vector<std::pair<std::string, std::string>> given;  // (key, value) of the options present
+  std::string outputs;
+  bool clip = false;
+};
+
+struct MergeCommand {
+  std::vector<std::string> summaries;
+  std::string output;
+  bool partial = false;
+};
+
+std::string bar(std::size_t done, std::size_t total) {
+  constexpr std::size_t width = 24;
+  const std::size_t filled = total ? done * width / total : width;
+  return "[" + std::string(filled, '#') + std::string(width - filled, '.') + "]";
+}
+
+nlohmann::json overrides_of(const BatchCommand& c) {
+  nlohmann::json overrides = nlohmann::json::object();
+  for (const auto& [key, value] : c.given) overrides[key] = value;
+  if (c.clip) overrides["clip"] = true;
+  if (!c.outputs.empty()) {
+    nlohmann::json names = nlohmann::json::array();
+    std::string name;
+    for (const char ch : c.outputs + ",") {
+      if (ch != ',') {
+        name += ch;
+      } else if (!name.empty()) {
+        names.push_back(name);
+        name.clear();
+      }
+    }
+    overrides["outputs"] = names;
+  }
+  return overrides;
+}
+
+std::string describe_outputs(const ModelResult& r) {
+  std::string text;
+  for (const auto& o : r.outputs)
+    text += fmt::format("{}{} {}", text.empty() ? "" : ", ", o.kind, o.reused ? "reused" : fmt::format("built in {:.2f} s", o.build_ms / 1000));
+  return text;
+}
+
+int run_batch_command(const BatchCommand& c) {
+  if (c.input.empty()) throw Error("batch: an INPUT manifest (.json, .csv) or directory of meshes is required (see splatcl batch --help)");
+  const Shard shard = parse_shard(c.shard);
+  if (c.jobs == 0) throw Error("--jobs must be at least 1");
+  if (c.output.empty() && !c.list) throw Error("batch: an output directory is required (-o OUTDIR)");
+  const nlohmann::json overrides = overrides_of(c);
+  std::error_code ec;
+  const std::vector<ModelEntry> all =
+      fs::is_directory(c.input, ec) ? scan_directory(c.input, c.output, overrides) : load_manifest(c.input, overrides);
+  const std::vector<ModelEntry> models = select_shard(all, shard);
+  if (c.list) {
+    for (const auto& m : models) fmt::print("{}\t{}\n", m.id, m.input);
+    return 0;
+  }
+
+  RunInfo info;
+  info.input = c.input;
+  info.output_dir = c.output;
+  info.manifest_checksum = manifest_checksum(all);
+  info.manifest_models = all.size();
+  info.shard = shard;
+  info.jobs = c.jobs;
+  info.device = c.reference ? "reference" : choose_device(c.device.device).name;  // fails early without a device
+  info.started = utc_now();
+  const std::string summary_path = c.summary.empty() ? (fs::path(c.output) / summary_name(shard)).string() : c.summary;
+
+  RunOptions options;
+  options.output_dir = c.output;
+  options.device = c.device.device;
+  options.jobs = c.jobs;
+  options.force = c.force;
+  options.reference = c.reference;
+  Stopwatch clock;
+  ProgressLine progress("batch");
+  const auto show = [&](std::size_t done, std::size_t total, std::size_t failed, const std::string& now) {
+    const double elapsed = clock.elapsed_ms() / 1000;
+    const std::string eta = done ? fmt::format(", about {:.0f} s left", elapsed / static_cast<double>(done) * static_cast<double>(total - done)) : "";
+    progress.show(fmt::format("{} {}/{} models{}, {:.0f} s{} | {}", bar(done, total), done, total,
+                              failed ? fmt::format(", {} failed", failed) : "", elapsed, eta, now));
+  };
+  const auto finished = [&](const ModelResult& r) {
+    progress.clear();
+    if (r.ok) fmt::print("{:<8}{} ({})\n", r.reused() ? "reused" : "ok", r.id, describe_outputs(r));
+    else fmt::print("{:<8}{}: {}\n", "FAILED", r.id, r.reason);
+    std::fflush(stdout);
+  };
+  if (!models.empty()) show(0, models.size(), 0, "starting");
+  const std::vector<ModelResult> results = run_batch(models, options, show, finished);
+  progress.clear();
+  info.wall_s = clock.elapsed_ms() / 1000;
+  const nlohmann::json summary = make_summary(info, results);
+  write_file_atomically(summary_path, summary.dump(2) + "\n");
+
+  const auto& counts = summary["counts"];
+  fmt::print("batch   {} of {} models{}: {} ok ({} reused), {} failed in {:.1f} s; summary {}\n", models.size(), all.size(),
+             shard.whole() ? "" : fmt::format(" (shard {}/{})", shard.index, shard.count), counts["ok"].get<std::size_t>(),
+             counts["reused"].get<std::size_t>(), counts["failed"].get<std::size_t>(), info.wall_s, summary_path);
+  const std::size_t failed = counts["failed"];
+  if (failed == 0) return 0;
+  std::fflush(stdout);
+  std::fprintf(stderr, "splatcl: batch: %zu of %zu models failed (reasons in %s)\n", failed, models.size(), summary_path.c_str());
+  return kSomeModelsFailed;
+}
+
+int run_merge(const MergeCommand& c) {
+  if (c.output.empty()) throw Error("batch merge: an output file is required (-o MERGED.json)");
+  std::vector<std::pair<std::string, nlohmann::json>> named;
+  for (const auto& path : c.summaries) named.emplace_back(path, read_summary(path));
+  const nlohmann::json merged = merge_summaries(named, c.partial);
+  write_file_atomically(c.output, merged.dump(2) + "\n");
+  const auto& counts = merged["counts"];
+  fmt::print("merged  {} summaries: {} models, {} ok ({} reused), {} failed; wrote {}\n", named.size(), counts["models"].get<std::size_t>(),
+             counts["ok"].get<std::size_t>(), counts["reused"].get<std::size_t>(), counts["failed"].get<std::size_t>(), c.output);
+  const std::size_t failed = counts["failed"];
+  if (failed == 0) return 0;
+  std::fflush(stdout);
+  std::fprintf(stderr, "splatcl: batch merge: %zu of %zu models failed (reasons in %s)\n", failed, counts["models"].get<std::size_t>(),
+               c.output.c_str());
+  return kSomeModelsFailed;
+}
+
+}  // namespace
+
+Action register_batch(CLI::App& app) {
+  auto* sub = app.add_subcommand(
+      "batch",
+      "Many meshes → splat PLYs and coherent shadow maps, with statistics and a summary JSON; resumable (finished outputs are "
+      "verified by checksum and skipped) and shardable over machines (--shard i/N). See docs/batch.md");
+  auto c = std::make_shared<BatchCommand>();
+  add_device_option(*sub, c->device);
+  sub->add_option("input", c->input, "Manifest (.json or .csv) or a directory of meshes (OBJ, PLY, OFF, STL; searched recursively)");
+  sub->add_option("-o,--output", c->output, "Output directory: ID.splats.ply/.json, ID.csm/.csm.json, ID.batch.json per model, and the summary");
+  sub->add_option("--shard", c->shard, "Process shard i of N (0 <= i < N): the models whose rank in id order is i modulo N")->capture_default_str();
+  sub->add_option("--jobs", c->jobs, "Models processed at once (each with its own OpenCL context)")->capture_default_str();
+  sub->add_option("--summary", c->summary, "Summary file (default OUTDIR/summary.json, or OUTDIR/summary-I-of-N.json for a shard)");
+  sub->add_flag("--force", c->force, "Rebuild every output even when a matching one exists");
+  sub->add_flag("--list", c->list, "Print the models of this shard (id and input, tab-separated) and exit");
+  sub->add_flag("--reference", c->reference, "Use the native C++ references instead of the OpenCL kernels");
+  // Defaults for every model (a manifest's "defaults" and a model's own keys take part as documented).
+  const struct {
+    const char* flag;
+    const char* key;
+    const char* help;
+  } parameters[] = {
+      {"--eps", "eps", "Splat tolerance epsilon, absolute (default 0: --eps-diag times the bounding-box diagonal)"},
+      {"--eps-diag", "eps_diag", "Epsilon as a fraction of the bounding-box diagonal (default 0.001)"},
+      {"--k", "k", "Neighbourhood size (default 10)"},
+      {"--samples", "samples", "vertices or grid:N (default vertices)"},
+      {"--color-tol", "color_tol", "Colour tolerance 0..255 (default 255)"},
+      {"--color-field", "color_field", "grey, soft, hard or rainbow (default grey)"},
+      {"--rounds", "rounds", "Optimisation rounds (default 5)"},
+      {"--maps", "maps", "CSM map count N (default 4096)"},
+      {"--res", "res", "CSM map resolution M (default 128)"},
+      {"--dist", "dist", "CSM direction grid: uniform, regular, ao (default uniform)"},
+      {"--order", "order", "CSM map order: zigzag-h, zigzag-v, linear-h, linear-v, hilbert, morton (default zigzag-h)"},
+      {"--pole", "pole", "CSM pole axis: y, z, x, y180, z180, x180 (default y)"},
+      {"--single-hit", "single_hit", "CSM single-surface z2: sphere-exit or exact (default sphere-exit)"},
+      {"--encoding", "encoding", "CSM file encoding: plain or compact (default plain)"},
+  };
+  for (const auto& p : parameters) {
+    const std::string key = p.key;
+    sub->add_option_function<std::string>(p.flag, [c, key](const std::string& value) { c->given.emplace_back(key, value); }, p.help);
+  }
+  sub->add_flag("--clip", c->clip, "Clipped splats");
+  sub->add_option("--outputs", c->outputs, "Outputs per model: splats, csm or splats,csm (default both)");
+
+  auto* merge = sub->add_subcommand("merge", "Combine the summaries of the shards of one run into one summary (checks that every shard "
+                                             "is present once and no model appears twice)");
+  auto m = std::make_shared<MergeCommand>();
+  merge->add_option("summaries", m->summaries, "Shard summaries (summary-I-of-N.json)")->required();
+  merge->add_option("-o,--output", m->output, "Merged summary file");
+  merge->add_flag("--partial", m->partial, "Merge even when some shards are missing");
+  return [c, m, merge] { return merge->parsed() ? run_merge(*m) : run_batch_command(*c); };
+}
+
+}  // namespace splatcl::cli

@@ -1,0 +1,141 @@
+// splatcl render: the presenter offscreen (EGL, no X server): renders K frames of a scene, writes
+// the last one as PNG/EXR and prints per-stage timings and frames per second.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "io/atomic_file.hpp"
+#include "io/image.hpp"
+#include "present/context.hpp"
+#include "present/presenter.hpp"
+#include "runtime/error.hpp"
+#include "runtime/runtime.hpp"
+
+namespace splatcl::cli {
+namespace {
+
+struct RenderOptions {
+  std::string scene, output, size = "640x480", view = "final", cache, json;
+  unsigned frames = 1;
+  bool pixel_ao = false;
+  double time = -1, dt = 1.0 / 30.0;
+  present::Overrides overrides;
+  DeviceOptions device;
+};
+
+int run_render(const RenderOptions& o) {
+  const auto [width, height] = present::parse_frame_size(o.size, "--size");
+  const present::DebugView view = present::parse_debug_view(o.view);
+  if (o.frames == 0) throw Error("--frames must be at least 1");
+  if (!o.output.empty()) {
+    const auto dot = o.output.rfind('.');
+    const std::string ext = dot == std::string::npos ? "" : o.output.substr(dot);
+    if (ext != ".png" && ext != ".exr") throw Error("-o " + o.output + ": the image must be .png or .exr");
+    const auto parent = std::filesystem::path(o.output).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent))
+      throw Error("cannot write " + o.output + ": directory " + parent.string() + " does not exist");
+  }
+  present::Scene scene = o.scene.empty() ? present::default_scene() : present::load_scene(o.scene);
+  present::apply_overrides(scene, o.overrides);
+  auto runtime = Runtime::create(o.device.device);
+  auto context = present::GlContext::offscreen();
+  ProgressLine progress("render");
+  Stopwatch setup;
+  present::Presenter presenter(scene, *runtime, width, height, o.cache.empty() ? present::default_cache_dir() : o.cache,
+                               [&](const std::string& what) { progress.show("building " + what); });
+  progress.clear();
+  presenter.debug_view = view;
+  presenter.pixel_ao = presenter.pixel_ao || o.pixel_ao;
+  const double setup_ms = setup.elapsed_ms();
+
+  const double start = o.time >= 0 ? o.time : scene.time;
+  std::map<std::string, std::pair<double, unsigned>> sums;  // per stage: total ms, frames seen
+  std::vector<std::string> order;
+  double frame_total = 0;
+  unsigned measured = 0;
+  present::FrameStats last;
+  for (unsigned f = 0; f < o.frames; ++f) {
+    progress.show(fmt::format("frame {}/{}", f + 1, o.frames));
+    last = presenter.render(static_cast<float>(start + f * o.dt));
+    // The first frame compiles kernels and shaders; it is left out when there are others.
+    if (f == 0 && o.frames > 1) continue;
+    ++measured;
+    frame_total += last.frame_ms;
+    for (const auto& s : last.stages) {
+      if (!sums.count(s.name)) order.push_back(s.name);
+      sums[s.name].first += s.ms;
+      sums[s.name].second += 1;
+    }
+  }
+  progress.clear();
+
+  fmt::print("device     {} | {}\n", runtime->info().name, context->renderer());
+  fmt::print("scene      {}: {} objects, {} splats, {} lights ({} shading, {} mode), {}x{}\n", scene.source,
+             scene.objects.size(), last.splats, scene.lights.size(), scene.quality.shading, scene.quality.mode, width,
+             height);
+  fmt::print("setup      {:.0f} ms (assets, shaders, buffers)\n", setup_ms);
+  std::string objects;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    objects += fmt::format("{}{} {} splats{}", i ? ", " : "", scene.objects[i].name, presenter.object_splats(i).second,
+                           presenter.assets(i).splats_cached ? "" : " (built)");
+  if (!objects.empty()) fmt::print("objects    {}\n", objects);
+  fmt::print("clusters   {} with {} light indices (last frame)\n", last.clusters, last.light_indices);
+  fmt::print("stages     mean ms per frame over {} frame(s){}\n", measured, o.frames > 1 ? " after the first" : "");
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& name : order) {
+    const auto [total, count] = sums[name];
+    // Stages that run only on some frames (the AO update) are averaged over all measured frames.
+    const double mean = total / measured;
+    fmt::print("  {:28s} {:8.2f}{}\n", name, mean, count < measured ? fmt::format("  (on {} of {} frames)", count, measured) : "");
+    stages[name] = mean;
+  }
+  const double frame_ms = frame_total / measured;
+  fmt::print("frame      {:.2f} ms = {:.1f} fps\n", frame_ms, 1000.0 / frame_ms);
+  if (!o.output.empty()) {
+    const bool exr = o.output.size() > 4 && o.output.substr(o.output.size() - 4) == ".exr";
+    write_image_rgb(o.output, width, height, exr ? presenter.read_hdr_rgb() : presenter.read_display_rgb());
+    fmt::print("image      {}\n", o.output);
+  }
+  if (!o.json.empty()) {
+    const nlohmann::json summary = {{"scene", scene.source},         {"width", width},
+                                    {"height", height},              {"lights", scene.lights.size()},
+                                    {"splats", last.splats},         {"shading", scene.quality.shading},
+                                    {"mode", scene.quality.mode},    {"frames_measured", measured},
+                                    {"frame_ms", frame_ms},          {"fps", 1000.0 / frame_ms},
+                                    {"stages_ms", stages},           {"device", runtime->info().name},
+                                    {"renderer", context->renderer()}};
+    write_file_atomically(o.json, summary.dump(2) + "\n");
+  }
+  return 0;
+}
+
+}  // namespace
+
+Action register_render(CLI::App& app) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* sub = app.add_subcommand("render", "Render a presenter scene offscreen (no display needed): splat passes, "
+                                               "clustered shading, CSM shadows and AO; prints per-stage timings and fps");
+  sub->add_option("scene", o->scene, "Scene JSON (default: the embedded data/presenter-scene.json)");
+  sub->add_option("-o,--output", o->output, "Write the last frame: .png (tone mapped) or .exr (linear radiance)");
+  sub->add_option("--frames", o->frames, "Frames to render; timings leave out the first when there are more")->capture_default_str();
+  sub->add_option("--size", o->size, "Frame size WIDTHxHEIGHT")->capture_default_str();
+  sub->add_option("--time", o->time, "Scene time of the first frame in seconds (default: the scene's \"time\")");
+  sub->add_option("--dt", o->dt, "Scene time between frames in seconds")->capture_default_str();
+  sub->add_option("--shading", o->overrides.shading, "clustered, tiled or brute (default: the scene's)");
+  sub->add_option("--mode", o->overrides.mode, "splats (three-pass Gaussian splatting) or points (low quality)");
+  sub->add_option("--shadows", o->overrides.shadows, "Key-light shadows: splat, pixel or off");
+  sub->add_option("--lights", o->overrides.lights, "Number of generated point lights (default: the scene's)");
+  sub->add_flag("--pixel-ao", o->pixel_ao, "Ambient occlusion per pixel (quality mode) instead of per splat");
+  sub->add_option("--view", o->view, "final, albedo, normals, ao, clusters (lights per cluster), shadows, depth, footprints")
+      ->capture_default_str();
+  sub->add_option("--cache", o->cache, "Asset cache directory (default: $SPLATCL_CACHE, else ~/.cache/splatcl)");
+  sub->add_option("--json", o->json, "Write the timings as JSON");
+  add_device_option(*sub, o->device);
+  return [o] { return run_render(*o); };
+}
+
+}  // namespace splatcl::cli

@@ -1,0 +1,121 @@
+#include "csm/ao_receivers.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <numbers>
+#include <sstream>
+
+#include "io/atomic_file.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::csm {
+
+Transform parse_placement(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v))
+      throw Error("bad occluder transform '" + text + "': '" + item + "' is not a finite number");
+    values.push_back(v);
+  }
+  if (values.size() == 16) {
+    Transform m;
+    std::copy(values.begin(), values.end(), m.begin());
+    if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) throw Error("bad occluder transform '" + text + "': the last row must be 0,0,0,1");
+    return m;
+  }
+  if (values.size() != 3 && values.size() != 6)
+    throw Error("bad occluder transform '" + text + "': give tx,ty,tz or tx,ty,tz,rx,ry,rz (degrees) or 16 numbers");
+  double rx = 0, ry = 0, rz = 0;
+  if (values.size() == 6) {
+    const double k = std::numbers::pi / 180;
+    rx = values[3] * k;
+    ry = values[4] * k;
+    rz = values[5] * k;
+  }
+  // R = Rz · Ry · Rx: x first, then y, then z.
+  const double cx = std::cos(rx), sx = std::sin(rx), cy = std::cos(ry), sy = std::sin(ry), cz = std::cos(rz), sz = std::sin(rz);
+  return {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx, values[0],
+          sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx, values[1],
+          -sy,     cy * sx,                cy * cx,                values[2],
+          0,       0,                      0,                      1};
+}
+
+std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const VisibilityScene& scene,
+                                             const ReceiverAoOptions& options, Runtime* runtime,
+                                             const std::function<void(std::size_t, std::size_t)>& progress) {
+  const std::size_t n = receiver.vertices.size();
+  if (n == 0) throw Error(receiver.source + ": the receiver mesh has no vertices");
+  if (options.batch == 0) throw Error("AO batch size must be positive");
+  AoRequest request;
+  request.patterns = make_patterns(options.pattern_set, options.patterns, options.samples, options.seed);
+  request.samples = options.samples;
+  request.ground = options.ground;
+  request.bias = options.bias;
+  const std::vector<std::uint32_t> choice = choose_patterns(n, options.patterns, options.seed);
+  std::unique_ptr<AmbientOcclusion> device;
+  if (runtime) device = std::make_unique<AmbientOcclusion>(*runtime, scene);
+  std::vector<Vec4> out(n), part;
+  for (std::size_t first = 0; first < n; first += options.batch) {
+    const std::size_t count = std::min(options.batch, n - first);
+    request.positions.resize(count);
+    request.normals.resize(count);
+    request.pattern_of.assign(choice.begin() + static_cast<std::ptrdiff_t>(first),
+                              choice.begin() + static_cast<std::ptrdiff_t>(first + count));
+    for (std::size_t k = 0; k < count; ++k) {
+      const Vec3 p = receiver.vertices[first + k];
+      Vec3 nrm = k + first < receiver.normals.size() ? receiver.normals[first + k] : Vec3{0, 0, 0};
+      if (!(nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z > 0.5f)) nrm = {0, 1, 0};
+      request.positions[k] = {p.x, p.y, p.z, 1};
+      request.normals[k] = {nrm.x, nrm.y, nrm.z, 0};
+    }
+    if (device) part = device->run(request);
+    else ambient_occlusion_reference(scene, request, part);
+    std::copy(part.begin(), part.end(), out.begin() + static_cast<std::ptrdiff_t>(first));
+    if (progress) progress(first + count, n);
+  }
+  return out;
+}
+
+void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const std::vector<Vec4>& ao) {
+  const std::size_t n = receiver.vertices.size();
+  if (ao.size() != n) throw Error("write_ao_ply: one AO value per vertex needed");
+  std::string out = fmt::format(
+      "ply\nformat binary_little_endian 1.0\ncomment splatcl ao: ambient occlusion per vertex (grey = AO, 1 = unoccluded)\n"
+      "element vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n"
+      "property float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nproperty float ao\n"
+      "property float bent_nx\nproperty float bent_ny\nproperty float bent_nz\nelement face {}\n"
+      "property list uchar int vertex_indices\nend_header\n",
+      n, receiver.face_count());
+  const auto put = [&out](const auto& value) { out.append(reinterpret_cast<const char*>(&value), sizeof(value)); };
+  for (std::size_t v = 0; v < n; ++v) {
+    const Vec3 p = receiver.vertices[v];
+    const Vec3 nrm = v < receiver.normals.size() ? receiver.normals[v] : Vec3{0, 0, 0};
+    for (float f : {p.x, p.y, p.z, nrm.x, nrm.y, nrm.z}) put(f);
+    const auto grey = static_cast<std::uint8_t>(std::lround(std::clamp(ao[v].w, 0.0f, 1.0f) * 255.0f));
+    for (int c = 0; c < 3; ++c) put(grey);
+    for (float f : {ao[v].w, ao[v].x, ao[v].y, ao[v].z}) put(f);
+  }
+  for (std::size_t f = 0; f < receiver.face_count(); ++f) {
+    const std::uint32_t first = receiver.face_offsets[f], last = receiver.face_offsets[f + 1];
+    if (last - first > 255) throw Error(fmt::format("{}: face {} has {} corners (a PLY face lists at most 255)", receiver.source, f, last - first));
+    put(static_cast<std::uint8_t>(last - first));
+    for (std::uint32_t k = first; k < last; ++k) put(static_cast<std::int32_t>(receiver.corners[k]));
+  }
+  write_file_atomically(path, out);
+}
+
+}  // namespace splatcl::csm

@@ -1,0 +1,39 @@
+#pragma once
+// Ambient occlusion for the vertices of a receiver mesh under placed occluders (AO digest §5.2):
+// each vertex is a receiver with its vertex normal; occluder instances may share one CSM. The result
+// is written as a vertex-coloured binary PLY (grey = AO) carrying the AO value and the bent normal
+// as extra vertex properties, and the mesh's faces so common viewers show it shaded.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "csm/ao.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::csm {
+
+struct ReceiverAoOptions {
+  PatternSet pattern_set = PatternSet::HammersleyScrambled;
+  std::uint32_t patterns = kDefaultPatterns, samples = kDefaultSamples, seed = 1;
+  bool ground = false;
+  float bias = 0;
+  std::size_t batch = 1u << 16;  // receivers per kernel launch (progress granularity)
+};
+
+// Parses a placement: "tx,ty,tz" (translation), "tx,ty,tz,rx,ry,rz" (then rotations in degrees,
+// applied about x, then y, then z, before the translation) or 16 numbers (row-major 4 × 4 affine).
+// Throws Error naming the text.
+Transform parse_placement(const std::string& text);
+
+// out[v] = (bent normal xyz, AO) for every vertex of `receiver`. Vertices without a normal (zero:
+// only degenerate faces around them) use +y. Runs on `runtime`, or the native reference when null.
+// progress(done, total) after each batch. Throws Error for a mesh without vertices.
+std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const VisibilityScene& scene,
+                                             const ReceiverAoOptions& options, Runtime* runtime,
+                                             const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+// Binary little-endian PLY: vertex x y z nx ny nz red green blue ao bent_nx bent_ny bent_nz, and
+// face vertex_indices. Written atomically.
+void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const std::vector<Vec4>& ao);
+
+}  // namespace splatcl::csm

@@ -1,0 +1,41 @@
+#pragma once
+// Per-object assets built on first use and cached on disk: the splat set (splatcl splats) and the
+// coherent shadow map (splatcl csm build) of a mesh. Cache files are named by an FNV-1a hash of the
+// mesh content (vertices and faces) and of every parameter that shapes the result, and written
+// atomically by the splat and CSM writers, so a stale or half-written entry is never read.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "csm/csm_file.hpp"
+#include "present/scene.hpp"
+#include "runtime/runtime.hpp"
+#include "splats/mesh.hpp"
+#include "splats/splat_file.hpp"
+
+namespace splatcl::present {
+
+struct ObjectAssets {
+  splats::Mesh mesh;
+  std::vector<splats::SplatRecord> splats;
+  csm::Csm csm;
+  std::string key;  // cache key (hex)
+  bool splats_cached = false, csm_cached = false;
+  double build_ms = 0;
+};
+
+// Cache directory: $SPLATCL_CACHE, else $XDG_CACHE_HOME/splatcl, else ~/.cache/splatcl, else
+// ./.splatcl-cache.
+std::string default_cache_dir();
+
+// The hash of a mesh's content and the parameter text, as 16 hex digits.
+std::string asset_key(const splats::Mesh& mesh, const std::string& parameters);
+
+using AssetProgress = std::function<void(const std::string& what)>;
+
+// Loads the object's assets from `cache_dir` or builds and stores them. Throws Error naming the
+// mesh or the cache file.
+ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, const std::string& cache_dir,
+                                Runtime& runtime, const AssetProgress& progress = {});
+
+}  // namespace splatcl::present

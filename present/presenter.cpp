@@ -1,0 +1,889 @@
+#include "present/presenter.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "cluster/cluster.hpp"
+#include "csm/ao.hpp"
+#include "csm/visibility.hpp"
+#include "present/gl.hpp"
+#include "present/shaders.hpp"
+#include "runtime/error.hpp"
+#include "runtime/profiling.hpp"
+
+namespace splatcl::present {
+namespace {
+
+constexpr int kMaxKeyLights = 4;
+constexpr std::uint32_t kAoPatterns = 256;
+constexpr std::uint32_t kAoSeed = 1;
+
+constexpr const char* kDebugNames[] = {"final", "albedo", "normals", "ao", "clusters", "shadows", "depth", "footprints"};
+
+GLuint compile(GLenum type, const char* source, const char* name) {
+  const GLuint shader = glCreateShader(type);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    glDeleteShader(shader);
+    throw Error(fmt::format("GL shader '{}' does not compile: {}", name, log));
+  }
+  return shader;
+}
+
+GLuint link(const char* vertex, const char* fragment, const char* name) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, name), fs = compile(GL_FRAGMENT_SHADER, fragment, name);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
+    glDeleteProgram(program);
+    throw Error(fmt::format("GL program '{}' does not link: {}", name, log));
+  }
+  return program;
+}
+
+GLuint make_texture(GLenum format, int width, int height) {
+  GLuint texture = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+  glTextureStorage2D(texture, 1, format, width, height);
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return texture;
+}
+
+GLuint make_framebuffer(const std::vector<GLuint>& colors, GLuint depth, const char* name) {
+  GLuint fbo = 0;
+  glCreateFramebuffers(1, &fbo);
+  std::vector<GLenum> buffers;
+  for (std::size_t i = 0; i < colors.size(); ++i) {
+    glNamedFramebufferTexture(fbo, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i), colors[i], 0);
+    buffers.push_back(static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i));
+  }
+  if (depth) glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
+  glNamedFramebufferDrawBuffers(fbo, static_cast<GLsizei>(buffers.size()), buffers.data());
+  if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error(fmt::format("GL framebuffer '{}' is incomplete", name));
+  return fbo;
+}
+
+csm::Transform to_transform(const glm::mat4& m) {
+  csm::Transform t{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) t[static_cast<std::size_t>(4 * r + c)] = m[c][r];
+  return t;
+}
+
+splats::Vec4 vec4(glm::vec3 v) { return {v.x, v.y, v.z, 0.0f}; }
+
+// GL timer queries, one per named pass, read after the frame.
+struct GpuTimers {
+  std::vector<GLuint> queries;
+  std::vector<std::string> names;
+  std::size_t used = 0;
+  void begin(const char* name) {
+    if (used == queries.size()) {
+      GLuint q = 0;
+      glGenQueries(1, &q);
+      queries.push_back(q);
+      names.emplace_back();
+    }
+    names[used] = name;
+    glBeginQuery(GL_TIME_ELAPSED, queries[used]);
+  }
+  void end() {
+    glEndQuery(GL_TIME_ELAPSED);
+    ++used;
+  }
+  void collect(std::vector<StageTime>& out) {
+    for (std::size_t i = 0; i < used; ++i) {
+      GLuint64 ns = 0;
+      glGetQueryObjectui64v(queries[i], GL_QUERY_RESULT, &ns);
+      out.push_back({names[i], static_cast<double>(ns) * 1e-6});
+    }
+    used = 0;
+  }
+  ~GpuTimers() {
+    if (!queries.empty()) glDeleteQueries(static_cast<GLsizei>(queries.size()), queries.data());
+  }
+};
+
+// Visibility of a key light from each receiver: PCF queries towards the light's centre, or for a
+// light of non-zero size the mean over `samples` points spread on its sphere (Fibonacci lattice),
+// which softens the shadow edge.
+std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const std::vector<splats::Vec4>& receivers,
+                                        const Light& light, std::uint32_t samples, csm::Filter filter, float bias) {
+  const std::uint32_t count = light.size > 0 ? std::max(1u, samples) : 1u;
+  std::vector<float> sum(receivers.size(), 0.0f);
+  std::vector<splats::Vec4> points(receivers.size());
+  for (std::uint32_t j = 0; j < count; ++j) {
+    glm::vec3 p = light.position;
+    if (count > 1) {
+      const float y = 1.0f - 2.0f * (static_cast<float>(j) + 0.5f) / static_cast<float>(count);
+      const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+      const float phi = static_cast<float>(j) * 2.39996323f;  // golden angle
+      p += light.size * glm::vec3(r * std::cos(phi), y, r * std::sin(phi));
+    }
+    std::fill(points.begin(), points.end(), splats::Vec4{p.x, p.y, p.z, 1.0f});
+    const std::vector<float> visible = queries.run(receivers, points, filter, bias);
+    for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += visible[i];
+  }
+  for (float& v : sum) v /= static_cast<float>(count);
+  return sum;
+}
+
+}  // namespace
+
+const char* to_string(DebugView view) { return kDebugNames[static_cast<int>(view)]; }
+
+DebugView parse_debug_view(const std::string& text) {
+  for (int i = 0; i < 8; ++i)
+    if (text == kDebugNames[i]) return static_cast<DebugView>(i);
+  throw Error("unknown view '" + text + "' (one of: final, albedo, normals, ao, clusters, shadows, depth, footprints)");
+}
+
+std::vector<glm::vec3> sky_sh(const Sky& sky) {
+  // Project L(d) = mix(ground | horizon | zenith by d.y) on the 9 real SH basis functions, then the
+  // irradiance convolution is applied in the shader (Ramamoorthi & Hanrahan's quadratic form).
+  std::vector<glm::vec3> sh(9, glm::vec3(0.0f));
+  const int steps_theta = 64, steps_phi = 128;
+  const float pi = std::numbers::pi_v<float>;
+  for (int i = 0; i < steps_theta; ++i) {
+    const float theta = pi * (static_cast<float>(i) + 0.5f) / steps_theta;
+    const float weight = std::sin(theta) * (pi / steps_theta) * (2 * pi / steps_phi);
+    for (int k = 0; k < steps_phi; ++k) {
+      const float phi = 2 * pi * (static_cast<float>(k) + 0.5f) / steps_phi;
+      const glm::vec3 d{std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)};
+      const glm::vec3 radiance = d.y >= 0 ? glm::mix(sky.horizon, sky.zenith, d.y) : glm::mix(sky.horizon, sky.ground, std::min(1.0f, -4 * d.y));
+      // Basis order: Y00, Y1-1 (y), Y10 (z), Y11 (x), Y2-2 (xy), Y2-1 (yz), Y20, Y21 (xz), Y22 (x²−y²).
+      // The shader's formula uses L1m in the (y, z, x) order and L2m likewise; with +y up here the
+      // indices follow the world axes as written in the shader.
+      const float basis[9] = {0.282095f,
+                              0.488603f * d.y,
+                              0.488603f * d.z,
+                              0.488603f * d.x,
+                              1.092548f * d.x * d.y,
+                              1.092548f * d.y * d.z,
+                              0.315392f * (3 * d.z * d.z - 1),
+                              1.092548f * d.x * d.z,
+                              0.546274f * (d.x * d.x - d.y * d.y)};
+      for (int b = 0; b < 9; ++b) sh[static_cast<std::size_t>(b)] += radiance * (basis[b] * weight);
+    }
+  }
+  return sh;
+}
+
+struct Presenter::Impl {
+  GLuint splat_program = 0, visibility_program = 0, accumulate_program = 0, point_program = 0, normalize_program = 0,
+         shade_program = 0, mesh_program = 0;
+  GLuint splat_vao = 0, static_vbo = 0, dynamic_vbo = 0, empty_vao = 0;
+  GLuint depth = 0, accum[4] = {}, gbuffer[5] = {}, hdr = 0, display = 0, pixel_list = 0, pixel_shadow = 0, pixel_ao = 0;
+  GLuint accum_fbo = 0, gbuffer_fbo = 0, visibility_fbo = 0, hdr_fbo = 0, display_fbo = 0;
+  GLuint mesh_color = 0, mesh_depth = 0, mesh_fbo = 0;
+  GLuint ssbo[4] = {};
+  std::vector<GLuint> mesh_vbos, mesh_vaos;
+  std::vector<GLsizei> mesh_vertices;
+  GpuTimers timers;
+  std::unique_ptr<cluster::ClusterPipeline> clusters;
+  std::vector<glm::mat4> last_placements;
+  bool have_lighting = false;
+  std::vector<splats::Vec4> ao_patterns;
+  std::vector<std::uint32_t> ao_pattern_of, pixel_pattern_of;
+  std::vector<glm::vec3> sh;
+  std::uint32_t heat_max = 1;
+
+  void delete_targets() {
+    const GLuint fbos[] = {accum_fbo, gbuffer_fbo, visibility_fbo, hdr_fbo, display_fbo, mesh_fbo};
+    glDeleteFramebuffers(6, fbos);
+    const GLuint textures[] = {depth,      accum[0],   accum[1],   accum[2],     accum[3],     gbuffer[0], gbuffer[1],
+                               gbuffer[2], gbuffer[3], gbuffer[4], hdr,          display,      pixel_list, pixel_shadow,
+                               mesh_color, mesh_depth, pixel_ao};
+    glDeleteTextures(17, textures);
+  }
+  void make_targets(int width, int height) {
+    depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+    for (GLuint& t : accum) t = make_texture(GL_RGBA32F, width, height);
+    gbuffer[0] = make_texture(GL_RGBA16F, width, height);
+    gbuffer[1] = make_texture(GL_RGBA16F, width, height);
+    gbuffer[2] = make_texture(GL_R32F, width, height);
+    gbuffer[3] = make_texture(GL_RGBA16F, width, height);
+    gbuffer[4] = make_texture(GL_RGBA16F, width, height);
+    hdr = make_texture(GL_RGBA32F, width, height);
+    display = make_texture(GL_RGBA8, width, height);
+    pixel_list = make_texture(GL_R32UI, width, height);
+    pixel_shadow = make_texture(GL_RGBA32F, width, height);
+    pixel_ao = make_texture(GL_RGBA32F, width, height);
+    mesh_color = make_texture(GL_R8, width, height);
+    mesh_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+    visibility_fbo = make_framebuffer({}, depth, "splat visibility");
+    accum_fbo = make_framebuffer({accum[0], accum[1], accum[2], accum[3]}, depth, "splat accumulation");
+    gbuffer_fbo = make_framebuffer({gbuffer[0], gbuffer[1], gbuffer[2], gbuffer[3], gbuffer[4]}, depth, "G-buffer");
+    hdr_fbo = make_framebuffer({hdr, display}, 0, "shading");
+    display_fbo = make_framebuffer({display}, 0, "display");
+    mesh_fbo = make_framebuffer({mesh_color}, mesh_depth, "mesh mask");
+  }
+};
+
+Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const std::string& cache_dir,
+                     const AssetProgress& progress)
+    : impl_(std::make_unique<Impl>()), scene_(std::move(scene)), runtime_(runtime) {
+  if (scene_.key_lights.size() > kMaxKeyLights)
+    throw Error(fmt::format("{}: at most {} key lights", scene_.source, kMaxKeyLights));
+  Impl& g = *impl_;
+  // Assets and the splat arrays: objects in scene order, then the floor.
+  std::vector<float> statics;
+  const auto push_splat = [&](glm::vec3 c, glm::vec3 n, glm::vec3 u, glm::vec3 v, glm::vec3 albedo) {
+    for (const glm::vec3& x : {c, n, u, v, albedo}) statics.insert(statics.end(), {x.x, x.y, x.z});
+  };
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+    const ObjectSpec& object = scene_.objects[i];
+    assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
+    const auto& splats = assets_.back().splats;
+    objects_.push_back({statics.size() / 15, splats.size(), static_cast<int>(i)});
+    for (const auto& s : splats) {
+      const auto g3 = [](splats::Vec3 a) { return glm::vec3(a.x, a.y, a.z); };
+      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), object.color);
+    }
+  }
+  if (scene_.floor.enabled) {
+    const FloorSpec& f = scene_.floor;
+    const float spacing = f.size / static_cast<float>(f.splats_per_side);
+    const float radius = 0.75f * spacing;  // overlapping discs cover the square without holes
+    objects_.push_back({statics.size() / 15, std::size_t{f.splats_per_side} * f.splats_per_side, -1});
+    for (std::uint32_t i = 0; i < f.splats_per_side; ++i)
+      for (std::uint32_t k = 0; k < f.splats_per_side; ++k)
+        push_splat({-0.5f * f.size + (static_cast<float>(i) + 0.5f) * spacing, f.y,
+                    -0.5f * f.size + (static_cast<float>(k) + 0.5f) * spacing},
+                   {0, 1, 0}, {radius, 0, 0}, {0, 0, radius}, f.color);
+  }
+  const std::size_t splat_count = statics.size() / 15;
+  splat_ao_.assign(splat_count, glm::vec4(0, 1, 0, 1));
+
+  g.splat_program = link(shaders::kSplatVertex, shaders::kSplatVisibility, "splat visibility");
+  g.visibility_program = g.splat_program;
+  g.accumulate_program = link(shaders::kSplatVertex, shaders::kSplatAccumulate, "splat accumulation");
+  g.point_program = link(shaders::kPointVertex, shaders::kPointFragment, "points");
+  g.normalize_program = link(shaders::kFullscreenVertex, shaders::kNormalize, "normalisation");
+  g.shade_program = link(shaders::kFullscreenVertex, shaders::kShade, "shading");
+  g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
+
+  glCreateVertexArrays(1, &g.splat_vao);
+  glCreateVertexArrays(1, &g.empty_vao);
+  glCreateBuffers(1, &g.static_vbo);
+  glCreateBuffers(1, &g.dynamic_vbo);
+  glNamedBufferStorage(g.static_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(statics.size(), 1) * sizeof(float)),
+                       statics.empty() ? nullptr : statics.data(), 0);
+  glNamedBufferStorage(g.dynamic_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(splat_count, 1) * 8 * sizeof(float)),
+                       nullptr, GL_DYNAMIC_STORAGE_BIT);
+  glVertexArrayVertexBuffer(g.splat_vao, 0, g.static_vbo, 0, 15 * sizeof(float));
+  glVertexArrayVertexBuffer(g.splat_vao, 1, g.dynamic_vbo, 0, 8 * sizeof(float));
+  glVertexArrayBindingDivisor(g.splat_vao, 0, 1);
+  glVertexArrayBindingDivisor(g.splat_vao, 1, 1);
+  for (GLuint a = 0; a < 7; ++a) {
+    glEnableVertexArrayAttrib(g.splat_vao, a);
+    const bool dynamic = a >= 5;
+    glVertexArrayAttribFormat(g.splat_vao, a, dynamic ? 4 : 3, GL_FLOAT, GL_FALSE,
+                              dynamic ? (a - 5) * 4 * sizeof(float) : a * 3 * sizeof(float));
+    glVertexArrayAttribBinding(g.splat_vao, a, dynamic ? 1 : 0);
+  }
+  glCreateBuffers(4, g.ssbo);
+
+  // Triangle meshes of the objects, for the coverage test.
+  for (const ObjectAssets& a : assets_) {
+    std::vector<float> triangles;
+    for (std::size_t f = 0; f < a.mesh.face_count(); ++f) {
+      const std::uint32_t begin = a.mesh.face_offsets[f], end = a.mesh.face_offsets[f + 1];
+      for (std::uint32_t c = begin + 1; c + 1 < end; ++c)
+        for (const std::uint32_t corner : {begin, c, c + 1}) {
+          const splats::Vec3 p = a.mesh.vertices[a.mesh.corners[corner]];
+          triangles.insert(triangles.end(), {p.x, p.y, p.z});
+        }
+    }
+    GLuint vbo = 0, vao = 0;
+    glCreateBuffers(1, &vbo);
+    glNamedBufferStorage(vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(triangles.size(), 1) * sizeof(float)),
+                         triangles.empty() ? nullptr : triangles.data(), 0);
+    glCreateVertexArrays(1, &vao);
+    glVertexArrayVertexBuffer(vao, 0, vbo, 0, 3 * sizeof(float));
+    glEnableVertexArrayAttrib(vao, 0);
+    glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, 0, 0);
+    g.mesh_vbos.push_back(vbo);
+    g.mesh_vaos.push_back(vao);
+    g.mesh_vertices.push_back(static_cast<GLsizei>(triangles.size() / 3));
+  }
+
+  g.ao_patterns = csm::make_patterns(csm::PatternSet::HammersleyScrambled, kAoPatterns, scene_.quality.ao_samples, kAoSeed);
+  g.ao_pattern_of = csm::choose_patterns(splat_count, kAoPatterns, kAoSeed);
+  g.sh = sky_sh(scene_.sky);
+  ambient_occlusion = scene_.quality.ambient_occlusion;
+  pixel_ao = scene_.quality.pixel_ao;
+  resize(width, height);
+}
+
+Presenter::~Presenter() {
+  Impl& g = *impl_;
+  g.delete_targets();
+  for (GLuint p : {g.splat_program, g.accumulate_program, g.point_program, g.normalize_program, g.shade_program,
+                   g.mesh_program})
+    glDeleteProgram(p);
+  const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};
+  glDeleteBuffers(6, buffers);
+  glDeleteBuffers(static_cast<GLsizei>(g.mesh_vbos.size()), g.mesh_vbos.data());
+  glDeleteVertexArrays(static_cast<GLsizei>(g.mesh_vaos.size()), g.mesh_vaos.data());
+  glDeleteVertexArrays(1, &g.splat_vao);
+  glDeleteVertexArrays(1, &g.empty_vao);
+}
+
+void Presenter::resize(int width, int height) {
+  if (width <= 0 || height <= 0 || width > 8192 || height > 8192)
+    throw Error(fmt::format("frame size {}x{} is outside 1..8192", width, height));
+  if (width == width_ && height == height_) return;
+  Impl& g = *impl_;
+  if (width_ > 0) g.delete_targets();
+  width_ = width;
+  height_ = height;
+  g.make_targets(width, height);
+  const cluster::ClusterConfig config = cluster::cluster_config(scene_.camera, static_cast<std::uint32_t>(width),
+                                                                static_cast<std::uint32_t>(height), scene_.quality.tile,
+                                                                scene_.quality.tile);
+  g.clusters = std::make_unique<cluster::ClusterPipeline>(runtime_, config);
+}
+
+std::pair<std::size_t, std::size_t> Presenter::object_splats(std::size_t object) const {
+  return {objects_.at(object).first, objects_.at(object).count};
+}
+
+const ObjectAssets& Presenter::assets(std::size_t object) const { return assets_.at(object); }
+
+glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectRange& r = objects_[i];
+    if (splat < r.first || splat >= r.first + r.count) continue;
+    if (r.asset < 0) {
+      const FloorSpec& f = scene_.floor;
+      const std::size_t local = splat - r.first;
+      const float spacing = f.size / static_cast<float>(f.splats_per_side);
+      return {-0.5f * f.size + (static_cast<float>(local / f.splats_per_side) + 0.5f) * spacing, f.y,
+              -0.5f * f.size + (static_cast<float>(local % f.splats_per_side) + 0.5f) * spacing};
+    }
+    const auto c = assets_[static_cast<std::size_t>(r.asset)].splats[splat - r.first].center;
+    return glm::vec3(scene_.objects[i].placement(time) * glm::vec4(c.x, c.y, c.z, 1.0f));
+  }
+  throw Error(fmt::format("splat {} out of range", splat));
+}
+
+void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, FrameStats& stats) {
+  Impl& g = *impl_;
+  const std::size_t n = splat_ao_.size();
+  std::vector<splats::Vec4> positions(n), normals(n);
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectRange& r = objects_[i];
+    const glm::mat4 m = r.asset < 0 ? glm::mat4(1.0f) : placements[i];
+    for (std::size_t s = 0; s < r.count; ++s) {
+      glm::vec3 c, nrm;
+      if (r.asset < 0) {
+        c = splat_world_position(r.first + s, 0.0f);
+        nrm = {0, 1, 0};
+      } else {
+        const auto& rec = assets_[static_cast<std::size_t>(r.asset)].splats[s];
+        c = glm::vec3(m * glm::vec4(rec.center.x, rec.center.y, rec.center.z, 1.0f));
+        nrm = glm::normalize(glm::mat3(m) * glm::vec3(rec.normal.x, rec.normal.y, rec.normal.z));
+      }
+      positions[r.first + s] = vec4(c);
+      normals[r.first + s] = vec4(nrm);
+    }
+  }
+  std::vector<const csm::Csm*> csms;
+  std::vector<csm::Instance> instances;
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+    csms.push_back(&assets_[i].csm);
+    if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
+  }
+  std::vector<float> dynamic(n * 8, 1.0f);
+  for (std::size_t s = 0; s < n; ++s) {
+    dynamic[8 * s + 0] = normals[s].x, dynamic[8 * s + 1] = normals[s].y, dynamic[8 * s + 2] = normals[s].z;
+    dynamic[8 * s + 3] = 1.0f;
+  }
+  if (!instances.empty() && n > 0) {
+    const csm::VisibilityScene visibility(csms, instances);
+    if (ambient_occlusion) {
+      Stopwatch clock;
+      csm::AmbientOcclusion ao(runtime_, visibility);
+      csm::AoRequest request;
+      request.positions = positions;
+      request.normals = normals;
+      request.patterns = g.ao_patterns;
+      request.samples = scene_.quality.ao_samples;
+      request.pattern_of = g.ao_pattern_of;
+      request.ground = scene_.floor.enabled;
+      request.bias = scene_.quality.ao_bias;
+      const std::vector<splats::Vec4> out = ao.run(request);
+      for (std::size_t s = 0; s < n; ++s) {
+        dynamic[8 * s + 0] = out[s].x, dynamic[8 * s + 1] = out[s].y, dynamic[8 * s + 2] = out[s].z;
+        dynamic[8 * s + 3] = out[s].w;
+      }
+      stats.stages.push_back({"cl: splat AO", clock.elapsed_ms()});
+    }
+    if (scene_.quality.shadows == "splat" && !scene_.key_lights.empty()) {
+      Stopwatch clock;
+      csm::VisibilityQueries queries(runtime_, visibility);
+      // Receivers lifted off their own surface by the bias, so a splat does not shadow itself.
+      std::vector<splats::Vec4> receivers(n);
+      for (std::size_t s = 0; s < n; ++s)
+        receivers[s] = {positions[s].x + scene_.quality.ao_bias * normals[s].x, positions[s].y + scene_.quality.ao_bias * normals[s].y,
+                        positions[s].z + scene_.quality.ao_bias * normals[s].z, 1.0f};
+      for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
+        const std::vector<float> visible =
+            key_light_visibility(queries, receivers, scene_.key_lights[k], scene_.quality.shadow_samples,
+                                 csm::parse_filter(scene_.quality.filter), scene_.quality.ao_bias);
+        for (std::size_t s = 0; s < n; ++s) dynamic[8 * s + 4 + k] = visible[s];
+      }
+      stats.stages.push_back({"cl: splat shadows", clock.elapsed_ms()});
+    }
+  }
+  for (std::size_t s = 0; s < n; ++s)
+    splat_ao_[s] = {dynamic[8 * s], dynamic[8 * s + 1], dynamic[8 * s + 2], dynamic[8 * s + 3]};
+  Stopwatch clock;
+  if (n > 0) glNamedBufferSubData(g.dynamic_vbo, 0, static_cast<GLsizeiptr>(dynamic.size() * sizeof(float)), dynamic.data());
+  stats.stages.push_back({"upload: splat AO/shadows", clock.elapsed_ms()});
+  stats.ao_updated = true;
+}
+
+FrameStats Presenter::render(float time) {
+  Impl& g = *impl_;
+  const Quality& q = scene_.quality;
+  FrameStats stats;
+  Stopwatch frame_clock;
+  stats.splats = static_cast<std::uint32_t>(splat_ao_.size());
+
+  std::vector<glm::mat4> placements;
+  for (const ObjectSpec& o : scene_.objects) placements.push_back(o.placement(time));
+  if (!g.have_lighting || placements != g.last_placements) {
+    update_splat_lighting(placements, stats);
+    g.last_placements = placements;
+    g.have_lighting = true;
+  }
+
+  const cluster::Camera& cam = scene_.camera;
+  const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
+  const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
+  const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+  const glm::mat4 proj = glm::perspective(cam.fov_y, aspect, cam.near_plane, cam.far_plane);
+  const bool footprints = debug_view == DebugView::Footprints;
+
+  glViewport(0, 0, width_, height_);
+  glBindVertexArray(g.splat_vao);
+  const auto set_common = [&](GLuint program) {
+    glUseProgram(program);
+    glUniformMatrix4fv(glGetUniformLocation(program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
+    glUniformMatrix4fv(glGetUniformLocation(program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
+    glUniform3fv(glGetUniformLocation(program, "u_eye"), 1, glm::value_ptr(eye));
+    glUniform1f(glGetUniformLocation(program, "u_scale"), q.splat_scale);
+  };
+  const auto draw_objects = [&](GLuint program, bool points) {
+    const GLint model = glGetUniformLocation(program, "u_model");
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+      const ObjectRange& r = objects_[i];
+      if (r.count == 0) continue;
+      const glm::mat4 m = r.asset < 0 ? glm::mat4(1.0f) : placements[i];
+      glUniformMatrix4fv(model, 1, GL_FALSE, glm::value_ptr(m));
+      glUniform1i(glGetUniformLocation(program, "u_base"), static_cast<GLint>(r.first));
+      if (points)
+        glDrawArraysInstancedBaseInstance(GL_POINTS, 0, 1, static_cast<GLsizei>(r.count), static_cast<GLuint>(r.first));
+      else
+        glDrawArraysInstancedBaseInstance(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(r.count), static_cast<GLuint>(r.first));
+    }
+  };
+  const float zero[4] = {0, 0, 0, 0};
+  const float one = 1.0f;
+  glDisable(GL_CULL_FACE);
+  if (q.mode == "points") {
+    g.timers.begin("gl: points");
+    glBindFramebuffer(GL_FRAMEBUFFER, g.gbuffer_fbo);
+    glDepthMask(GL_TRUE);
+    for (GLint b = 0; b < 5; ++b) glClearBufferfv(GL_COLOR, b, zero);
+    glClearBufferfv(GL_DEPTH, 0, &one);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    set_common(g.point_program);
+    glUniform1f(glGetUniformLocation(g.point_program, "u_viewport_height"), static_cast<float>(height_));
+    glUniform1i(glGetUniformLocation(g.point_program, "u_footprints"), footprints ? 1 : 0);
+    draw_objects(g.point_program, true);
+    g.timers.end();
+  } else {
+    // Pass 1: visibility (depth only, pushed back by ε).
+    g.timers.begin("gl: splat visibility");
+    glBindFramebuffer(GL_FRAMEBUFFER, g.visibility_fbo);
+    glDepthMask(GL_TRUE);
+    glClearBufferfv(GL_DEPTH, 0, &one);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    set_common(g.visibility_program);
+    glUniform1f(glGetUniformLocation(g.visibility_program, "u_depth_offset"), q.depth_offset);
+    draw_objects(g.visibility_program, false);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    g.timers.end();
+    // Pass 2: Gaussian-weighted accumulation of the splats within ε of the front.
+    g.timers.begin("gl: splat accumulation");
+    glBindFramebuffer(GL_FRAMEBUFFER, g.accum_fbo);
+    for (GLint b = 0; b < 4; ++b) glClearBufferfv(GL_COLOR, b, zero);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_LEQUAL);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    set_common(g.accumulate_program);
+    glUniform1f(glGetUniformLocation(g.accumulate_program, "u_beta"), q.gaussian);
+    glUniform1i(glGetUniformLocation(g.accumulate_program, "u_footprints"), footprints ? 1 : 0);
+    draw_objects(g.accumulate_program, false);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    g.timers.end();
+    // Pass 3: normalisation into the G-buffer.
+    g.timers.begin("gl: normalization");
+    glDisable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, g.gbuffer_fbo);
+    glUseProgram(g.normalize_program);
+    glBindTextures(0, 4, g.accum);
+    glBindVertexArray(g.empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    g.timers.end();
+  }
+  glDisable(GL_DEPTH_TEST);
+
+  // Readback of the view-space depth for the cluster stage.
+  Stopwatch clock;
+  std::vector<float> view_z(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.gbuffer_fbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT2);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, view_z.data());
+  stats.stages.push_back({"readback: depth", clock.elapsed_ms()});
+
+  // Lights in view space.
+  const cluster::ViewFrame frame = cluster::view_frame(cam);
+  std::vector<cluster::PointLight> lights(scene_.lights.size());
+  std::vector<float> light_data(std::max<std::size_t>(lights.size(), 1) * 8, 0.0f);
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const Light& l = scene_.lights[i];
+    lights[i] = {frame.point_to_view({l.position.x, l.position.y, l.position.z}), l.radius, {l.color.x, l.color.y, l.color.z}};
+    const float row[8] = {lights[i].center.x, lights[i].center.y, lights[i].center.z, l.radius, l.color.x, l.color.y, l.color.z, 0};
+    std::copy(row, row + 8, light_data.begin() + static_cast<std::ptrdiff_t>(8 * i));
+  }
+
+  std::vector<std::uint32_t> pixel_list(view_z.size(), cluster::kNoCluster);
+  cluster::LightLists lists;
+  const bool brute = q.shading == "brute" || lights.empty();
+  const cluster::ClusterLayout& layout = g.clusters->layout();
+  if (!brute && q.shading == "clustered") {
+    cluster::ClusterPipeline& p = *g.clusters;
+    const auto timed = [&](const char* name, auto&& body) {
+      Stopwatch c;
+      body();
+      p.finish();
+      stats.stages.push_back({name, c.elapsed_ms()});
+    };
+    timed("cl: upload depth+lights", [&] {
+      p.upload_depth(view_z, cluster::DepthFormat::ViewZ);
+      p.upload_lights(lights);
+    });
+    timed("cl: cluster keys", [&] { p.compute_keys(); });
+    timed("cl: compaction", [&] { stats.clusters = p.compact(cluster::Compaction::TileBitmask); });
+    timed("cl: cluster bounds", [&] { p.compute_bounds(); });
+    timed("cl: light assignment", [&] {
+      stats.light_indices =
+          p.assign_lights(lights.size() >= 4096 ? cluster::Assignment::Hierarchy : cluster::Assignment::BruteForce);
+    });
+    timed("cl: download lists", [&] {
+      pixel_list = p.download_clusters().pixel_cluster;
+      lists = p.download_light_lists();
+    });
+  } else if (!brute) {
+    // Tiled baseline: one list per screen tile over its depth range, on the host.
+    Stopwatch c;
+    const std::uint32_t tiles = layout.tile_count;
+    std::vector<float> near_d(tiles, INFINITY), far_d(tiles, 0.0f);
+    for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
+      for (std::uint32_t x = 0; x < static_cast<std::uint32_t>(width_); ++x) {
+        const std::size_t p = std::size_t{y} * static_cast<std::size_t>(width_) + x;
+        const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
+        if (!d) continue;
+        const std::uint32_t t = layout.tile_of_pixel(x, y);
+        near_d[t] = std::min(near_d[t], *d);
+        far_d[t] = std::max(far_d[t], *d);
+        pixel_list[p] = t;
+      }
+    lists.offsets.assign(tiles, 0);
+    lists.counts.assign(tiles, 0);
+    for (std::uint32_t t = 0; t < tiles; ++t) {
+      lists.offsets[t] = static_cast<std::uint32_t>(lists.indices.size());
+      if (!(near_d[t] <= far_d[t])) continue;
+      const std::uint32_t tx = t % layout.tiles_x, ty = t / layout.tiles_x;
+      const float x0 = static_cast<float>(tx * q.tile) * layout.two_over_width - 1.0f;
+      const float x1 = std::min(static_cast<float>((tx + 1) * q.tile) * layout.two_over_width - 1.0f, 1.0f);
+      const float y0 = static_cast<float>(ty * q.tile) * layout.two_over_height - 1.0f;
+      const float y1 = std::min(static_cast<float>((ty + 1) * q.tile) * layout.two_over_height - 1.0f, 1.0f);
+      cluster::ClusterBox box{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+      for (const float d : {near_d[t], far_d[t]})
+        for (const float nx : {x0, x1})
+          for (const float ny : {y0, y1}) {
+            const cluster::Vec3 v{nx * d * layout.tan_half_x, ny * d * layout.tan_half_y, -d};
+            box.min = {std::min(box.min.x, v.x), std::min(box.min.y, v.y), std::min(box.min.z, v.z)};
+            box.max = {std::max(box.max.x, v.x), std::max(box.max.y, v.y), std::max(box.max.z, v.z)};
+          }
+      const float pad = 1e-4f * far_d[t];  // float rounding of reconstructed positions
+      box.min = box.min - cluster::Vec3{pad, pad, pad};
+      box.max = box.max + cluster::Vec3{pad, pad, pad};
+      for (std::uint32_t i = 0; i < lights.size(); ++i)
+        if (cluster::light_touches_box(lights[i], box)) lists.indices.push_back(i);
+      lists.counts[t] = static_cast<std::uint32_t>(lists.indices.size()) - lists.offsets[t];
+    }
+    stats.clusters = tiles;
+    stats.light_indices = static_cast<std::uint32_t>(lists.indices.size());
+    stats.stages.push_back({"host: tile light lists", c.elapsed_ms()});
+  }
+
+  // Per-pixel key-light shadows (quality mode).
+  std::vector<float> pixel_shadow;
+  if (q.shadows == "pixel" && !scene_.key_lights.empty()) {
+    Stopwatch c;
+    std::vector<splats::Vec4> receivers;
+    std::vector<std::size_t> where;
+    std::vector<float> normals_rgba(view_z.size() * 4);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normals_rgba.data());
+    for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
+      for (std::uint32_t x = 0; x < static_cast<std::uint32_t>(width_); ++x) {
+        const std::size_t p = std::size_t{y} * static_cast<std::size_t>(width_) + x;
+        const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
+        if (!d) continue;
+        const cluster::Vec3 v = cluster::pixel_view_position(layout, x, y, *d);
+        const cluster::Vec3 w = frame.eye + frame.direction_to_world(v);
+        const float b = q.ao_bias;
+        receivers.push_back({w.x + b * normals_rgba[4 * p], w.y + b * normals_rgba[4 * p + 1], w.z + b * normals_rgba[4 * p + 2], 1});
+        where.push_back(p);
+      }
+    pixel_shadow.assign(view_z.size() * 4, 1.0f);
+    std::vector<const csm::Csm*> csms;
+    std::vector<csm::Instance> instances;
+    for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+      csms.push_back(&assets_[i].csm);
+      if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
+    }
+    if (!instances.empty() && !receivers.empty()) {
+      const csm::VisibilityScene visibility(csms, instances);
+      csm::VisibilityQueries queries(runtime_, visibility);
+      for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
+        const auto visible = key_light_visibility(queries, receivers, scene_.key_lights[k], q.shadow_samples,
+                                                  csm::parse_filter(q.filter), q.ao_bias);
+        for (std::size_t r = 0; r < where.size(); ++r) pixel_shadow[4 * where[r] + k] = visible[r];
+      }
+    }
+    stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
+  }
+
+  // Per-pixel AO (quality mode): the AO kernel on the G-buffer's world positions and normals.
+  std::vector<splats::Vec4> pixel_ao_values;
+  if (pixel_ao && ambient_occlusion) {
+    Stopwatch c;
+    std::vector<float> normals_rgba(view_z.size() * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, g.gbuffer_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normals_rgba.data());
+    csm::AoRequest request;
+    std::vector<std::size_t> where;
+    for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
+      for (std::uint32_t x = 0; x < static_cast<std::uint32_t>(width_); ++x) {
+        const std::size_t p = std::size_t{y} * static_cast<std::size_t>(width_) + x;
+        const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
+        if (!d) continue;
+        const cluster::Vec3 w = frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, *d));
+        request.positions.push_back({w.x, w.y, w.z, 0});
+        request.normals.push_back({normals_rgba[4 * p], normals_rgba[4 * p + 1], normals_rgba[4 * p + 2], 0});
+        where.push_back(p);
+      }
+    // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
+    if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
+    for (const std::size_t p : where) request.pattern_of.push_back(g.pixel_pattern_of[p]);
+    request.patterns = g.ao_patterns;
+    request.samples = q.ao_samples;
+    request.ground = scene_.floor.enabled;
+    request.bias = q.ao_bias;
+    pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, 1});
+    std::vector<const csm::Csm*> csms;
+    std::vector<csm::Instance> instances;
+    for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+      csms.push_back(&assets_[i].csm);
+      if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
+    }
+    if (!instances.empty() && !where.empty()) {
+      const csm::VisibilityScene visibility(csms, instances);
+      csm::AmbientOcclusion ao(runtime_, visibility);
+      const std::vector<splats::Vec4> out = ao.run(request);
+      for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = out[r];
+    } else {
+      for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = {request.normals[r].x, request.normals[r].y, request.normals[r].z, 1};
+    }
+    stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+  }
+
+  // Upload lights, lists and the per-pixel list index.
+  clock.restart();
+  const auto upload = [&](GLuint buffer, const void* data, std::size_t bytes) {
+    // Bound buffers must not be empty: short contents are padded to 16 bytes.
+    std::array<std::uint8_t, 16> padded{};
+    if (bytes < padded.size()) {
+      if (bytes > 0) std::memcpy(padded.data(), data, bytes);
+      data = padded.data();
+      bytes = padded.size();
+    }
+    glNamedBufferData(buffer, static_cast<GLsizeiptr>(bytes), data, GL_STREAM_DRAW);
+  };
+  upload(g.ssbo[0], light_data.data(), light_data.size() * sizeof(float));
+  upload(g.ssbo[1], lists.offsets.data(), lists.offsets.size() * 4);
+  upload(g.ssbo[2], lists.counts.data(), lists.counts.size() * 4);
+  upload(g.ssbo[3], lists.indices.data(), lists.indices.size() * 4);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(g.pixel_list, 0, 0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, pixel_list.data());
+  if (!pixel_ao_values.empty())
+    glTextureSubImage2D(g.pixel_ao, 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_ao_values.data());
+  if (!pixel_shadow.empty())
+    glTextureSubImage2D(g.pixel_shadow, 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_shadow.data());
+  g.heat_max = 1;
+  for (const std::uint32_t c : lists.counts) g.heat_max = std::max(g.heat_max, c);
+  stats.stages.push_back({"upload: lights+lists", clock.elapsed_ms()});
+
+  // Final shading.
+  g.timers.begin("gl: shading");
+  for (GLuint i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, g.ssbo[i]);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.hdr_fbo);
+  const GLuint sp = g.shade_program;
+  glUseProgram(sp);
+  const GLuint textures[8] = {g.gbuffer[0], g.gbuffer[1], g.gbuffer[2], g.gbuffer[3],
+                              g.gbuffer[4], g.pixel_list, g.pixel_shadow, g.pixel_ao};
+  glBindTextures(0, 8, textures);
+  glUniformMatrix4fv(glGetUniformLocation(sp, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
+  glUniform2f(glGetUniformLocation(sp, "u_tan_half"), layout.tan_half_x, layout.tan_half_y);
+  glUniform2f(glGetUniformLocation(sp, "u_viewport"), static_cast<float>(width_), static_cast<float>(height_));
+  glUniform1i(glGetUniformLocation(sp, "u_brute_force"), brute ? 1 : 0);
+  glUniform1i(glGetUniformLocation(sp, "u_light_count"), static_cast<GLint>(lights.size()));
+  const int keys = static_cast<int>(scene_.key_lights.size());
+  glUniform1i(glGetUniformLocation(sp, "u_key_count"), q.shadows == "off" ? 0 : keys);
+  for (int k = 0; k < keys; ++k) {
+    const Light& l = scene_.key_lights[static_cast<std::size_t>(k)];
+    const cluster::Vec3 c = frame.point_to_view({l.position.x, l.position.y, l.position.z});
+    glUniform4f(glGetUniformLocation(sp, fmt::format("u_key_center[{}]", k).c_str()), c.x, c.y, c.z, l.radius);
+    glUniform3f(glGetUniformLocation(sp, fmt::format("u_key_color[{}]", k).c_str()), l.color.x, l.color.y, l.color.z);
+  }
+  if (q.shadows == "off") glUniform1i(glGetUniformLocation(sp, "u_key_count"), 0);
+  glUniform1i(glGetUniformLocation(sp, "u_pixel_shadows"), pixel_shadow.empty() ? 0 : 1);
+  glUniform3fv(glGetUniformLocation(sp, "u_sh"), 9, glm::value_ptr(g.sh[0]));
+  const int debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
+  glUniform1i(glGetUniformLocation(sp, "u_debug"), debug);
+  glUniform1i(glGetUniformLocation(sp, "u_use_ao"), ambient_occlusion ? 1 : 0);
+  glUniform1i(glGetUniformLocation(sp, "u_pixel_ao"), pixel_ao_values.empty() ? 0 : 1);
+  glUniform1f(glGetUniformLocation(sp, "u_heat_max"), static_cast<float>(g.heat_max));
+  glUniform1i(glGetUniformLocation(sp, "u_tone_map"), debug_view == DebugView::Final ? 1 : 0);
+  glBindVertexArray(g.empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  g.timers.end();
+  g.timers.collect(stats.stages);
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+    throw Error(fmt::format("OpenGL error 0x{:x} while rendering a frame", error));
+  stats.frame_ms = frame_clock.elapsed_ms();
+  return stats;
+}
+
+namespace {
+std::vector<float> read_rgba(GLuint fbo, GLenum attachment, int width, int height) {
+  std::vector<float> rgba(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glReadBuffer(attachment);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, rgba.data());
+  return rgba;
+}
+std::vector<float> drop_alpha(const std::vector<float>& rgba) {
+  std::vector<float> rgb(rgba.size() / 4 * 3);
+  for (std::size_t i = 0; i < rgba.size() / 4; ++i)
+    for (int c = 0; c < 3; ++c) rgb[3 * i + static_cast<std::size_t>(c)] = rgba[4 * i + static_cast<std::size_t>(c)];
+  return rgb;
+}
+}  // namespace
+
+std::vector<float> Presenter::read_display_rgb() const {
+  return drop_alpha(read_rgba(impl_->display_fbo, GL_COLOR_ATTACHMENT0, width_, height_));
+}
+std::vector<float> Presenter::read_hdr_rgb() const {
+  return drop_alpha(read_rgba(impl_->hdr_fbo, GL_COLOR_ATTACHMENT0, width_, height_));
+}
+std::vector<std::uint8_t> Presenter::read_coverage() const {
+  const auto rgba = read_rgba(impl_->gbuffer_fbo, GL_COLOR_ATTACHMENT0, width_, height_);
+  std::vector<std::uint8_t> mask(rgba.size() / 4);
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = rgba[4 * i + 3] > 0.0f ? 1 : 0;
+  return mask;
+}
+std::vector<float> Presenter::read_view_z() const {
+  std::vector<float> z(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->gbuffer_fbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT2);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, z.data());
+  return z;
+}
+
+std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
+  Impl& g = *impl_;
+  const cluster::Camera& cam = scene_.camera;
+  const glm::mat4 view = glm::lookAt(glm::vec3(cam.eye.x, cam.eye.y, cam.eye.z), {cam.target.x, cam.target.y, cam.target.z},
+                                     {cam.up.x, cam.up.y, cam.up.z});
+  const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width_) / static_cast<float>(height_),
+                                          cam.near_plane, cam.far_plane);
+  glViewport(0, 0, width_, height_);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.mesh_fbo);
+  const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
+  glDepthMask(GL_TRUE);
+  glClearBufferfv(GL_COLOR, 0, zero);
+  glClearBufferfv(GL_DEPTH, 0, &one);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(g.mesh_program);
+  glUniformMatrix4fv(glGetUniformLocation(g.mesh_program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
+  glUniformMatrix4fv(glGetUniformLocation(g.mesh_program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+    glUniformMatrix4fv(glGetUniformLocation(g.mesh_program, "u_model"), 1, GL_FALSE,
+                       glm::value_ptr(scene_.objects[i].placement(time)));
+    glBindVertexArray(g.mesh_vaos[i]);
+    glDrawArrays(GL_TRIANGLES, 0, g.mesh_vertices[i]);
+  }
+  glDisable(GL_DEPTH_TEST);
+  const auto rgba = read_rgba(g.mesh_fbo, GL_COLOR_ATTACHMENT0, width_, height_);
+  std::vector<std::uint8_t> mask(rgba.size() / 4);
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = rgba[4 * i] > 0.5f ? 1 : 0;
+  return mask;
+}
+
+unsigned Presenter::display_framebuffer() const { return impl_->display_fbo; }
+
+}  // namespace splatcl::present

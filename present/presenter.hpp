@@ -1,0 +1,99 @@
+#pragma once
+// One frame of the presenter (issue 5):
+//   CL, when an occluder moved: per-splat ambient occlusion and bent normal from every occluder's
+//       CSM (csm::AmbientOcclusion) and per-splat key-light visibility (csm::VisibilityQueries, PCF)
+//   GL: splat visibility pass (depth pushed back by ε) → Gaussian-weighted accumulation →
+//       normalisation into the G-buffer (or one point pass in the low-quality mode)
+//   readback of the view-space depth
+//   CL: cluster keys → compaction → bounds → light assignment (cluster::ClusterPipeline); or tile
+//       lists on the host (tiled baseline); or nothing (brute-force baseline)
+//   upload of the lights and lists → GL final shading (Lambert with the corrected falloff, shadowed
+//   key lights, SH sky with the bent normal × AO) → tone mapping.
+// Every stage is timed: GL passes with timer queries, CL stages and transfers with wall clocks.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "present/assets.hpp"
+#include "present/scene.hpp"
+#include "runtime/runtime.hpp"
+
+namespace splatcl::present {
+
+enum class DebugView : int { Final = 0, Albedo, Normals, AmbientOcclusion, LightsPerCluster, Shadows, Depth, Footprints };
+const char* to_string(DebugView view);
+DebugView parse_debug_view(const std::string& text);  // final, albedo, normals, ao, clusters, shadows, depth, footprints
+
+struct StageTime {
+  std::string name;
+  double ms = 0;
+};
+struct FrameStats {
+  std::vector<StageTime> stages;
+  double frame_ms = 0;
+  std::uint32_t clusters = 0, light_indices = 0, splats = 0;
+  bool ao_updated = false;
+};
+
+class Presenter {
+ public:
+  // Needs a current GL 4.5 context. Builds or loads every object's assets (progress per object).
+  Presenter(Scene scene, Runtime& runtime, int width, int height, const std::string& cache_dir,
+            const AssetProgress& progress = {});
+  ~Presenter();
+  Presenter(const Presenter&) = delete;
+  Presenter& operator=(const Presenter&) = delete;
+
+  Scene& scene() { return scene_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  void resize(int width, int height);
+
+  DebugView debug_view = DebugView::Final;
+  bool ambient_occlusion = true;  // AO and bent normal in the ambient term
+  bool pixel_ao = false;          // AO per G-buffer pixel (quality mode) instead of per splat
+
+  // Renders the scene at `time` into the presenter's framebuffers.
+  FrameStats render(float time);
+  // Results of the last render(), row 0 = bottom.
+  std::vector<float> read_display_rgb() const;  // tone-mapped, [0, 1]
+  std::vector<float> read_hdr_rgb() const;      // linear radiance before tone mapping
+  std::vector<std::uint8_t> read_coverage() const;  // 1 where a splat covers the pixel
+  std::vector<float> read_view_z() const;
+  // Rasterises the objects' triangle meshes at `time` with the same camera: 1 where covered.
+  std::vector<std::uint8_t> render_mesh_mask(float time);
+  // The display framebuffer (for blitting into a window).
+  unsigned display_framebuffer() const;
+
+  // Per-splat (bent normal xyz, AO) of the last update, in splat order: objects in scene order,
+  // then the floor. object_splats(i) gives object i's range; the floor is the last range.
+  const std::vector<glm::vec4>& splat_ao() const { return splat_ao_; }
+  std::pair<std::size_t, std::size_t> object_splats(std::size_t object) const;
+  std::size_t object_count() const { return objects_.size(); }
+  glm::vec3 splat_world_position(std::size_t splat, float time) const;
+
+  const ObjectAssets& assets(std::size_t object) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  Scene scene_;
+  Runtime& runtime_;
+  int width_ = 0, height_ = 0;
+  struct ObjectRange {
+    std::size_t first = 0, count = 0;
+    int asset = -1;  // index into assets, -1 for the floor
+  };
+  std::vector<ObjectRange> objects_;  // scene objects then the floor
+  std::vector<ObjectAssets> assets_;
+  std::vector<glm::vec4> splat_ao_;
+  void update_splat_lighting(const std::vector<glm::mat4>& placements, FrameStats& stats);
+};
+
+// Irradiance SH (9 RGB coefficients) of the sky's radiance, by numerical projection.
+std::vector<glm::vec3> sky_sh(const Sky& sky);
+
+}  // namespace splatcl::present

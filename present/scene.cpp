@@ -1,0 +1,407 @@
+#include "present/scene.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "runtime/embedded.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::present {
+namespace {
+
+using nlohmann::json;
+
+// Field readers: a missing field keeps the default; a present one of the wrong shape throws
+// Error naming it.
+struct Reader {
+  const std::string& source;
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw Error(fmt::format("{}: '{}' {}", source, field, what));
+  }
+  float number(const json& j, const std::string& field, float fallback) const {
+    if (!j.contains(field)) return fallback;
+    if (!j[field].is_number() || !std::isfinite(j[field].get<double>())) fail(field, "must be a finite number");
+    return j[field].get<float>();
+  }
+  float positive(const json& j, const std::string& field, float fallback) const {
+    const float v = number(j, field, fallback);
+    if (!(v > 0)) fail(field, "must be positive");
+    return v;
+  }
+  std::uint32_t count(const json& j, const std::string& field, std::uint32_t fallback, std::uint32_t lo,
+                      std::uint32_t hi) const {
+    if (!j.contains(field)) return fallback;
+    if (!j[field].is_number_integer() || j[field].get<long long>() < lo || j[field].get<long long>() > hi)
+      fail(field, fmt::format("must be an integer in [{}, {}]", lo, hi));
+    return j[field].get<std::uint32_t>();
+  }
+  glm::vec3 vec3(const json& j, const std::string& field, glm::vec3 fallback) const {
+    if (!j.contains(field)) return fallback;
+    const json& v = j[field];
+    if (v.is_number()) return glm::vec3(v.get<float>());
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+      fail(field, "must be an array of 3 numbers");
+    return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+  }
+  std::array<float, 2> range(const json& j, const std::string& field, std::array<float, 2> fallback) const {
+    if (!j.contains(field)) return fallback;
+    const json& v = j[field];
+    if (v.is_number()) return {v.get<float>(), v.get<float>()};
+    if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number() || v[0].get<float>() > v[1].get<float>())
+      fail(field, "must be [min, max]");
+    return {v[0].get<float>(), v[1].get<float>()};
+  }
+  std::string text(const json& j, const std::string& field, const std::string& fallback,
+                   std::initializer_list<const char*> allowed = {}) const {
+    if (!j.contains(field)) return fallback;
+    if (!j[field].is_string()) fail(field, "must be a string");
+    const std::string value = j[field].get<std::string>();
+    if (allowed.size() == 0) return value;
+    std::string list;
+    for (const char* a : allowed) {
+      if (value == a) return value;
+      list += (list.empty() ? "" : ", ") + std::string(a);
+    }
+    fail(field, fmt::format("is '{}', not one of: {}", value, list));
+  }
+  bool flag(const json& j, const std::string& field, bool fallback) const {
+    if (!j.contains(field)) return fallback;
+    if (!j[field].is_boolean()) fail(field, "must be true or false");
+    return j[field].get<bool>();
+  }
+  const json& object(const json& j, const std::string& field) const {
+    if (!j[field].is_object()) fail(field, "must be an object");
+    return j[field];
+  }
+};
+
+Light read_light(const Reader& r, const json& j) {
+  if (!j.is_object()) r.fail("lights", "entries must be objects");
+  Light light;
+  light.position = r.vec3(j, "position", light.position);
+  light.radius = r.positive(j, "radius", light.radius);
+  light.color = r.vec3(j, "color", light.color);
+  light.size = r.number(j, "size", light.size);
+  if (light.size < 0) r.fail("size", "must not be negative");
+  return light;
+}
+
+MeshSpec read_mesh(const Reader& r, const json& j) {
+  MeshSpec spec;
+  if (j.is_string()) {
+    spec.path = j.get<std::string>();
+    return spec;
+  }
+  if (!j.is_object()) r.fail("mesh", "must be a file name or an object");
+  spec.procedural = r.text(j, "procedural", "", {"sphere", "torus", "box"});
+  if (spec.procedural.empty()) r.fail("mesh", "needs \"procedural\": sphere, torus or box (or give a file name)");
+  spec.radius = r.positive(j, "radius", spec.radius);
+  spec.tube = r.positive(j, "tube", spec.tube);
+  spec.size = r.vec3(j, "size", spec.size);
+  if (!(spec.size.x > 0 && spec.size.y > 0 && spec.size.z > 0)) r.fail("size", "must be positive");
+  spec.segments = r.count(j, "segments", spec.segments, 3, 1024);
+  spec.rings = r.count(j, "rings", spec.rings, 1, 1024);
+  return spec;
+}
+
+ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
+  if (!j.is_object()) r.fail("objects", "entries must be objects");
+  ObjectSpec o;
+  o.name = r.text(j, "name", fmt::format("object {}", index));
+  if (!j.contains("mesh")) r.fail("mesh", fmt::format("is missing in {}", o.name));
+  o.mesh = read_mesh(r, j["mesh"]);
+  o.color = r.vec3(j, "color", o.color);
+  o.position = r.vec3(j, "position", o.position);
+  o.rotation_degrees = r.vec3(j, "rotation_degrees", o.rotation_degrees);
+  o.scale = r.positive(j, "scale", o.scale);
+  o.occluder = r.flag(j, "occluder", o.occluder);
+  if (j.contains("animation")) {
+    const json& a = r.object(j, "animation");
+    o.animation.spin_degrees_per_second = r.vec3(a, "spin_degrees_per_second", o.animation.spin_degrees_per_second);
+    if (a.contains("orbit")) {
+      const json& orbit = r.object(a, "orbit");
+      o.animation.orbit_center = r.vec3(orbit, "center", o.animation.orbit_center);
+      o.animation.orbit_radius = r.positive(orbit, "radius", 1.0f);
+      o.animation.orbit_degrees_per_second = r.number(orbit, "degrees_per_second", 30.0f);
+      o.animation.orbit_phase_degrees = r.number(orbit, "phase_degrees", 0.0f);
+    }
+  }
+  return o;
+}
+
+}  // namespace
+
+glm::mat4 ObjectSpec::placement(float time) const {
+  glm::vec3 centre = position;
+  if (animation.orbit_radius > 0) {
+    const float angle = glm::radians(animation.orbit_phase_degrees + animation.orbit_degrees_per_second * time);
+    centre = animation.orbit_center +
+             glm::vec3(animation.orbit_radius * std::cos(angle), position.y - animation.orbit_center.y,
+                       animation.orbit_radius * std::sin(angle));
+  }
+  const glm::vec3 angles = glm::radians(rotation_degrees + animation.spin_degrees_per_second * time);
+  glm::mat4 m = glm::translate(glm::mat4(1.0f), centre);
+  m = glm::rotate(m, angles.z, {0, 0, 1});
+  m = glm::rotate(m, angles.y, {0, 1, 0});
+  m = glm::rotate(m, angles.x, {1, 0, 0});
+  return glm::scale(m, glm::vec3(scale));
+}
+
+std::vector<Light> generate_lights(const GeneratedLights& spec, const FloorSpec& floor) {
+  std::mt19937_64 rng(spec.seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const float extent = spec.extent > 0 ? spec.extent : 0.5f * floor.size;
+  std::vector<Light> lights(spec.count);
+  for (Light& light : lights) {
+    light.position = {(2 * unit(rng) - 1) * extent, floor.y + spec.height_min + unit(rng) * (spec.height_max - spec.height_min),
+                      (2 * unit(rng) - 1) * extent};
+    light.radius = spec.radius_min + unit(rng) * (spec.radius_max - spec.radius_min);
+    // A saturated hue: one channel full, one zero, one random.
+    const float h = unit(rng) * 6.0f, f = h - std::floor(h);
+    const glm::vec3 hues[6] = {{1, f, 0}, {1 - f, 1, 0}, {0, 1, f}, {0, 1 - f, 1}, {f, 0, 1}, {1, 0, 1 - f}};
+    light.color = spec.intensity * hues[static_cast<int>(h) % 6];
+  }
+  return lights;
+}
+
+Scene parse_scene(std::string_view text, const std::string& source, const std::string& directory) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {
+    throw Error(fmt::format("{}: not valid JSON ({})", source, e.what()));
+  }
+  if (!j.is_object()) throw Error(source + ": the scene must be a JSON object");
+  const Reader r{source};
+  Scene scene;
+  scene.source = source;
+  scene.directory = directory;
+  if (!j.contains("objects") || !j["objects"].is_array()) r.fail("objects", "must be an array");
+  for (std::size_t i = 0; i < j["objects"].size(); ++i) scene.objects.push_back(read_object(r, j["objects"][i], i));
+  if (j.contains("floor")) {
+    if (j["floor"].is_boolean()) {
+      scene.floor.enabled = j["floor"].get<bool>();
+    } else {
+      const json& f = r.object(j, "floor");
+      scene.floor.y = r.number(f, "y", scene.floor.y);
+      scene.floor.size = r.positive(f, "size", scene.floor.size);
+      scene.floor.color = r.vec3(f, "color", scene.floor.color);
+      scene.floor.splats_per_side = r.count(f, "splats_per_side", scene.floor.splats_per_side, 2, 2048);
+    }
+  }
+  if (j.contains("lights")) {
+    const json& l = j["lights"];
+    if (l.is_array()) {
+      for (const json& e : l) scene.lights.push_back(read_light(r, e));
+    } else if (l.is_object()) {
+      GeneratedLights& g = scene.generated;
+      g.count = r.count(l, "count", g.count, 0, 1u << 20);
+      const auto radius = r.range(l, "radius", {g.radius_min, g.radius_max});
+      const auto height = r.range(l, "height", {g.height_min, g.height_max});
+      if (!(radius[0] > 0)) r.fail("radius", "must be positive");
+      g.radius_min = radius[0], g.radius_max = radius[1], g.height_min = height[0], g.height_max = height[1];
+      g.extent = r.number(l, "extent", g.extent);
+      g.intensity = r.positive(l, "intensity", g.intensity);
+      g.seed = r.count(l, "seed", static_cast<std::uint32_t>(g.seed), 0, UINT32_MAX);
+    } else {
+      r.fail("lights", "must be an array of lights or {\"count\": N, ...}");
+    }
+  }
+  if (j.contains("key_lights")) {
+    if (!j["key_lights"].is_array()) r.fail("key_lights", "must be an array");
+    for (const json& e : j["key_lights"]) scene.key_lights.push_back(read_light(r, e));
+  }
+  if (j.contains("camera")) {
+    try {
+      nlohmann::json wrapper = {{"camera", j["camera"]}};
+      cluster::Scene camera_scene;
+      from_json(wrapper, camera_scene);
+      scene.camera = camera_scene.camera;
+      cluster::view_frame(scene.camera);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: camera: {}", source, e.what()));
+    }
+  }
+  if (j.contains("sky")) {
+    const json& s = r.object(j, "sky");
+    scene.sky.zenith = r.vec3(s, "zenith", scene.sky.zenith);
+    scene.sky.horizon = r.vec3(s, "horizon", scene.sky.horizon);
+    scene.sky.ground = r.vec3(s, "ground", scene.sky.ground);
+  }
+  if (j.contains("quality")) {
+    const json& q = r.object(j, "quality");
+    Quality& Q = scene.quality;
+    Q.sampling = r.text(q, "sampling", Q.sampling);
+    Q.eps_diagonal = r.positive(q, "eps_diagonal", Q.eps_diagonal);
+    Q.csm_maps = r.count(q, "csm_maps", Q.csm_maps, 16, 65536);
+    Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);
+    Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
+    Q.ao_bias = r.number(q, "ao_bias", Q.ao_bias);
+    Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
+    Q.depth_offset = r.number(q, "depth_offset", Q.depth_offset);
+    Q.gaussian = r.positive(q, "gaussian", Q.gaussian);
+    Q.mode = r.text(q, "mode", Q.mode, {"splats", "points"});
+    Q.shading = r.text(q, "shading", Q.shading, {"clustered", "tiled", "brute"});
+    Q.tile = r.count(q, "tile", Q.tile, 4, 256);
+    Q.shadows = r.text(q, "shadows", Q.shadows, {"splat", "pixel", "off"});
+    Q.filter = r.text(q, "filter", Q.filter, {"none", "same-map", "cross-map"});
+    Q.shadow_samples = r.count(q, "shadow_samples", Q.shadow_samples, 1, 64);
+    Q.ambient_occlusion = r.flag(q, "ambient_occlusion", Q.ambient_occlusion);
+    Q.pixel_ao = r.flag(q, "pixel_ao", Q.pixel_ao);
+  }
+  scene.time = r.number(j, "time", 0.0f);
+  const auto generated = generate_lights(scene.generated, scene.floor);
+  scene.lights.insert(scene.lights.end(), generated.begin(), generated.end());
+  return scene;
+}
+
+Scene load_scene(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read scene " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto directory = std::filesystem::path(path).parent_path().string();
+  return parse_scene(text.str(), path, directory);
+}
+
+const char* default_scene_name() { return "default scene (data/presenter-scene.json)"; }
+
+Scene default_scene() { return parse_scene(embedded_data().at("presenter-scene.json"), default_scene_name(), "."); }
+
+splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
+  if (!spec.path.empty()) {
+    const std::filesystem::path p(spec.path);
+    return splats::load_mesh(p.is_absolute() || directory.empty() ? p.string() : (std::filesystem::path(directory) / p).string());
+  }
+  std::vector<splats::Vec3> v;
+  std::vector<std::vector<std::uint32_t>> f;
+  const float pi = std::numbers::pi_v<float>;
+  const std::uint32_t n = spec.segments, m = spec.rings;
+  if (spec.procedural == "sphere") {
+    v.push_back({0, spec.radius, 0});
+    for (std::uint32_t i = 1; i < m; ++i) {
+      const float theta = pi * static_cast<float>(i) / static_cast<float>(m);
+      for (std::uint32_t k = 0; k < n; ++k) {
+        const float phi = 2 * pi * static_cast<float>(k) / static_cast<float>(n);
+        v.push_back({spec.radius * std::sin(theta) * std::cos(phi), spec.radius * std::cos(theta),
+                     -spec.radius * std::sin(theta) * std::sin(phi)});
+      }
+    }
+    v.push_back({0, -spec.radius, 0});
+    const auto ring = [&](std::uint32_t i, std::uint32_t k) { return 1 + (i - 1) * n + k % n; };
+    const std::uint32_t bottom = static_cast<std::uint32_t>(v.size() - 1);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      f.push_back({0, ring(1, k), ring(1, k + 1)});
+      for (std::uint32_t i = 1; i + 1 < m; ++i) f.push_back({ring(i, k), ring(i + 1, k), ring(i + 1, k + 1), ring(i, k + 1)});
+      f.push_back({ring(m - 1, k), bottom, ring(m - 1, k + 1)});
+    }
+  } else if (spec.procedural == "torus") {
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (std::uint32_t k = 0; k < m; ++k) {
+        const float a = 2 * pi * static_cast<float>(i) / static_cast<float>(n);
+        const float b = 2 * pi * static_cast<float>(k) / static_cast<float>(m);
+        const float r = spec.radius + spec.tube * std::cos(b);
+        v.push_back({r * std::cos(a), spec.tube * std::sin(b), -r * std::sin(a)});
+      }
+    const auto at = [&](std::uint32_t i, std::uint32_t k) { return (i % n) * m + k % m; };
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (std::uint32_t k = 0; k < m; ++k) f.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1), at(i, k + 1)});
+  } else {
+    // Box with m × m quads per face, centred on the origin, outward winding.
+    const glm::vec3 h = 0.5f * spec.size;
+    const glm::vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int axis = 0; axis < 3; ++axis)
+      for (int sign = -1; sign <= 1; sign += 2) {
+        const glm::vec3 normal = static_cast<float>(sign) * axes[axis];
+        const glm::vec3 s = axes[(axis + 1) % 3], t = axes[(axis + 2) % 3];
+        const glm::vec3 su = sign > 0 ? s : t, tu = sign > 0 ? t : s;  // (su × tu) = normal
+        const auto base = static_cast<std::uint32_t>(v.size());
+        for (std::uint32_t i = 0; i <= m; ++i)
+          for (std::uint32_t k = 0; k <= m; ++k) {
+            const float a = 2.0f * static_cast<float>(i) / static_cast<float>(m) - 1.0f;
+            const float b = 2.0f * static_cast<float>(k) / static_cast<float>(m) - 1.0f;
+            const glm::vec3 p = h * (normal + a * su + b * tu);
+            v.push_back({p.x, p.y, p.z});
+          }
+        for (std::uint32_t i = 0; i < m; ++i)
+          for (std::uint32_t k = 0; k < m; ++k) {
+            const auto at = [&](std::uint32_t a, std::uint32_t b) { return base + a * (m + 1) + b; };
+            f.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1), at(i, k + 1)});
+          }
+      }
+    // Shared edge vertices are duplicated per face; merge them so the mesh is closed.
+    std::vector<splats::Vec3> unique;
+    std::vector<std::uint32_t> remap(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      std::size_t j = 0;
+      for (; j < unique.size(); ++j)
+        if (std::abs(unique[j].x - v[i].x) < 1e-6f && std::abs(unique[j].y - v[i].y) < 1e-6f &&
+            std::abs(unique[j].z - v[i].z) < 1e-6f)
+          break;
+      if (j == unique.size()) unique.push_back(v[i]);
+      remap[i] = static_cast<std::uint32_t>(j);
+    }
+    for (auto& face : f)
+      for (auto& corner : face) corner = remap[corner];
+    v = std::move(unique);
+  }
+  return splats::make_mesh(v, f, fmt::format("procedural {}", spec.procedural));
+}
+
+}  // namespace splatcl::present
+
+namespace splatcl::present {
+
+std::pair<int, int> parse_frame_size(const std::string& text, const char* what) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
+      w > 8192 || h > 8192)
+    throw Error(fmt::format("{} '{}' is not WIDTHxHEIGHT with sides in 1..8192", what, text));
+  return {w, h};
+}
+
+void set_generated_light_count(Scene& scene, std::uint32_t count) {
+  scene.lights.resize(scene.lights.size() - scene.generated.count);
+  scene.generated.count = count;
+  const auto generated = generate_lights(scene.generated, scene.floor);
+  scene.lights.insert(scene.lights.end(), generated.begin(), generated.end());
+}
+
+}  // namespace splatcl::present
+
+namespace splatcl::present {
+
+void apply_overrides(Scene& scene, const Overrides& o) {
+  const auto pick = [](const std::string& value, const char* option, std::initializer_list<const char*> allowed,
+                       std::string& target) {
+    if (value.empty()) return;
+    std::string list;
+    for (const char* a : allowed) {
+      if (value == a) {
+        target = value;
+        return;
+      }
+      list += (list.empty() ? "" : ", ") + std::string(a);
+    }
+    throw Error(fmt::format("{} '{}' is not one of: {}", option, value, list));
+  };
+  pick(o.shading, "--shading", {"clustered", "tiled", "brute"}, scene.quality.shading);
+  pick(o.mode, "--mode", {"splats", "points"}, scene.quality.mode);
+  pick(o.shadows, "--shadows", {"splat", "pixel", "off"}, scene.quality.shadows);
+  if (o.lights >= 0) {
+    if (o.lights > (1 << 20)) throw Error(fmt::format("--lights {} is above the limit of {}", o.lights, 1 << 20));
+    set_generated_light_count(scene, static_cast<std::uint32_t>(o.lights));
+  }
+}
+
+}  // namespace splatcl::present

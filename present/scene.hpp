@@ -1,0 +1,151 @@
+#pragma once
+// The presenter's scene: objects (a mesh file or a procedural mesh, a rigid placement, simple
+// animation), a floor, many point lights (explicit or generated), shadowed key lights, a camera,
+// an ambient sky and quality settings. The JSON schema is documented in docs/presenter.md.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cluster/test_scene.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::present {
+
+// A mesh file (path relative to the scene file) or one of the procedural shapes.
+struct MeshSpec {
+  std::string path;        // non-empty: a mesh file
+  std::string procedural;  // "sphere", "torus", "box"
+  float radius = 1.0f;     // sphere radius; torus major radius
+  float tube = 0.35f;      // torus minor radius
+  glm::vec3 size{1.0f};    // box edge lengths
+  std::uint32_t segments = 32;  // around the main axis
+  std::uint32_t rings = 16;     // sphere latitude rings; torus tube segments; box cells per edge
+};
+
+// Pose at time t: spin about the object's own centre, and an orbit of that centre about a point.
+struct Animation {
+  glm::vec3 spin_degrees_per_second{0.0f};
+  float orbit_radius = 0.0f;              // 0 = no orbit
+  glm::vec3 orbit_center{0.0f};
+  float orbit_degrees_per_second = 0.0f;  // about +y
+  float orbit_phase_degrees = 0.0f;
+};
+
+struct ObjectSpec {
+  std::string name;
+  MeshSpec mesh;
+  glm::vec3 color{0.8f};
+  glm::vec3 position{0.0f};
+  glm::vec3 rotation_degrees{0.0f};  // applied in x, y, z order
+  float scale = 1.0f;
+  Animation animation;
+  bool occluder = true;  // casts shadows and ambient occlusion through its CSM
+  // Model → world at time t (seconds).
+  glm::mat4 placement(float time) const;
+};
+
+struct FloorSpec {
+  bool enabled = true;
+  float y = 0.0f;
+  float size = 12.0f;  // square side, centred on the origin
+  glm::vec3 color{0.7f};
+  std::uint32_t splats_per_side = 64;
+};
+
+struct Light {
+  glm::vec3 position{0.0f};  // world space
+  float radius = 1.0f;
+  glm::vec3 color{1.0f};
+  float size = 0.0f;  // key lights: radius of the spherical emitter sampled for soft shadows (0 = point)
+};
+
+// Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
+// bright hues from a seeded generator.
+struct GeneratedLights {
+  std::uint32_t count = 0;
+  float radius_min = 0.8f, radius_max = 2.5f;
+  float height_min = 0.2f, height_max = 3.0f;
+  float extent = 0.0f;  // half side of the square; 0 = half the floor size
+  float intensity = 0.6f;
+  std::uint64_t seed = 7;
+};
+
+struct Quality {
+  std::string sampling = "grid:1.5";  // splat generation sampling (splatcl splats --samples)
+  float eps_diagonal = 0.0005f;        // splat ε as a fraction of the mesh's bounding-box diagonal
+  std::uint32_t csm_maps = 1024, csm_resolution = 64;
+  std::uint32_t ao_samples = 16;
+  float ao_bias = 0.02f;       // CSM depth bias of AO and shadow queries, world units
+  float splat_scale = 1.0f;    // k: multiplies every splat's axes
+  float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
+  float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse
+  std::string mode = "splats";        // "splats" (three passes) or "points" (one pass, squares)
+  std::string shading = "clustered";  // "clustered", "tiled" or "brute"
+  std::uint32_t tile = 32;            // cluster / tile side in pixels
+  std::string shadows = "splat";      // key-light shadows: "splat" (per splat), "pixel" or "off"
+  std::string filter = "same-map";    // CSM filter of shadow queries (PCF)
+  std::uint32_t shadow_samples = 4;   // points sampled on a key light of non-zero size
+  bool ambient_occlusion = true;      // per-splat AO from every occluder
+  bool pixel_ao = false;              // quality mode: AO per pixel of the G-buffer instead of per splat
+};
+
+struct Sky {
+  glm::vec3 zenith{0.30f, 0.38f, 0.55f}, horizon{0.30f, 0.30f, 0.32f}, ground{0.10f, 0.09f, 0.08f};
+};
+
+struct Scene {
+  std::string source;     // file name or "default scene"
+  std::string directory;  // base for relative mesh paths
+  std::vector<ObjectSpec> objects;
+  FloorSpec floor;
+  std::vector<Light> lights;  // explicit lights, plus the generated ones after parsing
+  GeneratedLights generated;
+  std::vector<Light> key_lights;  // shadowed
+  cluster::Camera camera;
+  Sky sky;
+  Quality quality;
+  float time = 0.0f;  // scene time of a single rendered frame
+};
+
+// Parses scene JSON; errors name `source` and the field. Generated lights are appended to lights.
+Scene parse_scene(std::string_view text, const std::string& source, const std::string& directory);
+// Reads a scene file ("cannot read scene FILE" when missing).
+Scene load_scene(const std::string& path);
+// The embedded default scene (data/presenter-scene.json).
+Scene default_scene();
+const char* default_scene_name();
+
+// Deterministic lights of a GeneratedLights spec.
+std::vector<Light> generate_lights(const GeneratedLights& spec, const FloorSpec& floor);
+
+// The object's mesh: loaded from its file, or generated.
+splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory);
+
+}  // namespace splatcl::present
+
+namespace splatcl::present {
+
+// "WIDTHxHEIGHT" with both in 1..8192; Error naming `what` otherwise.
+std::pair<int, int> parse_frame_size(const std::string& text, const char* what);
+
+// Replaces the generated lights by `count` lights of the same spec (explicit lights stay).
+void set_generated_light_count(Scene& scene, std::uint32_t count);
+
+}  // namespace splatcl::present
+
+namespace splatcl::present {
+
+// Command-line overrides of the quality settings; empty strings keep the scene's value. Error
+// names the option for a value outside its set.
+struct Overrides {
+  std::string shading, mode, shadows;
+  long long lights = -1;  // generated light count; < 0 keeps the scene's
+};
+void apply_overrides(Scene& scene, const Overrides& overrides);
+
+}  // namespace splatcl::present

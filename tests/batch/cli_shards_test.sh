@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Shards 0..N-1 of a directory of meshes cover every model exactly once (by --list and by the
+# summaries they write into one output directory), and `batch merge` combines their summaries.
+. "$(dirname "$0")/cli_common.sh" "$1" "$2"
+for i in 1 2 3 4 5; do
+  mkdir -p "$work/meshes/set$((i % 2))"
+  { printf '%s\n' "$cube"; echo "# copy $i"; } > "$work/meshes/set$((i % 2))/model$i.obj"
+done
+args=(--maps 64 --res 32 --k 8 --reference)
+"$splatcl" batch "$work/meshes" --list > "$work/all.txt" || fail "--list failed"
+[ "$(wc -l < "$work/all.txt")" -eq 5 ] || fail "expected 5 models: $(cat "$work/all.txt")"
+: > "$work/listed.txt"
+: > "$work/ran.txt"
+for shard in 0 1 2; do
+  "$splatcl" batch "$work/meshes" --shard $shard/3 --list >> "$work/listed.txt" || fail "--list of shard $shard failed"
+  "$splatcl" batch "$work/meshes" -o "$work/out" --shard $shard/3 "${args[@]}" > "$work/shard$shard.log" || fail "shard $shard failed"
+  [ -f "$work/out/summary-$shard-of-3.json" ] || fail "shard $shard wrote no summary"
+  grep -o '"id": "[^"]*"' "$work/out/summary-$shard-of-3.json" >> "$work/ran.txt"
+done
+[ "$(sort "$work/listed.txt")" = "$(sort "$work/all.txt")" ] || fail "listed shards do not cover the models exactly once"
+[ "$(sort "$work/ran.txt" | uniq -d)" = "" ] || fail "a model ran in two shards"
+[ "$(sort -u "$work/ran.txt" | wc -l)" -eq 5 ] || fail "the shards ran $(sort -u "$work/ran.txt" | wc -l) of 5 models"
+"$splatcl" batch merge "$work"/out/summary-*-of-3.json -o "$work/merged.json" > "$work/merge.log" || fail "merge failed: $(cat "$work/merge.log")"
+[ "$(grep -c '"status": "ok"' "$work/merged.json")" -eq 5 ] || fail "merged summary does not hold 5 ok models"
+# The whole run in one go finds every shard's outputs and reuses them.
+"$splatcl" batch "$work/meshes" -o "$work/out" "${args[@]}" > "$work/whole.log" || fail "whole run failed"
+[ "$(grep -c '^reused' "$work/whole.log")" -eq 5 ] || fail "the whole run did not reuse the shards' outputs: $(cat "$work/whole.log")"
+echo "ok: 3 shards cover 5 models exactly once"

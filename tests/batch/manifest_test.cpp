@@ -1,0 +1,188 @@
+// Manifest parsing (JSON, CSV, directories): parameter layering, ids, and one-line errors that
+// name the file, the entry and the key.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "batch/batch_test_support.hpp"
+#include "batch/manifest.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::batch {
+namespace {
+
+using test::ScratchDir;
+using test::write_text;
+
+std::vector<ModelEntry> json(const std::string& text, const nlohmann::json& overrides = nlohmann::json::object()) {
+  return parse_json_manifest(text, "m.json", "meshes", overrides);
+}
+std::vector<ModelEntry> csv(const std::string& text, const nlohmann::json& overrides = nlohmann::json::object()) {
+  return parse_csv_manifest(text, "m.csv", "meshes", overrides);
+}
+
+// The message of the Error `body` throws ("" when it does not throw).
+template <class Body>
+std::string error_of(Body&& body) {
+  try {
+    body();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Manifest, JsonEntriesResolvePathsAndSortById) {
+  const auto models = json(R"({"models": ["b/zebra.obj", {"path": "/abs/apple.ply", "id": "fruit/apple"}, {"path": "c.off"}]})");
+  ASSERT_EQ(models.size(), 3u);
+  EXPECT_EQ(models[0].id, "c");
+  EXPECT_EQ(models[0].input, "meshes/c.off");
+  EXPECT_EQ(models[1].id, "fruit/apple");
+  EXPECT_EQ(models[1].input, "/abs/apple.ply");
+  EXPECT_EQ(models[2].id, "zebra");
+  EXPECT_EQ(models[2].input, "meshes/b/zebra.obj");
+  EXPECT_EQ(models[2].origin, "m.json: models[0]");
+}
+
+TEST(Manifest, ParametersLayerBuiltinDefaultsCommandLineModel) {
+  const auto models = json(R"({"defaults": {"maps": 256, "res": 64, "k": 12, "eps_diag": 0.002},
+                               "models": [{"path": "a.obj", "res": 32, "outputs": ["csm"], "clip": true}, "b.obj"]})",
+                           {{"res", "16"}, {"k", 8}});
+  ASSERT_EQ(models.size(), 2u);
+  const ModelParams& a = models[0].params;
+  const ModelParams& b = models[1].params;
+  EXPECT_EQ(a.csm.maps, 256u);            // manifest default
+  EXPECT_EQ(a.csm.res, 32u);              // model key beats the command line
+  EXPECT_EQ(b.csm.res, 16u);              // command line beats the manifest default
+  EXPECT_EQ(b.splats.k, 8u);
+  EXPECT_DOUBLE_EQ(b.splats.eps_diag, 0.002);
+  EXPECT_EQ(b.splats.samples, "vertices");  // built-in
+  EXPECT_EQ(b.csm.order, "zigzag-h");
+  EXPECT_TRUE(a.splats.clip);
+  EXPECT_FALSE(b.splats.clip);
+  EXPECT_FALSE(a.want_splats);
+  EXPECT_TRUE(a.want_csm);
+  EXPECT_TRUE(b.want_splats && b.want_csm);
+}
+
+TEST(Manifest, JsonErrorsNameFileEntryAndKey) {
+  EXPECT_EQ(error_of([] { json("{\"models\": [\"a.obj\",]}"); }).rfind("m.json: not valid JSON: parse error at line 1", 0), 0u);
+  EXPECT_EQ(error_of([] { json(R"({"model": []})"); }), "m.json: unknown top-level key 'model' (known: defaults, models)");
+  EXPECT_EQ(error_of([] { json(R"({"defaults": {}})"); }), "m.json: \"models\" must be a list");
+  EXPECT_EQ(error_of([] { json(R"({"models": []})"); }), "m.json: no models");
+  const std::string unknown = error_of([] { json(R"({"models": ["a.obj", {"path": "b.obj", "epsilon": 1}]})"); });
+  EXPECT_EQ(unknown.rfind("m.json: models[1]: unknown key 'epsilon' (known: id, path, eps, eps_diag, k,", 0), 0u) << unknown;
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "k": -3}]})"); }),
+            "m.json: models[0]: 'k' must be an integer from 1 to 1024, got -3");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "res": 2.5}]})"); }),
+            "m.json: models[0]: 'res' must be an integer from 1 to 8192, got 2.5");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "eps": "x"}]})"); }), "m.json: models[0]: 'eps' must be a number, got 'x'");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"id": "b"}]})"); }), "m.json: models[0]: missing \"path\"");
+  EXPECT_EQ(error_of([] { json(R"({"models": [3]})"); }), "m.json: models[0]: expected a path or an object with \"path\", got 3");
+  EXPECT_EQ(error_of([] { json(R"({"defaults": {"color_tol": 300}, "models": ["a.obj"]})"); }),
+            "m.json: defaults: 'color_tol' must be an integer from 0 to 255, got 300");
+  EXPECT_EQ(error_of([] { json(R"({"models": ["a.obj"]})", {{"k", "many"}}); }),
+            "command line: 'k' must be an integer from 1 to 1024, got 'many'");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "outputs": ["png"]}]})"); }),
+            "m.json: models[0]: 'outputs' has unknown output 'png' (one of: splats, csm)");
+}
+
+TEST(Manifest, CombinationsAreValidatedWhenRead) {
+  const std::string maps = error_of([] { json(R"({"models": [{"path": "b.obj", "maps": 1000}]})"); });
+  EXPECT_EQ(maps.rfind("m.json: models[0] (b): 'maps': ", 0), 0u) << maps;
+  EXPECT_NE(maps.find("not a perfect square"), std::string::npos) << maps;
+  // A map count that does not fit is fine when no CSM is wanted.
+  EXPECT_NO_THROW(json(R"({"models": [{"path": "b.obj", "maps": 1000, "outputs": ["splats"]}]})"));
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "samples": "grid:0"}]})"); }).rfind("m.json: models[0] (b): 'samples': ", 0), 0u);
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "order": "spiral"}]})"); }).rfind("m.json: models[0] (b): 'order': unknown map order 'spiral'", 0), 0u);
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "color_field": "blue"}]})"); }),
+            "m.json: models[0] (b): 'color_field': colour field 'blue' is not grey, soft, hard or rainbow");
+}
+
+TEST(Manifest, IdsMustBeUniqueAndSafe) {
+  EXPECT_EQ(error_of([] { json(R"({"models": ["x/a.obj", "y/a.ply"]})"); }),
+            "m.json: models[1]: model id 'a' is used twice (m.json: models[0] and m.json: models[1]); give one an \"id\"");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "id": "../up"}]})"); }),
+            "m.json: models[0] (../up): model id '../up' has a segment starting with '.'");
+  EXPECT_NO_THROW(check_model_id("set-1/chair_02.v2"));
+  for (const std::string bad : {"", "a//b", "/abs", "a/", ".hidden", "a b", "a\\b", "ü"}) EXPECT_THROW(check_model_id(bad), Error) << bad;
+}
+
+TEST(Manifest, CsvColumnsQuotingCommentsAndEmptyCells) {
+  const auto models = csv(
+      "# studio set\n"
+      "id,path,maps,res,outputs,clip,samples\n"
+      "chair,\"chairs/big, old.obj\",64,,csm,yes,\n"
+      "\n"
+      "table,table.ply,,16,splats+csm,false,grid:2\r\n",
+      {{"res", 32}});
+  ASSERT_EQ(models.size(), 2u);
+  EXPECT_EQ(models[0].id, "chair");
+  EXPECT_EQ(models[0].input, "meshes/chairs/big, old.obj");
+  EXPECT_EQ(models[0].origin, "m.csv:3");
+  EXPECT_EQ(models[0].params.csm.maps, 64u);
+  EXPECT_EQ(models[0].params.csm.res, 32u);  // empty cell: the default (here from the command line)
+  EXPECT_FALSE(models[0].params.want_splats);
+  EXPECT_TRUE(models[0].params.splats.clip);
+  EXPECT_EQ(models[1].origin, "m.csv:5");
+  EXPECT_EQ(models[1].params.csm.maps, 4096u);
+  EXPECT_EQ(models[1].params.csm.res, 16u);
+  EXPECT_EQ(models[1].params.splats.samples, "grid:2");
+  EXPECT_TRUE(models[1].params.want_splats && models[1].params.want_csm);
+}
+
+TEST(Manifest, CsvErrorsNameFileAndLine) {
+  EXPECT_EQ(error_of([] { csv("path,epsilon\na.obj,1\n"); }).rfind("m.csv:1: unknown column 'epsilon' (known: id, path, eps,", 0), 0u);
+  EXPECT_EQ(error_of([] { csv("id,maps\na,16\n"); }), "m.csv:1: the header has no 'path' column");
+  EXPECT_EQ(error_of([] { csv("path,k\na.obj,1\nb.obj\n"); }), "m.csv:3: 1 fields, but the header has 2");
+  EXPECT_EQ(error_of([] { csv("path,k\na.obj,zero\n"); }), "m.csv:2: 'k' must be an integer from 1 to 1024, got 'zero'");
+  EXPECT_EQ(error_of([] { csv("path,clip\na.obj,maybe\n"); }), "m.csv:2: 'clip' must be true or false, got 'maybe'");
+  EXPECT_EQ(error_of([] { csv("path\n\"a.obj\n"); }), "m.csv:2: unterminated quote");
+  EXPECT_EQ(error_of([] { csv("path,path\na.obj,b.obj\n"); }), "m.csv:1: column 'path' appears twice");
+  EXPECT_EQ(error_of([] { csv("# nothing\n"); }), "m.csv: empty (expected a header line with a 'path' column)");
+  EXPECT_EQ(error_of([] { csv("path\n"); }), "m.csv: no models");
+}
+
+TEST(Manifest, LoadManifestChoosesByExtensionAndNamesMissingFiles) {
+  ScratchDir dir("manifest-load");
+  write_text(dir / "set.json", R"({"models": ["a.obj"]})");
+  write_text(dir / "set.csv", "path\na.obj\n");
+  write_text(dir / "set.txt", "path\na.obj\n");
+  EXPECT_EQ(load_manifest(dir / "set.json").at(0).input, dir / "a.obj");
+  EXPECT_EQ(load_manifest(dir / "set.csv").at(0).input, dir / "a.obj");
+  EXPECT_EQ(error_of([&] { load_manifest(dir / "set.txt"); }),
+            "cannot tell the manifest format of " + (dir / "set.txt") + ": name it .json or .csv (or pass a directory of meshes)");
+  EXPECT_EQ(error_of([&] { load_manifest(dir / "missing.json"); }), "cannot read manifest " + (dir / "missing.json") + ": No such file or directory");
+}
+
+TEST(Manifest, DirectoryScanFindsMeshesRecursivelySkippingHiddenAndOutput) {
+  ScratchDir dir("manifest-scan");
+  for (const char* name : {"a.obj", "sub/b.PLY", "sub/deeper/c.off", "d.stl", ".hidden.obj", ".git/e.obj", "notes.txt", "out/f.obj"})
+    write_text(dir / name, "x");
+  const auto models = scan_directory(dir.path().string(), dir / "out", {{"maps", 64}});
+  std::vector<std::string> ids;
+  for (const auto& m : models) ids.push_back(m.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{"a", "d", "sub/b", "sub/deeper/c"}));
+  EXPECT_EQ(models[2].input, dir / "sub/b.PLY");
+  EXPECT_EQ(models[2].params.csm.maps, 64u);
+  write_text(dir / "a.ply", "x");
+  EXPECT_NE(error_of([&] { scan_directory(dir.path().string(), dir / "out"); }).find("model id 'a' is used twice"), std::string::npos);
+  EXPECT_EQ(error_of([&] { scan_directory(dir / "none"); }), "cannot read directory " + (dir / "none") + ": it does not exist");
+  std::filesystem::create_directories(dir / "empty");
+  write_text(dir / "empty/readme.txt", "x");
+  EXPECT_EQ(error_of([&] { scan_directory(dir / "empty"); }), "no meshes (.obj, .ply, .off, .stl) in " + (dir / "empty"));
+}
+
+TEST(Manifest, ChecksumFollowsIdsInputsAndParameters) {
+  const auto base = json(R"({"models": ["a.obj", "b.obj"]})");
+  const auto reordered = json(R"({"models": ["b.obj", "a.obj"]})");
+  const auto other_res = json(R"({"models": ["a.obj", {"path": "b.obj", "res": 64}]})");
+  const auto other_path = json(R"({"models": ["a.obj", "c/b.obj"]})");
+  EXPECT_EQ(manifest_checksum(base), manifest_checksum(reordered));
+  EXPECT_NE(manifest_checksum(base), manifest_checksum(other_res));
+  EXPECT_NE(manifest_checksum(base), manifest_checksum(other_path));
+  EXPECT_EQ(manifest_checksum(base).size(), 16u);
+}
+
+}  // namespace
+}  // namespace splatcl::batch

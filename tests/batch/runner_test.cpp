@@ -1,0 +1,194 @@
+// Resumable runs on tiny meshes with the native references (no OpenCL device needed): outputs and
+// records, reuse verified by checksum, rebuilds after changes or corruption, per-model failures.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "batch/batch_test_support.hpp"
+#include "batch/runner.hpp"
+#include "batch/summary.hpp"
+#include "io/checksum.hpp"
+#include "splats/splat_file.hpp"
+#include "csm/csm_file.hpp"
+
+namespace splatcl::batch {
+namespace {
+
+using test::read_text;
+using test::ScratchDir;
+using test::write_text;
+
+ModelEntry model(const ScratchDir& dir, const std::string& id, const std::string& file) {
+  ModelEntry m;
+  m.id = id;
+  m.input = dir / file;
+  m.origin = id;
+  m.params.csm.maps = 16;
+  m.params.csm.res = 8;
+  m.params.splats.k = 6;
+  return m;
+}
+
+RunOptions reference_options(const ScratchDir& dir) {
+  RunOptions options;
+  options.output_dir = dir / "out";
+  options.reference = true;
+  return options;
+}
+
+const OutputResult* output(const ModelResult& r, const std::string& kind) {
+  for (const auto& o : r.outputs)
+    if (o.kind == kind) return &o;
+  return nullptr;
+}
+
+TEST(BatchRunner, BuildsValidOutputsThenReusesThem) {
+  ScratchDir dir("runner-reuse");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  write_text(dir / "set/wedge.obj", test::kWedgeObj);
+  const std::vector<ModelEntry> models{model(dir, "cube", "cube.obj"), model(dir, "set/wedge", "set/wedge.obj")};
+  const RunOptions options = reference_options(dir);
+
+  const auto first = run_batch(models, options);
+  ASSERT_EQ(first.size(), 2u);
+  for (const auto& r : first) {
+    ASSERT_TRUE(r.ok) << r.id << ": " << r.reason;
+    EXPECT_FALSE(r.reused());
+    ASSERT_EQ(r.outputs.size(), 2u);
+    EXPECT_EQ(r.outputs[0].kind, "splats");
+    EXPECT_EQ(r.outputs[1].kind, "csm");
+    EXPECT_EQ(r.input_checksum, checksum_of(read_text(r.input)));
+    for (const auto& o : r.outputs)
+      for (const auto& f : o.files) EXPECT_EQ(f.checksum, checksum_of(read_text(options.output_dir + "/" + f.path))) << f.path;
+  }
+  // The outputs are real, valid files.
+  EXPECT_GT(splats::read_splat_file(options.output_dir + "/set/wedge.splats.ply").splats.size(), 0u);
+  EXPECT_EQ(csm::read_csm(options.output_dir + "/cube.csm").info.maps, 16u);
+  EXPECT_TRUE(std::filesystem::exists(options.output_dir + "/cube.batch.json"));
+  EXPECT_TRUE(std::filesystem::exists(options.output_dir + "/cube.csm.json"));
+  EXPECT_TRUE(std::filesystem::exists(options.output_dir + "/cube.splats.json"));
+
+  const std::string ply_before = read_text(options.output_dir + "/cube.splats.ply");
+  const auto second = run_batch(models, options);
+  for (const auto& r : second) {
+    EXPECT_TRUE(r.ok);
+    EXPECT_TRUE(r.reused()) << r.id;
+  }
+  EXPECT_EQ(read_text(options.output_dir + "/cube.splats.ply"), ply_before);
+
+  RunOptions forced = options;
+  forced.force = true;
+  for (const auto& r : run_batch(models, forced)) EXPECT_FALSE(r.reused());
+  EXPECT_EQ(read_text(options.output_dir + "/cube.splats.ply"), ply_before);  // deterministic
+}
+
+TEST(BatchRunner, RebuildsExactlyWhatChangedOrIsCorrupt) {
+  ScratchDir dir("runner-rebuild");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  std::vector<ModelEntry> models{model(dir, "cube", "cube.obj")};
+  const RunOptions options = reference_options(dir);
+  ASSERT_TRUE(run_batch(models, options).at(0).ok);
+
+  // A CSM parameter changes: the splats are reused, the CSM rebuilt.
+  models[0].params.csm.res = 4;
+  auto r = run_batch(models, options).at(0);
+  ASSERT_TRUE(r.ok);
+  EXPECT_TRUE(output(r, "splats")->reused);
+  EXPECT_FALSE(output(r, "csm")->reused);
+  EXPECT_EQ(csm::read_csm(options.output_dir + "/cube.csm").info.resolution, 4u);
+
+  // A corrupted output file is rebuilt.
+  {
+    std::string ply = read_text(options.output_dir + "/cube.splats.ply");
+    ply.back() = static_cast<char>(ply.back() ^ 1);
+    write_text(options.output_dir + "/cube.splats.ply", ply);
+  }
+  r = run_batch(models, options).at(0);
+  EXPECT_FALSE(output(r, "splats")->reused);
+  EXPECT_TRUE(output(r, "csm")->reused);
+  EXPECT_NO_THROW(splats::read_splat_file(options.output_dir + "/cube.splats.ply"));
+
+  // A changed input rebuilds both; a damaged record too.
+  write_text(dir / "cube.obj", std::string(test::kCubeObj) + "# edited\n");
+  r = run_batch(models, options).at(0);
+  EXPECT_FALSE(output(r, "splats")->reused);
+  EXPECT_FALSE(output(r, "csm")->reused);
+  write_text(options.output_dir + "/cube.batch.json", "{\"truncated");
+  EXPECT_FALSE(run_batch(models, options).at(0).reused());
+  write_text(options.output_dir + "/cube.batch.json", R"({"input_checksum": 5, "outputs": {"csm": {"params_checksum": [], "files": 1}}})");
+  EXPECT_FALSE(run_batch(models, options).at(0).reused());
+  EXPECT_TRUE(run_batch(models, options).at(0).reused());
+
+  // Only the outputs asked for are built and checked.
+  models[0].params.want_splats = false;
+  r = run_batch(models, options).at(0);
+  ASSERT_EQ(r.outputs.size(), 1u);
+  EXPECT_EQ(r.outputs[0].kind, "csm");
+  EXPECT_TRUE(r.reused());
+}
+
+TEST(BatchRunner, FailingModelsAreReportedAndTheRestComplete) {
+  ScratchDir dir("runner-fail");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  write_text(dir / "empty.obj", "# no faces\nv 0 0 0\n");
+  write_text(dir / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+  write_text(dir / "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  const std::vector<ModelEntry> models{model(dir, "a-missing", "missing.obj"), model(dir, "b-empty", "empty.obj"),
+                                       model(dir, "c-nan", "nan.obj"), model(dir, "d-cube", "cube.obj"), model(dir, "e-flat", "flat.obj")};
+  const RunOptions options = reference_options(dir);
+  std::vector<std::string> finished;
+  const auto results = run_batch(models, options, {}, [&](const ModelResult& r) { finished.push_back(r.id); });
+  ASSERT_EQ(results.size(), 5u);
+  EXPECT_EQ(finished.size(), 5u);
+  EXPECT_FALSE(results[0].ok);
+  EXPECT_NE(results[0].reason.find("missing.obj"), std::string::npos) << results[0].reason;
+  EXPECT_FALSE(results[1].ok);
+  EXPECT_NE(results[1].reason.find("empty.obj"), std::string::npos) << results[1].reason;
+  EXPECT_FALSE(results[2].ok);
+  EXPECT_NE(results[2].reason.find("nan.obj"), std::string::npos) << results[2].reason;
+  EXPECT_TRUE(results[3].ok) << results[3].reason;
+  EXPECT_FALSE(results[4].ok);
+  EXPECT_NE(results[4].reason.find("degenerate"), std::string::npos) << results[4].reason;
+  // Failures are recorded and retried on the next run (never "reused").
+  const auto again = run_batch(models, options);
+  EXPECT_FALSE(again[0].ok);
+  EXPECT_TRUE(again[3].reused());
+  const nlohmann::json summary = make_summary({}, results);
+  EXPECT_EQ(summary["counts"]["failed"], 4);
+  EXPECT_EQ(summary["models"][0]["status"], "failed");
+  EXPECT_TRUE(summary["models"][0].contains("reason"));
+  EXPECT_EQ(failed_models(summary), 4u);
+}
+
+TEST(BatchRunner, ParallelJobsGiveTheSameOutputs) {
+  ScratchDir dir("runner-jobs");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  write_text(dir / "wedge.obj", test::kWedgeObj);
+  std::vector<ModelEntry> models;
+  for (int i = 0; i < 4; ++i) models.push_back(model(dir, "m" + std::to_string(i), i % 2 ? "cube.obj" : "wedge.obj"));
+  RunOptions serial = reference_options(dir);
+  RunOptions parallel = serial;
+  parallel.output_dir = dir / "out-parallel";
+  parallel.jobs = 3;
+  const auto a = run_batch(models, serial), b = run_batch(models, parallel);
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    ASSERT_TRUE(a[i].ok && b[i].ok);
+    EXPECT_EQ(a[i].id, b[i].id);
+    for (const std::string& name : {splats_name(a[i].id), csm_name(a[i].id)})
+      EXPECT_EQ(read_text(serial.output_dir + "/" + name), read_text(parallel.output_dir + "/" + name)) << name;
+  }
+}
+
+TEST(BatchRunner, StaleTemporariesOfThisRunsModelsAreRemoved) {
+  ScratchDir dir("runner-temps");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  const RunOptions options = reference_options(dir);
+  write_text(options.output_dir + "/cube.csm.tmp4242", "half");
+  write_text(options.output_dir + "/other.csm.tmp4242", "not ours");
+  ASSERT_TRUE(run_batch({model(dir, "cube", "cube.obj")}, options).at(0).ok);
+  EXPECT_FALSE(std::filesystem::exists(options.output_dir + "/cube.csm.tmp4242"));
+  EXPECT_TRUE(std::filesystem::exists(options.output_dir + "/other.csm.tmp4242"));
+}
+
+}  // namespace
+}  // namespace splatcl::batch

@@ -1,0 +1,85 @@
+// Summaries: counts, shard indices, and merging shard summaries with every inconsistency refused.
+#include <gtest/gtest.h>
+
+#include "batch/summary.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::batch {
+namespace {
+
+nlohmann::json shard_summary(unsigned index, unsigned count, const std::vector<std::string>& ids, const std::string& checksum = "c0ffee",
+                             std::size_t total = 5) {
+  RunInfo info;
+  info.manifest_checksum = checksum;
+  info.manifest_models = total;
+  info.shard = {index, count};
+  info.started = "2026-11-22T0" + std::to_string(index) + ":00:00Z";
+  info.wall_s = index + 1.0;
+  std::vector<ModelResult> results;
+  for (const auto& id : ids) {
+    ModelResult r;
+    r.id = id;
+    r.ok = id != "bad";
+    if (!r.ok) r.reason = "cannot read mesh bad.obj";
+    results.push_back(r);
+  }
+  return make_summary(info, results);
+}
+
+std::string merge_error(const std::vector<std::pair<std::string, nlohmann::json>>& named, bool partial = false) {
+  try {
+    merge_summaries(named, partial);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(BatchSummary, CountsAndNames) {
+  const auto s = shard_summary(1, 3, {"z", "bad", "a"});
+  EXPECT_EQ(s["format"], "splatcl-batch-summary");
+  EXPECT_EQ(s["counts"]["models"], 3);
+  EXPECT_EQ(s["counts"]["ok"], 2);
+  EXPECT_EQ(s["counts"]["failed"], 1);
+  EXPECT_EQ(s["models"][0]["id"], "a");  // id order
+  EXPECT_EQ(s["models"][1]["reason"], "cannot read mesh bad.obj");
+  EXPECT_EQ(s["shard"]["indices"], nlohmann::json::array({1}));
+  EXPECT_EQ(summary_name({0, 1}), "summary.json");
+  EXPECT_EQ(summary_name({2, 8}), "summary-2-of-8.json");
+}
+
+TEST(BatchSummary, MergesCompleteShards) {
+  const auto merged = merge_summaries({{"s1", shard_summary(1, 3, {"b", "e"})},
+                                       {"s0", shard_summary(0, 3, {"a", "d"})},
+                                       {"s2", shard_summary(2, 3, {"c"})}},
+                                      false);
+  EXPECT_EQ(merged["counts"]["models"], 5);
+  EXPECT_EQ(merged["shard"]["indices"], nlohmann::json::array({0, 1, 2}));
+  std::vector<std::string> ids;
+  for (const auto& m : merged["models"]) ids.push_back(m["id"]);
+  EXPECT_EQ(ids, (std::vector<std::string>{"a", "b", "c", "d", "e"}));
+  EXPECT_EQ(merged["started"], "2026-11-22T00:00:00Z");
+  EXPECT_EQ(merged["wall_s"], 3.0);
+  EXPECT_EQ(merged["merged_from"], nlohmann::json::array({"s1", "s0", "s2"}));
+  // A merged summary merges again like any other.
+  EXPECT_EQ(merge_summaries({{"m", merged}}, false)["counts"]["models"], 5);
+}
+
+TEST(BatchSummary, MergeRefusesInconsistentInput) {
+  const auto s0 = shard_summary(0, 2, {"a", "c", "e"});
+  const auto s1 = shard_summary(1, 2, {"b", "d"});
+  EXPECT_EQ(merge_error({{"s0", s0}}), "batch merge: missing shard 1/2 (pass --partial to merge anyway)");
+  EXPECT_EQ(merge_summaries({{"s0", s0}}, true)["counts"]["models"], 3);
+  EXPECT_EQ(merge_error({{"s0", s0}, {"again", s0}}), "again: shard 0/2 is also in s0");
+  EXPECT_EQ(merge_error({{"s0", s0}, {"other", shard_summary(1, 2, {"b", "d"}, "beef")}}),
+            "other: from a different run than s0 (manifest checksum beef vs c0ffee)");
+  EXPECT_EQ(merge_error({{"s0", s0}, {"three", shard_summary(1, 3, {"b"})}}), "three: split into 3 shards, s0 into 2");
+  EXPECT_EQ(merge_error({{"s0", s0}, {"dup", shard_summary(1, 2, {"b", "c"})}}), "dup: model 'c' is also in s0");
+  EXPECT_EQ(merge_error({{"s0", s0}, {"short", shard_summary(1, 2, {"b"})}}), "batch merge: the shards hold 4 models, the manifest 5");
+  EXPECT_EQ(merge_error({}), "batch merge: no summaries given");
+  EXPECT_EQ(failed_models(merge_summaries({{"s0", s0}, {"s1", shard_summary(1, 2, {"bad", "d"})}}, false)), 1u);
+  EXPECT_NO_THROW(merge_summaries({{"s0", s0}, {"s1", s1}}, false));
+}
+
+}  // namespace
+}  // namespace splatcl::batch

@@ -1,0 +1,82 @@
+// Regression check against a baseline: an identical run passes, a slower record beyond the threshold
+// is flagged, one within it is not, and records are matched by their full identity.
+#include <gtest/gtest.h>
+
+#include "bench/compare.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::bench {
+namespace {
+
+Record record(const std::string& case_name, const std::string& impl, double median_ms, const Json& extra = Json::object()) {
+  Record r;
+  r.suite = "primitives";
+  r.case_name = case_name;
+  r.impl = impl;
+  r.device = impl == kImplReference ? kHostDevice : "pthread-test";
+  r.size = 1000;
+  r.size_unit = "keys";
+  r.runs = 3;
+  r.median_ms = r.min_ms = r.max_ms = median_ms;
+  r.extra = extra;
+  return r;
+}
+
+Results baseline() {
+  Results results;
+  results.records = {record("radix-sort-u32", kImplOpenCL, 10, Json{{"bits", 20}, {"shape", "cpu"}}),
+                     record("radix-sort-u32", kImplOpenCL, 40, Json{{"bits", 20}, {"shape", "gpu"}}),
+                     record("radix-sort-u32", kImplReference, 20, Json{{"bits", 20}}),
+                     record("scan-exclusive", kImplOpenCL, 5, Json{{"shape", "cpu"}, {"device_ms", {{"scan", 4.0}}}})};
+  return results;
+}
+
+TEST(BenchCompare, IdenticalResultsPass) {
+  const Comparison c = compare_results(baseline(), baseline(), 5);
+  EXPECT_EQ(c.matched.size(), 4u);
+  EXPECT_EQ(c.regressions(), 0u);
+  EXPECT_TRUE(c.only_current.empty());
+  EXPECT_TRUE(c.only_baseline.empty());
+  EXPECT_NE(comparison_report(c).find("0 of 4 matched records regressed by more than 5 %"), std::string::npos);
+}
+
+TEST(BenchCompare, SlowerBeyondTheThresholdIsARegression) {
+  Results current = baseline();
+  current.records[1].median_ms = 50;  // gpu shape +25 %
+  current.records[3].median_ms = 5.2;  // scan +4 %
+  current.records[2].median_ms = 10;   // reference faster: never a regression
+  const Comparison c = compare_results(current, baseline(), 10);
+  ASSERT_EQ(c.matched.size(), 4u);
+  EXPECT_EQ(c.regressions(), 1u);
+  EXPECT_TRUE(c.matched[1].regression);
+  EXPECT_NEAR(c.matched[1].change_pct, 25.0, 1e-9);
+  EXPECT_FALSE(c.matched[3].regression);
+  EXPECT_NEAR(c.matched[3].change_pct, 4.0, 1e-9);
+  EXPECT_FALSE(c.matched[2].regression);
+  const std::string report = comparison_report(c);
+  EXPECT_NE(report.find("**regression**"), std::string::npos);
+  EXPECT_NE(report.find("shape=gpu"), std::string::npos);
+  // A lower threshold catches the scan too.
+  EXPECT_EQ(compare_results(current, baseline(), 3).regressions(), 2u);
+}
+
+TEST(BenchCompare, MatchesByFullIdentity) {
+  Results current = baseline();
+  current.records[0].extra["bits"] = 32;      // another problem variant: not comparable
+  current.records[3].device = "other device";  // another device
+  const Comparison c = compare_results(current, baseline(), 10);
+  EXPECT_EQ(c.matched.size(), 2u);
+  EXPECT_EQ(c.only_current.size(), 2u);
+  EXPECT_EQ(c.only_baseline.size(), 2u);
+  // Measured figures are not identity.
+  Results timed = baseline();
+  timed.records[3].extra["device_ms"] = Json{{"scan", 9.0}};
+  timed.records[3].extra["bytes"] = 8000;
+  timed.records[3].extra["device_total_ms"] = 9.0;
+  EXPECT_EQ(comparison_key(timed.records[3]), comparison_key(baseline().records[3]));
+}
+
+TEST(BenchCompare, NegativeThresholdIsAnError) { EXPECT_THROW(compare_results(baseline(), baseline(), -1), Error); }
+
+}  // namespace
+}  // namespace splatcl::bench

@@ -1,0 +1,126 @@
+// `splatcl ao`'s library part: placements parsed, AO at the vertices of a shared model under two
+// instances of one CSM (kernel == reference, values in [0, 1], an unoccluded receiver gets exactly
+// 1), and the PLY it writes read back byte for byte.
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "csm/ao_receivers.hpp"
+#include "csm/build.hpp"
+#include "csm_test_support.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::csm {
+namespace {
+
+using namespace testing;
+
+const Csm& slab() {
+  static const Csm csm = [] {
+    BuildOptions options;
+    options.maps = 256;
+    options.resolution = 32;
+    return build_csm(boxes_mesh({{{-1, -0.05f, -1}, {1, 0.05f, 1}}}, "slab"), options, &runtime()).csm;
+  }();
+  return csm;
+}
+
+TEST(CsmAoReceivers, ParsesPlacements) {
+  const Transform t = parse_placement("1,2,3");
+  EXPECT_EQ(t, (Transform{1, 0, 0, 1, 0, 1, 0, 2, 0, 0, 1, 3, 0, 0, 0, 1}));
+  // 90° about y takes +x to −z.
+  const Transform r = parse_placement("0,0,0,0,90,0");
+  EXPECT_NEAR(r[0], 0, 1e-12);
+  EXPECT_NEAR(r[8], -1, 1e-12);
+  EXPECT_NEAR(r[2], 1, 1e-12);
+  EXPECT_EQ(parse_placement("1,0,0,5,0,1,0,6,0,0,1,7,0,0,0,1")[7], 6);
+  EXPECT_THROW(parse_placement("1,2"), Error);
+  EXPECT_THROW(parse_placement("1,x,3"), Error);
+  EXPECT_THROW(parse_placement("1,nan,3"), Error);
+  EXPECT_THROW(parse_placement(""), Error);
+  EXPECT_THROW(parse_placement("1,0,0,5,0,1,0,6,0,0,1,7,0,0,1,1"), Error);
+}
+
+TEST(CsmAoReceivers, SharedModelUnderTwoInstances) {
+  const std::string path = model_path("spot.obj");
+  if (path.empty()) GTEST_SKIP() << "spot.obj not found in " << SPLATCL_MODELS_DIR;
+  const Mesh spot = splats::load_mesh(path);
+  // One slab just above the cow and one beside it, rotated: the same CSM twice.
+  const VisibilityScene scene({&slab()}, {{0, parse_placement("0,1.2,0")}, {0, parse_placement("1.5,0,0,0,0,90")}});
+  ReceiverAoOptions options;
+  options.batch = 1000;  // several batches
+  std::size_t calls = 0;
+  const std::vector<Vec4> cl = receiver_ambient_occlusion(spot, scene, options, &runtime(), [&](std::size_t done, std::size_t total) {
+    ++calls;
+    EXPECT_LE(done, total);
+  });
+  EXPECT_EQ(calls, (spot.vertices.size() + 999) / 1000);
+  const std::vector<Vec4> ref = receiver_ambient_occlusion(spot, scene, options, nullptr);
+  ASSERT_EQ(cl.size(), spot.vertices.size());
+  EXPECT_EQ(std::memcmp(cl.data(), ref.data(), cl.size() * sizeof(Vec4)), 0);
+  std::size_t occluded = 0;
+  for (const Vec4& v : cl) {
+    EXPECT_GE(v.w, 0.0f);
+    EXPECT_LE(v.w, 1.0f);
+    EXPECT_NEAR(v.x * v.x + v.y * v.y + v.z * v.z, 1.0f, 1e-4f);
+    occluded += v.w < 1.0f;
+  }
+  EXPECT_GT(occluded, spot.vertices.size() / 4);
+  // Far away the occluders block nothing: AO exactly 1 everywhere.
+  const VisibilityScene far({&slab()}, {{0, parse_placement("500,0,0")}, {0, parse_placement("0,0,-500")}});
+  for (const Vec4& v : receiver_ambient_occlusion(spot, far, options, &runtime())) EXPECT_EQ(v.w, 1.0f);
+  // The ground plane alone blocks the directions below the horizon: an upward normal keeps nearly all.
+  options.ground = true;
+  const std::vector<Vec4> grounded = receiver_ambient_occlusion(spot, far, options, &runtime());
+  for (std::size_t k = 0; k < spot.vertices.size(); ++k) {
+    EXPECT_LE(grounded[k].w, 1.0f);
+    if (spot.normals[k].y > 0.999f) {
+      EXPECT_GE(grounded[k].w, 0.9f);
+    }
+    if (spot.normals[k].y < -0.999f) {
+      EXPECT_LE(grounded[k].w, 0.1f);
+    }
+  }
+}
+
+TEST(CsmAoReceivers, WritesAReadablePly) {
+  const Mesh mesh = cube_mesh();
+  const VisibilityScene scene({&slab()}, {{0, parse_placement("0,1.5,0")}});
+  const std::vector<Vec4> ao = receiver_ambient_occlusion(mesh, scene, {}, nullptr);
+  const std::string path = (std::filesystem::temp_directory_path() / "splatcl-ao-test.ply").string();
+  write_ao_ply(path, mesh, ao);
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string bytes = buffer.str();
+  std::filesystem::remove(path);
+  const std::size_t body = bytes.find("end_header\n");
+  ASSERT_NE(body, std::string::npos);
+  EXPECT_NE(bytes.find("element vertex 8\n"), std::string::npos);
+  EXPECT_NE(bytes.find("property float ao\n"), std::string::npos);
+  EXPECT_NE(bytes.find("element face 6\n"), std::string::npos);
+  constexpr std::size_t kVertexBytes = 6 * 4 + 3 + 4 * 4;
+  ASSERT_EQ(bytes.size(), body + 11 + 8 * kVertexBytes + 6 * (1 + 4 * 4));
+  for (std::size_t v = 0; v < 8; ++v) {
+    const char* at = bytes.data() + body + 11 + v * kVertexBytes;
+    float x = 0, value = 0;
+    std::memcpy(&x, at, 4);
+    std::memcpy(&value, at + 27, 4);
+    EXPECT_EQ(x, mesh.vertices[v].x);
+    EXPECT_EQ(value, ao[v].w);
+    EXPECT_EQ(static_cast<unsigned char>(at[24]), static_cast<unsigned char>(std::lround(ao[v].w * 255)));
+  }
+  // The top vertices (y = 1) lie under the slab, the bottom ones face away from it.
+  float top = 0;
+  for (std::size_t v = 0; v < 8; ++v) {
+    if (mesh.vertices[v].y > 0) top += ao[v].w;
+    else EXPECT_EQ(ao[v].w, 1.0f);
+  }
+  EXPECT_LT(top, 4.0f);
+  EXPECT_THROW(write_ao_ply(path, mesh, {}), Error);
+}
+
+}  // namespace
+}  // namespace splatcl::csm
