@@ -6,6 +6,7 @@
 #include <fstream>
 #include <random>
 
+#include "io/image.hpp"
 #include "runtime/error.hpp"
 #include "splats/neighbors.hpp"
 #include "splats/sampling.hpp"
@@ -280,6 +281,41 @@ TEST(Neighbors, FewerSamplesThanK) {
   EXPECT_FLOAT_EQ(nb.kth_distance[0], 2.0f);
   EXPECT_EQ(find_neighbors({{0, 0, 0, 0}}, 10).k, 0u);
   EXPECT_THROW(find_neighbors(three, 0), Error);
+}
+
+// The textured colour variant end to end: an OBJ with texture coordinates and a PNG read through
+// OpenImageIO. A 2x2 texture (v upwards: red, green below; blue, white above) is mapped affinely
+// onto the unit square with a 0.1 margin, so every sample's colour is the texel of its quadrant.
+TEST(Sampling, TextureColoursFollowTheTexcoordsOfVerticesAndGridSamples) {
+  const auto texture_path = (std::filesystem::temp_directory_path() / "splatcl-splats-quad-texture.png").string();
+  write_image_rgb(texture_path, 2, 2, {1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1});
+  const std::string obj = temp_file("textured-quad.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                    "vt 0.1 0.1\nvt 0.9 0.1\nvt 0.9 0.9\nvt 0.1 0.9\n"
+                                    "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
+  const Mesh mesh = load_mesh(obj);
+  ASSERT_TRUE(mesh.has_texcoords());
+  ColorSource colors;
+  colors.texture = load_texture(texture_path);
+  ASSERT_EQ(colors.texture->width, 2);
+  for (const char* sampling : {"vertices", "grid:8"}) {
+    const Samples samples = sample_mesh(mesh, parse_sampling(sampling), colors);
+    ASSERT_GE(samples.size(), 4u) << sampling;
+    std::size_t checked = 0;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const Vec4 p = samples.positions[i];
+      if (std::fabs(p.x - 0.5f) < 1e-3f || std::fabs(p.y - 0.5f) < 1e-3f) continue;  // on a texel edge
+      const bool right = p.x > 0.5f, top = p.y > 0.5f;
+      const Rgba8 expected = top ? (right ? Rgba8{255, 255, 255, 255} : Rgba8{0, 0, 255, 255})
+                                 : (right ? Rgba8{0, 255, 0, 255} : Rgba8{255, 0, 0, 255});
+      const Rgba8 got = samples.colors[i];
+      EXPECT_TRUE(got.r == expected.r && got.g == expected.g && got.b == expected.b && got.a == 255)
+          << sampling << " sample " << i << " at (" << p.x << ", " << p.y << ")";
+      ++checked;
+    }
+    EXPECT_GE(checked, 4u) << sampling;
+  }
+  expect_error_naming([] { load_texture("/nonexistent/splatcl-texture.png"); }, "/nonexistent/splatcl-texture.png");
 }
 
 }  // namespace
