@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "csm/build.hpp"
+#include "io/checksum.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "splats/pipeline.hpp"
@@ -13,9 +14,9 @@
 namespace splatcl::present {
 namespace {
 
-void fnv(std::uint64_t& h, const void* data, std::size_t bytes) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
+template <class T>
+std::string_view bytes_of(const std::vector<T>& values) {
+  return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)};
 }
 
 }  // namespace
@@ -28,12 +29,10 @@ std::string default_cache_dir() {
 }
 
 std::string asset_key(const splats::Mesh& mesh, const std::string& parameters) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  fnv(h, mesh.vertices.data(), mesh.vertices.size() * sizeof(splats::Vec3));
-  fnv(h, mesh.face_offsets.data(), mesh.face_offsets.size() * sizeof(std::uint32_t));
-  fnv(h, mesh.corners.data(), mesh.corners.size() * sizeof(std::uint32_t));
-  fnv(h, parameters.data(), parameters.size());
-  return fmt::format("{:016x}", h);
+  std::uint64_t h = fnv1a64(bytes_of(mesh.vertices));
+  h = fnv1a64(bytes_of(mesh.face_offsets), h);
+  h = fnv1a64(bytes_of(mesh.corners), h);
+  return checksum_hex(fnv1a64(parameters, h));
 }
 
 ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, const std::string& cache_dir,
@@ -51,10 +50,16 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   const std::string splat_path = fmt::format("{}/{}.splats.ply", cache_dir, asset_key(assets.mesh, splat_parameters));
   const std::string csm_path = fmt::format("{}/{}.csm", cache_dir, asset_key(assets.mesh, csm_parameters));
 
+  // A cache entry that cannot be read (truncated, corrupted, written by an older version) is
+  // rebuilt and overwritten rather than failing the render.
   if (std::filesystem::exists(splat_path)) {
-    assets.splats = splats::read_splat_file(splat_path).splats;
-    assets.splats_cached = true;
-  } else {
+    try {
+      assets.splats = splats::read_splat_file(splat_path).splats;
+      assets.splats_cached = true;
+    } catch (const Error&) {
+    }
+  }
+  if (!assets.splats_cached) {
     if (progress) progress(fmt::format("{}: splats", object.name));
     splats::PipelineOptions options;
     options.sampling = splats::parse_sampling(q.sampling);
@@ -68,9 +73,13 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     splats::write_splat_file(splat_path, assets.splats, info);
   }
   if (std::filesystem::exists(csm_path)) {
-    assets.csm = csm::read_csm(csm_path);
-    assets.csm_cached = true;
-  } else {
+    try {
+      assets.csm = csm::read_csm(csm_path);
+      assets.csm_cached = true;
+    } catch (const Error&) {
+    }
+  }
+  if (!assets.csm_cached) {
     if (progress) progress(fmt::format("{}: coherent shadow map", object.name));
     csm::BuildOptions options;
     options.maps = q.csm_maps;

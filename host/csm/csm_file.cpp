@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "io/atomic_file.hpp"
+#include "io/checksum.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::csm {
@@ -24,14 +25,6 @@ constexpr std::uint32_t kMaxResolution = 8192;
 // Compact depth codes: 0..kCodeScale is depth code / kCodeScale; two codes are reserved.
 constexpr std::uint16_t kCodeScale = 65533, kCodeExact = 65534, kCodeInfinity = 65535;
 
-std::uint64_t fnv1a(std::uint64_t hash, const char* data, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) {
-    hash ^= static_cast<unsigned char>(data[i]);
-    hash *= 0x100000001b3ull;
-  }
-  return hash;
-}
-constexpr std::uint64_t kFnvBasis = 0xcbf29ce484222325ull;
 
 template <class T>
 void put(std::string& out, std::size_t at, const T& value) {
@@ -171,8 +164,8 @@ std::string encode_csm(const Csm& csm, Encoding encoding, const Segments* interv
     sections = {codes.size() * 2, runs.size(), exact.size() * 4};
   }
   std::string out = header(csm, encoding, sections);
-  std::uint64_t hash = fnv1a(kFnvBasis, out.data(), out.size());
-  hash = fnv1a(hash, payload.data(), payload.size());
+  std::uint64_t hash = fnv1a64({out.data(), out.size()});
+  hash = fnv1a64({payload.data(), payload.size()}, hash);
   put(out, kChecksumOffset, hash);
   return out + payload;
 }
@@ -234,8 +227,8 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
     throw fail(fmt::format("file size {} does not match its sections (truncated or padded)", bytes.size()));
   std::string copy = bytes.substr(0, kCsmHeaderBytes);
   put(copy, kChecksumOffset, std::uint64_t{0});
-  std::uint64_t hash = fnv1a(kFnvBasis, copy.data(), copy.size());
-  hash = fnv1a(hash, bytes.data() + kCsmHeaderBytes, payload);
+  std::uint64_t hash = fnv1a64({copy.data(), copy.size()});
+  hash = fnv1a64({bytes.data() + kCsmHeaderBytes, payload}, hash);
   if (hash != get<std::uint64_t>(bytes, kChecksumOffset)) throw fail("checksum mismatch (the file is corrupted)");
 
   const std::size_t at = kCsmHeaderBytes;

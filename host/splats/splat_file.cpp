@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/checksum.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::splats {
@@ -15,12 +16,6 @@ namespace {
 
 constexpr const char* kProperties[] = {"x", "y", "z", "nx", "ny", "nz", "ux", "uy", "uz", "vx", "vy", "vz", "major", "minor"};
 constexpr const char* kClipProperties[] = {"clip_x", "clip_y", "clip_offset"};
-
-std::uint64_t fnv1a(const std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (const char c : bytes) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-  return h;
-}
 
 // Comment values are single tokens; spaces in a path become %20.
 std::string escape(const std::string& text) {
@@ -68,7 +63,7 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
   header += fmt::format("comment splatcl_k {}\n", info.k);
   header += fmt::format("comment splatcl_color_tolerance {}\n", info.color_tolerance);
   header += fmt::format("comment splatcl_color_source {}\n", escape(info.color_source));
-  header += fmt::format("comment splatcl_checksum {:016x}\n", fnv1a(body));
+  header += "comment splatcl_checksum " + checksum_hex(fnv1a64(body)) + "\n";
   header += fmt::format("element vertex {}\n", splats.size());
   for (int p = 0; p < 6; ++p) header += fmt::format("property float {}\n", kProperties[p]);
   header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
@@ -127,7 +122,7 @@ SplatFile read_splat_file(const std::string& path) {
   const std::string body = data.substr(end + 11);
   if (body.size() != count * record)
     throw fail(fmt::format("truncated or oversized: {} bytes for {} splats of {} bytes", body.size(), count, record));
-  if (checksum != fmt::format("{:016x}", fnv1a(body))) throw fail("checksum mismatch (corrupted)");
+  if (checksum != checksum_hex(fnv1a64(body))) throw fail("checksum mismatch (corrupted)");
   file.splats.resize(count);
   const char* p = body.data();
   auto take = [&p](auto& value) {

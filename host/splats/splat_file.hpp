@@ -29,7 +29,8 @@ struct SplatFileInfo {
   bool clipped = false;
 };
 
-inline constexpr int kSplatFileVersion = 1;
+// Version 2: the checksum is standard FNV-1a 64 (io/checksum.hpp); version 1 used a mistyped offset basis.
+inline constexpr int kSplatFileVersion = 2;
 
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info);
 

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include "present/context.hpp"
@@ -249,6 +251,32 @@ TEST_F(PresenterTest, AssetsComeFromTheCacheTheSecondTime) {
   EXPECT_TRUE(presenter.assets(0).splats_cached);
   EXPECT_TRUE(presenter.assets(0).csm_cached);
   EXPECT_GT(presenter.assets(0).splats.size(), 500u);
+}
+
+// A cache entry that cannot be read (here: every file overwritten with garbage) is rebuilt and
+// replaced, not fatal; the rebuilt entries are then read from the cache.
+TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
+  Scene scene = test_scene();
+  scene.objects.resize(1);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "splatcl-present-unreadable-cache";
+  std::filesystem::remove_all(dir);
+  { Presenter warm(scene, *runtime_, 32, 32, dir.string()); }
+  std::size_t corrupted = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    std::ofstream(entry.path(), std::ios::trunc) << "not a cache entry";
+    ++corrupted;
+  }
+  ASSERT_EQ(corrupted, 2u);
+  {
+    Presenter rebuilt(scene, *runtime_, 32, 32, dir.string());
+    EXPECT_FALSE(rebuilt.assets(0).splats_cached);
+    EXPECT_FALSE(rebuilt.assets(0).csm_cached);
+    EXPECT_GT(rebuilt.assets(0).splats.size(), 500u);
+  }
+  Presenter cached(scene, *runtime_, 32, 32, dir.string());
+  EXPECT_TRUE(cached.assets(0).splats_cached);
+  EXPECT_TRUE(cached.assets(0).csm_cached);
+  std::filesystem::remove_all(dir);
 }
 
 TEST_F(PresenterTest, DebugViewsRender) {
