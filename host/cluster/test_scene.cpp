@@ -57,7 +57,7 @@ void hit_sphere(const Sphere& s, Vec3 origin, Vec3 dir, float t_min, Hit& best) 
   const float root = std::sqrt(disc);
   for (const float t : {(-b - root) / a, (-b + root) / a}) {
     if (t >= t_min && t < best.t) {
-      best = {t, normalize(origin + dir * t - s.center)};
+      best = {t, normalized(origin + dir * t - s.center)};
       return;
     }
   }
@@ -129,10 +129,10 @@ ViewFrame view_frame(const Camera& camera) {
   if (length(forward) == 0.0f) throw Error("camera eye and target coincide");
   ViewFrame frame;
   frame.eye = camera.eye;
-  frame.back = normalize(forward) * -1.0f;
+  frame.back = normalized(forward) * -1.0f;
   const Vec3 right = cross(camera.up, frame.back);
   if (!(length(right) > 1e-6f)) throw Error("camera up vector is parallel to the view direction (or zero)");
-  frame.right = normalize(right);
+  frame.right = normalized(right);
   frame.up = cross(frame.back, frame.right);
   return frame;
 }

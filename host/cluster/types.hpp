@@ -1,24 +1,14 @@
 #pragma once
 // Host-side data of the clustered-shading stage: vectors, lights, cluster boxes, and the two
 // outputs (unique clusters with the per-pixel cluster index; per-cluster light lists).
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "math/vec3.hpp"
+
 namespace splatcl::cluster {
 
-struct Vec3 {
-  float x = 0, y = 0, z = 0;
-  friend Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-  friend Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-  friend Vec3 operator*(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
-  friend Vec3 operator*(float s, Vec3 a) { return a * s; }
-  friend bool operator==(Vec3 a, Vec3 b) = default;
-};
-inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalize(Vec3 a) { return a * (1.0f / length(a)); }
+using splatcl::Vec3;
 
 // Finite point light (thesis §2.4.3): no influence at distance ≥ radius.
 struct PointLight {

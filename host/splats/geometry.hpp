@@ -1,27 +1,20 @@
 #pragma once
-// Small vector types shared by the splat stage. Vec4 and Rgba8 match OpenCL's float4 and uchar4
-// layouts, so sample and splat arrays upload to the device without repacking.
+// Small vector types of the splat stage (Vec3 is the shared one of math/vec3.hpp). Vec4 and Rgba8
+// match OpenCL's float4 and uchar4 layouts, so sample and splat arrays upload to the device
+// without repacking.
 #include <cmath>
 #include <cstdint>
 
+#include "math/vec3.hpp"
+
 namespace splatcl::splats {
 
-struct Vec3 {
-  float x = 0, y = 0, z = 0;
-};
-
-inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator*(float s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
-// Written out term by term (no fused multiply-add) so the kernels, which do the same, round identically.
-inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalized(Vec3 a) {
-  const float l = length(a);
-  return l > 0 ? (1.0f / l) * a : Vec3{};
-}
-inline bool finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+using splatcl::cross;
+using splatcl::dot;
+using splatcl::finite;
+using splatcl::length;
+using splatcl::normalized;
+using splatcl::Vec3;
 
 struct alignas(16) Vec4 {
   float x = 0, y = 0, z = 0, w = 0;
