@@ -8,10 +8,11 @@ kernel void csm_ambient_occlusion_receivers(global const float4* positions, glob
                                             uint samples, global const CsmInstance* instances, uint instance_count,
                                             global const CsmOccluder* occluders, global const CsmCell* cells,
                                             global const uint* offsets, global const uint* ends,
-                                            global const float* depths, uint ground, float bias, global float4* out) {
+                                            global const float* depths, global const float* bounds, uint ground,
+                                            float bias, global float4* out) {
   const size_t r = get_global_id(0);
   if (r >= count) return;
-  const CsmScene scene = {instances, instance_count, occluders, cells, offsets, ends, depths};
+  const CsmScene scene = {instances, instance_count, occluders, cells, offsets, ends, depths, bounds};
   const float4 p = positions[r], n = normals[r];
   float result[4];
   csm_ambient_occlusion(&scene, (global const float*)(patterns + (size_t)pattern_of[r] * samples), samples, p.x, p.y, p.z,

@@ -6,7 +6,10 @@
 //
 // Conventions: docs/formats.md (.csm geometry) and compression digest §5; AO digest §5.2–§5.8 with
 // its errata resolutions (nearest camera by rounding with φ wrap, d = 2(h·s)h − s, lower-bound
-// segment search, never-occluding +∞ for empty runs).
+// segment search, never-occluding +∞ for empty runs). The nearest camera is found by exact tests
+// against the cell boundaries (csm_walk_cell): same cells as rounding the continuous grid
+// coordinates up to float rounding at a boundary, but with no atan2 and, for coherent queries
+// walking from the previous query's cell, no root or division either.
 #ifndef SPLATCL_CSM_QUERY_H
 #define SPLATCL_CSM_QUERY_H
 
@@ -39,6 +42,12 @@ typedef struct {
   uint uniform;    // 1: s = (1 − cosθ)/2; 0: s = θ/π
   uint cell_base;  // first entry of this map's cells, row-major over (θ cell, φ cell)
   uint pixel_base; // first entry of this map's offsets (M² + 1 of them, segment indices global)
+  // Cell boundaries for the map choice (csm_select_cell), from bounds[bound_base]: rows − 1 θ
+  // boundaries between rows k − 1 and k (k = 1 … rows − 1), then the φ boundaries β_1 … β_K in
+  // increasing φ (K = col_bounds: cols − 1 on cell-centred grids, cols on the ao grid, whose
+  // column 0 straddles φ = 0). Each is stored as the signed square c·|c| of its cosine (cosθ_k;
+  // cosβ_k), so the tests need no root. The first half_cols φ boundaries lie in [0, π].
+  uint bound_base, col_bounds, half_cols;
 } CsmOccluder;
 
 // One placed occluder: world point → object space (row-major 3 × 4) and world direction → sphere
@@ -57,6 +66,7 @@ typedef struct {
   CSM_GLOBAL const uint* offsets;
   CSM_GLOBAL const uint* ends;
   CSM_GLOBAL const float* depths;
+  CSM_GLOBAL const float* bounds;  // every occluder's cell boundaries (CsmOccluder::bound_base)
 } CsmScene;
 
 // floor() for |v| well inside the int range.
@@ -101,9 +111,87 @@ inline uint csm_clamp_row(CSM_GLOBAL const CsmOccluder* oc, int a) {
   return a < 0 ? 0u : (a >= (int)oc->rows ? oc->rows - 1u : (uint)a);
 }
 
+// Column b of a φ grid coordinate in [−1, cols + 1] (t ∈ [0, 1] rounded, ± one cell), wrapped to
+// [0, cols); a comparison instead of an integer division.
 inline uint csm_wrap_col(CSM_GLOBAL const CsmOccluder* oc, int b) {
   const int cols = (int)oc->cols;
-  return (uint)(((b % cols) + cols) % cols);
+  return (uint)(b < 0 ? b + cols : (b >= cols ? b - cols : b));
+}
+
+// Is y ≤ c·sqrt(len2), given sc = c·|c|? Compared squared, so no root is taken. For fixed (y, len2)
+// it is monotone in sc (float rounding is monotone): true for one sc, true for every larger one. So
+// over a sorted list of boundaries it flips once, and the cell found by walking along the list does
+// not depend on where the walk starts (csm_walk_cell).
+inline int csm_at_most(float y, float len2, float sc) {
+  if (sc > 0.0f) return y <= 0.0f || y * y <= sc * len2;
+  if (sc < 0.0f) return y < 0.0f && y * y >= -sc * len2;
+  return y <= 0.0f;
+}
+
+// Is y < c·sqrt(len2)? The same form and the same monotony.
+inline int csm_below(float y, float len2, float sc) {
+  if (sc > 0.0f) return y < 0.0f || y * y < sc * len2;
+  if (sc < 0.0f) return y < 0.0f && y * y > -sc * len2;
+  return y < 0.0f;
+}
+
+// Squared lengths of a sphere-frame direction: rho2 = x² + z², len2 = rho2 + y². 0 for a zero or
+// non-finite direction (a light at the receiver), which the callers treat as lit.
+inline int csm_direction(float x, float y, float z, float* rho2, float* len2) {
+  *rho2 = x * x + z * z;
+  *len2 = *rho2 + y * y;
+  return *len2 > 0.0f && *len2 < INFINITY;
+}
+
+// The nearest map's cell by exact boundary tests: row a = the number of θ boundaries θ_k ≤ θ
+// (cosθ = y/|w| ≤ cosθ_k), column b = the number of φ boundaries β_k ≤ φ = atan2(x, z) ∈ [0, 2π):
+// for x ≥ 0 (φ ∈ [0, π]) among β_k ≤ π by z/ρ ≤ cosβ_k, for x < 0 (φ ∈ (π, 2π)) among the others by
+// z/ρ ≥ cosβ_k. No root, division or atan2: each test is a product and a comparison. *a and *b are
+// the walk's start on entry and the cell on return; b is unwrapped (the ao grid's b = cols is
+// column 0), so the next coherent query starts next to it. A direction on the pole axis (ρ² = 0)
+// takes column 0. Requires csm_direction(x, y, z) to hold.
+inline void csm_walk_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const float* bounds, float x, float y, float z,
+                          float rho2, float len2, uint* a, uint* b) {
+  CSM_GLOBAL const float* row_bounds = bounds + oc->bound_base;            // θ_k at [k − 1]
+  CSM_GLOBAL const float* col_bounds = row_bounds + (oc->rows - 1u);      // β_k at [k − 1]
+  uint row = *a < oc->rows ? *a : oc->rows - 1u;
+  while (row > 0u && !csm_at_most(y, len2, row_bounds[row - 1u])) --row;
+  while (row + 1u < oc->rows && csm_at_most(y, len2, row_bounds[row])) ++row;
+  *a = row;
+  const uint mid = oc->half_cols, top = oc->col_bounds;
+  uint col = *b < top ? *b : top;
+  if (!(rho2 > 0.0f)) {
+    col = 0u;
+  } else if (!(x < 0.0f)) {
+    if (col > mid) col = col - mid > (top - mid) / 2u ? 0u : mid;  // from across the φ = 0 seam: start at 0
+    while (col > 0u && !csm_at_most(z, rho2, col_bounds[col - 1u])) --col;
+    while (col < mid && csm_at_most(z, rho2, col_bounds[col])) ++col;
+  } else {
+    if (col < mid) col = col < mid / 2u ? top : mid;  // from across the seam: start at the top boundary
+    while (col > mid && csm_below(z, rho2, col_bounds[col - 1u])) --col;
+    while (col < top && !csm_below(z, rho2, col_bounds[col])) ++col;
+  }
+  *b = col;
+}
+
+// Grid entry (a·cols + b) of the cell found by csm_walk_cell.
+inline uint csm_cell_entry(CSM_GLOBAL const CsmOccluder* oc, uint a, uint b) {
+  return a * oc->cols + (b < oc->cols ? b : 0u);
+}
+
+// The nearest map's grid entry for a sphere-frame direction: csm_walk_cell started at the rounded
+// continuous coordinates (which are within a cell of the answer). Returns 0 when csm_direction fails.
+inline int csm_select_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const float* bounds, float x, float y, float z,
+                           uint* entry) {
+  float rho2 = 0.0f, len2 = 0.0f, sr = 0.0f, tc = 0.0f;
+  if (!csm_direction(x, y, z, &rho2, &len2) || !csm_grid_coords(oc, x, y, z, &sr, &tc)) return 0;
+  const float corner_shift = oc->centred ? 0.5f : 0.0f;
+  uint a = csm_clamp_row(oc, csm_floor(sr + (0.5f - corner_shift)));
+  const int b0 = csm_floor(tc + (0.5f - corner_shift));
+  uint b = b0 < 0 ? 0u : (uint)b0;
+  csm_walk_cell(oc, bounds, x, y, z, rho2, len2, &a, &b);
+  *entry = csm_cell_entry(oc, a, b);
+  return 1;
 }
 
 // Stored depth of (pixel, map at `sequence`): the first segment whose inclusive end is >= sequence.
@@ -117,11 +205,12 @@ inline float csm_fetch(const CsmScene* scene, uint pixel_entry, uint sequence) {
   return scene->depths[lo];
 }
 
-// Lit taps among width × width texels of one map around the receiver (rx, ry, rz relative to the
-// sphere centre). width 1: the texel containing the receiver; width 2 or 4: the texels whose centres
-// surround it. Texels outside the map are lit (the occluder cannot block there).
-inline float csm_map_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell,
-                          float rx, float ry, float rz, int width, float bias) {
+// Projection of the receiver (rx, ry, rz relative to the sphere centre) into one map for a
+// width × width window of taps: the window's first texel (*i0, *j0) and the depth limit (receiver
+// depth − bias) below which a stored depth occludes. width 1: the texel containing the receiver;
+// width 2 or 4: the texels whose centres surround it.
+inline float csm_window(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell, float rx, float ry, float rz, int width,
+                        float bias, int* i0, int* j0) {
   const float x = rx * cell->u[0] + ry * cell->u[1] + rz * cell->u[2];
   const float y = rx * cell->v[0] + ry * cell->v[1] + rz * cell->v[2];
   const float depth = (oc->radius - (rx * cell->d[0] + ry * cell->d[1] + rz * cell->d[2])) * oc->depth_scale;
@@ -132,10 +221,18 @@ inline float csm_map_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* o
   if (!(fx <= m + 8.0f)) fx = m + 8.0f;
   if (!(fy >= -8.0f)) fy = -8.0f;
   if (!(fy <= m + 8.0f)) fy = m + 8.0f;
-  const int i0 = width == 1 ? csm_floor(fx) : csm_floor(fx - 0.5f) - (width / 2 - 1);
-  const int j0 = width == 1 ? csm_floor(fy) : csm_floor(fy - 0.5f) - (width / 2 - 1);
+  *i0 = width == 1 ? csm_floor(fx) : csm_floor(fx - 0.5f) - (width / 2 - 1);
+  *j0 = width == 1 ? csm_floor(fy) : csm_floor(fy - 0.5f) - (width / 2 - 1);
+  return depth - bias;
+}
+
+// Lit taps among the width × width window of one map around the receiver. Texels outside the map
+// are lit (the occluder cannot block there).
+inline float csm_map_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell,
+                          float rx, float ry, float rz, int width, float bias) {
+  int i0 = 0, j0 = 0;
+  const float limit = csm_window(oc, cell, rx, ry, rz, width, bias, &i0, &j0);
   const int res = (int)oc->resolution;
-  const float limit = depth - bias;
   float lit = 0.0f;
   for (int j = j0; j < j0 + width; ++j)
     for (int i = i0; i < i0 + width; ++i) {
@@ -146,6 +243,42 @@ inline float csm_map_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* o
       const float g = csm_fetch(scene, oc->pixel_base + (uint)j * oc->resolution + (uint)i, cell->sequence);
       lit += g < limit ? 0.0f : 1.0f;
     }
+  return lit;
+}
+
+// The stored depths of one map's tap window, kept while coherent queries stay in it: a chunk of
+// screen-neighbouring receivers mostly falls into the same window, so its 4 or 16 segment searches
+// become comparisons. Texels outside the map hold +∞, which tests lit exactly like csm_map_taps.
+typedef struct {
+  uint cell;  // cells index of the map; UINT_MAX: empty
+  int i0, j0;
+  float g[16];
+} CsmWindow;
+
+// csm_map_taps(scene, oc, scene->cells + cell, ...), exactly, through `window`.
+inline float csm_window_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, uint cell, float rx, float ry, float rz,
+                             int width, float bias, CsmWindow* window) {
+  CSM_GLOBAL const CsmCell* c = scene->cells + cell;
+  int i0 = 0, j0 = 0;
+  const float limit = csm_window(oc, c, rx, ry, rz, width, bias, &i0, &j0);
+  if (window->cell != cell || window->i0 != i0 || window->j0 != j0) {
+    // A window shifted by a texel or two within the same map keeps the texels it still covers.
+    const int res = (int)oc->resolution, same_map = window->cell == cell;
+    float g[16];
+    for (int j = 0; j < width; ++j)
+      for (int i = 0; i < width; ++i) {
+        const int ti = i0 + i, tj = j0 + j, oi = ti - window->i0, oj = tj - window->j0;
+        if (same_map && oi >= 0 && oi < width && oj >= 0 && oj < width) g[j * width + i] = window->g[oj * width + oi];
+        else if (ti < 0 || ti >= res || tj < 0 || tj >= res) g[j * width + i] = INFINITY;
+        else g[j * width + i] = csm_fetch(scene, oc->pixel_base + (uint)tj * oc->resolution + (uint)ti, c->sequence);
+      }
+    for (int t = 0; t < width * width; ++t) window->g[t] = g[t];
+    window->cell = cell;
+    window->i0 = i0;
+    window->j0 = j0;
+  }
+  float lit = 0.0f;
+  for (int t = 0; t < width * width; ++t) lit += window->g[t] < limit ? 0.0f : 1.0f;
   return lit;
 }
 
@@ -162,12 +295,12 @@ inline float csm_instance_visibility(const CsmScene* scene, uint k, float px, fl
   const float fx = f[0] * wx + f[1] * wy + f[2] * wz;
   const float fy = f[3] * wx + f[4] * wy + f[5] * wz;
   const float fz = f[6] * wx + f[7] * wy + f[8] * wz;
-  float sr = 0.0f, tc = 0.0f;
-  if (!csm_grid_coords(oc, fx, fy, fz, &sr, &tc)) return 1.0f;
   CSM_GLOBAL const CsmCell* cells = scene->cells + oc->cell_base;
-  // Sample positions: s·rows − 0.5 on a cell-centred grid, s·rows on the ao grid's corners.
-  const float corner_shift = oc->centred ? 0.5f : 0.0f;
   if (filter == CSM_FILTER_CROSS_MAP) {
+    float sr = 0.0f, tc = 0.0f;
+    if (!csm_grid_coords(oc, fx, fy, fz, &sr, &tc)) return 1.0f;
+    // Sample positions: s·rows − 0.5 on a cell-centred grid, s·rows on the ao grid's corners.
+    const float corner_shift = oc->centred ? 0.5f : 0.0f;
     const int a0 = csm_floor(sr - corner_shift), b0 = csm_floor(tc - corner_shift);
     float lit = 0.0f;
     for (int da = 0; da < 2; ++da)
@@ -176,10 +309,10 @@ inline float csm_instance_visibility(const CsmScene* scene, uint k, float px, fl
                             bias);
     return lit * 0.0625f;
   }
-  const uint a = csm_clamp_row(oc, csm_floor(sr + (0.5f - corner_shift)));
-  const uint b = csm_wrap_col(oc, csm_floor(tc + (0.5f - corner_shift)));
-  if (filter == CSM_FILTER_SAME_MAP) return csm_map_taps(scene, oc, cells + a * oc->cols + b, rx, ry, rz, 4, bias) * 0.0625f;
-  return csm_map_taps(scene, oc, cells + a * oc->cols + b, rx, ry, rz, 1, bias);
+  uint entry = 0u;
+  if (!csm_select_cell(oc, scene->bounds, fx, fy, fz, &entry)) return 1.0f;
+  if (filter == CSM_FILTER_SAME_MAP) return csm_map_taps(scene, oc, cells + entry, rx, ry, rz, 4, bias) * 0.0625f;
+  return csm_map_taps(scene, oc, cells + entry, rx, ry, rz, 1, bias);
 }
 
 // Visibility of light vector w from receiver p through every instance: the product of the
@@ -193,62 +326,93 @@ inline float csm_visibility(const CsmScene* scene, float px, float py, float pz,
   return lit;
 }
 
-// What a run of filter-free queries through one instance can reuse from the query before: the map
-// chosen for the same light vector, and the stored depth of the same (pixel, map). Coherent batches
-// (a screen of receivers, one light or a small area light) hit both most of the time.
+// What a run of queries through one instance can reuse from the query before: the map choice for
+// the same light vector; the cell to start the next map choice's walk from (for a new light vector,
+// e.g. a point light seen from the next receiver, the walk usually just confirms it); the stored
+// depth of the same (pixel, map), or with PCF the tap windows (CsmWindow). Coherent batches (a
+// screen of receivers, one light or a small area light) hit them most of the time.
 typedef struct {
   float wx, wy, wz;  // light vector of the cached map choice
   int valid;         // 1: wx, wy, wz hold a light vector whose choice is cached
   int lit;           // 1: that light vector is zero or non-finite (always lit)
+  int placed;        // 1: row, col hold an earlier query's cell (the walk's start)
+  uint row, col;     // that cell (col unwrapped, as csm_walk_cell returns it)
   uint cell;         // cells index of the chosen map
-  uint entry, sequence;  // cached (pixel entry, map) ...
+  uint cross[4];     // CSM_FILTER_CROSS_MAP: cells indices of the 4 nearest maps
+  uint entry, sequence;  // filter none: cached (pixel entry, map) ...
   float g;               // ... and its stored depth (entry == UINT_MAX: none)
+  CsmWindow windows[4];  // PCF: the tap windows (same map: windows[0]; cross map: one per map)
 } CsmQueryCache;
 
 inline void csm_cache_reset(CsmQueryCache* cache) {
   cache->valid = 0;
+  cache->placed = 0;
+  cache->row = 0u;
+  cache->col = 0u;
   cache->entry = 0xffffffffu;
+  for (int t = 0; t < 4; ++t) cache->windows[t].cell = 0xffffffffu;
 }
 
-// csm_instance_visibility(scene, k, p, w, CSM_FILTER_NONE, bias), exactly, reusing `cache`.
+// The map choice of csm_instance_visibility for light vector w (world), into `cache`.
+inline void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInstance* in, CSM_GLOBAL const CsmOccluder* oc, float wx,
+                             float wy, float wz, uint filter, CsmQueryCache* cache) {
+  if (cache->valid && wx == cache->wx && wy == cache->wy && wz == cache->wz) return;
+  CSM_GLOBAL const float* f = in->to_frame;
+  const float fx = f[0] * wx + f[1] * wy + f[2] * wz;
+  const float fy = f[3] * wx + f[4] * wy + f[5] * wz;
+  const float fz = f[6] * wx + f[7] * wy + f[8] * wz;
+  float rho2 = 0.0f, len2 = 0.0f;
+  cache->lit = !csm_direction(fx, fy, fz, &rho2, &len2);
+  if (cache->lit) {
+  } else if (filter == CSM_FILTER_CROSS_MAP) {
+    float sr = 0.0f, tc = 0.0f;
+    csm_grid_coords(oc, fx, fy, fz, &sr, &tc);
+    const float corner_shift = oc->centred ? 0.5f : 0.0f;
+    const int a0 = csm_floor(sr - corner_shift), b0 = csm_floor(tc - corner_shift);
+    for (int da = 0; da < 2; ++da)
+      for (int db = 0; db < 2; ++db)
+        cache->cross[2 * da + db] = oc->cell_base + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db);
+  } else if (cache->placed) {
+    csm_walk_cell(oc, scene->bounds, fx, fy, fz, rho2, len2, &cache->row, &cache->col);
+    cache->cell = oc->cell_base + csm_cell_entry(oc, cache->row, cache->col);
+  } else {
+    uint entry = 0u;
+    csm_select_cell(oc, scene->bounds, fx, fy, fz, &entry);
+    cache->cell = oc->cell_base + entry;
+    cache->row = entry / oc->cols;
+    cache->col = entry % oc->cols;
+    cache->placed = 1;
+  }
+  cache->wx = wx;
+  cache->wy = wy;
+  cache->wz = wz;
+  // NaN never equals itself: such a vector is recomputed each time (and is lit).
+  cache->valid = 1;
+}
+
+// csm_instance_visibility(scene, k, p, w, filter, bias), exactly, reusing `cache` (one cache per
+// instance and filter: a run of queries through the same instance with the same filter).
 inline float csm_instance_visibility_cached(const CsmScene* scene, uint k, float px, float py, float pz, float wx, float wy,
-                                            float wz, float bias, CsmQueryCache* cache) {
+                                            float wz, uint filter, float bias, CsmQueryCache* cache) {
   CSM_GLOBAL const CsmInstance* in = scene->instances + k;
   CSM_GLOBAL const CsmOccluder* oc = scene->occluders + in->occluder;
-  if (!(cache->valid && wx == cache->wx && wy == cache->wy && wz == cache->wz)) {
-    CSM_GLOBAL const float* f = in->to_frame;
-    const float fx = f[0] * wx + f[1] * wy + f[2] * wz;
-    const float fy = f[3] * wx + f[4] * wy + f[5] * wz;
-    const float fz = f[6] * wx + f[7] * wy + f[8] * wz;
-    float sr = 0.0f, tc = 0.0f;
-    cache->lit = !csm_grid_coords(oc, fx, fy, fz, &sr, &tc);
-    const float corner_shift = oc->centred ? 0.5f : 0.0f;
-    const uint a = csm_clamp_row(oc, csm_floor(sr + (0.5f - corner_shift)));
-    const uint b = csm_wrap_col(oc, csm_floor(tc + (0.5f - corner_shift)));
-    cache->cell = oc->cell_base + a * oc->cols + b;
-    cache->wx = wx;
-    cache->wy = wy;
-    cache->wz = wz;
-    // NaN never equals itself: such a vector is recomputed each time (and is lit).
-    cache->valid = 1;
-  }
+  csm_cache_choose(scene, in, oc, wx, wy, wz, filter, cache);
   if (cache->lit) return 1.0f;
   CSM_GLOBAL const float* m = in->to_object;
   const float rx = m[0] * px + m[1] * py + m[2] * pz + m[3] - oc->centre[0];
   const float ry = m[4] * px + m[5] * py + m[6] * pz + m[7] - oc->centre[1];
   const float rz = m[8] * px + m[9] * py + m[10] * pz + m[11] - oc->centre[2];
+  if (filter == CSM_FILTER_SAME_MAP) return csm_window_taps(scene, oc, cache->cell, rx, ry, rz, 4, bias, cache->windows) * 0.0625f;
+  if (filter == CSM_FILTER_CROSS_MAP) {
+    float lit = 0.0f;
+    for (int t = 0; t < 4; ++t) lit += csm_window_taps(scene, oc, cache->cross[t], rx, ry, rz, 2, bias, cache->windows + t);
+    return lit * 0.0625f;
+  }
+  // Filter none: csm_map_taps with width 1, caching the one stored depth.
   CSM_GLOBAL const CsmCell* cell = scene->cells + cache->cell;
-  // csm_map_taps with width 1.
-  const float x = rx * cell->u[0] + ry * cell->u[1] + rz * cell->u[2];
-  const float y = rx * cell->v[0] + ry * cell->v[1] + rz * cell->v[2];
-  const float depth = (oc->radius - (rx * cell->d[0] + ry * cell->d[1] + rz * cell->d[2])) * oc->depth_scale;
-  const float mres = (float)oc->resolution;
-  float tx = (x + oc->radius) * oc->pixel_scale, ty = (y + oc->radius) * oc->pixel_scale;
-  if (!(tx >= -8.0f)) tx = -8.0f;
-  if (!(tx <= mres + 8.0f)) tx = mres + 8.0f;
-  if (!(ty >= -8.0f)) ty = -8.0f;
-  if (!(ty <= mres + 8.0f)) ty = mres + 8.0f;
-  const int i = csm_floor(tx), j = csm_floor(ty), res = (int)oc->resolution;
+  int i = 0, j = 0;
+  const float limit = csm_window(oc, cell, rx, ry, rz, 1, bias, &i, &j);
+  const int res = (int)oc->resolution;
   if (i < 0 || i >= res || j < 0 || j >= res) return 1.0f;
   const uint entry = oc->pixel_base + (uint)j * oc->resolution + (uint)i;
   if (entry != cache->entry || cell->sequence != cache->sequence) {
@@ -256,7 +420,7 @@ inline float csm_instance_visibility_cached(const CsmScene* scene, uint k, float
     cache->entry = entry;
     cache->sequence = cell->sequence;
   }
-  return cache->g < depth - bias ? 0.0f : 1.0f;
+  return cache->g < limit ? 0.0f : 1.0f;
 }
 
 // Ambient occlusion of one receiver (AO digest §5.2): `samples` cosine-weighted directions of one
@@ -264,8 +428,9 @@ inline float csm_instance_visibility_cached(const CsmScene* scene, uint k, float
 // rotation about h = normalize(n + o), o = +y (d = 2(h·s)h − s, digest §16 #2; h = (1, 0, 0) when
 // n = −o). With `ground`, directions below the world floor (d.y < 0) are occluded without a test.
 // out = (bent normal xyz, AO = lit fraction); the bent normal is n when nothing is lit.
-inline void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
-                                  float pz, float nx, float ny, float nz, uint ground, float bias, float* out) {
+// The rotation's axis h = normalize(n + o), o = +y; h = (1, 0, 0) when n = −o. Also used by the
+// presenter's incremental AO, which must produce bit-identical directions.
+inline void csm_ao_rotation_axis(float nx, float ny, float nz, float* h) {
   float hx = nx, hy = ny + 1.0f, hz = nz;
   const float hlen = csm_sqrt(hx * hx + hy * hy + hz * hz);
   if (hlen > 1e-6f) {
@@ -277,11 +442,28 @@ inline void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float*
     hy = 0.0f;
     hz = 0.0f;
   }
+  h[0] = hx;
+  h[1] = hy;
+  h[2] = hz;
+}
+
+// Pattern direction s rotated about h: d = 2(h·s)h − s.
+inline void csm_ao_rotate(const float* h, float sx, float sy, float sz, float* d) {
+  const float twice = 2.0f * (h[0] * sx + h[1] * sy + h[2] * sz);
+  d[0] = twice * h[0] - sx;
+  d[1] = twice * h[1] - sy;
+  d[2] = twice * h[2] - sz;
+}
+
+inline void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
+                                  float pz, float nx, float ny, float nz, uint ground, float bias, float* out) {
+  float h[3];
+  csm_ao_rotation_axis(nx, ny, nz, h);
   float lit = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f;
   for (uint k = 0; k < samples; ++k) {
-    const float sx = pattern[4u * k], sy = pattern[4u * k + 1u], sz = pattern[4u * k + 2u];
-    const float twice = 2.0f * (hx * sx + hy * sy + hz * sz);
-    const float dx = twice * hx - sx, dy = twice * hy - sy, dz = twice * hz - sz;
+    float d[3];
+    csm_ao_rotate(h, pattern[4u * k], pattern[4u * k + 1u], pattern[4u * k + 2u], d);
+    const float dx = d[0], dy = d[1], dz = d[2];
     if (ground && dy < 0.0f) continue;
     if (csm_visibility(scene, px, py, pz, dx, dy, dz, CSM_FILTER_NONE, bias) > 0.0f) {
       lit += 1.0f;

@@ -41,7 +41,22 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   const Stopwatch clock;
   ObjectAssets assets;
   assets.mesh = make_object_mesh(object.mesh, scene.directory);
-  const std::string splat_parameters = fmt::format("splats v1 sampling={} eps_diagonal={:.9g}", q.sampling, q.eps_diagonal);
+  // Colour sources enter the key only when used, so grey objects keep their cache entries.
+  std::string splat_parameters = fmt::format("splats v1 sampling={} eps_diagonal={:.9g}", q.sampling, q.eps_diagonal);
+  std::string texture_path;
+  if (object.splat_colors) {
+    if (!object.texture.empty()) {
+      const std::filesystem::path t(object.texture);
+      texture_path = t.is_absolute() || scene.directory.empty() ? t.string() : (std::filesystem::path(scene.directory) / t).string();
+      splat_parameters += fmt::format(" texture={}", checksum_of_file(texture_path));
+    } else {
+      splat_parameters += " field=" + object.color_field;
+    }
+    if (object.color_tolerance < 255) splat_parameters += fmt::format(" tolerance={}", object.color_tolerance);
+  }
+  const LodOptions lod_options{q.lod_leaf, 32, 0.1f};
+  const std::string tree_parameters = fmt::format("{}|tree v1 leaf={} grid={} overlap={:.9g}", splat_parameters,
+                                                  lod_options.leaf_splats, lod_options.grid, lod_options.overlap);
   const std::string csm_parameters = fmt::format("csm v1 maps={} resolution={}", q.csm_maps, q.csm_resolution);
   assets.key = asset_key(assets.mesh, splat_parameters + "|" + csm_parameters);
   std::error_code ec;
@@ -49,6 +64,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   if (ec) throw Error(fmt::format("cannot create the asset cache {}: {}", cache_dir, ec.message()));
   const std::string splat_path = fmt::format("{}/{}.splats.ply", cache_dir, asset_key(assets.mesh, splat_parameters));
   const std::string csm_path = fmt::format("{}/{}.csm", cache_dir, asset_key(assets.mesh, csm_parameters));
+  const std::string tree_path = fmt::format("{}/{}.spt", cache_dir, asset_key(assets.mesh, tree_parameters));
 
   // A cache entry that cannot be read (truncated, corrupted, written by an older version) is
   // rebuilt and overwritten rather than failing the render.
@@ -64,13 +80,36 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     splats::PipelineOptions options;
     options.sampling = splats::parse_sampling(q.sampling);
     options.fit.eps = q.eps_diagonal * assets.mesh.bounds().diagonal();
+    if (object.splat_colors) options.fit.color_tolerance = static_cast<int>(object.color_tolerance);
     splats::ColorSource colors;
     colors.bounds = assets.mesh.bounds();
+    std::string color_name = "grey";
+    if (object.splat_colors && !texture_path.empty()) {
+      if (!assets.mesh.has_texcoords())
+        throw Error(fmt::format("{}: 'texture' needs a mesh with texture coordinates ({} has none)", scene.source, object.name));
+      colors.texture = splats::load_texture(texture_path);
+      color_name = "texture:" + object.texture;
+    } else if (object.splat_colors) {
+      colors.field = splats::parse_color_field(object.color_field);
+      color_name = object.color_field;
+    }
     const splats::SplatRun run = splats::generate_splats(assets.mesh, colors, options, &runtime);
     assets.splats = run.records();
     const splats::SplatFileInfo info{assets.mesh.source, splats::to_string(options.sampling), options.fit.eps,
-                                     run.neighbors.k, 255, "grey", false};
+                                     run.neighbors.k, options.fit.color_tolerance, color_name, false};
     splats::write_splat_file(splat_path, assets.splats, info);
+  }
+  if (assets.splats_cached && std::filesystem::exists(tree_path)) {
+    try {
+      assets.tree = read_splat_tree(tree_path, static_cast<std::uint32_t>(assets.splats.size()));
+      assets.tree_cached = true;
+    } catch (const Error&) {
+    }
+  }
+  if (!assets.tree_cached) {
+    if (progress) progress(fmt::format("{}: LOD tree", object.name));
+    assets.tree = build_splat_tree(assets.splats, lod_options);
+    write_splat_tree(tree_path, assets.tree);
   }
   if (std::filesystem::exists(csm_path)) {
     try {
@@ -86,7 +125,9 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     options.resolution = q.csm_resolution;
     csm::BuildResult built = csm::build_csm(assets.mesh, options, &runtime);
     csm::write_csm(csm_path, built.csm, csm::Encoding::Compact, &built.segments);
-    assets.csm = std::move(built.csm);
+    // Read back what was cached: the compact encoding stores other (equally lossless) depths than
+    // the build's midpoints, and a first render must see the same shadows as every later one.
+    assets.csm = csm::read_csm(csm_path);
   }
   assets.build_ms = clock.elapsed_ms();
   return assets;

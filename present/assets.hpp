@@ -1,6 +1,6 @@
 #pragma once
 // Per-object assets built on first use and cached on disk: the splat set (splatcl splats) and the
-// coherent shadow map (splatcl csm build) of a mesh. Cache files are named by an FNV-1a hash of the
+// coherent shadow map (splatcl csm build) of a mesh, and the splats' LOD tree (present/lod.hpp). Cache files are named by an FNV-1a hash of the
 // mesh content (vertices and faces) and of every parameter that shapes the result, and written
 // atomically by the splat and CSM writers, so a stale or half-written entry is never read.
 #include <functional>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "csm/csm_file.hpp"
+#include "present/lod.hpp"
 #include "present/scene.hpp"
 #include "runtime/runtime.hpp"
 #include "splats/mesh.hpp"
@@ -18,9 +19,10 @@ namespace splatcl::present {
 struct ObjectAssets {
   splats::Mesh mesh;
   std::vector<splats::SplatRecord> splats;
+  SplatTree tree;  // level-of-detail hierarchy over `splats`
   csm::Csm csm;
   std::string key;  // cache key (hex)
-  bool splats_cached = false, csm_cached = false;
+  bool splats_cached = false, tree_cached = false, csm_cached = false;
   double build_ms = 0;
 };
 

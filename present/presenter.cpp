@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numbers>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -13,6 +16,7 @@
 
 #include "cluster/cluster.hpp"
 #include "csm/ao.hpp"
+#include "csm/sphere_grid.hpp"
 #include "csm/visibility.hpp"
 #include "present/gl.hpp"
 #include "present/shaders.hpp"
@@ -130,11 +134,9 @@ struct GpuTimers {
 // Visibility of a key light from each receiver: PCF queries towards the light's centre, or for a
 // light of non-zero size the mean over `samples` points spread on its sphere (Fibonacci lattice),
 // which softens the shadow edge.
-std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const std::vector<splats::Vec4>& receivers,
-                                        const Light& light, std::uint32_t samples, csm::Filter filter, float bias) {
+std::vector<glm::vec3> key_light_points(const Light& light, std::uint32_t samples) {
   const std::uint32_t count = light.size > 0 ? std::max(1u, samples) : 1u;
-  std::vector<float> sum(receivers.size(), 0.0f);
-  std::vector<splats::Vec4> points(receivers.size());
+  std::vector<glm::vec3> points;
   for (std::uint32_t j = 0; j < count; ++j) {
     glm::vec3 p = light.position;
     if (count > 1) {
@@ -143,12 +145,139 @@ std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const s
       const float phi = static_cast<float>(j) * 2.39996323f;  // golden angle
       p += light.size * glm::vec3(r * std::cos(phi), y, r * std::sin(phi));
     }
+    points.push_back(p);
+  }
+  return points;
+}
+
+std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const std::vector<splats::Vec4>& receivers,
+                                        const Light& light, std::uint32_t samples, csm::Filter filter, float bias) {
+  const std::vector<glm::vec3> light_points = key_light_points(light, samples);
+  std::vector<float> sum(receivers.size(), 0.0f);
+  std::vector<splats::Vec4> points(receivers.size());
+  for (const glm::vec3& p : light_points) {
     std::fill(points.begin(), points.end(), splats::Vec4{p.x, p.y, p.z, 1.0f});
     const std::vector<float> visible = queries.run(receivers, points, filter, bias);
     for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += visible[i];
   }
-  for (float& v : sum) v /= static_cast<float>(count);
+  for (float& v : sum) v /= static_cast<float>(light_points.size());
   return sum;
+}
+
+// Incremental per-splat lighting. A CSM query through one occluder instance (csm_query.h) is 1
+// exactly unless one of its taps reads a non-empty texel with a stored depth in front of the
+// receiver. Non-empty texels have their centres inside the disc of the bounding sphere's radius R;
+// taps (4 × 4 PCF at most) lie within 2.5·√2 texels of the receiver's projection; stored depths are
+// >= 0 and the bias >= 0, so an occluded receiver lies behind the plane at R from the centre,
+// towards the map's direction d. Hence, with R' = R + 5 texels: the receiver p can be occluded
+// through map d only if its distance to the line (centre, d) is <= R' and (p − centre)·d < R. The
+// map a query picks lies within `slack` radians of the query's direction w, so if no direction
+// within `slack` of w can satisfy both, the instance answers 1 for (p, w) at that placement.
+struct Cone {
+  bool always = false;   // p too close to the sphere: every direction may reach it
+  glm::vec3 to_centre{}; // centre − p
+  float cos_limit = 0;   // w may reach iff cos∠(w, centre − p) >= cos_limit
+  bool may_reach(glm::vec3 w) const {
+    return always || glm::dot(w, to_centre) >= cos_limit * glm::length(w) * glm::length(to_centre);
+  }
+};
+
+struct MovedReach {
+  glm::vec3 centre{};        // bounding sphere, world space
+  float radius = 0, reach = 0, slack = 0;
+  Cone cone_from(glm::vec3 p) const {
+    Cone cone;
+    cone.to_centre = centre - p;
+    const float d2 = glm::dot(cone.to_centre, cone.to_centre);
+    // Behind the sphere within the line's reach (the second case above), or inside it.
+    if (d2 <= radius * radius + reach * reach) return cone.always = true, cone;
+    const float limit = std::asin(std::min(1.0f, reach / std::sqrt(d2))) + slack;
+    if (limit >= std::numbers::pi_v<float>) return cone.always = true, cone;
+    cone.cos_limit = std::cos(limit);
+    return cone;
+  }
+};
+
+// The largest angle between a direction and the map chosen for it, bounded by the largest angle
+// between a map's direction and its grid neighbours' (rows clamped, columns wrapped) and, for the
+// first and last rows, the pole; times 1.25 for float rounding. Angles carry over to the world
+// only through a similarity: any other object transform gets π (every query is made).
+float csm_map_slack(const csm::CsmInfo& info) {
+  const auto& t = info.object_transform;
+  const glm::vec3 x(t[0], t[4], t[8]), y(t[1], t[5], t[9]), z(t[2], t[6], t[10]);
+  const float scale = glm::length(x), tolerance = 1e-4f * scale;
+  if (!(scale > 0) || std::abs(glm::length(y) - scale) > tolerance || std::abs(glm::length(z) - scale) > tolerance ||
+      std::abs(glm::dot(x, y)) > tolerance * scale || std::abs(glm::dot(y, z)) > tolerance * scale ||
+      std::abs(glm::dot(x, z)) > tolerance * scale)
+    return std::numbers::pi_v<float>;
+  const csm::SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
+  const auto direction = [&](std::uint32_t a, std::uint32_t b) {
+    const csm::Camera c = grid.camera(grid.sequence_of({a, b}));
+    return glm::normalize(glm::vec3(c.d[0], c.d[1], c.d[2]));
+  };
+  const auto pole = csm::pole_frame(info.pole)[1];
+  const glm::vec3 up = glm::normalize(glm::vec3(pole.x, pole.y, pole.z));
+  const auto angle = [](glm::vec3 a, glm::vec3 b) { return std::acos(std::clamp(glm::dot(a, b), -1.0f, 1.0f)); };
+  const std::uint32_t rows = grid.rows(), cols = grid.cols();
+  float slack = 0;
+  for (std::uint32_t a = 0; a < rows; ++a)
+    for (std::uint32_t b = 0; b < cols; ++b) {
+      const glm::vec3 d = direction(a, b);
+      for (int da = -1; da <= 1; ++da)
+        for (int db = -1; db <= 1; ++db) {
+          const int na = std::clamp(static_cast<int>(a) + da, 0, static_cast<int>(rows) - 1);
+          const int nb = ((static_cast<int>(b) + db) % static_cast<int>(cols) + static_cast<int>(cols)) % static_cast<int>(cols);
+          slack = std::max(slack, angle(d, direction(static_cast<std::uint32_t>(na), static_cast<std::uint32_t>(nb))));
+        }
+      if (a == 0 || a + 1 == rows) slack = std::max(slack, std::min(angle(d, up), angle(d, -up)));
+    }
+  return 1.25f * slack;
+}
+
+// The bounding sphere of `info` placed by `placement` (model file → world), and its reach R'.
+MovedReach moved_reach(const csm::CsmInfo& info, const glm::mat4& placement, float slack) {
+  const csm::Transform to_object = csm::world_to_object(info, to_transform(placement));
+  glm::dmat4 m(1.0);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m[c][r] = to_object[static_cast<std::size_t>(4 * r + c)];
+  const glm::dmat4 to_world = glm::inverse(m);
+  const glm::dvec3 c(info.sphere.centre.x, info.sphere.centre.y, info.sphere.centre.z);
+  MovedReach reach;
+  reach.centre = glm::vec3(to_world * glm::dvec4(c, 1.0));
+  // Largest stretch of the linear part (rigid placements: the uniform scale).
+  double stretch = 0;
+  for (int k = 0; k < 3; ++k) stretch = std::max(stretch, glm::length(glm::dvec3(to_world[k])));
+  const double texel = 2.0 * info.sphere.radius / std::max(1u, info.resolution);
+  reach.radius = static_cast<float>(stretch * info.sphere.radius * 1.0001);
+  reach.reach = static_cast<float>(stretch * (info.sphere.radius + 5.0 * texel) * 1.0001);
+  reach.slack = slack;
+  return reach;
+}
+
+// PoCL compiles a kernel anew for each work-group size it picks, and it picks one per global size
+// (the CSM drivers leave the local size to it): batches of varying size, as the incremental update
+// makes, are padded to m·2^k (8 <= m < 16) entries, at most 1/8 more, so few sizes ever occur.
+template <class T>
+void pad_batch(std::vector<T>& batch) {
+  if (batch.empty()) return;
+  const std::size_t n = batch.size();
+  const std::size_t step = n < 16 ? 1 : std::size_t{1} << (std::bit_width(n) - 4);
+  batch.resize((n + step - 1) / step * step, batch.back());
+}
+
+// The AO kernel's query directions for receiver normal n (the rotation functions of
+// kernels/csm_query.h, and neither side contracts them, so the vectors are bit-identical); w = 0 marks a direction below the floor, which the kernel counts
+// as occluded without a query.
+void ao_directions(const splats::Vec4& n, const splats::Vec4* pattern, std::uint32_t samples, bool ground,
+                   std::vector<splats::Vec4>& out) {
+  float h[3];
+  csm::device::csm_ao_rotation_axis(n.x, n.y, n.z, h);
+  out.clear();
+  for (std::uint32_t k = 0; k < samples; ++k) {
+    float d[3];
+    csm::device::csm_ao_rotate(h, pattern[k].x, pattern[k].y, pattern[k].z, d);
+    out.push_back({d[0], d[1], d[2], ground && d[1] < 0.0f ? 0.0f : 1.0f});
+  }
 }
 
 }  // namespace
@@ -192,9 +321,22 @@ std::vector<glm::vec3> sky_sh(const Sky& sky) {
   return sh;
 }
 
+// The compile-time modes of the final shading shader (shaders::kShade).
+struct ShadeVariant {
+  int debug = 0;  // DebugView, footprints drawn as albedo
+  bool brute_force = false, pixel_shadows = false, pixel_ao = false, use_ao = true, specular = false;
+  int key_count = 0;
+  std::uint32_t key() const {
+    return static_cast<std::uint32_t>(debug) | (brute_force ? 1u : 0u) << 3 | (pixel_shadows ? 1u : 0u) << 4 |
+           (pixel_ao ? 1u : 0u) << 5 | (use_ao ? 1u : 0u) << 6 | (specular ? 1u : 0u) << 7 |
+           static_cast<std::uint32_t>(key_count) << 8;
+  }
+};
+
 struct Presenter::Impl {
   GLuint splat_program = 0, visibility_program = 0, accumulate_program = 0, point_program = 0, normalize_program = 0,
-         shade_program = 0, mesh_program = 0;
+         mesh_program = 0;
+  std::map<std::uint32_t, GLuint> shade_programs;  // final shading, one per variant (shade_program)
   GLuint splat_vao = 0, static_vbo = 0, dynamic_vbo = 0, empty_vao = 0;
   GLuint depth = 0, accum[4] = {}, gbuffer[5] = {}, hdr = 0, display = 0, pixel_list = 0, pixel_shadow = 0, pixel_ao = 0;
   GLuint accum_fbo = 0, gbuffer_fbo = 0, visibility_fbo = 0, hdr_fbo = 0, display_fbo = 0;
@@ -206,10 +348,51 @@ struct Presenter::Impl {
   std::unique_ptr<cluster::ClusterPipeline> clusters;
   std::vector<glm::mat4> last_placements;
   bool have_lighting = false;
+  // The per-splat rows (bent normal + AO, key-light visibility) of the last lighting update, the
+  // settings and placements they were computed with: the incremental update starts from them.
+  std::vector<float> lighting_rows;
+  std::string lighting_signature;
+  std::vector<glm::mat4> lit_placements;
+  std::map<std::size_t, float> map_slacks;  // per object: map_slack of its CSM
+  // The incremental update's cache, for the objects marked in cached_movers as moving: per splat,
+  // the AO directions lit through the static occluders and through all of them at the last update
+  // (bit masks), and per splat, key light and light point the PCF visibility through the static ones.
+  std::vector<char> cached_movers;
+  std::vector<std::uint64_t> static_lit, lit_mask;
+  std::vector<float> static_shadow;
+
+  float map_slack(std::size_t object, const csm::CsmInfo& info) {
+    const auto found = map_slacks.find(object);
+    if (found != map_slacks.end()) return found->second;
+    return map_slacks[object] = csm_map_slack(info);
+  }
   std::vector<splats::Vec4> ao_patterns;
   std::vector<std::uint32_t> ao_pattern_of, pixel_pattern_of;
   std::vector<glm::vec3> sh;
   std::uint32_t heat_max = 1;
+  // Per scene object: its LOD sequence's instances (after all original splats) and the bounding
+  // sphere of its splats (model space) for the coarse, per-object prefix selection.
+  struct LodRange {
+    std::size_t first = 0, count = 0;
+    glm::vec3 center{0.0f};
+    float radius = 0;
+  };
+  std::vector<LodRange> lod_ranges;
+  std::vector<glm::vec3> lod_centers;  // model-space centre of every LOD entry, in instance order
+
+  // The shading program of a variant, compiled on first use.
+  GLuint shade_program(const ShadeVariant& v) {
+    const auto found = shade_programs.find(v.key());
+    if (found != shade_programs.end()) return found->second;
+    const std::string source = fmt::format(
+        "#version 450 core\n#define DEBUG_VIEW {}\n#define BRUTE_FORCE {}\n#define PIXEL_SHADOWS {}\n"
+        "#define PIXEL_AO {}\n#define USE_AO {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n{}",
+        v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.use_ao ? 1 : 0, v.key_count,
+        v.specular ? 1 : 0, shaders::kShade);
+    const GLuint program = link(shaders::kFullscreenVertex, source.c_str(), "shading");
+    shade_programs.emplace(v.key(), program);
+    return program;
+  }
 
   void delete_targets() {
     const GLuint fbos[] = {accum_fbo, gbuffer_fbo, visibility_fbo, hdr_fbo, display_fbo, mesh_fbo};
@@ -249,41 +432,72 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   if (scene_.key_lights.size() > kMaxKeyLights)
     throw Error(fmt::format("{}: at most {} key lights", scene_.source, kMaxKeyLights));
   Impl& g = *impl_;
-  // Assets and the splat arrays: objects in scene order, then the floor.
+  // Assets and the splat arrays: objects in scene order, then the floor, then every object's LOD
+  // sequence (originals and tree nodes sorted by e_max). Per instance: centre, normal, major and
+  // minor semi-axes, linear albedo, LOD interval [e_min, e_max).
+  constexpr std::size_t kRow = 17;
   std::vector<float> statics;
-  const auto push_splat = [&](glm::vec3 c, glm::vec3 n, glm::vec3 u, glm::vec3 v, glm::vec3 albedo) {
+  const auto push_splat = [&](glm::vec3 c, glm::vec3 n, glm::vec3 u, glm::vec3 v, glm::vec3 albedo,
+                              glm::vec2 lod = {0.0f, FLT_MAX}) {
     for (const glm::vec3& x : {c, n, u, v, albedo}) statics.insert(statics.end(), {x.x, x.y, x.z});
+    statics.insert(statics.end(), {lod.x, lod.y});
   };
+  const auto g3 = [](splats::Vec3 a) { return glm::vec3(a.x, a.y, a.z); };
+  // Per-splat colours are sRGB bytes; the shading works on linear albedo.
+  const auto linear = [](splats::Rgba8 c) {
+    return glm::pow(glm::vec3(c.r, c.g, c.b) / 255.0f, glm::vec3(2.2f));
+  };
+  std::vector<std::vector<float>> albedo_rows(scene_.objects.size());  // per object, 3 floats per splat
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
     const auto& splats = assets_.back().splats;
-    objects_.push_back({statics.size() / 15, splats.size(), static_cast<int>(i)});
+    objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
     for (const auto& s : splats) {
-      const auto g3 = [](splats::Vec3 a) { return glm::vec3(a.x, a.y, a.z); };
-      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), object.color);
+      const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
+      albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
+      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), albedo);
     }
   }
   if (scene_.floor.enabled) {
     const FloorSpec& f = scene_.floor;
     const float spacing = f.size / static_cast<float>(f.splats_per_side);
     const float radius = 0.75f * spacing;  // overlapping discs cover the square without holes
-    objects_.push_back({statics.size() / 15, std::size_t{f.splats_per_side} * f.splats_per_side, -1});
+    objects_.push_back({statics.size() / kRow, std::size_t{f.splats_per_side} * f.splats_per_side, -1});
     for (std::uint32_t i = 0; i < f.splats_per_side; ++i)
       for (std::uint32_t k = 0; k < f.splats_per_side; ++k)
         push_splat({-0.5f * f.size + (static_cast<float>(i) + 0.5f) * spacing, f.y,
                     -0.5f * f.size + (static_cast<float>(k) + 0.5f) * spacing},
                    {0, 1, 0}, {radius, 0, 0}, {0, 0, radius}, f.color);
   }
-  const std::size_t splat_count = statics.size() / 15;
+  const std::size_t splat_count = statics.size() / kRow;
   splat_ao_.assign(splat_count, glm::vec4(0, 1, 0, 1));
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+    const SplatTree& tree = assets_[i].tree;
+    Impl::LodRange range{statics.size() / kRow, tree.size(), {}, 0.0f};
+    const auto& splats = assets_[i].splats;
+    glm::vec3 lo(FLT_MAX), hi(-FLT_MAX);
+    for (const auto& s : splats) lo = glm::min(lo, g3(s.center)), hi = glm::max(hi, g3(s.center));
+    if (!splats.empty()) range.center = 0.5f * (lo + hi);
+    for (const auto& s : splats)
+      range.radius = std::max(range.radius, glm::length(g3(s.center) - range.center) + glm::length(g3(s.major)));
+    const std::vector<float> albedo = gather_tree_rows(tree, albedo_rows[i].data(), 3);
+    for (std::size_t e = 0; e < tree.size(); ++e) {
+      const std::uint32_t source = tree.source[e];
+      const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
+      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
+                 {tree.error_min[e], tree.error_max[e]});
+      g.lod_centers.push_back(g3(s.center));
+    }
+    g.lod_ranges.push_back(range);
+  }
+  const std::size_t instance_count = statics.size() / kRow;  // originals and LOD entries
 
   g.splat_program = link(shaders::kSplatVertex, shaders::kSplatVisibility, "splat visibility");
   g.visibility_program = g.splat_program;
   g.accumulate_program = link(shaders::kSplatVertex, shaders::kSplatAccumulate, "splat accumulation");
   g.point_program = link(shaders::kPointVertex, shaders::kPointFragment, "points");
   g.normalize_program = link(shaders::kFullscreenVertex, shaders::kNormalize, "normalisation");
-  g.shade_program = link(shaders::kFullscreenVertex, shaders::kShade, "shading");
   g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
 
   glCreateVertexArrays(1, &g.splat_vao);
@@ -292,17 +506,18 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   glCreateBuffers(1, &g.dynamic_vbo);
   glNamedBufferStorage(g.static_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(statics.size(), 1) * sizeof(float)),
                        statics.empty() ? nullptr : statics.data(), 0);
-  glNamedBufferStorage(g.dynamic_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(splat_count, 1) * 8 * sizeof(float)),
+  glNamedBufferStorage(g.dynamic_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * 8 * sizeof(float)),
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
-  glVertexArrayVertexBuffer(g.splat_vao, 0, g.static_vbo, 0, 15 * sizeof(float));
+  glVertexArrayVertexBuffer(g.splat_vao, 0, g.static_vbo, 0, kRow * sizeof(float));
   glVertexArrayVertexBuffer(g.splat_vao, 1, g.dynamic_vbo, 0, 8 * sizeof(float));
   glVertexArrayBindingDivisor(g.splat_vao, 0, 1);
   glVertexArrayBindingDivisor(g.splat_vao, 1, 1);
-  for (GLuint a = 0; a < 7; ++a) {
+  for (GLuint a = 0; a < 8; ++a) {
     glEnableVertexArrayAttrib(g.splat_vao, a);
-    const bool dynamic = a >= 5;
-    glVertexArrayAttribFormat(g.splat_vao, a, dynamic ? 4 : 3, GL_FLOAT, GL_FALSE,
-                              dynamic ? (a - 5) * 4 * sizeof(float) : a * 3 * sizeof(float));
+    const bool dynamic = a == 5 || a == 6;
+    const GLint components = dynamic ? 4 : a == 7 ? 2 : 3;
+    glVertexArrayAttribFormat(g.splat_vao, a, components, GL_FLOAT, GL_FALSE,
+                              dynamic ? (a - 5) * 4 * sizeof(float) : (a == 7 ? 15 : a * 3) * sizeof(float));
     glVertexArrayAttribBinding(g.splat_vao, a, dynamic ? 1 : 0);
   }
   glCreateBuffers(4, g.ssbo);
@@ -343,9 +558,9 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
 Presenter::~Presenter() {
   Impl& g = *impl_;
   g.delete_targets();
-  for (GLuint p : {g.splat_program, g.accumulate_program, g.point_program, g.normalize_program, g.shade_program,
-                   g.mesh_program})
+  for (GLuint p : {g.splat_program, g.accumulate_program, g.point_program, g.normalize_program, g.mesh_program})
     glDeleteProgram(p);
+  for (const auto& [key, program] : g.shade_programs) glDeleteProgram(program);
   const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};
   glDeleteBuffers(6, buffers);
   glDeleteBuffers(static_cast<GLsizei>(g.mesh_vbos.size()), g.mesh_vbos.data());
@@ -374,6 +589,8 @@ std::pair<std::size_t, std::size_t> Presenter::object_splats(std::size_t object)
 }
 
 const ObjectAssets& Presenter::assets(std::size_t object) const { return assets_.at(object); }
+
+const std::vector<float>& Presenter::splat_lighting() const { return impl_->lighting_rows; }
 
 glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
   for (std::size_t i = 0; i < objects_.size(); ++i) {
@@ -419,50 +636,237 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
     csms.push_back(&assets_[i].csm);
     if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
   }
-  std::vector<float> dynamic(n * 8, 1.0f);
-  for (std::size_t s = 0; s < n; ++s) {
-    dynamic[8 * s + 0] = normals[s].x, dynamic[8 * s + 1] = normals[s].y, dynamic[8 * s + 2] = normals[s].z;
-    dynamic[8 * s + 3] = 1.0f;
+  const Quality& q = scene_.quality;
+  const csm::Filter filter = csm::parse_filter(q.filter);
+  // Receivers lifted off their own surface by the bias, so a splat does not shadow itself.
+  std::vector<splats::Vec4> lifted(n);
+  for (std::size_t s = 0; s < n; ++s)
+    lifted[s] = {positions[s].x + q.ao_bias * normals[s].x, positions[s].y + q.ao_bias * normals[s].y,
+                 positions[s].z + q.ao_bias * normals[s].z, 1.0f};
+  const bool do_ao = ambient_occlusion, do_shadows = q.shadows == "splat" && !scene_.key_lights.empty();
+  const std::string signature = fmt::format("{} {} {} {} {} {} {} {} {}", do_ao, do_shadows, q.filter, n, q.ao_samples,
+                                            q.shadow_samples, q.ao_bias, scene_.key_lights.size(), scene_.floor.enabled);
+  std::vector<std::vector<glm::vec3>> light_points;  // per key light
+  for (const Light& light : scene_.key_lights) light_points.push_back(key_light_points(light, q.shadow_samples));
+
+  // Full update: every splat through the AO and shadow kernels. Incremental (occluders moved since
+  // the last update, same settings): the moved objects' splats through the kernels; every other
+  // splat from its cached visibility through the static occluders and new queries through the moved
+  // ones, only where those can answer "occluded" (Cone); the AO kernel then reruns only the splats
+  // whose set of lit AO directions changed. Both give the same rows bit for bit.
+  const bool incremental = incremental_lighting && g.lighting_rows.size() == n * 8 && g.lighting_signature == signature &&
+                           g.lit_placements.size() == placements.size() && filter != csm::Filter::CrossMap &&
+                           q.ao_bias >= 0;
+  std::vector<char> moved(scene_.objects.size(), 1), kernel_receiver(n, 1);
+  if (incremental) {
+    for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = placements[i] != g.lit_placements[i];
+    std::fill(kernel_receiver.begin(), kernel_receiver.end(), 0);
+    for (std::size_t i = 0; i < moved.size(); ++i)
+      if (moved[i])
+        std::fill(kernel_receiver.begin() + static_cast<std::ptrdiff_t>(objects_[i].first),
+                  kernel_receiver.begin() + static_cast<std::ptrdiff_t>(objects_[i].first + objects_[i].count), 1);
   }
-  if (!instances.empty() && n > 0) {
+  std::vector<float> dynamic = incremental ? g.lighting_rows : std::vector<float>(n * 8, 1.0f);
+  std::vector<std::uint32_t> ao_subset, shadow_subset;
+  for (std::size_t s = 0; s < n; ++s)
+    if (kernel_receiver[s]) ao_subset.push_back(static_cast<std::uint32_t>(s)), shadow_subset.push_back(static_cast<std::uint32_t>(s));
+
+  if (incremental) {
+    Stopwatch clock;
+    const std::uint32_t samples = q.ao_samples, words = (samples + 63) / 64;
+    const std::size_t points = light_points.empty() ? 0 : light_points[0].size();
+    const std::size_t keys = light_points.size();
+    std::vector<csm::Instance> static_instances, moving_instances;
+    std::vector<MovedReach> reaches;
+    for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+      if (!scene_.objects[i].occluder) continue;
+      (moved[i] ? moving_instances : static_instances).push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
+      if (moved[i]) reaches.push_back(moved_reach(assets_[i].csm.info, placements[i], g.map_slack(i, assets_[i].csm.info)));
+    }
+    // Runs (receiver, light) queries through the static or the moved instances (their scene tables
+    // built and uploaded once per update); no instances: all lit.
+    std::unique_ptr<csm::VisibilityQueries> static_queries, moving_queries;
+    const auto run_queries = [&](const std::vector<csm::Instance>& through, const std::vector<splats::Vec4>& receivers,
+                                 const std::vector<splats::Vec4>& lights, csm::Filter f) {
+      if (through.empty() || receivers.empty()) return std::vector<float>(receivers.size(), 1.0f);
+      std::unique_ptr<csm::VisibilityQueries>& queries = &through == &static_instances ? static_queries : moving_queries;
+      if (!queries) {
+        // Only the CSMs these instances use: the scene tables copy and upload every CSM they get.
+        std::vector<const csm::Csm*> used;
+        std::vector<csm::Instance> renumbered;
+        for (const csm::Instance& instance : through) {
+          renumbered.push_back({static_cast<std::uint32_t>(used.size()), instance.placement});
+          used.push_back(csms[instance.occluder]);
+        }
+        queries = std::make_unique<csm::VisibilityQueries>(runtime_, csm::VisibilityScene(used, renumbered));
+      }
+      std::vector<splats::Vec4> padded_receivers = receivers, padded_lights = lights;
+      pad_batch(padded_receivers);
+      pad_batch(padded_lights);
+      std::vector<float> visible = queries->run(padded_receivers, padded_lights, f, q.ao_bias);
+      visible.resize(receivers.size());
+      return visible;
+    };
+    std::vector<splats::Vec4> directions;
+    const auto directions_of = [&](std::size_t s) {
+      ao_directions(normals[s], &g.ao_patterns[std::size_t{g.ao_pattern_of[s]} * samples], samples, scene_.floor.enabled,
+                    directions);
+    };
+    // The cache of visibility through the static occluders, rebuilt when the moving set changes.
+    const bool rebuild = g.cached_movers != moved;
+    if (rebuild) {
+      g.static_lit.assign(do_ao ? n * words : 0, 0);
+      g.lit_mask.assign(g.static_lit.size(), 0);
+      g.static_shadow.assign(do_shadows ? n * keys * points : 0, 1.0f);
+      std::vector<splats::Vec4> receivers, lights;
+      std::vector<std::size_t> where;
+      for (std::size_t s = 0; s < n && do_ao; ++s) {
+        if (kernel_receiver[s]) continue;
+        directions_of(s);
+        for (std::uint32_t j = 0; j < samples; ++j)
+          if (directions[j].w != 0) {
+            receivers.push_back(positions[s]);
+            lights.push_back({directions[j].x, directions[j].y, directions[j].z, 0.0f});
+            where.push_back(s * words * 64 + j);
+          }
+      }
+      const std::vector<float> lit = run_queries(static_instances, receivers, lights, csm::Filter::None);
+      for (std::size_t k = 0; k < where.size(); ++k)
+        if (lit[k] > 0.0f) g.static_lit[where[k] / 64] |= std::uint64_t{1} << (where[k] % 64);
+      receivers.clear(), lights.clear(), where.clear();
+      for (std::size_t s = 0; s < n && do_shadows; ++s) {
+        if (kernel_receiver[s]) continue;
+        for (std::size_t k = 0; k < keys; ++k)
+          for (std::size_t j = 0; j < points; ++j) {
+            receivers.push_back(lifted[s]);
+            lights.push_back({light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f});
+            where.push_back((s * keys + k) * points + j);
+          }
+      }
+      const std::vector<float> visible = run_queries(static_instances, receivers, lights, filter);
+      for (std::size_t k = 0; k < where.size(); ++k) g.static_shadow[where[k]] = visible[k];
+      g.cached_movers = moved;
+    }
+    // Queries through the moved occluders where they may answer "occluded".
+    std::vector<splats::Vec4> receivers, lights;
+    std::vector<std::size_t> where;
+    std::vector<std::uint64_t> mask = g.static_lit;
+    for (std::size_t s = 0; s < n && do_ao && !reaches.empty(); ++s) {
+      if (kernel_receiver[s]) continue;
+      std::vector<Cone> cones;
+      for (const MovedReach& reach : reaches) cones.push_back(reach.cone_from({positions[s].x, positions[s].y, positions[s].z}));
+      directions_of(s);
+      for (std::uint32_t j = 0; j < samples; ++j) {
+        const std::size_t bit = s * words * 64 + j;
+        if (!(mask[bit / 64] >> (bit % 64) & 1)) continue;
+        const glm::vec3 d(directions[j].x, directions[j].y, directions[j].z);
+        if (std::none_of(cones.begin(), cones.end(), [&](const Cone& c) { return c.may_reach(d); })) continue;
+        receivers.push_back(positions[s]);
+        lights.push_back({directions[j].x, directions[j].y, directions[j].z, 0.0f});
+        where.push_back(bit);
+      }
+    }
+    const std::vector<float> lit = run_queries(moving_instances, receivers, lights, csm::Filter::None);
+    for (std::size_t k = 0; k < where.size(); ++k)
+      if (!(lit[k] > 0.0f)) mask[where[k] / 64] &= ~(std::uint64_t{1} << (where[k] % 64));
+    for (std::size_t s = 0; s < n && do_ao; ++s) {
+      if (kernel_receiver[s]) continue;
+      const bool changed = rebuild || !std::equal(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
+                                                  mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words),
+                                                  g.lit_mask.begin() + static_cast<std::ptrdiff_t>(s * words));
+      if (changed) ao_subset.push_back(static_cast<std::uint32_t>(s));
+    }
+    g.lit_mask = std::move(mask);
+    // Key-light visibility: per light point the product of the instances' PCF fractions, which are
+    // multiples of 1/16, so static × moved is exact; then the mean over the points as in
+    // key_light_visibility.
+    receivers.clear(), lights.clear(), where.clear();
+    std::vector<float> shadow = g.static_shadow;
+    for (std::size_t s = 0; s < n && do_shadows && !reaches.empty(); ++s) {
+      if (kernel_receiver[s]) continue;
+      const glm::vec3 lift(lifted[s].x, lifted[s].y, lifted[s].z);
+      std::vector<Cone> cones;
+      for (const MovedReach& reach : reaches) cones.push_back(reach.cone_from(lift));
+      for (std::size_t k = 0; k < keys; ++k)
+        for (std::size_t j = 0; j < points; ++j) {
+          const std::size_t at = (s * keys + k) * points + j;
+          if (shadow[at] == 0.0f) continue;
+          const glm::vec3 w = light_points[k][j] - lift;
+          if (std::none_of(cones.begin(), cones.end(), [&](const Cone& c) { return c.may_reach(w); })) continue;
+          receivers.push_back(lifted[s]);
+          lights.push_back({light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f});
+          where.push_back(at);
+        }
+    }
+    const std::vector<float> visible = run_queries(moving_instances, receivers, lights, filter);
+    for (std::size_t k = 0; k < where.size(); ++k) shadow[where[k]] *= visible[k];
+    for (std::size_t s = 0; s < n && do_shadows; ++s) {
+      if (kernel_receiver[s]) continue;
+      for (std::size_t k = 0; k < keys; ++k) {
+        float sum = 0.0f;
+        for (std::size_t j = 0; j < points; ++j) sum += shadow[(s * keys + k) * points + j];
+        dynamic[8 * s + 4 + k] = sum / static_cast<float>(points);
+      }
+    }
+    stats.stages.push_back({rebuild ? "cl: static occluder cache" : "cl: moved occluder queries", clock.elapsed_ms()});
+  }
+  stats.lighting_receivers = static_cast<std::uint32_t>(ao_subset.size());
+  // Rows to recompute start as "unoccluded": bent normal = normal, AO 1, every key light visible.
+  for (const std::uint32_t s : ao_subset) {
+    float* row = &dynamic[8 * std::size_t{s}];
+    row[0] = normals[s].x, row[1] = normals[s].y, row[2] = normals[s].z, row[3] = 1.0f;
+  }
+  for (const std::uint32_t s : shadow_subset) std::fill(&dynamic[8 * std::size_t{s} + 4], &dynamic[8 * std::size_t{s} + 8], 1.0f);
+
+  if (!instances.empty() && ((do_ao && !ao_subset.empty()) || (do_shadows && !shadow_subset.empty()))) {
     const csm::VisibilityScene visibility(csms, instances);
-    if (ambient_occlusion) {
+    if (do_ao && !ao_subset.empty()) {
       Stopwatch clock;
       csm::AmbientOcclusion ao(runtime_, visibility);
       csm::AoRequest request;
-      request.positions = positions;
-      request.normals = normals;
+      for (const std::uint32_t s : ao_subset) {
+        request.positions.push_back(positions[s]);
+        request.normals.push_back(normals[s]);
+        request.pattern_of.push_back(g.ao_pattern_of[s]);
+      }
       request.patterns = g.ao_patterns;
-      request.samples = scene_.quality.ao_samples;
-      request.pattern_of = g.ao_pattern_of;
+      request.samples = q.ao_samples;
       request.ground = scene_.floor.enabled;
-      request.bias = scene_.quality.ao_bias;
+      request.bias = q.ao_bias;
+      if (incremental) pad_batch(request.positions), pad_batch(request.normals), pad_batch(request.pattern_of);
       const std::vector<splats::Vec4> out = ao.run(request);
-      for (std::size_t s = 0; s < n; ++s) {
-        dynamic[8 * s + 0] = out[s].x, dynamic[8 * s + 1] = out[s].y, dynamic[8 * s + 2] = out[s].z;
-        dynamic[8 * s + 3] = out[s].w;
+      for (std::size_t k = 0; k < ao_subset.size(); ++k) {
+        float* row = &dynamic[8 * std::size_t{ao_subset[k]}];
+        row[0] = out[k].x, row[1] = out[k].y, row[2] = out[k].z, row[3] = out[k].w;
       }
       stats.stages.push_back({"cl: splat AO", clock.elapsed_ms()});
     }
-    if (scene_.quality.shadows == "splat" && !scene_.key_lights.empty()) {
+    if (do_shadows && !shadow_subset.empty()) {
       Stopwatch clock;
       csm::VisibilityQueries queries(runtime_, visibility);
-      // Receivers lifted off their own surface by the bias, so a splat does not shadow itself.
-      std::vector<splats::Vec4> receivers(n);
-      for (std::size_t s = 0; s < n; ++s)
-        receivers[s] = {positions[s].x + scene_.quality.ao_bias * normals[s].x, positions[s].y + scene_.quality.ao_bias * normals[s].y,
-                        positions[s].z + scene_.quality.ao_bias * normals[s].z, 1.0f};
+      std::vector<splats::Vec4> receivers;
+      for (const std::uint32_t s : shadow_subset) receivers.push_back(lifted[s]);
+      if (incremental) pad_batch(receivers);
       for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
         const std::vector<float> visible =
-            key_light_visibility(queries, receivers, scene_.key_lights[k], scene_.quality.shadow_samples,
-                                 csm::parse_filter(scene_.quality.filter), scene_.quality.ao_bias);
-        for (std::size_t s = 0; s < n; ++s) dynamic[8 * s + 4 + k] = visible[s];
+            key_light_visibility(queries, receivers, scene_.key_lights[k], q.shadow_samples, filter, q.ao_bias);
+        for (std::size_t j = 0; j < shadow_subset.size(); ++j) dynamic[8 * std::size_t{shadow_subset[j]} + 4 + k] = visible[j];
       }
       stats.stages.push_back({"cl: splat shadows", clock.elapsed_ms()});
     }
   }
+  g.lighting_rows = dynamic;
+  g.lighting_signature = signature;
+  g.lit_placements = placements;
+  if (!incremental) g.cached_movers.clear();
   for (std::size_t s = 0; s < n; ++s)
     splat_ao_[s] = {dynamic[8 * s], dynamic[8 * s + 1], dynamic[8 * s + 2], dynamic[8 * s + 3]};
+  // LOD sequences: an original splat's entry takes its row, a tree node the mean of the rows of the
+  // splats under it.
+  for (std::size_t i = 0; i < g.lod_ranges.size(); ++i) {
+    const std::vector<float> rows = gather_tree_rows(assets_[i].tree, dynamic.data() + objects_[i].first * 8, 8);
+    dynamic.insert(dynamic.end(), rows.begin(), rows.end());
+  }
   Stopwatch clock;
   if (n > 0) glNamedBufferSubData(g.dynamic_vbo, 0, static_cast<GLsizeiptr>(dynamic.size() * sizeof(float)), dynamic.data());
   stats.stages.push_back({"upload: splat AO/shadows", clock.elapsed_ms()});
@@ -491,6 +895,31 @@ FrameStats Presenter::render(float time) {
   const glm::mat4 proj = glm::perspective(cam.fov_y, aspect, cam.near_plane, cam.far_plane);
   const bool footprints = debug_view == DebugView::Footprints;
 
+  // LOD (off at lod_error 0): an entry's error budget is its eye distance in model units times the
+  // angle of lod_error pixels. Per object the CPU sends the prefix of the sequence whose e_max
+  // exceeds the budget at the nearest point of the object's bounding sphere; the vertex shader
+  // keeps the entries whose interval holds their own budget. The same test counts them here.
+  const bool lod = q.lod_error > 0;
+  const float lod_angle = q.lod_error * 2.0f * std::tan(0.5f * cam.fov_y) / static_cast<float>(height_);
+  std::vector<std::size_t> lod_prefix(g.lod_ranges.size(), 0);
+  if (lod) {
+    std::size_t selected = objects_.size() > scene_.objects.size() ? objects_.back().count : 0;  // the floor
+    for (std::size_t i = 0; i < g.lod_ranges.size(); ++i) {
+      const Impl::LodRange& range = g.lod_ranges[i];
+      const SplatTree& tree = assets_[i].tree;
+      const float scale = scene_.objects[i].scale;
+      const glm::vec3 center(placements[i] * glm::vec4(range.center, 1.0f));
+      const float nearest = std::max(0.0f, glm::length(eye - center) / scale - range.radius);
+      lod_prefix[i] = tree.prefix(nearest * lod_angle);
+      for (std::size_t e = 0; e < lod_prefix[i]; ++e) {
+        const glm::vec3 c(placements[i] * glm::vec4(g.lod_centers[range.first - g.lod_ranges[0].first + e], 1.0f));
+        const float budget = glm::length(eye - c) * (lod_angle / scale);
+        selected += budget >= tree.error_min[e] && budget < tree.error_max[e] ? 1 : 0;
+      }
+    }
+    stats.splats = static_cast<std::uint32_t>(selected);
+  }
+
   glViewport(0, 0, width_, height_);
   glBindVertexArray(g.splat_vao);
   const auto set_common = [&](GLuint program) {
@@ -507,11 +936,20 @@ FrameStats Presenter::render(float time) {
       if (r.count == 0) continue;
       const glm::mat4 m = r.asset < 0 ? glm::mat4(1.0f) : placements[i];
       glUniformMatrix4fv(model, 1, GL_FALSE, glm::value_ptr(m));
-      glUniform1i(glGetUniformLocation(program, "u_base"), static_cast<GLint>(r.first));
+      std::size_t first = r.first, count = r.count;
+      float lod_scale = 0.0f;
+      if (lod && r.asset >= 0) {
+        first = g.lod_ranges[i].first;
+        count = lod_prefix[i];
+        lod_scale = lod_angle / scene_.objects[i].scale;
+      }
+      if (count == 0) continue;
+      glUniform1f(glGetUniformLocation(program, "u_lod"), lod_scale);
+      glUniform1i(glGetUniformLocation(program, "u_base"), static_cast<GLint>(first));
       if (points)
-        glDrawArraysInstancedBaseInstance(GL_POINTS, 0, 1, static_cast<GLsizei>(r.count), static_cast<GLuint>(r.first));
+        glDrawArraysInstancedBaseInstance(GL_POINTS, 0, 1, static_cast<GLsizei>(count), static_cast<GLuint>(first));
       else
-        glDrawArraysInstancedBaseInstance(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(r.count), static_cast<GLuint>(r.first));
+        glDrawArraysInstancedBaseInstance(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count), static_cast<GLuint>(first));
     }
   };
   const float zero[4] = {0, 0, 0, 0};
@@ -588,7 +1026,8 @@ FrameStats Presenter::render(float time) {
   for (std::size_t i = 0; i < lights.size(); ++i) {
     const Light& l = scene_.lights[i];
     lights[i] = {frame.point_to_view({l.position.x, l.position.y, l.position.z}), l.radius, {l.color.x, l.color.y, l.color.z}};
-    const float row[8] = {lights[i].center.x, lights[i].center.y, lights[i].center.z, l.radius, l.color.x, l.color.y, l.color.z, 0};
+    const float row[8] = {lights[i].center.x, lights[i].center.y, lights[i].center.z, 1.0f / (l.radius * l.radius),
+                          l.color.x, l.color.y, l.color.z, 0};
     std::copy(row, row + 8, light_data.begin() + static_cast<std::ptrdiff_t>(8 * i));
   }
 
@@ -778,7 +1217,16 @@ FrameStats Presenter::render(float time) {
   g.timers.begin("gl: shading");
   for (GLuint i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, g.ssbo[i]);
   glBindFramebuffer(GL_FRAMEBUFFER, g.hdr_fbo);
-  const GLuint sp = g.shade_program;
+  const int keys = static_cast<int>(scene_.key_lights.size());
+  ShadeVariant variant;
+  variant.debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
+  variant.brute_force = brute;
+  variant.pixel_shadows = !pixel_shadow.empty();
+  variant.pixel_ao = !pixel_ao_values.empty();
+  variant.use_ao = ambient_occlusion;
+  variant.key_count = q.shadows == "off" ? 0 : keys;
+  variant.specular = q.specular > 0;
+  const GLuint sp = g.shade_program(variant);
   glUseProgram(sp);
   const GLuint textures[8] = {g.gbuffer[0], g.gbuffer[1], g.gbuffer[2], g.gbuffer[3],
                               g.gbuffer[4], g.pixel_list, g.pixel_shadow, g.pixel_ao};
@@ -786,25 +1234,18 @@ FrameStats Presenter::render(float time) {
   glUniformMatrix4fv(glGetUniformLocation(sp, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
   glUniform2f(glGetUniformLocation(sp, "u_tan_half"), layout.tan_half_x, layout.tan_half_y);
   glUniform2f(glGetUniformLocation(sp, "u_viewport"), static_cast<float>(width_), static_cast<float>(height_));
-  glUniform1i(glGetUniformLocation(sp, "u_brute_force"), brute ? 1 : 0);
   glUniform1i(glGetUniformLocation(sp, "u_light_count"), static_cast<GLint>(lights.size()));
-  const int keys = static_cast<int>(scene_.key_lights.size());
-  glUniform1i(glGetUniformLocation(sp, "u_key_count"), q.shadows == "off" ? 0 : keys);
-  for (int k = 0; k < keys; ++k) {
+  for (int k = 0; k < variant.key_count; ++k) {
     const Light& l = scene_.key_lights[static_cast<std::size_t>(k)];
     const cluster::Vec3 c = frame.point_to_view({l.position.x, l.position.y, l.position.z});
-    glUniform4f(glGetUniformLocation(sp, fmt::format("u_key_center[{}]", k).c_str()), c.x, c.y, c.z, l.radius);
+    glUniform4f(glGetUniformLocation(sp, fmt::format("u_key_center[{}]", k).c_str()), c.x, c.y, c.z,
+                1.0f / (l.radius * l.radius));
     glUniform3f(glGetUniformLocation(sp, fmt::format("u_key_color[{}]", k).c_str()), l.color.x, l.color.y, l.color.z);
   }
-  if (q.shadows == "off") glUniform1i(glGetUniformLocation(sp, "u_key_count"), 0);
-  glUniform1i(glGetUniformLocation(sp, "u_pixel_shadows"), pixel_shadow.empty() ? 0 : 1);
   glUniform3fv(glGetUniformLocation(sp, "u_sh"), 9, glm::value_ptr(g.sh[0]));
-  const int debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
-  glUniform1i(glGetUniformLocation(sp, "u_debug"), debug);
-  glUniform1i(glGetUniformLocation(sp, "u_use_ao"), ambient_occlusion ? 1 : 0);
-  glUniform1i(glGetUniformLocation(sp, "u_pixel_ao"), pixel_ao_values.empty() ? 0 : 1);
   glUniform1f(glGetUniformLocation(sp, "u_heat_max"), static_cast<float>(g.heat_max));
-  glUniform1i(glGetUniformLocation(sp, "u_tone_map"), debug_view == DebugView::Final ? 1 : 0);
+  glUniform1f(glGetUniformLocation(sp, "u_specular"), q.specular);
+  glUniform1f(glGetUniformLocation(sp, "u_shininess"), q.shininess);
   glBindVertexArray(g.empty_vao);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   g.timers.end();

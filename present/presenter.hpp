@@ -36,6 +36,7 @@ struct FrameStats {
   double frame_ms = 0;
   std::uint32_t clusters = 0, light_indices = 0, splats = 0;
   bool ao_updated = false;
+  std::uint32_t lighting_receivers = 0;  // splats whose AO and shadows the last update recomputed
 };
 
 class Presenter {
@@ -55,6 +56,10 @@ class Presenter {
   DebugView debug_view = DebugView::Final;
   bool ambient_occlusion = true;  // AO and bent normal in the ambient term
   bool pixel_ao = false;          // AO per G-buffer pixel (quality mode) instead of per splat
+  // When occluders move, recompute only the splats whose AO or shadow queries may reach a moved
+  // occluder (before or after its move) and the moved objects' own splats; the result equals a full
+  // recomputation exactly. Off: every splat each time (cross-map PCF always does that).
+  bool incremental_lighting = true;
 
   // Renders the scene at `time` into the presenter's framebuffers.
   FrameStats render(float time);
@@ -71,6 +76,8 @@ class Presenter {
   // Per-splat (bent normal xyz, AO) of the last update, in splat order: objects in scene order,
   // then the floor. object_splats(i) gives object i's range; the floor is the last range.
   const std::vector<glm::vec4>& splat_ao() const { return splat_ao_; }
+  // Every splat's row of the last update: bent normal xyz, AO, visibility of key lights 0-3.
+  const std::vector<float>& splat_lighting() const;
   std::pair<std::size_t, std::size_t> object_splats(std::size_t object) const;
   std::size_t object_count() const { return objects_.size(); }
   glm::vec3 splat_world_position(std::size_t splat, float time) const;

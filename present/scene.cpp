@@ -119,7 +119,16 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
   o.name = r.text(j, "name", fmt::format("object {}", index));
   if (!j.contains("mesh")) r.fail("mesh", fmt::format("is missing in {}", o.name));
   o.mesh = read_mesh(r, j["mesh"]);
-  o.color = r.vec3(j, "color", o.color);
+  if (j.contains("color") && j["color"].is_string()) {
+    if (j["color"].get<std::string>() != "splats") r.fail("color", "must be an RGB array, a number or \"splats\"");
+    o.splat_colors = true;
+    o.color_field = r.text(j, "color_field", o.color_field, {"grey", "soft", "hard", "rainbow"});
+    o.texture = r.text(j, "texture", o.texture);
+    o.color_tolerance = r.count(j, "color_tolerance", o.color_tolerance, 0, 255);
+  } else {
+    o.color = r.vec3(j, "color", o.color);
+    if (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")) r.fail("color_field", "needs \"color\": \"splats\"");
+  }
   o.position = r.vec3(j, "position", o.position);
   o.rotation_degrees = r.vec3(j, "rotation_degrees", o.rotation_degrees);
   o.scale = r.positive(j, "scale", o.scale);
@@ -257,6 +266,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.shadow_samples = r.count(q, "shadow_samples", Q.shadow_samples, 1, 64);
     Q.ambient_occlusion = r.flag(q, "ambient_occlusion", Q.ambient_occlusion);
     Q.pixel_ao = r.flag(q, "pixel_ao", Q.pixel_ao);
+    Q.lod_error = r.number(q, "lod_error", Q.lod_error);
+    if (Q.lod_error < 0) r.fail("lod_error", "must not be negative (0 = off)");
+    Q.lod_leaf = r.count(q, "lod_leaf", Q.lod_leaf, 2, 4096);
+    Q.specular = r.number(q, "specular", Q.specular);
+    if (!(Q.specular >= 0)) r.fail("specular", "must not be negative (0 = off)");
+    Q.shininess = r.positive(q, "shininess", Q.shininess);
   }
   scene.time = r.number(j, "time", 0.0f);
   const auto generated = generate_lights(scene.generated, scene.floor);
@@ -398,6 +413,15 @@ void apply_overrides(Scene& scene, const Overrides& o) {
   pick(o.shading, "--shading", {"clustered", "tiled", "brute"}, scene.quality.shading);
   pick(o.mode, "--mode", {"splats", "points"}, scene.quality.mode);
   pick(o.shadows, "--shadows", {"splat", "pixel", "off"}, scene.quality.shadows);
+  if (!std::isnan(o.lod)) {
+    if (!(o.lod >= 0 && o.lod <= 1000)) throw Error(fmt::format("--lod {} is not a pixel error in [0, 1000]", o.lod));
+    scene.quality.lod_error = static_cast<float>(o.lod);
+  }
+  if (!std::isnan(o.specular)) {
+    if (!(o.specular >= 0 && o.specular <= 100))
+      throw Error(fmt::format("--specular {} is not a highlight strength in [0, 100]", o.specular));
+    scene.quality.specular = static_cast<float>(o.specular);
+  }
   if (o.lights >= 0) {
     if (o.lights > (1 << 20)) throw Error(fmt::format("--lights {} is above the limit of {}", o.lights, 1 << 20));
     set_generated_light_count(scene, static_cast<std::uint32_t>(o.lights));

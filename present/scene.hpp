@@ -3,6 +3,7 @@
 // animation), a floor, many point lights (explicit or generated), shadowed key lights, a camera,
 // an ambient sky and quality settings. The JSON schema is documented in docs/presenter.md.
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -40,6 +41,12 @@ struct ObjectSpec {
   std::string name;
   MeshSpec mesh;
   glm::vec3 color{0.8f};
+  // "color": "splats": albedo per splat from the splat file's colours (sRGB bytes), which the splat
+  // pipeline takes from `texture` (through the mesh's texture coordinates) or else `color_field`.
+  bool splat_colors = false;
+  std::string color_field = "hard";  // splats::ColorField: grey, soft, hard, rainbow
+  std::string texture;               // image file, relative to the scene file
+  std::uint32_t color_tolerance = 255;  // φ of the splat fit: splats stop at colour steps above it (255: ignored)
   glm::vec3 position{0.0f};
   glm::vec3 rotation_degrees{0.0f};  // applied in x, y, z order
   float scale = 1.0f;
@@ -77,7 +84,7 @@ struct GeneratedLights {
 
 struct Quality {
   std::string sampling = "grid:1.5";  // splat generation sampling (splatcl splats --samples)
-  float eps_diagonal = 0.0005f;        // splat ε as a fraction of the mesh's bounding-box diagonal
+  float eps_diagonal = 0.00025f;       // splat ε as a fraction of the mesh's bounding-box diagonal
   std::uint32_t csm_maps = 1024, csm_resolution = 64;
   std::uint32_t ao_samples = 16;
   float ao_bias = 0.02f;       // CSM depth bias of AO and shadow queries, world units
@@ -92,6 +99,10 @@ struct Quality {
   std::uint32_t shadow_samples = 4;   // points sampled on a key light of non-zero size
   bool ambient_occlusion = true;      // per-splat AO from every occluder
   bool pixel_ao = false;              // quality mode: AO per pixel of the G-buffer instead of per splat
+  float lod_error = 0.0f;             // LOD: screen-space error threshold in pixels (0 = off: every splat)
+  std::uint32_t lod_leaf = 16;        // LOD tree: octree leaves hold fewer splats than this
+  float specular = 0.0f;              // Blinn-Phong highlight strength (0 = off: Lambert only)
+  float shininess = 32.0f;            // Blinn-Phong exponent
 };
 
 struct Sky {
@@ -145,6 +156,8 @@ namespace splatcl::present {
 struct Overrides {
   std::string shading, mode, shadows;
   long long lights = -1;  // generated light count; < 0 keeps the scene's
+  double lod = std::numeric_limits<double>::quiet_NaN();  // LOD error threshold in pixels; NaN keeps the scene's
+  double specular = std::numeric_limits<double>::quiet_NaN();  // Blinn-Phong strength, 0 = off; NaN keeps the scene's
 };
 void apply_overrides(Scene& scene, const Overrides& overrides);
 

@@ -3,22 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
-#include <charconv>
-#include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <sstream>
 
-#include "csm/capture.hpp"
-#include "csm/csm_file.hpp"
-#include "csm/sphere_grid.hpp"
 #include "io/checksum.hpp"
 #include "runtime/error.hpp"
-#include "splats/sampling.hpp"
 
 namespace splatcl::batch {
 namespace {
@@ -34,55 +27,6 @@ std::string joined(const std::vector<std::string>& names) {
   std::string out;
   for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
   return out;
-}
-
-// A JSON value as it would be written in a manifest, for messages.
-std::string shown(const nlohmann::json& value) {
-  return value.is_string() ? fmt::format("'{}'", value.get<std::string>()) : value.dump();
-}
-
-// CSV cells are strings; JSON may carry numbers as numbers or strings.
-double number_value(const std::string& key, const nlohmann::json& value) {
-  if (value.is_number()) return value.get<double>();
-  if (value.is_string()) {
-    const std::string text = value.get<std::string>();
-    char* end = nullptr;
-    errno = 0;
-    const double parsed = std::strtod(text.c_str(), &end);
-    if (!text.empty() && end == text.c_str() + text.size() && errno == 0) return parsed;
-  }
-  throw Error(fmt::format("'{}' must be a number, got {}", key, shown(value)));
-}
-
-long long integer_value(const std::string& key, const nlohmann::json& value, long long low, long long high) {
-  long long parsed = 0;
-  bool ok = false;
-  if (value.is_number_integer()) {
-    parsed = value.get<long long>();
-    ok = true;
-  } else if (value.is_string()) {
-    const std::string text = value.get<std::string>();
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), parsed);
-    ok = !text.empty() && ec == std::errc() && end == text.data() + text.size();
-  }
-  if (!ok || parsed < low || parsed > high)
-    throw Error(fmt::format("'{}' must be an integer from {} to {}, got {}", key, low, high, shown(value)));
-  return parsed;
-}
-
-std::string string_value(const std::string& key, const nlohmann::json& value) {
-  if (!value.is_string() || value.get<std::string>().empty()) throw Error(fmt::format("'{}' must be a non-empty string, got {}", key, shown(value)));
-  return value.get<std::string>();
-}
-
-bool bool_value(const std::string& key, const nlohmann::json& value) {
-  if (value.is_boolean()) return value.get<bool>();
-  if (value.is_string()) {
-    const std::string text = lower(value.get<std::string>());
-    if (text == "true" || text == "yes" || text == "1") return true;
-    if (text == "false" || text == "no" || text == "0") return false;
-  }
-  throw Error(fmt::format("'{}' must be true or false, got {}", key, shown(value)));
 }
 
 void set_outputs(ModelParams& params, const nlohmann::json& value) {
@@ -154,7 +98,7 @@ ModelEntry checked_entry(ModelEntry entry) {
     check_model_id(entry.id);
     validate(entry.params);
   } catch (const Error& e) {
-    throw Error(fmt::format("{} ({}): {}", entry.origin, entry.id, e.what()));
+    throw Error(fmt::format("{}: {}", entry.where(), e.what()));
   }
   return entry;
 }
@@ -187,83 +131,34 @@ std::vector<std::string> csv_fields(const std::string& line, const std::string& 
 
 }  // namespace
 
-nlohmann::json to_json(const SplatParams& p) {
-  return {{"eps", p.eps},       {"eps_diag", p.eps_diag},       {"k", p.k},           {"samples", p.samples},
-          {"color_tol", p.color_tol}, {"color_field", p.color_field}, {"rounds", p.rounds}, {"clip", p.clip}};
-}
-
-nlohmann::json to_json(const CsmParams& p) {
-  return {{"maps", p.maps}, {"res", p.res},         {"dist", p.dist},           {"order", p.order},
-          {"pole", p.pole}, {"single_hit", p.single_hit}, {"encoding", p.encoding}};
-}
-
 const std::vector<std::string>& parameter_keys() {
-  static const std::vector<std::string> keys{"eps",  "eps_diag", "k",    "samples", "color_tol",  "color_field", "rounds", "clip",
-                                             "maps", "res",      "dist", "order",   "pole",       "single_hit",  "encoding", "outputs"};
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> all;
+    for (const ParameterInfo& p : splats::splat_parameters()) all.push_back(p.key);
+    for (const ParameterInfo& p : csm::csm_parameters()) all.push_back(p.key);
+    all.push_back("outputs");
+    return all;
+  }();
   return keys;
 }
 
-void apply_parameter(ModelParams& params, const std::string& key, const nlohmann::json& value) {
-  auto& s = params.splats;
-  auto& c = params.csm;
-  if (key == "eps") {
-    s.eps = number_value(key, value);
-    if (!(s.eps >= 0 && std::isfinite(s.eps))) throw Error(fmt::format("'eps' must be >= 0 (0: use eps_diag), got {}", shown(value)));
-  } else if (key == "eps_diag") {
-    s.eps_diag = number_value(key, value);
-    if (!(s.eps_diag > 0 && std::isfinite(s.eps_diag))) throw Error(fmt::format("'eps_diag' must be positive, got {}", shown(value)));
-  } else if (key == "k") {
-    s.k = static_cast<unsigned>(integer_value(key, value, 1, 1024));
-  } else if (key == "samples") {
-    s.samples = string_value(key, value);
-  } else if (key == "color_tol") {
-    s.color_tol = static_cast<int>(integer_value(key, value, 0, 255));
-  } else if (key == "color_field") {
-    s.color_field = string_value(key, value);
-  } else if (key == "rounds") {
-    s.rounds = static_cast<unsigned>(integer_value(key, value, 0, 1000));
-  } else if (key == "clip") {
-    s.clip = bool_value(key, value);
-  } else if (key == "maps") {
-    c.maps = static_cast<std::uint32_t>(integer_value(key, value, 1, 1 << 24));
-  } else if (key == "res") {
-    c.res = static_cast<std::uint32_t>(integer_value(key, value, 1, 8192));
-  } else if (key == "dist") {
-    c.dist = string_value(key, value);
-  } else if (key == "order") {
-    c.order = string_value(key, value);
-  } else if (key == "pole") {
-    c.pole = string_value(key, value);
-  } else if (key == "single_hit") {
-    c.single_hit = string_value(key, value);
-  } else if (key == "encoding") {
-    c.encoding = string_value(key, value);
-  } else if (key == "outputs") {
+void apply_parameter(ModelParams& params, const std::string& name, const nlohmann::json& value, const std::string& folder) {
+  const std::string key = parameter_key(name);
+  if (key == "outputs") {
     set_outputs(params, value);
+  } else if (splats::is_splat_parameter(key)) {
+    splats::set_parameter(params.splats, name, value);
+    if (key == "texture") params.splats.texture = resolve(folder, params.splats.texture);
+  } else if (csm::is_csm_parameter(key)) {
+    csm::set_parameter(params.csm, name, value);
   } else {
-    throw Error(fmt::format("unknown key '{}' (known: id, path, {})", key, joined(parameter_keys())));
+    throw Error(fmt::format("unknown parameter '{}' (known: id, path, {})", name, joined(parameter_keys())));
   }
 }
 
 void validate(const ModelParams& params) {
-  const auto& s = params.splats;
-  const auto& c = params.csm;
-  auto in_key = [](const char* key, auto&& check) {
-    try {
-      check();
-    } catch (const Error& e) {
-      throw Error(fmt::format("'{}': {}", key, e.what()));
-    }
-  };
-  in_key("samples", [&] { splats::parse_sampling(s.samples); });
-  in_key("color_field", [&] { splats::parse_color_field(s.color_field); });
-  in_key("dist", [&] { csm::parse_distribution(c.dist); });
-  in_key("order", [&] { csm::parse_order(c.order); });
-  in_key("pole", [&] { csm::parse_pole_axis(c.pole); });
-  in_key("single_hit", [&] { csm::parse_single_hit(c.single_hit); });
-  in_key("encoding", [&] { csm::parse_encoding(c.encoding); });
-  if (params.want_csm)
-    in_key("maps", [&] { csm::SphereGrid(csm::parse_distribution(c.dist), csm::parse_order(c.order), csm::parse_pole_axis(c.pole), c.maps); });
+  if (params.want_splats) splats::validate(params.splats);
+  if (params.want_csm) csm::validate(params.csm);
 }
 
 void check_model_id(const std::string& id) {
@@ -301,7 +196,7 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
     if (!d.is_object()) throw Error(name + ": \"defaults\" must be an object");
     for (const auto& [key, value] : d.items()) {
       try {
-        apply_parameter(defaults, key, value);
+        apply_parameter(defaults, key, value, folder);
       } catch (const Error& e) {
         throw Error(fmt::format("{}: defaults: {}", name, e.what()));
       }
@@ -321,21 +216,22 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
       entry.input = resolve(folder, item.get<std::string>());
       entry.id = stem_id(entry.input);
     } else if (item.is_object()) {
-      if (!item.contains("path")) throw Error(entry.origin + ": missing \"path\"");
+      // Path and id first, so every later message names the model.
+      try {
+        if (!item.contains("path")) throw Error("missing \"path\"");
+        entry.input = resolve(folder, string_parameter("path", item["path"]));
+        entry.id = item.contains("id") ? string_parameter("id", item["id"]) : stem_id(entry.input);
+      } catch (const Error& e) {
+        throw Error(fmt::format("{}: {}", entry.origin, e.what()));
+      }
       for (const auto& [key, value] : item.items()) {
+        if (key == "path" || key == "id") continue;
         try {
-          if (key == "path") {
-            entry.input = resolve(folder, string_value(key, value));
-          } else if (key == "id") {
-            entry.id = string_value(key, value);
-          } else {
-            apply_parameter(entry.params, key, value);
-          }
+          apply_parameter(entry.params, key, value, folder);
         } catch (const Error& e) {
-          throw Error(fmt::format("{}: {}", entry.origin, e.what()));
+          throw Error(fmt::format("{}: {}", entry.where(), e.what()));
         }
       }
-      if (entry.id.empty()) entry.id = stem_id(entry.input);
     } else {
       throw Error(fmt::format("{}: expected a path or an object with \"path\", got {}", entry.origin, item.dump()));
     }
@@ -364,7 +260,8 @@ std::vector<ModelEntry> parse_csv_manifest(const std::string& text, const std::s
       for (std::size_t i = 0; i < header.size(); ++i) {
         const auto& column = header[i];
         if (column == "path") has_path = true;
-        else if (column != "id" && std::find(parameter_keys().begin(), parameter_keys().end(), column) == parameter_keys().end())
+        else if (column != "id" &&
+                 std::find(parameter_keys().begin(), parameter_keys().end(), parameter_key(column)) == parameter_keys().end())
           throw Error(fmt::format("{}: unknown column '{}' (known: id, path, {})", where, column, joined(parameter_keys())));
         if (std::count(header.begin(), header.end(), column) > 1) throw Error(fmt::format("{}: column '{}' appears twice", where, column));
       }
@@ -376,22 +273,24 @@ std::vector<ModelEntry> parse_csv_manifest(const std::string& text, const std::s
     ModelEntry entry;
     entry.origin = where;
     entry.params = defaults;
+    // Path and id first, so every later message names the model.
     for (std::size_t i = 0; i < header.size(); ++i) {
-      const std::string& cell = fields[i];
       if (header[i] == "path") {
-        if (cell.empty()) throw Error(where + ": empty path");
-        entry.input = resolve(folder, cell);
+        if (fields[i].empty()) throw Error(where + ": empty path");
+        entry.input = resolve(folder, fields[i]);
       } else if (header[i] == "id") {
-        entry.id = cell;
-      } else if (!cell.empty()) {  // empty cell: the default
-        try {
-          apply_parameter(entry.params, header[i], cell);
-        } catch (const Error& e) {
-          throw Error(fmt::format("{}: {}", where, e.what()));
-        }
+        entry.id = fields[i];
       }
     }
     if (entry.id.empty()) entry.id = stem_id(entry.input);
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == "path" || header[i] == "id" || fields[i].empty()) continue;  // empty cell: the default
+      try {
+        apply_parameter(entry.params, header[i], fields[i], folder);
+      } catch (const Error& e) {
+        throw Error(fmt::format("{}: {}", entry.where(), e.what()));
+      }
+    }
     models.push_back(checked_entry(std::move(entry)));
   }
   if (header.empty()) throw Error(name + ": empty (expected a header line with a 'path' column)");
@@ -445,8 +344,8 @@ std::string manifest_checksum(const std::vector<ModelEntry>& models) {
   std::sort(sorted.begin(), sorted.end(), [](const ModelEntry* a, const ModelEntry* b) { return a->id < b->id; });
   nlohmann::json all = nlohmann::json::array();
   for (const ModelEntry* m : sorted)
-    all.push_back({m->id, m->input, m->params.want_splats ? to_json(m->params.splats) : nlohmann::json(),
-                   m->params.want_csm ? to_json(m->params.csm) : nlohmann::json()});
+    all.push_back({m->id, m->input, m->params.want_splats ? splats::to_json(m->params.splats) : nlohmann::json(),
+                   m->params.want_csm ? csm::to_json(m->params.csm) : nlohmann::json()});
   return checksum_of(all.dump());
 }
 

@@ -10,46 +10,30 @@
 
 #include <nlohmann/json.hpp>
 
+#include "csm/build_options.hpp"
+#include "splats/pipeline_options.hpp"
+
 namespace splatcl::batch {
 
-// Same names and defaults as `splatcl splats`.
-struct SplatParams {
-  double eps = 0;             // absolute; 0 = eps_diag times the bounding-box diagonal
-  double eps_diag = 0.001;
-  unsigned k = 10;
-  std::string samples = "vertices";
-  int color_tol = 255;
-  std::string color_field = "grey";
-  unsigned rounds = 5;
-  bool clip = false;
-};
-
-// Same names and defaults as `splatcl csm build`.
-struct CsmParams {
-  std::uint32_t maps = 4096, res = 128;
-  std::string dist = "uniform", order = "zigzag-h", pole = "y", single_hit = "sphere-exit", encoding = "plain";
-};
-
+// A model's parameters: those of `splatcl splats` and `splatcl csm build`, with the same names
+// (manifest key eps_diag = option --eps-diag), defaults and meaning, from the stages' own lists.
 struct ModelParams {
-  SplatParams splats;
-  CsmParams csm;
+  splats::SplatParameters splats;
+  csm::CsmParameters csm;
   bool want_splats = true, want_csm = true;  // the "outputs" key
 };
 
-// Canonical JSON of the parameters that determine each output (keys sorted, every field present):
-// what the parameters checksum of a resumable run is computed from.
-nlohmann::json to_json(const SplatParams& params);
-nlohmann::json to_json(const CsmParams& params);
-
-// The parameter keys accepted in manifests (and as CSV columns): eps, eps_diag, k, samples,
-// color_tol, color_field, rounds, clip, maps, res, dist, order, pole, single_hit, encoding, outputs.
+// The parameter keys accepted in manifests (and as CSV columns): every splat parameter, every CSM
+// parameter, and outputs.
 const std::vector<std::string>& parameter_keys();
 
-// Sets one key from a JSON value (a CSV cell arrives as a string and is converted by the key's
-// type). Throws Error "'KEY' ..." for an unknown key or a bad value; callers prefix the location.
-void apply_parameter(ModelParams& params, const std::string& key, const nlohmann::json& value);
+// Sets one parameter from a JSON value (a CSV cell or a command-line option arrives as a string
+// and is converted by the parameter's type). `name` may be spelled eps_diag, eps-diag or --eps-diag.
+// A relative path value (texture) is resolved against `folder` (the manifest's; empty: as given).
+// Throws Error "'NAME' ..." or "unknown parameter 'NAME' (known: ...)"; callers prefix the location.
+void apply_parameter(ModelParams& params, const std::string& name, const nlohmann::json& value, const std::string& folder = {});
 
-// Checks that the combination is valid (sampling spec, colour field, map count fitting the
+// Checks the parameters of the wanted outputs (sampling spec, colour field, map count fitting the
 // distribution and order, ...). Throws Error describing the first problem.
 void validate(const ModelParams& params);
 
@@ -57,6 +41,8 @@ struct ModelEntry {
   std::string id;      // unique; names the outputs: OUTDIR/ID.splats.ply, OUTDIR/ID.csm, ...
   std::string input;   // mesh path (relative paths resolved against the manifest's folder)
   std::string origin;  // where it was declared, for messages: "list.csv:4", "m.json: models[2]"
+  // The origin with the model's id, as error messages name a model: "m.json: models[2] (bunny)".
+  std::string where() const { return origin + " (" + id + ")"; }
   ModelParams params;
 };
 

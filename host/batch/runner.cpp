@@ -17,14 +17,14 @@
 #include <sstream>
 #include <thread>
 
-#include "csm/build.hpp"
+#include "csm/build_options.hpp"
 #include "csm/csm_file.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checksum.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/pipeline.hpp"
+#include "splats/pipeline_options.hpp"
 
 namespace splatcl::batch {
 namespace {
@@ -120,6 +120,22 @@ std::optional<OutputResult> reusable(const std::optional<nlohmann::json>& record
   }
 }
 
+// An output's parameters checksum: of its parameters, with a texture image named by the checksum of
+// its bytes rather than its path, as the mesh is (editing the image in place rebuilds the splats;
+// moving the whole tree does not).
+std::string params_checksum(nlohmann::json params) {
+  const auto texture = params.find("texture");
+  if (texture != params.end() && texture->is_string() && !texture->get<std::string>().empty()) {
+    const std::string path = texture->get<std::string>();
+    try {
+      *texture = "fnv1a64:" + checksum_of_file(path);
+    } catch (const Error& e) {
+      throw Error(std::string("texture: ") + e.what());
+    }
+  }
+  return checksum_of(params.dump());
+}
+
 nlohmann::json files_json(const std::vector<OutputFile>& files) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& f : files) out.push_back({{"path", f.path}, {"bytes", f.bytes}, {"checksum", f.checksum}});
@@ -189,12 +205,12 @@ class Worker {
     };
     std::vector<Pending> pending;
     auto consider = [&](const std::string& kind, const nlohmann::json& params) {
-      const std::string checksum = checksum_of(params.dump());
+      const std::string checksum = params_checksum(params);
       if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum)) r.outputs.push_back(std::move(*reused));
       else pending.push_back({kind, params, checksum});
     };
-    if (entry.params.want_splats) consider("splats", to_json(entry.params.splats));
-    if (entry.params.want_csm) consider("csm", to_json(entry.params.csm));
+    if (entry.params.want_splats) consider("splats", splats::to_json(entry.params.splats));
+    if (entry.params.want_csm) consider("csm", csm::to_json(entry.params.csm));
     if (pending.empty()) return;
 
     report_(entry.id + ": loading");
@@ -217,47 +233,22 @@ class Worker {
 
   std::vector<OutputFile> build_splats(const ModelEntry& entry, const splats::Mesh& mesh, const fs::path& dir) {
     using namespace splatcl::splats;
-    const SplatParams& p = entry.params.splats;
-    PipelineOptions options;
-    options.sampling = parse_sampling(p.samples);
-    options.k = p.k;
-    options.rounds = p.rounds;
-    options.fit.color_tolerance = p.color_tol;
-    options.fit.clip = p.clip;
-    const double diagonal = mesh.bounds().diagonal();
-    options.fit.eps = static_cast<float>(p.eps > 0 ? p.eps : p.eps_diag * diagonal);
-    ColorSource colors;
-    colors.bounds = mesh.bounds();
-    colors.field = parse_color_field(p.color_field);
+    const SplatSetup setup = splat_setup(entry.params.splats, mesh, entry.input);
     Runtime* device = runtime();
-    SplatRun run = generate_splats(mesh, colors, options, device, [&](const std::string& phase) { report_(entry.id + ": splats " + phase); });
+    SplatRun run = generate_splats(mesh, setup.colors, setup.options, device, [&](const std::string& phase) { report_(entry.id + ": splats " + phase); });
     report_(entry.id + ": writing splats");
     const std::string ply = splats_name(entry.id), stats_name = entry.id + ".splats.json";
-    const SplatFileInfo info{entry.input, to_string(options.sampling), options.fit.eps, run.neighbors.k, options.fit.color_tolerance,
-                             to_string(colors.field), options.fit.clip};
-    write_splat_file((dir / ply).string(), run.records(), info);
+    write_splat_file((dir / ply).string(), run.records(), splat_file_info(setup, run, entry.input));
     count_write();
-    nlohmann::json stats = run_statistics(run, options);
-    stats["model"] = entry.input;
-    stats["bbox_diagonal"] = diagonal;
-    stats["color_source"] = to_string(colors.field);
-    stats["output"] = ply;
-    const std::string stats_text = stats.dump(2) + "\n";
+    const std::string stats_text = splat_statistics(run, setup, entry.input, ply).dump(2) + "\n";
     write_counted((dir / stats_name).string(), stats_text);
     return {describe_written_file(dir, ply), describe_file(stats_name, stats_text)};
   }
 
   std::vector<OutputFile> build_csm(const ModelEntry& entry, const splats::Mesh& mesh, const fs::path& dir) {
     using namespace splatcl::csm;
-    const CsmParams& p = entry.params.csm;
-    BuildOptions options;
-    options.maps = p.maps;
-    options.resolution = p.res;
-    options.distribution = parse_distribution(p.dist);
-    options.order = parse_order(p.order);
-    options.pole = parse_pole_axis(p.pole);
-    options.single_hit = parse_single_hit(p.single_hit);
-    const Encoding encoding = parse_encoding(p.encoding);
+    const BuildOptions options = to_build_options(entry.params.csm);
+    const Encoding encoding = file_encoding(entry.params.csm);
     Runtime* device = runtime();
     const BuildResult result = splatcl::csm::build_csm(mesh, options, device, [&](std::uint32_t done, std::uint32_t total) {
       report_(fmt::format("{}: csm {}/{} maps", entry.id, done, total));
@@ -277,6 +268,7 @@ class Worker {
         {"order", to_string(info.order)},
         {"pole", to_string(info.pole)},
         {"single_hit", to_string(info.single_hit)},
+        {"capture", to_string(options.capture)},
         {"encoding", to_string(encoding)},
         {"triangles", info.triangles},
         {"segments", result.csm.segments()},

@@ -105,6 +105,7 @@ void measure_device_copy(Session& session, std::size_t array_bytes) {
 }  // namespace
 
 void measure_stream_copy(Session& session, std::size_t array_bytes) {
+  if (!session.options().measure_bandwidth) return;
   measure_host_copies(session, array_bytes);
   measure_device_copy(session, array_bytes);
 }

@@ -22,6 +22,7 @@ inline constexpr const char* kImplHostMemcpy = "std::thread memcpy";
 
 // Measures the host loop, host memcpy and OpenCL copy of `array_bytes` (rounded down to 16 bytes),
 // adding one record each under case "stream-copy" with size = bytes read + bytes written per run.
+// Does nothing when the session's options say the bandwidth is measured at another size step.
 void measure_stream_copy(Session& session, std::size_t array_bytes = kStreamArrayBytes);
 
 }  // namespace splatcl::bench

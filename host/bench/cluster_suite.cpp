@@ -89,11 +89,17 @@ void measure_pipelines(Session& session, std::vector<ShapedPipeline>& pipelines,
   }
 }
 
+// The frame's side scaled by √scale (at least one pixel), so its pixel count follows the scale.
+std::uint32_t scaled_side(const Session& session, std::uint32_t side) {
+  const double value = std::round(static_cast<double>(side) * std::sqrt(session.options().scale));
+  return value < 1 ? 1u : static_cast<std::uint32_t>(value);
+}
+
 }  // namespace
 
 void run_cluster_suite(Session& session) {
   const bool quick = session.options().quick;
-  Frame frame = quick ? make_frame(kQuickWidth, kQuickHeight) : make_frame(kWidth, kHeight);
+  Frame frame = make_frame(scaled_side(session, quick ? kQuickWidth : kWidth), scaled_side(session, quick ? kQuickHeight : kHeight));
   const clu::ClusterLayout layout = clu::ClusterLayout::make(frame.config);
   const std::uint64_t pixels = layout.pixel_count();
 

@@ -141,13 +141,14 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
   Results results;
   for (std::size_t d = 0; d < devices.size(); ++d) {
     for (const Suite* suite : suites) {
-      const int steps = options.scaling == Scaling::Size && suite->scalable ? options.size_steps : 1;
+      const int steps = options.scaling == Scaling::Size ? options.size_steps : 1;
       for (int step = steps - 1; step >= 0; --step) {
         SessionOptions session_options = options.session;
         session_options.device = std::to_string(devices[d].index);
         session_options.json_path.clear();
         session_options.measure_host = d == 0;
         session_options.scale = options.session.scale / std::ldexp(1.0, step);
+        session_options.measure_bandwidth = options.session.measure_bandwidth && step == 0;
         Session session(suite->name, session_options);
         suite->run(session);
         Results part = session.results();

@@ -17,7 +17,7 @@ struct RunOptions {
   SessionOptions session;            // sizes, runs, --quick; device and json_path are ignored
   std::vector<std::string> devices;  // selectors as for choose_device; empty = every device present
   Scaling scaling = Scaling::None;
-  // Size scaling: scalable suites at scales 2^-(steps-1), ..., 1/2, 1 of their standard sizes.
+  // Size scaling: every suite at scales 2^-(steps-1), ..., 1/2, 1 of their standard sizes.
   int size_steps = 4;
   // Thread scaling: the program to re-execute (default /proc/self/exe) and its arguments, without
   // the options the parent handles (see child_arguments).

@@ -26,6 +26,9 @@ struct SessionOptions {
   bool quick = false;
   // Problem size factor of size scaling (--scaling size): suites multiply their standard sizes by it.
   double scale = 1.0;
+  // False for the smaller steps of size scaling: the streaming-copy rows do not depend on the
+  // suite's problem size, so they are measured once per device, at the standard size.
+  bool measure_bandwidth = true;
   // False for every device after the first of a multi-device run: host rows (reference, std,
   // Embree) run once untimed, so their outputs still exist, but are not measured and recorded again.
   bool measure_host = true;

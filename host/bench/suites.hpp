@@ -1,6 +1,7 @@
 #pragma once
 // The benchmark suites behind `splatcl bench <suite>`. A suite is one function that measures its
 // cases through the Session; adding one means writing that function and listing it in suites().
+// Every suite honours size scaling: it multiplies its problem sizes by SessionOptions::scale.
 #include <string>
 #include <vector>
 
@@ -12,8 +13,7 @@ struct Suite {
   const char* name;
   const char* description;
   void (*run)(Session& session);
-  bool takes_size;  // whether --size applies (else the suite's inputs have a fixed size)
-  bool scalable;    // whether --scaling size applies (SessionOptions::scale)
+  bool takes_size;  // whether --size applies (else the suite's standard inputs have a fixed size)
 };
 
 // Every suite, in the order `splatcl bench --help` lists them.
@@ -27,12 +27,15 @@ void run_primitives_suite(Session& session);
 // The clustered-shading stages on a ray-cast 1920×1080 frame with 32×32 tiles: keys, every
 // compaction variant (with std and Boost.Compute sort + unique as peers), bounds, and both light
 // assignments for 1k, 16k and 256k lights, each in both kernel shapes against the native reference;
-// plus the streaming-copy bandwidth.
+// plus the streaming-copy bandwidth. Size scaling scales the frame's pixel count (both sides by the
+// square root of the factor).
 void run_cluster_suite(Session& session);
 
 // The splat stage phase by phase and end to end (fit on the device beside the native reference) on
 // stanford-bunny (ε = 0.0003) and ogre (ε = 0.001 × diagonal) from splats_models_dir(), which
-// `--models` sets (default: the shared models next to the repository).
+// `--models` sets (default: the shared models next to the repository). Size scaling keeps every
+// 1/scale-th vertex of each model (ε stays that of the whole model), so every phase sees that share of
+// the samples.
 void run_splats_suite(Session& session);
 std::string& splats_models_dir();
 

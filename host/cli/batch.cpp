@@ -12,6 +12,7 @@
 #include "batch/shard.hpp"
 #include "batch/summary.hpp"
 #include "cli/commands.hpp"
+#include "cli/parameter_options.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/error.hpp"
@@ -32,10 +33,10 @@ struct BatchCommand {
   std::string input, output, shard = "0/1", summary;
   unsigned jobs = 1;
   bool force = false, list = false, reference = false;
-  // Parameter options: kept as text and validated by the manifest's own rules.
-  std::vector<std::pair<std::string, std::string>> given;  // (key, value) of the options present
+  // Parameter options (the splat and CSM build parameters): kept as given and validated by the
+  // manifest's own rules, as the command-line layer of every model's parameters.
+  std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();
   std::string outputs;
-  bool clip = false;
 };
 
 struct MergeCommand {
@@ -52,8 +53,7 @@ std::string bar(std::size_t done, std::size_t total) {
 
 nlohmann::json overrides_of(const BatchCommand& c) {
   nlohmann::json overrides = nlohmann::json::object();
-  for (const auto& [key, value] : c.given) overrides[key] = value;
-  if (c.clip) overrides["clip"] = true;
+  for (const auto& [option, value] : *c.given) overrides[parameter_key(option)] = value;
   if (!c.outputs.empty()) {
     nlohmann::json names = nlohmann::json::array();
     std::string name;
@@ -164,7 +164,8 @@ Action register_batch(CLI::App& app) {
   auto* sub = app.add_subcommand(
       "batch",
       "Many meshes → splat PLYs and coherent shadow maps, with statistics and a summary JSON; resumable (finished outputs are "
-      "verified by checksum and skipped) and shardable over machines (--shard i/N). See docs/batch.md");
+      "verified by checksum and skipped) and shardable over machines (--shard i/N). Exit status: 0 every model ok; 1 an error, "
+      "nothing ran (bad manifest, option or device); 2 the run completed but some models failed. See docs/batch.md");
   auto c = std::make_shared<BatchCommand>();
   add_device_option(*sub, c->device);
   sub->add_option("input", c->input, "Manifest (.json or .csv) or a directory of meshes (OBJ, PLY, OFF, STL; searched recursively)");
@@ -175,36 +176,15 @@ Action register_batch(CLI::App& app) {
   sub->add_flag("--force", c->force, "Rebuild every output even when a matching one exists");
   sub->add_flag("--list", c->list, "Print the models of this shard (id and input, tab-separated) and exit");
   sub->add_flag("--reference", c->reference, "Use the native C++ references instead of the OpenCL kernels");
-  // Defaults for every model (a manifest's "defaults" and a model's own keys take part as documented).
-  const struct {
-    const char* flag;
-    const char* key;
-    const char* help;
-  } parameters[] = {
-      {"--eps", "eps", "Splat tolerance epsilon, absolute (default 0: --eps-diag times the bounding-box diagonal)"},
-      {"--eps-diag", "eps_diag", "Epsilon as a fraction of the bounding-box diagonal (default 0.001)"},
-      {"--k", "k", "Neighbourhood size (default 10)"},
-      {"--samples", "samples", "vertices or grid:N (default vertices)"},
-      {"--color-tol", "color_tol", "Colour tolerance 0..255 (default 255)"},
-      {"--color-field", "color_field", "grey, soft, hard or rainbow (default grey)"},
-      {"--rounds", "rounds", "Optimisation rounds (default 5)"},
-      {"--maps", "maps", "CSM map count N (default 4096)"},
-      {"--res", "res", "CSM map resolution M (default 128)"},
-      {"--dist", "dist", "CSM direction grid: uniform, regular, ao (default uniform)"},
-      {"--order", "order", "CSM map order: zigzag-h, zigzag-v, linear-h, linear-v, hilbert, morton (default zigzag-h)"},
-      {"--pole", "pole", "CSM pole axis: y, z, x, y180, z180, x180 (default y)"},
-      {"--single-hit", "single_hit", "CSM single-surface z2: sphere-exit or exact (default sphere-exit)"},
-      {"--encoding", "encoding", "CSM file encoding: plain or compact (default plain)"},
-  };
-  for (const auto& p : parameters) {
-    const std::string key = p.key;
-    sub->add_option_function<std::string>(p.flag, [c, key](const std::string& value) { c->given.emplace_back(key, value); }, p.help);
-  }
-  sub->add_flag("--clip", c->clip, "Clipped splats");
+  // Parameters for every model (a manifest's "defaults" and a model's own keys take part as
+  // documented): the options of `splatcl splats` and `splatcl csm build`, from the same lists.
+  add_parameter_options(*sub, splats::splat_parameters(), splats::to_json(splats::SplatParameters{}), c->given);
+  add_parameter_options(*sub, csm::csm_parameters(), csm::to_json(csm::CsmParameters{}), c->given);
   sub->add_option("--outputs", c->outputs, "Outputs per model: splats, csm or splats,csm (default both)");
 
   auto* merge = sub->add_subcommand("merge", "Combine the summaries of the shards of one run into one summary (checks that every shard "
-                                             "is present once and no model appears twice)");
+                                             "is present once and no model appears twice). Exit status: 0 every model ok; 1 the "
+                                             "summaries cannot be merged; 2 some models failed");
   auto m = std::make_shared<MergeCommand>();
   merge->add_option("summaries", m->summaries, "Shard summaries (summary-I-of-N.json)")->required();
   merge->add_option("-o,--output", m->output, "Merged summary file");

@@ -68,7 +68,7 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
       ->delimiter(',')
       ->type_name("DEVICE");
   app.add_option("--scaling", o.scaling,
-                 "size: scalable suites (primitives, csm) at 1/8, 1/4, 1/2 and 1x their sizes (--steps); threads: rerun "
+                 "size: every suite at 1/8, 1/4, 1/2 and 1x its problem sizes (--steps); threads: rerun "
                  "with POCL_MAX_PTHREAD_COUNT = 1 .. cores and merge")
       ->capture_default_str();
   app.add_option("--steps", o.run.size_steps, "Sizes of --scaling size (x2 steps ending at the standard size)")

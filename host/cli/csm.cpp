@@ -14,6 +14,7 @@
 #include "cli/progress.hpp"
 #include "csm/analysis.hpp"
 #include "csm/build.hpp"
+#include "csm/build_options.hpp"
 #include "csm/csm_file.hpp"
 #include "csm/quality.hpp"
 #include "io/atomic_file.hpp"
@@ -53,7 +54,7 @@ struct AnalyzeCommand {
 
 struct VerifyCommand {
   DeviceOptions device;
-  std::string file, model, capture = to_string(kDefaultCaptureMethod);
+  std::string file, model, capture;  // empty: the method recorded in the file
   bool reference = false;
 };
 
@@ -89,6 +90,7 @@ void print_parameters(const CsmInfo& info) {
   fmt::print("sphere     centre ({:.6g}, {:.6g}, {:.6g}), radius {:.6g}; single-surface pixels: {}; hit epsilon {:.3g}\n",
              info.sphere.centre.x, info.sphere.centre.y, info.sphere.centre.z, info.sphere.radius, to_string(info.single_hit),
              info.hit_epsilon);
+  fmt::print("capture    {}\n", to_string(info.capture));
 }
 
 void print_sizes(const Csm& csm, double plain_bytes, double compact_bytes) {
@@ -99,19 +101,19 @@ void print_sizes(const Csm& csm, double plain_bytes, double compact_bytes) {
              mib(raw), mib(plain_bytes), raw / plain_bytes, mib(compact_bytes), raw / compact_bytes, 100.0 * compact_bytes / plain_bytes);
 }
 
+// The same checks and translation as `splatcl batch` (csm/build_options.hpp).
 BuildOptions build_options(const BuildCommand& c) {
-  BuildOptions options;
-  options.maps = c.maps;
-  options.resolution = c.resolution;
-  options.distribution = parse_distribution(c.distribution);
-  options.order = parse_order(c.order);
-  options.pole = parse_pole_axis(c.pole);
-  options.single_hit = parse_single_hit(c.single_hit);
-  options.capture = parse_capture_method(c.capture);
-  options.batch_maps = c.batch;
-  if (c.resolution == 0 || c.resolution > 8192) throw Error("--res must be between 1 and 8192");
-  const SphereGrid check(options.distribution, options.order, options.pole, options.maps);
-  return options;
+  CsmParameters p;
+  p.maps = c.maps;
+  p.res = c.resolution;
+  p.dist = c.distribution;
+  p.order = c.order;
+  p.pole = c.pole;
+  p.single_hit = c.single_hit;
+  p.capture = c.capture;
+  p.encoding = c.encoding;
+  p.batch = c.batch;
+  return to_build_options(p);
 }
 
 // --mode other than per-pixel: the thesis's alternatives, compared by size (no .csm written).
@@ -132,9 +134,10 @@ int run_mode(const BuildCommand& c, CompressionMode mode) {
   info.maps = options.maps;
   info.resolution = options.resolution;
   const double raw = uncompressed_bytes(info);
-  fmt::print("mode       {}{} on {} maps of {}x{} ({} distribution, {} order)\n", to_string(mode),
+  fmt::print("mode       {}{} on {} maps of {}x{} ({} distribution, {} order, {} capture)\n", to_string(mode),
              mode == CompressionMode::PerMap ? fmt::format(" (pixel order {})", to_string(mode_options.pixel_curve)) : std::string(),
-             options.maps, options.resolution, options.resolution, to_string(options.distribution), to_string(options.order));
+             options.maps, options.resolution, options.resolution, to_string(options.distribution), to_string(options.order),
+             to_string(options.capture));
   fmt::print("segments   {} in {} lists ({:.4f} per (pixel, map))\n", r.segments, r.lists,
              static_cast<double>(r.segments) / static_cast<double>(r.samples));
   fmt::print("size       uncompressed {:.2f} MiB; plain {:.2f} MiB ({:.1f}:1)\n", mib(raw), mib(static_cast<double>(r.plain_bytes())),
@@ -212,8 +215,9 @@ int run_analyze(const AnalyzeCommand& c) {
   info.maps = options.maps;
   info.resolution = options.resolution;
   const double raw = uncompressed_bytes(info);
-  fmt::print("analysis   {} maps of {}x{} of {} ({} distribution, {} order); uncompressed {:.2f} MiB\n", options.maps, options.resolution,
-             options.resolution, c.build.model, to_string(options.distribution), to_string(options.order), mib(raw));
+  fmt::print("analysis   {} maps of {}x{} of {} ({} distribution, {} order, {} capture); uncompressed {:.2f} MiB\n", options.maps,
+             options.resolution, options.resolution, c.build.model, to_string(options.distribution), to_string(options.order),
+             to_string(options.capture), mib(raw));
   const BuildResult built = build_csm(mesh, options, runtime.get(), map_progress(progress, "per-pixel"));
   const double plain = static_cast<double>(encode_csm(built.csm, Encoding::Plain).size());
   progress.clear();
@@ -254,14 +258,15 @@ int run_verify(const VerifyCommand& c) {
   const splats::Mesh mesh = splats::load_mesh(c.model);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
-  const LosslessReport report =
-      check_lossless(csm, mesh, runtime.get(), map_progress(progress, "recaptured"), parse_capture_method(c.capture));
+  const CaptureMethod method = c.capture.empty() ? csm.info.capture : parse_capture_method(c.capture);
+  const LosslessReport report = check_lossless(csm, mesh, runtime.get(), map_progress(progress, "recaptured"), method);
   progress.clear();
   if (report.violations)
     throw Error(fmt::format("{}: not lossless for {} of {} (map, pixel) samples; first at map {}, pixel {}: stored {} outside [{}, {})",
                             c.file, report.violations, report.samples, report.first_map, report.first_pixel, report.first_depth,
                             report.first_z1, report.first_z2));
-  fmt::print("lossless   all {} (map, pixel) samples of {} keep their depth-test result\n", report.samples, c.model);
+  fmt::print("lossless   all {} (map, pixel) samples of {} keep their depth-test result (recaptured by {}{})\n", report.samples, c.model,
+             to_string(method), c.capture.empty() ? ", as recorded in the file" : "");
   return 0;
 }
 
@@ -278,15 +283,7 @@ int run_quality(const QualityCommand& c) {
   if (!c.csm_file.empty()) {
     csm = read_csm(c.csm_file);
   } else {
-    BuildOptions build;
-    build.maps = c.build.maps;
-    build.resolution = c.build.resolution;
-    build.distribution = parse_distribution(c.build.distribution);
-    build.order = parse_order(c.build.order);
-    build.pole = parse_pole_axis(c.build.pole);
-    build.single_hit = parse_single_hit(c.build.single_hit);
-    build.capture = parse_capture_method(c.build.capture);
-    csm = build_csm(mesh, build, runtime.get(), map_progress(progress, "captured and compressed")).csm;
+    csm = build_csm(mesh, build_options(c.build), runtime.get(), map_progress(progress, "captured and compressed")).csm;
   }
   progress.show("rendering " + std::to_string(options.views) + " views");
   const QualityReport report = measure_quality(csm, mesh, options, runtime.get());
@@ -316,8 +313,8 @@ Action register_csm(CLI::App& app) {
   auto* sub = app.add_subcommand("csm", "Coherent shadow maps: build from a mesh, inspect, verify, measure shadow quality");
   sub->require_subcommand(1);
 
-  auto* build = sub->add_subcommand("build", "Capture N orthographic dual-depth maps of a mesh on its bounding sphere (OpenCL ray casting) "
-                                              "and compress them per pixel while streaming; writes a .csm file");
+  auto* build = sub->add_subcommand("build", "Capture N orthographic dual-depth maps of a mesh on its bounding sphere (OpenCL "
+                                              "rasterization or ray casting) and compress them per pixel while streaming; writes a .csm file");
   auto b = std::make_shared<BuildCommand>();
   add_device_option(*build, b->device);
   build->add_option("model", b->model, "Input mesh (OBJ, PLY, OFF, STL)");
@@ -337,7 +334,7 @@ Action register_csm(CLI::App& app) {
       ->capture_default_str();
   build->add_option("--pixel-order", b->pixel_order, "Pixel curve of --mode per-map: hilbert, zigzag-h, zigzag-v")->capture_default_str();
   build->add_option("--capture", b->capture, "Capture method of the per-pixel build: raster (two-layer depth buffer) or raycast (SAH BVH); "
-                                             "same depths up to rounding and triangle-edge pixels (the other --mode values ray-cast)")
+                                             "same depths up to rounding and triangle-edge pixels; recorded in the .csm; every --mode uses it")
       ->capture_default_str();
   build->add_option("--batch", b->batch, "Maps captured per batch (default: about 8 M samples)");
   build->add_option("--coherence", b->coherence, "Also write the coherence map (PNG: white = one segment, black = one per map)");
@@ -348,14 +345,15 @@ Action register_csm(CLI::App& app) {
   info->add_option("file", i->file, "A .csm file")->required();
   info->add_option("--coherence", i->coherence, "Also write the coherence map (PNG)");
 
-  auto* verify = sub->add_subcommand("verify", "Validate a .csm file; with its MODEL, recapture every map and check that each "
-                                                "(map, pixel) keeps its depth-test result (losslessness)");
+  auto* verify = sub->add_subcommand("verify", "Validate a .csm file; with its MODEL, recapture every map (by the capture method the "
+                                                "file records) and check that each (map, pixel) keeps its depth-test result (losslessness)");
   auto v = std::make_shared<VerifyCommand>();
   add_device_option(*verify, v->device);
   verify->add_option("file", v->file, "A .csm file")->required();
   verify->add_option("model", v->model, "The mesh it was built from");
   verify->add_flag("--reference", v->reference, "Recapture with the native C++ reference");
-  verify->add_option("--capture", v->capture, "Capture method the file was built with: raster or raycast")->capture_default_str();
+  verify->add_option("--capture", v->capture, "Recapture with this method (raster or raycast) instead of the one recorded in the file: "
+                                              "a cross-check, which may fail at triangle-edge pixels");
 
   auto* quality = sub->add_subcommand("quality", "Shadow quality study (compression digest §10.1): % of pixels whose CSM shadow test "
                                                   "differs from exact ray casting, over random views and point lights");
@@ -390,6 +388,7 @@ Action register_csm(CLI::App& app) {
   analyze->add_option("--order", a->build.order, "Map order")->capture_default_str();
   analyze->add_option("--pole", a->build.pole, "Object axis of the sphere's pole")->capture_default_str();
   analyze->add_option("--single-hit", a->build.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
+  analyze->add_option("--capture", a->build.capture, "Capture method: raster or raycast (as csm build)")->capture_default_str();
   analyze->add_option("--kmeans", a->kmeans, "Cluster the maps into K clusters (repeatable; all maps are kept in memory)");
   analyze->add_option("--iterations", a->iterations, "Largest number of k-means (Lloyd) iterations")->capture_default_str();
   analyze->add_option("--seed", a->seed, "Seed of the k-means start")->capture_default_str();

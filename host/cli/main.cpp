@@ -38,7 +38,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; a bad command line is an error like any other: status 1
+    // (runtime/error.hpp), not CLI11's own codes (105-127).
+    return app.exit(e) == 0 ? 0 : 1;
   }
   try {
     for (auto& [sub, action] : actions)

@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "cli/scene_options.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
 #include "present/context.hpp"
@@ -19,12 +20,11 @@ namespace splatcl::cli {
 namespace {
 
 struct RenderOptions {
-  std::string scene, output, size = "640x480", view = "final", cache, json;
+  SceneOptions scene;
+  std::string output, size = "640x480", view = "final", json;
   unsigned frames = 1;
   bool pixel_ao = false;
   double time = -1, dt = 1.0 / 30.0;
-  present::Overrides overrides;
-  DeviceOptions device;
 };
 
 int run_render(const RenderOptions& o) {
@@ -39,13 +39,12 @@ int run_render(const RenderOptions& o) {
     if (!parent.empty() && !std::filesystem::is_directory(parent))
       throw Error("cannot write " + o.output + ": directory " + parent.string() + " does not exist");
   }
-  present::Scene scene = o.scene.empty() ? present::default_scene() : present::load_scene(o.scene);
-  present::apply_overrides(scene, o.overrides);
-  auto runtime = Runtime::create(o.device.device);
+  const present::Scene scene = o.scene.load();
+  auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::offscreen();
   ProgressLine progress("render");
   Stopwatch setup;
-  present::Presenter presenter(scene, *runtime, width, height, o.cache.empty() ? present::default_cache_dir() : o.cache,
+  present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir(),
                                [&](const std::string& what) { progress.show("building " + what); });
   progress.clear();
   presenter.debug_view = view;
@@ -74,9 +73,10 @@ int run_render(const RenderOptions& o) {
   progress.clear();
 
   fmt::print("device     {} | {}\n", runtime->info().name, context->renderer());
-  fmt::print("scene      {}: {} objects, {} splats, {} lights ({} shading, {} mode), {}x{}\n", scene.source,
-             scene.objects.size(), last.splats, scene.lights.size(), scene.quality.shading, scene.quality.mode, width,
-             height);
+  fmt::print("scene      {}: {} objects, {} splats{}, {} lights ({} shading, {} mode), {}x{}\n", scene.source,
+             scene.objects.size(), last.splats,
+             scene.quality.lod_error > 0 ? fmt::format(" drawn (LOD {} px)", scene.quality.lod_error) : "",
+             scene.lights.size(), scene.quality.shading, scene.quality.mode, width, height);
   fmt::print("setup      {:.0f} ms (assets, shaders, buffers)\n", setup_ms);
   std::string objects;
   for (std::size_t i = 0; i < scene.objects.size(); ++i)
@@ -104,6 +104,7 @@ int run_render(const RenderOptions& o) {
     const nlohmann::json summary = {{"scene", scene.source},         {"width", width},
                                     {"height", height},              {"lights", scene.lights.size()},
                                     {"splats", last.splats},         {"shading", scene.quality.shading},
+                                    {"lod_error", scene.quality.lod_error},
                                     {"mode", scene.quality.mode},    {"frames_measured", measured},
                                     {"frame_ms", frame_ms},          {"fps", 1000.0 / frame_ms},
                                     {"stages_ms", stages},           {"device", runtime->info().name},
@@ -119,22 +120,16 @@ Action register_render(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* sub = app.add_subcommand("render", "Render a presenter scene offscreen (no display needed): splat passes, "
                                                "clustered shading, CSM shadows and AO; prints per-stage timings and fps");
-  sub->add_option("scene", o->scene, "Scene JSON (default: the embedded data/presenter-scene.json)");
+  add_scene_options(*sub, o->scene);
   sub->add_option("-o,--output", o->output, "Write the last frame: .png (tone mapped) or .exr (linear radiance)");
   sub->add_option("--frames", o->frames, "Frames to render; timings leave out the first when there are more")->capture_default_str();
   sub->add_option("--size", o->size, "Frame size WIDTHxHEIGHT")->capture_default_str();
   sub->add_option("--time", o->time, "Scene time of the first frame in seconds (default: the scene's \"time\")");
   sub->add_option("--dt", o->dt, "Scene time between frames in seconds")->capture_default_str();
-  sub->add_option("--shading", o->overrides.shading, "clustered, tiled or brute (default: the scene's)");
-  sub->add_option("--mode", o->overrides.mode, "splats (three-pass Gaussian splatting) or points (low quality)");
-  sub->add_option("--shadows", o->overrides.shadows, "Key-light shadows: splat, pixel or off");
-  sub->add_option("--lights", o->overrides.lights, "Number of generated point lights (default: the scene's)");
   sub->add_flag("--pixel-ao", o->pixel_ao, "Ambient occlusion per pixel (quality mode) instead of per splat");
   sub->add_option("--view", o->view, "final, albedo, normals, ao, clusters (lights per cluster), shadows, depth, footprints")
       ->capture_default_str();
-  sub->add_option("--cache", o->cache, "Asset cache directory (default: $SPLATCL_CACHE, else ~/.cache/splatcl)");
   sub->add_option("--json", o->json, "Write the timings as JSON");
-  add_device_option(*sub, o->device);
   return [o] { return run_render(*o); };
 }
 

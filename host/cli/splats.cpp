@@ -9,10 +9,12 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/parameter_options.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/error.hpp"
 #include "splats/pipeline.hpp"
+#include "splats/pipeline_options.hpp"
 #include "splats/render.hpp"
 
 namespace splatcl::cli {
@@ -22,11 +24,9 @@ using namespace splatcl::splats;
 
 struct SplatsOptions {
   DeviceOptions device;
-  std::string model, output, stats, render, samples = "vertices", color_field = "grey", texture;
-  double eps = 0, eps_diagonal = 0.001;
-  int color_tolerance = 255;
-  unsigned k = 10, rounds = 5;
-  bool reference = false, literal_lambda = false, retest_violator = false, clip = false;
+  std::string model, output, stats, render;
+  bool reference = false;
+  std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();  // the build parameters given
 };
 
 struct VerifyOptions {
@@ -34,56 +34,32 @@ struct VerifyOptions {
   double eps = 0;
 };
 
-ColorSource color_source(const SplatsOptions& o, const Mesh& mesh, std::string& description) {
-  ColorSource colors;
-  colors.bounds = mesh.bounds();
-  colors.field = parse_color_field(o.color_field);
-  description = to_string(colors.field);
-  if (!o.texture.empty()) {
-    if (!mesh.has_texcoords()) throw Error(o.model + " has no texture coordinates for --texture " + o.texture);
-    colors.texture = load_texture(o.texture);
-    description = "texture:" + o.texture;
-  }
-  return colors;
-}
-
 int run_splats(const SplatsOptions& o) {
   if (o.model.empty()) throw Error("splats: a MODEL is required (see splatcl splats --help)");
   if (o.output.empty()) throw Error("splats: an output file is required (-o OUT.ply)");
-  PipelineOptions options;
-  options.sampling = parse_sampling(o.samples);
-  options.k = o.k;
-  options.rounds = o.rounds;
-  options.fit.color_tolerance = o.color_tolerance;
-  options.fit.literal_lambda = o.literal_lambda;
-  options.fit.retest_violator = o.retest_violator;
-  options.fit.clip = o.clip;
-  if (!(o.eps_diagonal > 0 && std::isfinite(o.eps_diagonal))) throw Error("--eps-diag must be positive");
+  // The same parameters, parsing and translation as `splatcl batch` (splats/pipeline_options.hpp).
+  SplatParameters params;
+  for (const auto& [option, value] : *o.given) set_parameter(params, option, value);
+  validate(params);
   ProgressLine progress("splats");
   progress.show("loading " + o.model);
   Stopwatch load_clock;
   const Mesh mesh = load_mesh(o.model);
   const double load_ms = load_clock.elapsed_ms();
-  const double diagonal = mesh.bounds().diagonal();
-  options.fit.eps = static_cast<float>(o.eps > 0 ? o.eps : o.eps_diagonal * diagonal);
-  if (o.eps < 0) throw Error("--eps must be positive");
-  std::string color_description;
-  const ColorSource colors = color_source(o, mesh, color_description);
+  const SplatSetup setup = splat_setup(params, mesh, o.model);
+  const PipelineOptions& options = setup.options;
+  const ColorSource& colors = setup.colors;
+  const double diagonal = setup.diagonal;
+  const std::string& color_description = setup.color_description;
   std::shared_ptr<Runtime> runtime;
   if (!o.reference) runtime = Runtime::create(o.device.device);
   SplatRun run = generate_splats(mesh, colors, options, runtime.get(), [&](const std::string& phase) { progress.show(phase); });
   run.phases.insert(run.phases.begin(), {"load", load_ms});
   progress.show("writing " + o.output);
   Stopwatch write_clock;
-  const SplatFileInfo info{o.model, to_string(options.sampling), options.fit.eps, run.neighbors.k,
-                           options.fit.color_tolerance, color_description, options.fit.clip};
-  write_splat_file(o.output, run.records(), info);
+  write_splat_file(o.output, run.records(), splat_file_info(setup, run, o.model));
   run.phases.push_back({"write", write_clock.elapsed_ms()});
-  nlohmann::json stats = run_statistics(run, options);
-  stats["model"] = o.model;
-  stats["bbox_diagonal"] = diagonal;
-  stats["color_source"] = color_description;
-  stats["output"] = o.output;
+  const nlohmann::json stats = splat_statistics(run, setup, o.model, o.output);
   if (!o.stats.empty()) write_file_atomically(o.stats, stats.dump(2) + "\n");
   if (!o.render.empty()) {
     progress.show("rendering " + o.render);
@@ -146,20 +122,11 @@ Action register_splats(CLI::App& app) {
   add_device_option(*sub, o->device);
   sub->add_option("model", o->model, "Input mesh");
   sub->add_option("-o,--output", o->output, "Output splat PLY (position, normal, colour, major and minor semi-axis vectors and lengths)");
-  sub->add_option("--eps", o->eps, "Geometric tolerance epsilon, absolute in model units (default: --eps-diag times the bounding-box diagonal)");
-  sub->add_option("--eps-diag", o->eps_diagonal, "Epsilon as a fraction of the bounding-box diagonal when --eps is not given")->capture_default_str();
-  sub->add_option("--color-tol", o->color_tolerance, "Colour tolerance phi per RGB channel, 0..255 (255 ignores colour)")->capture_default_str();
-  sub->add_option("--color-field", o->color_field, "Sample colours without a texture: grey, soft (red to white gradient), hard (3-D checker of flat colours) or rainbow (cells of continuous hue bands with hard edges between cells)")->capture_default_str();
-  sub->add_option("--texture", o->texture, "Texture image applied through the mesh's texture coordinates (nearest texel)");
-  sub->add_option("--samples", o->samples, "vertices, or grid:N (vertices plus, on every face, the grid points of spacing shortest-edge / N strictly inside it)")->capture_default_str();
-  sub->add_option("--k", o->k, "Neighbourhood size")->capture_default_str();
-  sub->add_option("--rounds", o->rounds, "Optimisation rounds (relaxation + removal)")->capture_default_str();
   sub->add_option("--stats", o->stats, "Write statistics (counts, reduction, errors against eps, time per phase) as JSON");
   sub->add_option("--render", o->render, "Also write an offscreen picture of the splats (PNG): per-splat colours for grey models, else the splat colours");
   sub->add_flag("--reference", o->reference, "Fit with the native C++ reference instead of the OpenCL kernels");
-  sub->add_flag("--literal-lambda", o->literal_lambda, "Read lambda in the size corrections literally instead of as the axis ratio sqrt(lambda)");
-  sub->add_flag("--retest-violator", o->retest_violator, "Ellipse phase with b = d1, re-testing the circle phase's violator");
-  sub->add_flag("--clip", o->clip, "Clipped splats (thesis ch. 4): skip violators on one side and cut the splat there with a line; stored in the PLY");
+  // The build parameters: the same list, names and meaning as `splatcl batch` manifest keys.
+  add_parameter_options(*sub, splat_parameters(), to_json(SplatParameters{}), o->given);
 
   auto* verify = sub->add_subcommand("verify", "Check a splat file against its model: every sample covered within eps, no empty splat; reports mean error / eps");
   auto v = std::make_shared<VerifyOptions>();

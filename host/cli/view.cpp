@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/scene_options.hpp"
 #include "io/image.hpp"
 #include "present/context.hpp"
 #include "present/presenter.hpp"
@@ -22,13 +23,12 @@ namespace {
 constexpr const char* kHelpKeys =
     "keys: left drag orbit, wheel zoom | Tab select occluder, arrows move it in x/z, PgUp/PgDn lift, Q/E rotate |\n"
     "      1-8 views (final, albedo, normals, ao, clusters, shadows, depth, footprints) | C shading clustered/tiled/brute |\n"
-    "      M splats/points | O ambient occlusion | A AO per splat/pixel | H shadows splat/pixel/off | Space pause | P screenshot | Esc quit";
+    "      M splats/points | L level of detail on/off | B Blinn-Phong highlights on/off | O ambient occlusion | A AO per splat/pixel | H shadows splat/pixel/off | Space pause | P screenshot | Esc quit";
 
 struct ViewOptions {
-  std::string scene, size = "960x600", cache, screenshot_dir = ".";
+  SceneOptions scene;
+  std::string size = "960x600", screenshot_dir = ".";
   double seconds = 0;  // > 0: quit after this many seconds (for scripted runs)
-  present::Overrides overrides;
-  DeviceOptions device;
 };
 
 struct Orbit {
@@ -44,12 +44,11 @@ T cycle(const T& value, std::initializer_list<T> values) {
 
 int run_view(const ViewOptions& o) {
   auto [width, height] = present::parse_frame_size(o.size, "--size");
-  present::Scene scene = o.scene.empty() ? present::default_scene() : present::load_scene(o.scene);
-  present::apply_overrides(scene, o.overrides);
-  auto runtime = Runtime::create(o.device.device);
+  const present::Scene scene = o.scene.load();
+  auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::window(width, height, "splatcl view");
   GLFWwindow* window = context->glfw_window();
-  present::Presenter presenter(scene, *runtime, width, height, o.cache.empty() ? present::default_cache_dir() : o.cache);
+  present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir());
   std::fprintf(stderr, "%s\n", kHelpKeys);
 
   present::Scene& s = presenter.scene();
@@ -62,6 +61,9 @@ int run_view(const ViewOptions& o) {
     orbit.pitch = std::asin(d.y / orbit.distance);
     orbit.yaw = std::atan2(d.x, d.z);
   }
+  // L toggles LOD between off and the scene's threshold (1 pixel when the scene has it off).
+  const float lod_on = s.quality.lod_error > 0 ? s.quality.lod_error : 1.0f;
+  const float specular_on = s.quality.specular > 0 ? s.quality.specular : 0.5f;  // B toggles Blinn-Phong
   std::size_t selected = 0;
   bool paused = false, screenshot = false;
   double time = s.time, last_clock = glfwGetTime(), drag_x = 0, drag_y = 0;
@@ -118,8 +120,10 @@ int run_view(const ViewOptions& o) {
       screenshot = false;
     }
     glfwSwapBuffers(window);
-    std::string title = fmt::format("splatcl view | {:.1f} fps | {} {} {} | sel: {} |", 1000.0 / stats.frame_ms, s.quality.shading,
-                                    s.quality.mode, present::to_string(presenter.debug_view),
+    std::string title = fmt::format("splatcl view | {:.1f} fps | {} {}{} {} | {} splats | sel: {} |", 1000.0 / stats.frame_ms,
+                                    s.quality.shading, s.quality.mode,
+                                    s.quality.lod_error > 0 ? fmt::format(" lod {}px", s.quality.lod_error) : "",
+                                    present::to_string(presenter.debug_view), stats.splats,
                                     s.objects.empty() ? "-" : s.objects[selected % s.objects.size()].name);
     for (const auto& st : stats.stages) title += fmt::format(" {} {:.1f}", st.name, st.ms);
     glfwSetWindowTitle(window, title.c_str());
@@ -139,6 +143,8 @@ int run_view(const ViewOptions& o) {
     if (pressed(GLFW_KEY_C)) s.quality.shading = cycle<std::string>(s.quality.shading, {"clustered", "tiled", "brute"});
     if (pressed(GLFW_KEY_M)) s.quality.mode = cycle<std::string>(s.quality.mode, {"splats", "points"});
     if (pressed(GLFW_KEY_H)) s.quality.shadows = cycle<std::string>(s.quality.shadows, {"splat", "pixel", "off"});
+    if (pressed(GLFW_KEY_L)) s.quality.lod_error = s.quality.lod_error > 0 ? 0.0f : lod_on;
+    if (pressed(GLFW_KEY_B)) s.quality.specular = s.quality.specular > 0 ? 0.0f : specular_on;
     if (pressed(GLFW_KEY_O)) presenter.ambient_occlusion = !presenter.ambient_occlusion;
     if (pressed(GLFW_KEY_A)) presenter.pixel_ao = !presenter.pixel_ao;
     for (int v = 0; v < 8; ++v)
@@ -155,16 +161,10 @@ Action register_view(CLI::App& app) {
   auto o = std::make_shared<ViewOptions>();
   CLI::App* sub = app.add_subcommand("view", "Show a presenter scene in a window (needs a display; see splatcl render for "
                                              "offscreen). Keys are listed on start");
-  sub->add_option("scene", o->scene, "Scene JSON (default: the embedded data/presenter-scene.json)");
+  add_scene_options(*sub, o->scene);
   sub->add_option("--size", o->size, "Window size WIDTHxHEIGHT")->capture_default_str();
-  sub->add_option("--shading", o->overrides.shading, "clustered, tiled or brute (default: the scene's)");
-  sub->add_option("--mode", o->overrides.mode, "splats or points");
-  sub->add_option("--shadows", o->overrides.shadows, "Key-light shadows: splat, pixel or off");
-  sub->add_option("--lights", o->overrides.lights, "Number of generated point lights (default: the scene's)");
-  sub->add_option("--cache", o->cache, "Asset cache directory (default: $SPLATCL_CACHE, else ~/.cache/splatcl)");
   sub->add_option("--screenshots", o->screenshot_dir, "Directory for screenshots (key P)")->capture_default_str();
   sub->add_option("--seconds", o->seconds, "Close the window after this many seconds (scripted runs)");
-  add_device_option(*sub, o->device);
   return [o] { return run_view(*o); };
 }
 

@@ -156,42 +156,21 @@ class ModeCompressor {
   std::unique_ptr<PixelCurveTable> curve_;
 };
 
-// Captures maps batch by batch on the device (read back) or with the native reference, by the
-// build's capture method, so that every mode compresses the maps a per-pixel build would.
+// The build's grid and scene with the one host capture path (HostMapCapture), by the build's
+// capture method, so that every mode compresses the maps a per-pixel build would.
 class MapSource {
  public:
   MapSource(const splats::Mesh& mesh, const BuildOptions& b, Runtime* runtime, std::uint32_t batch_maps)
       : grid_(b.distribution, b.order, b.pole, b.maps),
         scene_(mesh, bounding_sphere(mesh), b.resolution, b.single_hit, b.hit_epsilon),
-        mesh_(mesh),
-        method_(b.capture),
-        runtime_(runtime) {
-    if (runtime) {
-      capture_ = std::make_unique<MapCapture>(*runtime, scene_, mesh, b.capture);
-      const std::size_t bytes = std::size_t{batch_maps} * scene_.pixels() * sizeof(float);
-      d1_ = runtime->buffer(CL_MEM_READ_WRITE, bytes, "CSM analysis z1");
-      d2_ = runtime->buffer(CL_MEM_READ_WRITE, bytes, "CSM analysis z2");
-    }
-  }
-  const SphereGrid& grid() const { return grid_; }
+        capture_(mesh, grid_, scene_, b.capture, runtime, batch_maps) {}
   std::size_t pixels() const { return scene_.pixels(); }
-  void get(std::uint32_t first, std::uint32_t count, std::vector<float>& z1, std::vector<float>& z2) {
-    if (!runtime_) return capture_reference(scene_, mesh_, method_, grid_, first, count, z1, z2);
-    capture_->capture(grid_, first, count, d1_, d2_);
-    z1.resize(std::size_t{count} * pixels());
-    z2.resize(z1.size());
-    runtime_->queue().enqueueReadBuffer(d1_, CL_FALSE, 0, z1.size() * sizeof(float), z1.data());
-    runtime_->queue().enqueueReadBuffer(d2_, CL_TRUE, 0, z2.size() * sizeof(float), z2.data());
-  }
+  void get(std::uint32_t first, std::uint32_t count, std::vector<float>& z1, std::vector<float>& z2) { capture_.get(first, count, z1, z2); }
 
  private:
   SphereGrid grid_;
   CaptureScene scene_;
-  const splats::Mesh& mesh_;
-  CaptureMethod method_;
-  Runtime* runtime_;
-  std::unique_ptr<MapCapture> capture_;
-  cl::Buffer d1_, d2_;
+  HostMapCapture capture_;
 };
 
 }  // namespace

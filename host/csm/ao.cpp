@@ -8,6 +8,7 @@
 #include <numeric>
 #include <random>
 
+#include "primitives/launch.hpp"
 #include "runtime/error.hpp"
 #include "splats/parallel.hpp"
 
@@ -144,27 +145,31 @@ std::vector<Vec4> AmbientOcclusion::run(const AoRequest& request, Profiler* prof
   std::vector<Vec4> out(n);
   if (n == 0) return out;
   if (n > UINT32_MAX) throw Error("more than 2^32 AO receivers in one batch");
-  const auto write = [&](const auto& values, const char* what) {
+  // Buffers grow as needed and are reused by later calls (no allocation per batch).
+  // The last write blocks (the queue is in order): every upload is done before anything below can
+  // throw and let the caller free the request.
+  const auto write = [&](cl::Buffer& buffer, const auto& values, const char* what, cl_bool blocking) {
     using T = typename std::decay_t<decltype(values)>::value_type;
-    cl::Buffer buffer = runtime_.buffer(CL_MEM_READ_ONLY, values.size() * sizeof(T), what);
-    runtime_.queue().enqueueWriteBuffer(buffer, CL_FALSE, 0, values.size() * sizeof(T), values.data());
-    return buffer;
+    primitives::detail::ensure_bytes(runtime_, buffer, values.size() * sizeof(T), what);
+    runtime_.queue().enqueueWriteBuffer(buffer, blocking, 0, values.size() * sizeof(T), values.data());
   };
-  cl::Buffer positions = write(request.positions, "AO receivers"), normals = write(request.normals, "AO normals"),
-             choice = write(request.pattern_of, "AO pattern choice"), patterns = write(request.patterns, "AO patterns");
-  cl::Buffer result = runtime_.buffer(CL_MEM_WRITE_ONLY, n * sizeof(Vec4), "AO output");
-  kernel_.setArg(0, positions);
-  kernel_.setArg(1, normals);
-  kernel_.setArg(2, choice);
+  write(positions_, request.positions, "AO receivers", CL_FALSE);
+  write(normals_, request.normals, "AO normals", CL_FALSE);
+  write(choice_, request.pattern_of, "AO pattern choice", CL_FALSE);
+  write(patterns_, request.patterns, "AO patterns", CL_TRUE);
+  primitives::detail::ensure_bytes(runtime_, result_, n * sizeof(Vec4), "AO output");
+  kernel_.setArg(0, positions_);
+  kernel_.setArg(1, normals_);
+  kernel_.setArg(2, choice_);
   kernel_.setArg(3, static_cast<cl_uint>(n));
-  kernel_.setArg(4, patterns);
+  kernel_.setArg(4, patterns_);
   kernel_.setArg(5, static_cast<cl_uint>(request.samples));
   scene_.bind_scene(kernel_, 6);
-  kernel_.setArg(13, static_cast<cl_uint>(request.ground ? 1 : 0));
-  kernel_.setArg(14, request.bias);
-  kernel_.setArg(15, result);
+  kernel_.setArg(14, static_cast<cl_uint>(request.ground ? 1 : 0));
+  kernel_.setArg(15, request.bias);
+  kernel_.setArg(16, result_);
   enqueue_1d(runtime_.queue(), kernel_, n, 0, profiler, "csm ambient occlusion");
-  runtime_.queue().enqueueReadBuffer(result, CL_TRUE, 0, n * sizeof(Vec4), out.data());
+  runtime_.queue().enqueueReadBuffer(result_, CL_TRUE, 0, n * sizeof(Vec4), out.data());
   return out;
 }
 

@@ -57,6 +57,7 @@ class AmbientOcclusion {
   Runtime& runtime_;
   VisibilityQueries scene_;
   cl::Kernel kernel_;
+  cl::Buffer positions_, normals_, choice_, patterns_, result_;
 };
 
 }  // namespace splatcl::csm

@@ -19,6 +19,7 @@ CsmInfo info_for(const splats::Mesh& mesh, const BuildOptions& o, const CaptureS
   info.pole = o.pole;
   info.single_hit = o.single_hit;
   info.hit_epsilon = o.hit_epsilon;
+  info.capture = o.capture;
   info.sphere = scene.sphere;
   info.triangles = static_cast<std::uint32_t>(scene.bvh.triangles.size());
   info.source = std::filesystem::path(mesh.source).filename().string();
@@ -40,6 +41,28 @@ void for_each_batch(std::uint32_t maps, std::uint32_t batch_maps, const BuildPro
 std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps) {
   const std::uint64_t pixels = std::uint64_t{resolution} * resolution;
   return static_cast<std::uint32_t>(std::clamp<std::uint64_t>((std::uint64_t{1} << 23) / pixels, 1, maps));
+}
+
+HostMapCapture::HostMapCapture(const splats::Mesh& mesh, const SphereGrid& grid, const CaptureScene& scene, CaptureMethod method,
+                               Runtime* runtime, std::uint32_t batch_maps)
+    : mesh_(mesh), grid_(grid), scene_(scene), method_(method), runtime_(runtime), batch_maps_(batch_maps) {
+  if (!runtime) return;
+  capture_ = std::make_unique<MapCapture>(*runtime, scene, mesh, method);
+  const std::size_t bytes = std::size_t{batch_maps} * scene.pixels() * sizeof(float);
+  d1_ = runtime->buffer(CL_MEM_READ_WRITE, bytes, "CSM host capture z1");
+  d2_ = runtime->buffer(CL_MEM_READ_WRITE, bytes, "CSM host capture z2");
+}
+
+HostMapCapture::~HostMapCapture() = default;
+
+void HostMapCapture::get(std::uint32_t first, std::uint32_t count, std::vector<float>& z1, std::vector<float>& z2) {
+  if (count > batch_maps_) throw Error("HostMapCapture: more maps than one batch holds");
+  if (!runtime_) return capture_reference(scene_, mesh_, method_, grid_, first, count, z1, z2);
+  capture_->capture(grid_, first, count, d1_, d2_);
+  z1.resize(std::size_t{count} * scene_.pixels());
+  z2.resize(z1.size());
+  runtime_->queue().enqueueReadBuffer(d1_, CL_FALSE, 0, z1.size() * sizeof(float), z1.data());
+  runtime_->queue().enqueueReadBuffer(d2_, CL_TRUE, 0, z2.size() * sizeof(float), z2.data());
 }
 
 BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* runtime, const BuildProgress& progress) {
@@ -82,35 +105,21 @@ BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* 
 }
 
 LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress,
-                              CaptureMethod method) {
+                              std::optional<CaptureMethod> method) {
   const CsmInfo& info = csm.info;
   const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
   const CaptureScene scene(mesh, info.sphere, info.resolution, info.single_hit, info.hit_epsilon);
   const std::size_t pixels = scene.pixels();
   if (csm.pixels() != pixels) throw Error("check_lossless: the CSM's pixel count does not match its resolution");
   const std::uint32_t batch_maps = default_batch_maps(info.resolution, info.maps);
+  HostMapCapture capture(mesh, grid, scene, method.value_or(info.capture), runtime, batch_maps);
   std::vector<float> z1, z2;
-  std::unique_ptr<MapCapture> capture;
-  cl::Buffer d1, d2;
-  if (runtime) {
-    capture = std::make_unique<MapCapture>(*runtime, scene, mesh, method);
-    d1 = runtime->buffer(CL_MEM_READ_WRITE, std::size_t{batch_maps} * pixels * sizeof(float), "CSM check z1");
-    d2 = runtime->buffer(CL_MEM_READ_WRITE, std::size_t{batch_maps} * pixels * sizeof(float), "CSM check z2");
-  }
   // Each pixel walks its segment list forward as the maps go by: no search needed.
   std::vector<std::uint32_t> cursor(csm.offsets.begin(), csm.offsets.end() - 1);
   LosslessReport report;
   std::vector<LosslessReport> per_worker(splats::worker_count(pixels, 64));
   for_each_batch(info.maps, batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
-    if (runtime) {
-      capture->capture(grid, first, count, d1, d2);
-      z1.resize(std::size_t{count} * pixels);
-      z2.resize(z1.size());
-      runtime->queue().enqueueReadBuffer(d1, CL_FALSE, 0, z1.size() * sizeof(float), z1.data());
-      runtime->queue().enqueueReadBuffer(d2, CL_TRUE, 0, z2.size() * sizeof(float), z2.data());
-    } else {
-      capture_reference(scene, mesh, method, grid, first, count, z1, z2);
-    }
+    capture.get(first, count, z1, z2);
     splats::parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
       LosslessReport& r = per_worker[w];
       for (std::uint32_t k = 0; k < count; ++k) {

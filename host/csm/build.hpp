@@ -6,6 +6,8 @@
 // tests only).
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "csm/capture.hpp"
@@ -47,9 +49,33 @@ BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& options, Run
 
 std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps);
 
+// Maps of a grid captured batch by batch into host memory ([map][pixel]) with one capture method:
+// on the device (MapCapture, read back) or, with no runtime, the native reference. The one capture
+// path of everything that needs the maps on the host (losslessness check, compression modes,
+// analyses); build_csm streams the same MapCapture's output to the compressor on the device.
+class HostMapCapture {
+ public:
+  HostMapCapture(const splats::Mesh& mesh, const SphereGrid& grid, const CaptureScene& scene, CaptureMethod method, Runtime* runtime,
+                 std::uint32_t batch_maps);
+  ~HostMapCapture();
+  // Maps [first, first + count), count ≤ batch_maps.
+  void get(std::uint32_t first, std::uint32_t count, std::vector<float>& z1, std::vector<float>& z2);
+
+ private:
+  const splats::Mesh& mesh_;
+  const SphereGrid& grid_;
+  const CaptureScene& scene_;
+  CaptureMethod method_;
+  Runtime* runtime_;
+  std::uint32_t batch_maps_;
+  std::unique_ptr<MapCapture> capture_;
+  cl::Buffer d1_, d2_;
+};
+
 // Losslessness check (compression digest §13): every (map, pixel) of `csm` recaptured from `mesh`
 // and its stored depth tested with lossless(). Captures in batches on `runtime` (native reference
-// when null) with `method`, which must be the method that built the CSM.
+// when null) with the method recorded in the CSM, or `method` when given (a cross-check against
+// the other method, which may report violations at triangle-edge pixels).
 struct LosslessReport {
   std::uint64_t samples = 0, violations = 0;
   std::uint32_t first_map = 0;
@@ -57,6 +83,6 @@ struct LosslessReport {
   float first_depth = 0, first_z1 = 0, first_z2 = 0;
 };
 LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {},
-                              CaptureMethod method = kDefaultCaptureMethod);
+                              std::optional<CaptureMethod> method = std::nullopt);
 
 }  // namespace splatcl::csm

@@ -19,8 +19,7 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the .csm format is little-endian");
 
 constexpr char kMagic[8] = {'S', 'P', 'L', 'A', 'T', 'C', 'S', 'M'};
-constexpr std::uint32_t kVersion = 1;
-constexpr std::size_t kChecksumOffset = 204, kSourceOffset = 212, kSourceBytes = kCsmHeaderBytes - kSourceOffset;
+constexpr std::size_t kChecksumOffset = 204, kCaptureOffset = 212, kSourceOffset = 216, kSourceBytes = kCsmHeaderBytes - kSourceOffset;
 constexpr std::uint32_t kMaxResolution = 8192;
 // Compact depth codes: 0..kCodeScale is depth code / kCodeScale; two codes are reserved.
 constexpr std::uint16_t kCodeScale = 65533, kCodeExact = 65534, kCodeInfinity = 65535;
@@ -76,7 +75,7 @@ std::string header(const Csm& csm, Encoding encoding, const std::array<std::uint
   std::string h(kCsmHeaderBytes, '\0');
   std::memcpy(h.data(), kMagic, 8);
   const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
-  const std::uint32_t fields[] = {kVersion,
+  const std::uint32_t fields[] = {kCsmVersion,
                                   static_cast<std::uint32_t>(encoding),
                                   info.resolution,
                                   info.maps,
@@ -102,6 +101,7 @@ std::string header(const Csm& csm, Encoding encoding, const std::array<std::uint
   for (std::size_t k = 0; k < 16; ++k) put(h, 108 + 4 * k, info.object_transform[k]);
   put(h, 172, static_cast<std::uint64_t>(csm.segments()));
   for (std::size_t k = 0; k < 3; ++k) put(h, 180 + 8 * k, sections[k]);
+  put(h, kCaptureOffset, static_cast<std::uint32_t>(info.capture));
   std::memcpy(h.data() + kSourceOffset, info.source.data(), std::min(info.source.size(), kSourceBytes - 1));
   return h;
 }
@@ -179,7 +179,9 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   if (bytes.size() < kCsmHeaderBytes) throw fail(fmt::format("not a .csm file (only {} bytes, the header alone has 256)", bytes.size()));
   if (std::memcmp(bytes.data(), kMagic, 8) != 0) throw fail("not a .csm file (bad magic)");
   const auto version = get<std::uint32_t>(bytes, 8);
-  if (version != kVersion) throw fail(fmt::format("unsupported .csm version {} (this build reads {})", version, kVersion));
+  if (version != kCsmVersion)
+    throw fail(fmt::format("not a splatcl .csm file of version {} (it has version {}; rebuild it with splatcl csm build)", kCsmVersion,
+                           version));
   const auto encoding_value = get<std::uint32_t>(bytes, 12);
   if (encoding_value > 1) throw fail(fmt::format("unknown encoding {}", encoding_value));
   const auto encoding = static_cast<Encoding>(encoding_value);
@@ -203,6 +205,9 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
     if (std::string(e.what()).rfind(name, 0) == 0) throw;
     throw fail(e.what());
   }
+  const auto capture = get<std::uint32_t>(bytes, kCaptureOffset);
+  if (capture > 1) throw fail(fmt::format("unknown capture method {}", capture));
+  info.capture = static_cast<CaptureMethod>(capture);
   info.triangles = get<std::uint32_t>(bytes, 48);
   info.hit_epsilon = get<float>(bytes, 52);
   info.sphere.centre = {get<float>(bytes, 56), get<float>(bytes, 60), get<float>(bytes, 64)};

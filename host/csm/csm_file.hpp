@@ -1,7 +1,7 @@
 #pragma once
 // The .csm file: one coherent shadow map, described in docs/formats.md. A 256-byte header (magic,
 // version, encoding, parameters, sphere, distribution, order, pole frame, object transform,
-// section sizes, FNV-1a checksum) and three sections. Plain encoding: the thesis's layout, per-pixel
+// section sizes, FNV-1a checksum, capture method) and three sections. Plain encoding: the thesis's layout, per-pixel
 // offsets u32[M²+1], depths f32[S], inclusive end indices u32[S]. Compact encoding (exactly
 // lossless, beyond the theses): 16-bit depth codes chosen inside each segment's interval, run
 // lengths as LEB128 varints, and the float depths of the few segments no code fits.
@@ -13,6 +13,7 @@
 
 #include "csm/capture.hpp"
 #include "csm/compress.hpp"
+#include "csm/raster_capture.hpp"
 #include "csm/sphere_grid.hpp"
 
 namespace splatcl::csm {
@@ -28,12 +29,15 @@ struct CsmInfo {
   PoleAxis pole = PoleAxis::Y;
   SingleHit single_hit = SingleHit::SphereExit;
   float hit_epsilon = kDefaultHitEpsilon;
+  // How the maps were captured: verify recaptures with the same method (the two differ at
+  // triangle-edge pixels).
+  CaptureMethod capture = kDefaultCaptureMethod;
   Sphere sphere;
   // Row-major 4×4 transform from the model file's coordinates to the object space the maps were
   // taken in; identity when the model was used as loaded.
   std::array<float, 16> object_transform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   std::uint32_t triangles = 0;  // triangles the capture used
-  std::string source;           // model file name, at most 43 bytes kept
+  std::string source;           // model file name, at most 39 bytes kept
 };
 
 struct Csm {
@@ -64,5 +68,7 @@ Csm read_csm(const std::string& path, Encoding* encoding = nullptr, std::size_t*
 Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* encoding = nullptr);
 
 inline constexpr std::size_t kCsmHeaderBytes = 256;
+// Version 2 added the capture method (offset 212); other versions are refused.
+inline constexpr std::uint32_t kCsmVersion = 2;
 
 }  // namespace splatcl::csm

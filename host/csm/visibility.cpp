@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <numbers>
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
@@ -12,11 +13,11 @@ namespace splatcl::csm {
 
 using primitives::detail::set_args;
 
-// Queries per work-item of the chunked filter-free kernel: long enough runs for the reuse of map
-// choices and stored depths, and still thousands of work-items per million queries.
+// Queries per work-item of the chunked kernel: long enough runs for the reuse of map choices and
+// stored depths, and still thousands of work-items per million queries.
 constexpr std::size_t kQueryChunk = 256;
 
-static_assert(sizeof(device::CsmCell) == 40 && sizeof(device::CsmOccluder) == 52 && sizeof(device::CsmInstance) == 88,
+static_assert(sizeof(device::CsmCell) == 40 && sizeof(device::CsmOccluder) == 64 && sizeof(device::CsmInstance) == 88,
               "the query tables must match kernels/csm_query.h byte for byte");
 
 namespace {
@@ -62,12 +63,43 @@ Transform world_to_object(const CsmInfo& info, const Transform& placement) {
   return multiply(object, invert_affine(placement));
 }
 
+// Boundaries as signed squared cosines (c·|c|, computed in double). θ boundaries sit halfway
+// between sample rows in s (uniform: cosθ = 1 − 2s; regular and ao: θ = πs), φ boundaries halfway
+// between sample columns in t (φ = 2πt). Cosines of exact quarter turns are stored as 0, so that
+// the test there is the sign of x or z.
+device::CsmOccluder grid_occluder(const SphereGrid& grid, std::vector<float>& bounds) {
+  const double pi = std::numbers::pi;
+  device::CsmOccluder oc{};
+  oc.rows = grid.rows();
+  oc.cols = grid.cols();
+  oc.centred = grid.distribution() == Distribution::ThesisAo ? 0 : 1;
+  oc.uniform = grid.distribution() == Distribution::Uniform ? 1 : 0;
+  const bool centred = oc.centred == 1;
+  const auto signed_square = [](double c) { return std::abs(c) < 1e-12 ? 0.0f : static_cast<float>(c * std::abs(c)); };
+  oc.bound_base = static_cast<std::uint32_t>(bounds.size());
+  const double rows = grid.rows(), cols = grid.cols();
+  for (std::uint32_t k = 1; k < grid.rows(); ++k) {
+    // Sample rows at s = (a + 0.5)/rows (centred) or a/rows (ao): boundaries at k/rows or (k − 0.5)/rows.
+    const double s = centred ? k / rows : (k - 0.5) / rows;
+    bounds.push_back(signed_square(grid.distribution() == Distribution::Uniform ? 1 - 2 * s : std::cos(pi * s)));
+  }
+  oc.col_bounds = centred ? grid.cols() - 1 : grid.cols();
+  oc.half_cols = 0;
+  for (std::uint32_t k = 1; k <= oc.col_bounds; ++k) {
+    // β_k = π · twice_t / cols (twice_t = 2t · cols), so twice_t ≤ cols means β_k ≤ π.
+    const double twice_t = centred ? 2.0 * k : 2.0 * k - 1;
+    if (twice_t <= cols) oc.half_cols = k;
+    bounds.push_back(signed_square(std::cos(pi * twice_t / cols)));
+  }
+  return oc;
+}
+
 VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std::vector<Instance>& placed) {
   std::uint64_t segment_base = 0;
   for (const Csm* csm : csms) {
     const CsmInfo& info = csm->info;
     const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
-    device::CsmOccluder oc{};
+    device::CsmOccluder oc = grid_occluder(grid, bounds);
     oc.centre[0] = info.sphere.centre.x;
     oc.centre[1] = info.sphere.centre.y;
     oc.centre[2] = info.sphere.centre.z;
@@ -75,10 +107,6 @@ VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std:
     oc.pixel_scale = static_cast<float>(info.resolution) / (2.0f * info.sphere.radius);
     oc.depth_scale = 1.0f / (2.0f * info.sphere.radius);
     oc.resolution = info.resolution;
-    oc.rows = grid.rows();
-    oc.cols = grid.cols();
-    oc.centred = info.distribution == Distribution::ThesisAo ? 0 : 1;
-    oc.uniform = info.distribution == Distribution::Uniform ? 1 : 0;
     oc.cell_base = static_cast<std::uint32_t>(cells.size());
     oc.pixel_base = static_cast<std::uint32_t>(offsets.size());
     occluders.push_back(oc);
@@ -120,7 +148,7 @@ VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std:
 
 device::CsmScene VisibilityScene::view() const {
   return {instances.data(), static_cast<std::uint32_t>(instances.size()), occluders.data(), cells.data(), offsets.data(),
-          ends.data(),      depths.data()};
+          ends.data(),      depths.data(), bounds.data()};
 }
 
 void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights,
@@ -147,7 +175,7 @@ VisibilityQueries::VisibilityQueries(Runtime& runtime, const VisibilityScene& sc
   offsets_ = upload(runtime, scene.offsets, "CSM offsets", CL_MEM_READ_ONLY);
   ends_ = upload(runtime, scene.ends, "CSM segment ends", CL_MEM_READ_ONLY);
   depths_ = upload(runtime, scene.depths, "CSM segment depths", CL_MEM_READ_ONLY);
-  kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_queries");
+  bounds_ = upload(runtime, scene.bounds, "CSM cell boundaries", CL_MEM_READ_ONLY);
   chunk_kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_chunks");
 }
 
@@ -159,6 +187,7 @@ void VisibilityQueries::bind_scene(cl::Kernel& kernel, cl_uint first) const {
   kernel.setArg(first + 4, offsets_);
   kernel.setArg(first + 5, ends_);
   kernel.setArg(first + 6, depths_);
+  kernel.setArg(first + 7, bounds_);
 }
 
 cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& lights, std::size_t count, Filter filter,
@@ -168,28 +197,21 @@ cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& 
   primitives::detail::require_bytes(receivers, count * sizeof(Vec4), "CSM query receivers");
   primitives::detail::require_bytes(lights, count * sizeof(Vec4), "CSM query lights");
   primitives::detail::require_bytes(out, count * sizeof(float), "CSM query output");
-  if (filter == Filter::None) {
-    // One launch per instance, multiplying into `out`; no instance: everything is lit.
-    if (instance_count_ == 0) {
-      cl::Event event;
-      runtime_.queue().enqueueFillBuffer(out, 1.0f, 0, count * sizeof(float), nullptr, &event);
-      return event;
-    }
-    const std::size_t items = (count + kQueryChunk - 1) / kQueryChunk;
-    cl::Event last;
-    for (cl_uint k = 0; k < instance_count_; ++k) {
-      set_args(chunk_kernel_, receivers, lights, static_cast<cl_uint>(count), static_cast<cl_uint>(kQueryChunk), instances_, k,
-               occluders_, cells_, offsets_, ends_, depths_, bias, static_cast<cl_uint>(k > 0 ? 1 : 0), out);
-      last = enqueue_1d(runtime_.queue(), chunk_kernel_, items, 0, profiler, "csm visibility");
-    }
-    return last;
+  // One launch per instance, multiplying into `out`; no instance: everything is lit.
+  if (instance_count_ == 0) {
+    cl::Event event;
+    runtime_.queue().enqueueFillBuffer(out, 1.0f, 0, count * sizeof(float), nullptr, &event);
+    return event;
   }
-  set_args(kernel_, receivers, lights, static_cast<cl_uint>(count));
-  bind_scene(kernel_, 3);
-  kernel_.setArg(10, static_cast<cl_uint>(filter));
-  kernel_.setArg(11, bias);
-  kernel_.setArg(12, out);
-  return enqueue_1d(runtime_.queue(), kernel_, count, 0, profiler, "csm visibility");
+  const std::size_t items = (count + kQueryChunk - 1) / kQueryChunk;
+  cl::Event last;
+  for (cl_uint k = 0; k < instance_count_; ++k) {
+    set_args(chunk_kernel_, receivers, lights, static_cast<cl_uint>(count), static_cast<cl_uint>(kQueryChunk), instances_, k,
+             occluders_, cells_, offsets_, ends_, depths_, bounds_, static_cast<cl_uint>(filter), bias,
+             static_cast<cl_uint>(k > 0 ? 1 : 0), out);
+    last = enqueue_1d(runtime_.queue(), chunk_kernel_, items, 0, profiler, "csm visibility");
+  }
+  return last;
 }
 
 std::vector<float> VisibilityQueries::run(const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights, Filter filter,
@@ -202,8 +224,10 @@ std::vector<float> VisibilityQueries::run(const std::vector<Vec4>& receivers, co
   primitives::detail::ensure_bytes(runtime_, lights_, n * sizeof(Vec4), "CSM query lights");
   primitives::detail::ensure_bytes(runtime_, out_, n * sizeof(float), "CSM query output");
   auto& queue = runtime_.queue();
+  // The second write blocks (the queue is in order): both uploads are done before anything below
+  // can throw and let the caller free the vectors.
   queue.enqueueWriteBuffer(receivers_, CL_FALSE, 0, n * sizeof(Vec4), receivers.data());
-  queue.enqueueWriteBuffer(lights_, CL_FALSE, 0, n * sizeof(Vec4), lights.data());
+  queue.enqueueWriteBuffer(lights_, CL_TRUE, 0, n * sizeof(Vec4), lights.data());
   run(receivers_, lights_, n, filter, bias, out_, profiler);
   queue.enqueueReadBuffer(out_, CL_TRUE, 0, n * sizeof(float), out.data());
   return out;

@@ -56,9 +56,14 @@ class VisibilityScene {
   std::vector<device::CsmCell> cells;
   std::vector<std::uint32_t> offsets, ends;
   std::vector<float> depths;
+  std::vector<float> bounds;  // every occluder's cell boundaries for the map choice (csm_walk_cell)
 
   device::CsmScene view() const;
 };
+
+// An occluder's grid fields (rows, cols, centred, uniform, and the cell boundaries that the map
+// choice csm_walk_cell tests, appended to `bounds`); the caller fills in the rest.
+device::CsmOccluder grid_occluder(const SphereGrid& grid, std::vector<float>& bounds);
 
 // The world → object transform of an instance of `csm` (object transform · placement⁻¹).
 Transform world_to_object(const CsmInfo& info, const Transform& placement);
@@ -80,16 +85,15 @@ class VisibilityQueries {
                          Profiler* profiler = nullptr);
 
   // Binds the scene tables as arguments first, first + 1, ... (instances, count, occluders, cells,
-  // offsets, ends, depths): shared with the AO driver.
+  // offsets, ends, depths, bounds): shared with the AO driver.
   void bind_scene(cl::Kernel& kernel, cl_uint first) const;
 
  private:
   Runtime& runtime_;
   cl_uint instance_count_;
-  // Filter-free batches: chunks of consecutive queries per work-item, one launch per instance.
+  // Chunks of consecutive queries per work-item, one launch per instance.
   cl::Kernel chunk_kernel_;
-  cl::Buffer instances_, occluders_, cells_, offsets_, ends_, depths_;
-  cl::Kernel kernel_;
+  cl::Buffer instances_, occluders_, cells_, offsets_, ends_, depths_, bounds_;
   cl::Buffer receivers_, lights_, out_;
 };
 

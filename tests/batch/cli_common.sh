@@ -28,6 +28,13 @@ f 1 3 2
 f 1 2 4
 f 1 4 3
 f 2 3 4'
+# The cube with texture coordinates (every face maps the whole image), for textured splats.
+textured_cube="$(printf '%s\n' "$cube" | grep '^v ')
+vt 0 0
+vt 1 0
+vt 1 1
+vt 0 1
+$(printf '%s\n' "$cube" | grep '^f ' | sed -E 's|^f ([0-9]+) ([0-9]+) ([0-9]+) ([0-9]+)$|f \1/1 \2/2 \3/3 \4/4|')"
 
 # The ids and statuses of a summary's models, in id order (only model entries carry these keys).
 statuses() { grep -E '"(id|status)": ' "$1"; }

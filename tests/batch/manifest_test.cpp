@@ -71,12 +71,12 @@ TEST(Manifest, JsonErrorsNameFileEntryAndKey) {
   EXPECT_EQ(error_of([] { json(R"({"defaults": {}})"); }), "m.json: \"models\" must be a list");
   EXPECT_EQ(error_of([] { json(R"({"models": []})"); }), "m.json: no models");
   const std::string unknown = error_of([] { json(R"({"models": ["a.obj", {"path": "b.obj", "epsilon": 1}]})"); });
-  EXPECT_EQ(unknown.rfind("m.json: models[1]: unknown key 'epsilon' (known: id, path, eps, eps_diag, k,", 0), 0u) << unknown;
+  EXPECT_EQ(unknown.rfind("m.json: models[1] (b): unknown parameter 'epsilon' (known: id, path, eps, eps_diag, color_tol,", 0), 0u) << unknown;
   EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "k": -3}]})"); }),
-            "m.json: models[0]: 'k' must be an integer from 1 to 1024, got -3");
+            "m.json: models[0] (b): 'k' must be an integer from 1 to 1024, got -3");
   EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "res": 2.5}]})"); }),
-            "m.json: models[0]: 'res' must be an integer from 1 to 8192, got 2.5");
-  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "eps": "x"}]})"); }), "m.json: models[0]: 'eps' must be a number, got 'x'");
+            "m.json: models[0] (b): 'res' must be an integer from 1 to 8192, got 2.5");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "eps": "x"}]})"); }), "m.json: models[0] (b): 'eps' must be a number, got 'x'");
   EXPECT_EQ(error_of([] { json(R"({"models": [{"id": "b"}]})"); }), "m.json: models[0]: missing \"path\"");
   EXPECT_EQ(error_of([] { json(R"({"models": [3]})"); }), "m.json: models[0]: expected a path or an object with \"path\", got 3");
   EXPECT_EQ(error_of([] { json(R"({"defaults": {"color_tol": 300}, "models": ["a.obj"]})"); }),
@@ -84,7 +84,7 @@ TEST(Manifest, JsonErrorsNameFileEntryAndKey) {
   EXPECT_EQ(error_of([] { json(R"({"models": ["a.obj"]})", {{"k", "many"}}); }),
             "command line: 'k' must be an integer from 1 to 1024, got 'many'");
   EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "outputs": ["png"]}]})"); }),
-            "m.json: models[0]: 'outputs' has unknown output 'png' (one of: splats, csm)");
+            "m.json: models[0] (b): 'outputs' has unknown output 'png' (one of: splats, csm)");
 }
 
 TEST(Manifest, CombinationsAreValidatedWhenRead) {
@@ -135,8 +135,8 @@ TEST(Manifest, CsvErrorsNameFileAndLine) {
   EXPECT_EQ(error_of([] { csv("path,epsilon\na.obj,1\n"); }).rfind("m.csv:1: unknown column 'epsilon' (known: id, path, eps,", 0), 0u);
   EXPECT_EQ(error_of([] { csv("id,maps\na,16\n"); }), "m.csv:1: the header has no 'path' column");
   EXPECT_EQ(error_of([] { csv("path,k\na.obj,1\nb.obj\n"); }), "m.csv:3: 1 fields, but the header has 2");
-  EXPECT_EQ(error_of([] { csv("path,k\na.obj,zero\n"); }), "m.csv:2: 'k' must be an integer from 1 to 1024, got 'zero'");
-  EXPECT_EQ(error_of([] { csv("path,clip\na.obj,maybe\n"); }), "m.csv:2: 'clip' must be true or false, got 'maybe'");
+  EXPECT_EQ(error_of([] { csv("path,k\na.obj,zero\n"); }), "m.csv:2 (a): 'k' must be an integer from 1 to 1024, got 'zero'");
+  EXPECT_EQ(error_of([] { csv("id,path,clip\nchair,a.obj,maybe\n"); }), "m.csv:2 (chair): 'clip' must be true or false, got 'maybe'");
   EXPECT_EQ(error_of([] { csv("path\n\"a.obj\n"); }), "m.csv:2: unterminated quote");
   EXPECT_EQ(error_of([] { csv("path,path\na.obj,b.obj\n"); }), "m.csv:1: column 'path' appears twice");
   EXPECT_EQ(error_of([] { csv("# nothing\n"); }), "m.csv: empty (expected a header line with a 'path' column)");
@@ -171,6 +171,60 @@ TEST(Manifest, DirectoryScanFindsMeshesRecursivelySkippingHiddenAndOutput) {
   std::filesystem::create_directories(dir / "empty");
   write_text(dir / "empty/readme.txt", "x");
   EXPECT_EQ(error_of([&] { scan_directory(dir / "empty"); }), "no meshes (.obj, .ply, .off, .stl) in " + (dir / "empty"));
+}
+
+TEST(Manifest, UnknownParametersNameTheModelAndTheParameter) {
+  const std::string json_error = error_of([] { json(R"({"models": ["a.obj", {"path": "b.obj", "id": "chairs/oak", "mapz": 64}]})"); });
+  EXPECT_EQ(json_error.rfind("m.json: models[1] (chairs/oak): unknown parameter 'mapz' (known: id, path, ", 0), 0u) << json_error;
+  // The list names every parameter of both stages.
+  for (const char* key : {"eps_diag", "texture", "literal_lambda", "retest_violator", "maps", "capture", "batch", "outputs"})
+    EXPECT_NE(json_error.find(key), std::string::npos) << key;
+  const std::string defaults_error = error_of([] { json(R"({"defaults": {"colour_tol": 3}, "models": ["a.obj"]})"); });
+  EXPECT_EQ(defaults_error.rfind("m.json: defaults: unknown parameter 'colour_tol' (known: ", 0), 0u) << defaults_error;
+  EXPECT_EQ(error_of([] { csv("path,k,resolution\na.obj,3,64\n"); }).rfind("m.csv:1: unknown column 'resolution' (known: id, path, ", 0), 0u);
+  EXPECT_EQ(error_of([] { json(R"({"models": ["a.obj"]})", {{"bogus", 1}}); }).rfind("command line: unknown parameter 'bogus'", 0), 0u);
+}
+
+TEST(Manifest, ParametersAreTheStagesOwnWithTheirOptionSpellings) {
+  std::vector<std::string> expected;
+  for (const ParameterInfo& p : splats::splat_parameters()) expected.push_back(p.key);
+  for (const ParameterInfo& p : csm::csm_parameters()) expected.push_back(p.key);
+  expected.push_back("outputs");
+  EXPECT_EQ(parameter_keys(), expected);
+  // A key may be written as the option is (eps-diag, --single-hit), in manifests and CSV headers.
+  const auto models = json(R"({"models": [{"path": "a.obj", "eps-diag": 0.004, "--single-hit": "exact", "capture": "raycast",
+                                           "literal_lambda": true, "retest-violator": "yes", "batch": 8}]})");
+  const ModelParams& p = models.at(0).params;
+  EXPECT_DOUBLE_EQ(p.splats.eps_diag, 0.004);
+  EXPECT_EQ(p.csm.single_hit, "exact");
+  EXPECT_EQ(p.csm.capture, "raycast");
+  EXPECT_TRUE(p.splats.literal_lambda);
+  EXPECT_TRUE(p.splats.retest_violator);
+  EXPECT_EQ(p.csm.batch, 8u);
+  EXPECT_EQ(csv("path,eps-diag,color-tol\na.obj,0.01,9\n").at(0).params.splats.color_tol, 9);
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "capture": "photo"}]})"); }).rfind("m.json: models[0] (b): 'capture': ", 0), 0u);
+  // Every parameter is in a run's record, so each one takes part in the resume checksum.
+  for (const ParameterInfo& info : splats::splat_parameters()) EXPECT_TRUE(splats::to_json(p.splats).contains(info.key)) << info.key;
+  for (const ParameterInfo& info : csm::csm_parameters())
+    EXPECT_EQ(csm::to_json(p.csm).contains(info.key), std::string(info.key) != "batch") << info.key;  // batch: memory only
+}
+
+TEST(Manifest, TexturePathsResolveAgainstTheManifestFolder) {
+  const auto models = json(R"({"defaults": {"texture": "textures/wood.png"},
+                               "models": ["a.obj", {"path": "b.obj", "texture": "/abs/stone.png"},
+                                          {"path": "c.obj", "texture": "../shared/c.jpg"}]})");
+  ASSERT_EQ(models.size(), 3u);
+  EXPECT_EQ(models[0].params.splats.texture, "meshes/textures/wood.png");
+  EXPECT_EQ(models[1].params.splats.texture, "/abs/stone.png");
+  EXPECT_EQ(models[2].params.splats.texture, "shared/c.jpg");
+  const auto rows = csv("id,path,texture\nx,x.obj,x.png\ny,y.obj,\n");
+  EXPECT_EQ(rows[0].params.splats.texture, "meshes/x.png");
+  EXPECT_EQ(rows[1].params.splats.texture, "");  // empty cell: no texture
+  // On the command line a path is relative to the working directory, as for any option.
+  EXPECT_EQ(json(R"({"models": ["a.obj"]})", {{"texture", "here.png"}}).at(0).params.splats.texture, "here.png");
+  // The manifest checksum (merge) follows the texture.
+  EXPECT_NE(manifest_checksum(json(R"({"models": [{"path": "a.obj", "texture": "t1.png"}]})")),
+            manifest_checksum(json(R"({"models": [{"path": "a.obj", "texture": "t2.png"}]})")));
 }
 
 TEST(Manifest, ChecksumFollowsIdsInputsAndParameters) {

@@ -8,6 +8,7 @@
 #include "batch/runner.hpp"
 #include "batch/summary.hpp"
 #include "io/checksum.hpp"
+#include "io/image.hpp"
 #include "splats/splat_file.hpp"
 #include "csm/csm_file.hpp"
 
@@ -177,6 +178,84 @@ TEST(BatchRunner, ParallelJobsGiveTheSameOutputs) {
     for (const std::string& name : {splats_name(a[i].id), csm_name(a[i].id)})
       EXPECT_EQ(read_text(serial.output_dir + "/" + name), read_text(parallel.output_dir + "/" + name)) << name;
   }
+}
+
+// The unit cube with texture coordinates: every face maps the whole image.
+const char* kTexturedCubeObj =
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    "f 1/1 4/4 3/3 2/2\nf 5/1 6/2 7/3 8/4\nf 1/1 2/2 6/3 5/4\nf 3/1 4/2 8/3 7/4\nf 2/1 3/2 7/3 6/4\nf 1/1 5/2 8/3 4/4\n";
+
+void write_solid_texture(const std::string& path, float r, float g, float b) {
+  std::vector<float> rgb;
+  for (int k = 0; k < 4; ++k) rgb.insert(rgb.end(), {r, g, b});
+  write_image_rgb(path, 2, 2, rgb);
+}
+
+TEST(BatchRunner, TexturedModelsColourTheirSplatsAndRebuildWhenTheImageChanges) {
+  ScratchDir dir("runner-texture");
+  write_text(dir / "box.obj", kTexturedCubeObj);
+  write_solid_texture(dir / "red.png", 1, 0, 0);
+  std::vector<ModelEntry> models{model(dir, "box", "box.obj")};
+  models[0].params.splats.texture = dir / "red.png";
+  const RunOptions options = reference_options(dir);
+  ModelResult r = run_batch(models, options).at(0);
+  ASSERT_TRUE(r.ok) << r.reason;
+  const splats::SplatFile red = splats::read_splat_file(options.output_dir + "/box.splats.ply");
+  EXPECT_EQ(red.info.color_source, "texture:" + (dir / "red.png"));
+  ASSERT_FALSE(red.splats.empty());
+  for (const auto& splat : red.splats) EXPECT_TRUE(splat.color.r == 255 && splat.color.g == 0 && splat.color.b == 0);
+  EXPECT_EQ(output(r, "splats")->params["texture"], dir / "red.png");
+
+  // The image edited in place: the splats are rebuilt in the new colour, the CSM is reused.
+  write_solid_texture(dir / "red.png", 0, 0, 1);
+  r = run_batch(models, options).at(0);
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_FALSE(output(r, "splats")->reused);
+  EXPECT_TRUE(output(r, "csm")->reused);
+  for (const auto& splat : splats::read_splat_file(options.output_dir + "/box.splats.ply").splats) EXPECT_EQ(splat.color.b, 255);
+  EXPECT_TRUE(run_batch(models, options).at(0).reused());
+
+  // A missing image or a mesh without texture coordinates fails the model, naming the cause.
+  models[0].params.splats.texture = dir / "missing.png";
+  r = run_batch(models, options).at(0);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("missing.png"), std::string::npos) << r.reason;
+  write_text(dir / "plain.obj", test::kCubeObj);
+  std::vector<ModelEntry> plain{model(dir, "plain", "plain.obj")};
+  plain[0].params.splats.texture = dir / "red.png";
+  r = run_batch(plain, options).at(0);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("plain.obj has no texture coordinates"), std::string::npos) << r.reason;
+}
+
+TEST(BatchRunner, CsmParametersReachTheBuildAsInCsmBuild) {
+  ScratchDir dir("runner-csm-params");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  std::vector<ModelEntry> models{model(dir, "cube", "cube.obj")};
+  models[0].params.want_splats = false;
+  models[0].params.csm.capture = "raycast";
+  models[0].params.csm.single_hit = "exact";
+  models[0].params.csm.encoding = "compact";
+  models[0].params.csm.batch = 3;
+  const RunOptions options = reference_options(dir);
+  ModelResult r = run_batch(models, options).at(0);
+  ASSERT_TRUE(r.ok) << r.reason;
+  csm::Encoding encoding = csm::Encoding::Plain;
+  const csm::Csm raycast = csm::read_csm(options.output_dir + "/cube.csm", &encoding);
+  EXPECT_EQ(raycast.info.capture, csm::CaptureMethod::Raycast);
+  EXPECT_EQ(raycast.info.single_hit, csm::SingleHit::Exact);
+  EXPECT_EQ(encoding, csm::Encoding::Compact);
+  const nlohmann::json stats = nlohmann::json::parse(read_text(options.output_dir + "/cube.csm.json"));
+  EXPECT_EQ(stats["capture"], "raycast");
+  EXPECT_EQ(stats["batch_maps"], 3);
+  // The batch size changes memory use, not the file: no rebuild.
+  models[0].params.csm.batch = 5;
+  EXPECT_TRUE(run_batch(models, options).at(0).reused());
+  models[0].params.csm.capture = "raster";
+  r = run_batch(models, options).at(0);
+  EXPECT_FALSE(r.reused());
+  EXPECT_EQ(csm::read_csm(options.output_dir + "/cube.csm").info.capture, csm::CaptureMethod::Raster);
 }
 
 TEST(BatchRunner, StaleTemporariesOfThisRunsModelsAreRemoved) {

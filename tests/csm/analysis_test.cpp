@@ -172,6 +172,38 @@ TEST(CsmAnalysis, EveryModeIsExactlyLosslessOnSmallBuilds) {
   }
 }
 
+TEST(CsmAnalysis, ModesAndAnalysesCaptureWithTheBuildsMethod) {
+  // The modes and analyses take their maps from the build's capture path: per-pixel compression
+  // of those maps gives exactly the streaming build's segments, for either method, and every mode
+  // stays lossless on rasterized (the default) and ray-cast maps.
+  const Mesh mesh = sphere_mesh(9, 14);
+  for (CaptureMethod method : {CaptureMethod::Raster, CaptureMethod::Raycast}) {
+    BuildOptions build;
+    build.maps = 64;
+    build.resolution = 16;
+    build.capture = method;
+    const BuildResult streamed = build_csm(mesh, build, &runtime());
+    EXPECT_EQ(streamed.csm.info.capture, method);
+    for (Runtime* rt : {&runtime(), static_cast<Runtime*>(nullptr)}) {
+      std::vector<float> z1, z2;
+      capture_all_maps(mesh, build, rt, z1, z2, std::uint64_t{1} << 30);
+      const Segments segments = compress_reference(z1, z2, 256, 64);
+      EXPECT_EQ(segments.offsets, streamed.segments.offsets) << to_string(method);
+      EXPECT_EQ(segments.end, streamed.segments.end) << to_string(method);
+      EXPECT_EQ(segments.lo, streamed.segments.lo) << to_string(method);
+      EXPECT_EQ(segments.hi, streamed.segments.hi) << to_string(method);
+    }
+    for (CompressionMode mode : {CompressionMode::PerMap, CompressionMode::Hilbert3d, CompressionMode::Hilbert4d}) {
+      ModeOptions o;
+      o.mode = mode;
+      const ModeResult device = compress_in_mode(mesh, build, o, &runtime());
+      EXPECT_EQ(device.samples, std::uint64_t{64} * 256) << to_string(mode) << " " << to_string(method);
+      EXPECT_EQ(device.violations, 0u) << to_string(mode) << " " << to_string(method);
+      EXPECT_EQ(compress_in_mode(mesh, build, o, nullptr).segments, device.segments) << to_string(mode) << " " << to_string(method);
+    }
+  }
+}
+
 TEST(CsmAnalysis, ModesRejectWhatTheyCannotTake) {
   const Mesh mesh = cube_mesh();
   BuildOptions build;

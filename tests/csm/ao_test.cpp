@@ -101,6 +101,21 @@ TEST(CsmAo, KernelMatchesReferenceForEveryPatternSetAndInstances) {
       EXPECT_EQ(std::memcmp(cl.data(), ref.data(), ref.size() * sizeof(Vec4)), 0) << to_string(set) << " ground " << ground;
     }
   }
+  // The first `count` receivers through `driver`: a smaller batch reuses its buffers, a larger one
+  // grows them.
+  const auto check_prefix = [&](AmbientOcclusion& driver, std::size_t count, PatternSet set, bool ground) {
+    const auto end = static_cast<std::ptrdiff_t>(count);
+    const AoRequest request = request_for({positions.begin(), positions.begin() + end}, {normals.begin(), normals.begin() + end}, set, ground);
+    std::vector<Vec4> ref;
+    ambient_occlusion_reference(scene, request, ref);
+    const std::vector<Vec4> cl = driver.run(request);
+    ASSERT_EQ(cl.size(), count);
+    EXPECT_EQ(std::memcmp(cl.data(), ref.data(), ref.size() * sizeof(Vec4)), 0) << count;
+  };
+  check_prefix(ao, 37, PatternSet::HaltonRotated, false);
+  AmbientOcclusion fresh(runtime(), scene);
+  check_prefix(fresh, 37, PatternSet::MonteCarlo, true);
+  check_prefix(fresh, positions.size(), PatternSet::MonteCarlo, true);
   AoRequest bad = request_for(positions, normals, PatternSet::MonteCarlo, false);
   bad.pattern_of[5] = 64;
   EXPECT_THROW(ao.run(bad), Error);

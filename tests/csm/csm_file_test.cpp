@@ -1,12 +1,15 @@
-// .csm files: plain and compact round trips, compact losslessness and size, and every kind of
-// damage (truncation, bit flips, wrong magic, missing file) as one clear Error.
+// .csm files: plain and compact round trips (including the recorded capture method), compact
+// losslessness and size, and every kind of damage (truncation, bit flips, wrong magic, other
+// versions, missing file) as one clear Error.
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
 #include "csm/build.hpp"
 #include "csm/csm_file.hpp"
 #include "csm_test_support.hpp"
+#include "io/checksum.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::csm {
@@ -22,6 +25,16 @@ const BuildResult& small_build() {
     return build_csm(scene_mesh(), o, nullptr);
   }();
   return result;
+}
+
+// The FNV-1a checksum of edited bytes recomputed (field at 204 zeroed while hashing), so a test
+// reaches the check after it.
+std::string with_checksum(std::string bytes) {
+  const std::uint64_t zero = 0;
+  std::memcpy(bytes.data() + 204, &zero, 8);
+  const std::uint64_t hash = fnv1a64({bytes.data(), bytes.size()});
+  std::memcpy(bytes.data() + 204, &hash, 8);
+  return bytes;
 }
 
 std::string temp_path(const std::string& name) { return (std::filesystem::temp_directory_path() / ("splatcl-csm-test-" + name)).string(); }
@@ -88,6 +101,48 @@ TEST(CsmFile, DamagedFilesAreOneClearError) {
   const std::string compact = encode_csm(small_build().csm, Encoding::Compact);
   expect_error(compact.substr(0, compact.size() - 1), "compact cut");
   EXPECT_THROW(read_csm(temp_path("missing.csm")), Error);
+}
+
+TEST(CsmFile, CaptureMethodRoundTripsAndVerifyUsesIt) {
+  const Mesh mesh = sphere_mesh(7, 12);
+  for (CaptureMethod method : {CaptureMethod::Raster, CaptureMethod::Raycast}) {
+    BuildOptions o;
+    o.maps = 16;
+    o.resolution = 12;
+    o.capture = method;
+    const BuildResult built = build_csm(mesh, o, nullptr);
+    EXPECT_EQ(built.csm.info.capture, method);
+    for (Encoding encoding : {Encoding::Plain, Encoding::Compact}) {
+      const std::string bytes = encode_csm(built.csm, encoding, &built.segments);
+      std::uint32_t stored = 99;
+      std::memcpy(&stored, bytes.data() + 212, 4);
+      EXPECT_EQ(stored, static_cast<std::uint32_t>(method));
+      const Csm back = decode_csm(bytes, "method.csm");
+      EXPECT_EQ(back.info.capture, method) << to_string(encoding);
+      // Without an override the check recaptures by the recorded method.
+      EXPECT_EQ(check_lossless(back, mesh, nullptr).violations, 0u) << to_string(method) << " " << to_string(encoding);
+    }
+  }
+  // An unknown method is refused (checksum recomputed so that only the field is wrong).
+  std::string bytes = encode_csm(small_build().csm, Encoding::Plain);
+  const std::uint32_t unknown = 7;
+  std::memcpy(bytes.data() + 212, &unknown, 4);
+  EXPECT_THROW(decode_csm(with_checksum(bytes), "unknown.csm"), Error);
+}
+
+TEST(CsmFile, OtherVersionsAreOneClearError) {
+  EXPECT_EQ(kCsmVersion, 2u);
+  for (const std::uint32_t version : {1u, 3u, 0u}) {
+    std::string bytes = encode_csm(small_build().csm, Encoding::Plain);
+    std::memcpy(bytes.data() + 8, &version, 4);
+    try {
+      decode_csm(with_checksum(bytes), "old.csm");
+      ADD_FAILURE() << "version " << version << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), "old.csm: not a splatcl .csm file of version 2 (it has version " + std::to_string(version) +
+                                           "; rebuild it with splatcl csm build)");
+    }
+  }
 }
 
 TEST(CsmFile, LookupFindsTheRunOfEveryMap) {

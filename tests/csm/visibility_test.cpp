@@ -160,6 +160,45 @@ TEST(CsmVisibility, ChunkedQueriesMatchReferenceOnCoherentBatches) {
   }
 }
 
+// The chunked kernel's walk from the previous query's cell across every kind of cell boundary, on
+// every distribution: light vectors sweeping in small steps along a meridian through both poles (φ
+// jumps by π there), along a circle of latitude through the φ = 0 seam and φ = π in both directions,
+// alternating across the seam (x = ±tiny, z > 0), and now and then a jump to a random direction
+// (a long walk); exactly the reference's answers.
+TEST(CsmVisibility, ChunkedQueriesMatchReferenceAcrossCellBoundaries) {
+  const Csm regular = build(scene_mesh(), Distribution::Regular, Order::Hilbert, PoleAxis::X180, 256, 32);
+  const Csm ao = build(sphere_mesh(10, 20), Distribution::ThesisAo, Order::ZigzagV, PoleAxis::Z, 512, 24);
+  std::mt19937 rng(11);
+  for (const Csm* csm : {&scene_csm(), &regular, &ao}) {
+    const Vec3 c = csm->info.sphere.centre;
+    const float r = csm->info.sphere.radius;
+    Queries q;
+    const auto add = [&](Vec3 w, bool point) {
+      const Vec3 p = c + Vec3{0.1f * r, -0.05f * r, 0.07f * r};
+      if (point) q.add(p, p + 3 * r * w, 1);
+      else q.add(p, w, 0);
+    };
+    constexpr int kSteps = 3000;
+    for (int k = 0; k < kSteps; ++k) {
+      const float angle = 2 * std::numbers::pi_v<float> * static_cast<float>(k) / kSteps;
+      add({std::sin(angle), std::cos(angle), 0.01f}, k % 2 == 0);  // meridian through both poles
+      add({std::sin(-1.5f * angle), 0.2f, std::cos(-1.5f * angle)}, k % 3 == 0);  // latitude circle, both ways
+      add({std::sin(angle), -0.6f, std::cos(angle)}, true);
+      add({(k % 2 ? 1e-6f : -1e-6f) * static_cast<float>(k % 5), 0.5f, 1}, k % 4 == 0);  // across the seam
+      if (k % 97 == 0) add(random_unit(rng), true);
+    }
+    const VisibilityScene scene({csm}, {{}});
+    VisibilityQueries queries(runtime(), scene);
+    std::vector<float> ref;
+    visibility_reference(scene, q.receivers, q.lights, Filter::None, 0.0f, ref);
+    expect_identical(ref, queries.run(q.receivers, q.lights, Filter::None, 0.0f), to_string(csm->info.distribution));
+    std::size_t lit = 0;
+    for (float v : ref) lit += v == 1.0f;
+    EXPECT_GT(lit, ref.size() / 20) << to_string(csm->info.distribution);
+    EXPECT_LT(lit, ref.size() - ref.size() / 20) << to_string(csm->info.distribution);
+  }
+}
+
 TEST(CsmVisibility, NoInstanceMeansLitAndEmptyBatches) {
   const VisibilityScene scene({&scene_csm()}, {});
   VisibilityQueries queries(runtime(), scene);
@@ -205,36 +244,125 @@ TEST(CsmVisibility, SeveralObjectsAreLitOnlyWhenEveryTestPasses) {
   for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(both[k], a[k] * b[k]) << k;
 }
 
+// The map choice (csm_select_cell: exact boundary tests, no atan2) against SphereGrid::nearest_cell
+// (std::atan2 and std::acos): the two may differ only within float rounding of a cell boundary; and
+// every camera's own direction selects its own cell (on the ao grid's pole row, where every camera
+// looks along the pole, column 0).
 TEST(CsmVisibility, SelectionIsTheNearestCell) {
-  // The shared selection (basic operations only) against SphereGrid::nearest_cell (std::atan2 and
-  // std::acos): the two may differ only within float rounding of a cell boundary.
   std::mt19937 rng(8);
   for (Distribution dist : {Distribution::Uniform, Distribution::Regular, Distribution::ThesisAo}) {
     const std::uint32_t maps = dist == Distribution::ThesisAo ? 8192 : 4096;
     const SphereGrid grid(dist, Order::ZigzagH, PoleAxis::Y, maps);
-    device::CsmOccluder oc{};
-    oc.rows = grid.rows();
-    oc.cols = grid.cols();
-    oc.centred = dist != Distribution::ThesisAo;
-    oc.uniform = dist == Distribution::Uniform;
+    std::vector<float> bounds;
+    const device::CsmOccluder oc = grid_occluder(grid, bounds);
     std::size_t differ = 0;
     const std::size_t n = 200000;
     for (std::size_t k = 0; k < n; ++k) {
       const Vec3 w = random_unit(rng);
-      float sr = 0, tc = 0;
-      ASSERT_TRUE(device::csm_grid_coords(&oc, w.x, w.y, w.z, &sr, &tc));
-      const float half = oc.centred ? 0.5f : 0.0f;
-      const std::uint32_t a = device::csm_clamp_row(&oc, device::csm_floor(sr + (0.5f - half)));
-      const std::uint32_t b = device::csm_wrap_col(&oc, device::csm_floor(tc + (0.5f - half)));
+      std::uint32_t entry = 0;
+      ASSERT_TRUE(device::csm_select_cell(&oc, bounds.data(), w.x, w.y, w.z, &entry));
       const Cell cell = grid.nearest_cell(w);
-      differ += cell.a != a || cell.b != b;
+      differ += cell.a * grid.cols() + cell.b != entry;
     }
     EXPECT_LT(differ, n / 10000) << to_string(dist);
+    for (std::uint32_t sequence = 0; sequence < grid.size(); ++sequence) {
+      const Cell cell = grid.cell_of(sequence);
+      const Camera camera = grid.camera(sequence);
+      std::uint32_t entry = 0;
+      ASSERT_TRUE(device::csm_select_cell(&oc, bounds.data(), camera.d[0], camera.d[1], camera.d[2], &entry));
+      const bool pole_row = dist == Distribution::ThesisAo && cell.a == 0;
+      EXPECT_EQ(entry, cell.a * grid.cols() + (pole_row ? 0 : cell.b)) << to_string(dist) << " cell " << cell.a << "," << cell.b;
+    }
   }
   for (int k = -2000; k <= 2000; ++k) {
     const float y = static_cast<float>(k) / 1000.0f, x = std::cos(static_cast<float>(k)), z = std::sin(1.3f * static_cast<float>(k));
     EXPECT_NEAR(device::csm_atan2(y, x), std::atan2(y, x), 3e-7f);
     EXPECT_NEAR(device::csm_atan2(x, z), std::atan2(x, z), 3e-7f);
+  }
+}
+
+// Directions that stress the map choice on `grid`: the poles and next to them, the φ = 0 seam and
+// φ = π (x = ±0 and ±tiny with z of either sign), the quarter turns, directions on (within rounding
+// of) every θ and φ cell boundary, and random ones.
+std::vector<Vec3> boundary_directions(const device::CsmOccluder& oc, const std::vector<float>& bounds, std::mt19937& rng) {
+  std::vector<Vec3> out = {{0, 1, 0},         {0, -1, 0},         {1e-8f, 1, 0},      {0, -1, 1e-8f},     {-1e-30f, 1, 0},
+                           {1e-20f, 1, 1e-20f}, {-0.0f, 0.3f, 1},  {0, 0.3f, 1},       {-1e-7f, 0.3f, 1},  {1e-7f, 0.3f, 1},
+                           {-0.0f, 0.3f, -1}, {0, 0.3f, -1},      {-1e-7f, 0.3f, -1}, {1e-7f, 0.3f, -1},  {1, 0, 0},
+                           {-1, 0, 0},        {0, 0, 1},          {0, 0, -1},         {3, 4, 0},          {-3, -4, 0}};
+  const auto cosine = [](float sc) { return sc < 0 ? -std::sqrt(-sc) : std::sqrt(sc); };
+  for (std::uint32_t k = 0; k + 1 < oc.rows; ++k) {
+    const float c = cosine(bounds[oc.bound_base + k]), rho = std::sqrt(std::max(0.0f, 1 - c * c));
+    const float phi = uniform(rng, 0, 2 * std::numbers::pi_v<float>);
+    out.push_back({rho * std::sin(phi), c, rho * std::cos(phi)});
+  }
+  for (std::uint32_t k = 0; k < oc.col_bounds; ++k) {
+    const float c = cosine(bounds[oc.bound_base + oc.rows - 1 + k]);
+    const float s = (k < oc.half_cols ? 1.0f : -1.0f) * std::sqrt(std::max(0.0f, 1 - c * c)), y = uniform(rng, -2, 2);
+    out.push_back({s, y, c});
+    out.push_back({0.5f * s, y, 0.5f * c});
+  }
+  for (int k = 0; k < 500; ++k) out.push_back(random_unit(rng));
+  return out;
+}
+
+// The walk's answer does not depend on where it starts: what lets the chunked kernel start each
+// query's walk at the previous query's cell and still agree exactly with the reference, which starts
+// at the rounded continuous coordinates. Checked from the grid's corners, both φ halves and random
+// cells, on even and odd grids of every distribution; the answer stays within one cell of
+// SphereGrid::nearest_cell away from the poles.
+TEST(CsmVisibility, MapChoiceWalkIsIndependentOfItsStart) {
+  std::mt19937 rng(10);
+  const std::pair<Distribution, std::uint32_t> grids[] = {{Distribution::Uniform, 4096}, {Distribution::Uniform, 25},
+                                                          {Distribution::Regular, 256},  {Distribution::Regular, 49},
+                                                          {Distribution::ThesisAo, 8192}, {Distribution::ThesisAo, 162},
+                                                          {Distribution::Uniform, 1}};
+  for (const auto& [dist, maps] : grids) {
+    const SphereGrid grid(dist, Order::ZigzagH, PoleAxis::Y, maps);
+    std::vector<float> bounds;
+    const device::CsmOccluder oc = grid_occluder(grid, bounds);
+    ASSERT_EQ(bounds.size(), oc.rows - 1 + oc.col_bounds);
+    // Sorted as the walk needs: θ boundaries by decreasing cosine, φ boundaries by decreasing
+    // cosine up to π and increasing after it.
+    for (std::uint32_t k = 1; k + 1 < oc.rows; ++k) EXPECT_LE(bounds[k], bounds[k - 1]);
+    const float* col = bounds.data() + (oc.rows - 1);
+    for (std::uint32_t k = 1; k < oc.col_bounds; ++k) {
+      if (k < oc.half_cols) {
+        EXPECT_LE(col[k], col[k - 1]);
+      } else if (k > oc.half_cols) {
+        EXPECT_GE(col[k], col[k - 1]);
+      }
+    }
+    std::size_t far = 0, checked = 0;
+    for (const Vec3 w : boundary_directions(oc, bounds, rng)) {
+      std::uint32_t expected = 0;
+      ASSERT_TRUE(device::csm_select_cell(&oc, bounds.data(), w.x, w.y, w.z, &expected)) << w.x << " " << w.y << " " << w.z;
+      float rho2 = 0, len2 = 0;
+      ASSERT_TRUE(device::csm_direction(w.x, w.y, w.z, &rho2, &len2));
+      const std::uint32_t starts[][2] = {{0, 0},
+                                         {oc.rows - 1, oc.col_bounds},
+                                         {oc.rows - 1, 0},
+                                         {0, oc.half_cols},
+                                         {0, oc.col_bounds},
+                                         {static_cast<std::uint32_t>(rng() % oc.rows), static_cast<std::uint32_t>(rng() % (oc.col_bounds + 1))},
+                                         {static_cast<std::uint32_t>(rng() % oc.rows), static_cast<std::uint32_t>(rng() % (oc.col_bounds + 1))}};
+      for (const auto& start : starts) {
+        std::uint32_t a = start[0], b = start[1];
+        device::csm_walk_cell(&oc, bounds.data(), w.x, w.y, w.z, rho2, len2, &a, &b);
+        EXPECT_LE(a, oc.rows - 1);
+        EXPECT_LE(b, oc.col_bounds);
+        EXPECT_EQ(device::csm_cell_entry(&oc, a, b), expected)
+            << to_string(dist) << " " << maps << ": " << w.x << " " << w.y << " " << w.z << " from " << start[0] << "," << start[1];
+      }
+      if (rho2 > 1e-6f * len2) {
+        const Cell cell = grid.nearest_cell(w);
+        const std::uint32_t a = expected / oc.cols, b = expected % oc.cols;
+        const std::uint32_t db = std::min((b + oc.cols - cell.b) % oc.cols, (cell.b + oc.cols - b) % oc.cols);
+        far += (a > cell.a ? a - cell.a : cell.a - a) > 1 || db > 1;
+        ++checked;
+      }
+    }
+    EXPECT_EQ(far, 0u) << to_string(dist) << " " << maps;
+    EXPECT_GT(checked, 500u);
   }
 }
 
@@ -298,8 +426,8 @@ namespace {
 
 // Side-by-side timing of the visibility kernel and the native reference on coherent, screen-like
 // batches: receivers on a grid over a floor under the bunny, lit by a point light above it (as in
-// `splatcl bench csm`) or by one directional light. Run with --gtest_also_run_disabled_tests;
-// SPLATCL_QUERY_MAPS / SPLATCL_QUERY_RES / SPLATCL_QUERIES set the sizes (1024, 64, 2^20).
+// `splatcl bench csm`; also with both PCF filters) or by one directional light. Run with
+// --gtest_also_run_disabled_tests; SPLATCL_QUERY_MAPS / SPLATCL_QUERY_RES / SPLATCL_QUERIES set the sizes (1024, 64, 2^20).
 TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
   const std::string path = model_path("stanford-bunny.obj");
   if (path.empty()) GTEST_SKIP() << "stanford-bunny.obj not found";
@@ -314,7 +442,9 @@ TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
   const Vec3 c = csm.info.sphere.centre;
   const float r = csm.info.sphere.radius;
   const std::uint32_t n = env("SPLATCL_QUERIES", 1u << 20), width = static_cast<std::uint32_t>(std::ceil(std::sqrt(double(n))));
-  for (const bool point : {true, false}) {
+  const std::pair<bool, Filter> cases[] = {
+      {true, Filter::None}, {false, Filter::None}, {true, Filter::SameMap}, {true, Filter::CrossMap}};
+  for (const auto& [point, filter] : cases) {
     Queries q;
     for (std::uint32_t k = 0; k < n; ++k) {
       const float s = (static_cast<float>(k % width) + 0.5f) / static_cast<float>(width);
@@ -326,20 +456,20 @@ TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
     std::vector<float> expected;
     Stopwatch ref_clock;
     const std::clock_t ref_cpu = std::clock();
-    visibility_reference(scene, q.receivers, q.lights, Filter::None, 0.0f, expected);
+    visibility_reference(scene, q.receivers, q.lights, filter, 0.0f, expected);
     const double ref_ms = ref_clock.elapsed_ms(), ref_cpu_ms = 1e3 * static_cast<double>(std::clock() - ref_cpu) / CLOCKS_PER_SEC;
     const cl::Buffer receivers = runtime().buffer(CL_MEM_READ_ONLY, n * sizeof(Vec4), "receivers");
     const cl::Buffer lights = runtime().buffer(CL_MEM_READ_ONLY, n * sizeof(Vec4), "lights");
     cl::Buffer out = runtime().buffer(CL_MEM_READ_WRITE, n * sizeof(float), "out");
     runtime().queue().enqueueWriteBuffer(receivers, CL_TRUE, 0, n * sizeof(Vec4), q.receivers.data());
     runtime().queue().enqueueWriteBuffer(lights, CL_TRUE, 0, n * sizeof(Vec4), q.lights.data());
-    kernel.run(receivers, lights, n, Filter::None, 0.0f, out);  // warm-up
+    kernel.run(receivers, lights, n, filter, 0.0f, out);  // warm-up
     runtime().queue().finish();
     double best = 1e30, best_cpu = 1e30;
     for (int run = 0; run < 5; ++run) {
       Stopwatch clock;
       const std::clock_t cpu = std::clock();
-      kernel.run(receivers, lights, n, Filter::None, 0.0f, out);
+      kernel.run(receivers, lights, n, filter, 0.0f, out);
       runtime().queue().finish();
       best = std::min(best, clock.elapsed_ms());
       best_cpu = std::min(best_cpu, 1e3 * static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC);
@@ -349,10 +479,10 @@ TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
     EXPECT_EQ(std::memcmp(got.data(), expected.data(), n * sizeof(float)), 0);
     std::size_t lit = 0;
     for (float v : got) lit += v > 0;
-    std::printf("%s light, %u queries (%zu lit), %u maps of %u^2: kernel %.2f ms (%.2f ms CPU) = %.1f M queries/s; "
+    std::printf("%s light, filter %s, %u queries (%zu lit), %u maps of %u^2: kernel %.2f ms (%.2f ms CPU) = %.1f M queries/s; "
                 "reference %.2f ms (%.2f ms CPU) = %.1f M/s\n",
-                point ? "point" : "directional", n, lit, csm.info.maps, csm.info.resolution, best, best_cpu, n / best / 1e3, ref_ms,
-                ref_cpu_ms, n / ref_ms / 1e3);
+                point ? "point" : "directional", to_string(filter), n, lit, csm.info.maps, csm.info.resolution, best, best_cpu,
+                n / best / 1e3, ref_ms, ref_cpu_ms, n / ref_ms / 1e3);
   }
 }
 

@@ -6,12 +6,15 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 
 #include "present/context.hpp"
+#include "present/lod.hpp"
 #include "present/presenter.hpp"
 #include "present/scene.hpp"
 #include "runtime/error.hpp"
@@ -171,6 +174,27 @@ TEST_F(PresenterTest, ClusteredTiledAndBruteForceShadingAgree) {
   }
 }
 
+// The last render's splat coverage against the triangle meshes rendered with the same camera:
+// covered share of the mesh pixels, and splat pixels outside the mesh relative to the mesh's.
+struct Coverage {
+  std::size_t mesh = 0;
+  double covered = 0, spill = 0;
+};
+Coverage silhouette_coverage(Presenter& presenter, float time) {
+  const auto splat_mask = presenter.read_coverage();
+  const auto mesh_mask = presenter.render_mesh_mask(time);
+  std::size_t covered = 0, outside = 0;
+  Coverage c;
+  for (std::size_t i = 0; i < mesh_mask.size(); ++i) {
+    c.mesh += mesh_mask[i];
+    covered += mesh_mask[i] & splat_mask[i];
+    outside += splat_mask[i] & (1 - mesh_mask[i]);
+  }
+  c.covered = static_cast<double>(covered) / static_cast<double>(std::max<std::size_t>(c.mesh, 1));
+  c.spill = static_cast<double>(outside) / static_cast<double>(std::max<std::size_t>(c.mesh, 1));
+  return c;
+}
+
 TEST_F(PresenterTest, SplatsCoverTheMeshSilhouette) {
   Scene scene = test_scene();
   scene.floor.enabled = false;
@@ -179,22 +203,14 @@ TEST_F(PresenterTest, SplatsCoverTheMeshSilhouette) {
     Presenter presenter(scene, *runtime_, 320, 240, SPLATCL_TEST_CACHE);
     for (const float time : {0.0f, 2.0f}) {
       presenter.render(time);
-      const auto splat_mask = presenter.read_coverage();
-      const auto mesh_mask = presenter.render_mesh_mask(time);
-      std::size_t mesh = 0, covered = 0, outside = 0;
-      for (std::size_t i = 0; i < mesh_mask.size(); ++i) {
-        mesh += mesh_mask[i];
-        covered += mesh_mask[i] & splat_mask[i];
-        outside += splat_mask[i] & (1 - mesh_mask[i]);
-      }
-      ASSERT_GT(mesh, 1000u);
-      const double coverage = static_cast<double>(covered) / static_cast<double>(mesh);
+      const Coverage c = silhouette_coverage(presenter, time);
+      ASSERT_GT(c.mesh, 1000u);
       if (!points) {
-        EXPECT_GE(coverage, 0.995) << "time " << time;
+        EXPECT_GE(c.covered, 0.995) << "time " << time;
       }
       // Elliptical splats reach past the silhouette by a thin rim; the low-quality squares (side =
       // the projected major-axis diameter) by much more.
-      EXPECT_LT(static_cast<double>(outside) / static_cast<double>(mesh), points ? 0.6 : 0.08) << "mode " << scene.quality.mode;
+      EXPECT_LT(c.spill, points ? 0.6 : 0.08) << "mode " << scene.quality.mode;
     }
   }
 }
@@ -266,15 +282,17 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
     std::ofstream(entry.path(), std::ios::trunc) << "not a cache entry";
     ++corrupted;
   }
-  ASSERT_EQ(corrupted, 2u);
+  ASSERT_EQ(corrupted, 3u);  // splats, LOD tree, CSM
   {
     Presenter rebuilt(scene, *runtime_, 32, 32, dir.string());
     EXPECT_FALSE(rebuilt.assets(0).splats_cached);
+    EXPECT_FALSE(rebuilt.assets(0).tree_cached);
     EXPECT_FALSE(rebuilt.assets(0).csm_cached);
     EXPECT_GT(rebuilt.assets(0).splats.size(), 500u);
   }
   Presenter cached(scene, *runtime_, 32, 32, dir.string());
   EXPECT_TRUE(cached.assets(0).splats_cached);
+  EXPECT_TRUE(cached.assets(0).tree_cached);
   EXPECT_TRUE(cached.assets(0).csm_cached);
   std::filesystem::remove_all(dir);
 }
@@ -290,6 +308,336 @@ TEST_F(PresenterTest, DebugViewsRender) {
     EXPECT_GT(sum, 0.0) << to_string(presenter.debug_view);
   }
   EXPECT_THROW(parse_debug_view("wireframe"), Error);
+}
+
+}  // namespace
+}  // namespace splatcl::present
+
+// --- Frame-rate work: incremental per-splat lighting, shading variants, Blinn-Phong. ---
+namespace splatcl::present {
+namespace {
+
+// The incremental update (only receivers a moved occluder may reach) gives the rows of a full
+// recomputation bit for bit: the default scene's torus orbiting and spinning, small steps and jumps,
+// and a sphere teleported across the floor.
+TEST_F(PresenterTest, IncrementalSplatLightingEqualsFullRecomputation) {
+  for (const bool teleport : {false, true}) {
+    Scene scene = test_scene();
+    if (teleport) {
+      scene.objects[1].animation = Animation{};
+      scene.objects[0].animation = Animation{};
+    }
+    // Both from the cache: assets built in memory on a cache miss need not equal their cached files
+    // bit for bit (the CSM file's depth encoding), and the comparison needs identical assets.
+    { Presenter warm(scene, *runtime_, 16, 16, SPLATCL_TEST_CACHE); }
+    Presenter incremental(scene, *runtime_, 64, 48, SPLATCL_TEST_CACHE);
+    Presenter full(scene, *runtime_, 64, 48, SPLATCL_TEST_CACHE);
+    full.incremental_lighting = false;
+    for (std::size_t i = 0; i < full.scene().objects.size(); ++i)
+      ASSERT_TRUE(full.assets(i).csm_cached && incremental.assets(i).csm_cached) << "object " << i;
+    std::size_t partial_updates = 0;
+    const float times[] = {0.0f, 1.0f / 30, 2.0f / 30, 0.5f, 3.0f, 3.0f + 1.0f / 30};
+    for (std::size_t step = 0; step < std::size(times); ++step) {
+      if (teleport) {
+        const glm::vec3 spot = step % 2 ? glm::vec3(2.5f, 1.0f, 1.5f) : glm::vec3(-1.6f, 1.0f, -1.4f);
+        incremental.scene().objects[1].position = full.scene().objects[1].position = spot;
+      }
+      const FrameStats a = incremental.render(times[step]), b = full.render(times[step]);
+      ASSERT_EQ(a.ao_updated, b.ao_updated);
+      if (step > 0 && a.ao_updated) {
+        EXPECT_EQ(b.lighting_receivers, b.splats);
+        partial_updates += a.lighting_receivers < a.splats;
+      }
+      const std::vector<float>& x = incremental.splat_lighting();
+      const std::vector<float>& y = full.splat_lighting();
+      ASSERT_EQ(x.size(), y.size());
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < x.size(); ++i) differ += std::memcmp(&x[i], &y[i], sizeof(float)) != 0;
+      EXPECT_EQ(differ, 0u) << "step " << step << (teleport ? " (teleport)" : " (default animation)");
+    }
+    EXPECT_GE(partial_updates, 2u);  // the incremental path skipped receivers on most updates
+  }
+}
+
+TEST(PresenterScene, SpecularIsOffByDefaultAndValidated) {
+  EXPECT_EQ(default_scene().quality.specular, 0.0f);
+  const Scene on = parse_scene("{\"objects\": [], \"quality\": {\"specular\": 0.5, \"shininess\": 16}}", "s.json", ".");
+  EXPECT_EQ(on.quality.specular, 0.5f);
+  EXPECT_EQ(on.quality.shininess, 16.0f);
+  EXPECT_THROW(parse_scene("{\"objects\": [], \"quality\": {\"specular\": -1}}", "s.json", "."), Error);
+  EXPECT_THROW(parse_scene("{\"objects\": [], \"quality\": {\"shininess\": 0}}", "s.json", "."), Error);
+  Scene scene = default_scene();
+  Overrides overrides;
+  overrides.specular = 0.25;
+  apply_overrides(scene, overrides);
+  EXPECT_EQ(scene.quality.specular, 0.25f);
+}
+
+// Blinn-Phong adds a non-negative highlight where a light reaches the pixel: the background and a
+// scene lit only by the sky are unchanged, lit pixels never get darker and some get brighter.
+TEST_F(PresenterTest, SpecularChangesOnlyLitPixels) {
+  Scene scene = test_scene();
+  for (const bool lit : {true, false}) {
+    if (!lit) scene.lights.clear(), scene.key_lights.clear();
+    Presenter presenter(scene, *runtime_, 96, 72, SPLATCL_TEST_CACHE);
+    presenter.render(0.0f);
+    const std::vector<float> lambert = presenter.read_hdr_rgb();
+    const std::vector<std::uint8_t> covered = presenter.read_coverage();
+    presenter.scene().quality.specular = 0.5f;
+    presenter.render(0.0f);
+    const std::vector<float> phong = presenter.read_hdr_rgb();
+    ASSERT_EQ(lambert.size(), phong.size());
+    std::size_t brighter = 0, darker = 0, background_changed = 0;
+    for (std::size_t i = 0; i < phong.size(); ++i) {
+      brighter += phong[i] > lambert[i];
+      darker += phong[i] < lambert[i] - 1e-6f * std::max(1.0f, lambert[i]);
+      background_changed += !covered[i / 3] && phong[i] != lambert[i];
+    }
+    EXPECT_EQ(darker, 0u);
+    EXPECT_EQ(background_changed, 0u);
+    if (lit) {
+      EXPECT_GT(brighter, phong.size() / 100);
+    } else {
+      EXPECT_EQ(brighter, 0u);  // no light, no highlight
+    }
+  }
+}
+
+
+// ---- Per-splat colours and level of detail (sequential point trees) ----
+
+// Splats on a unit sphere (round, radius 0.12), deterministic.
+std::vector<splats::SplatRecord> sphere_splats(std::size_t count) {
+  std::vector<splats::SplatRecord> out(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const float y = 1.0f - 2.0f * (static_cast<float>(i) + 0.5f) / static_cast<float>(count);
+    const float r = std::sqrt(1.0f - y * y), phi = static_cast<float>(i) * 2.39996323f;
+    const glm::vec3 n(r * std::cos(phi), y, r * std::sin(phi));
+    const glm::vec3 t1 = glm::normalize(glm::cross(std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0), n));
+    const glm::vec3 t2 = glm::cross(n, t1);
+    out[i].center = {n.x, n.y, n.z};
+    out[i].normal = {n.x, n.y, n.z};
+    out[i].major = {0.12f * t1.x, 0.12f * t1.y, 0.12f * t1.z};
+    out[i].minor = {0.1f * t2.x, 0.1f * t2.y, 0.1f * t2.z};
+    out[i].color = {static_cast<std::uint8_t>(i % 256), 0, 255, 255};
+  }
+  return out;
+}
+
+TEST(PresenterLod, TreeIsASequenceWithACutAtEveryThreshold) {
+  for (const std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{15}, std::size_t{16}, std::size_t{1000}}) {
+    const auto splats = sphere_splats(count);
+    const SplatTree tree = build_splat_tree(splats);
+    ASSERT_EQ(tree.splat_count, count);
+    ASSERT_EQ(tree.size(), count + tree.nodes.size());
+    if (count == 0) continue;
+    EXPECT_EQ(tree.nodes.size() > 1, count >= 16) << count;  // leaves hold fewer than 16
+    // Every original and node exactly once, sorted by e_max descending, intervals non-empty or
+    // empty only at equal bounds.
+    std::vector<int> seen(tree.size(), 0);
+    for (std::size_t e = 0; e < tree.size(); ++e) {
+      ++seen[tree.source[e]];
+      if (e) {
+        EXPECT_GE(tree.error_max[e - 1], tree.error_max[e]);
+      }
+      EXPECT_LE(tree.error_min[e], tree.error_max[e]);
+      if (tree.source[e] < count) {
+        EXPECT_EQ(tree.error_min[e], 0.0f);
+      }
+    }
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int k) { return k == 1; }));
+    EXPECT_EQ(tree.error_max[0], FLT_MAX);  // the root
+    // A cut at every budget: each original splat is drawn itself or through exactly one ancestor
+    // interval holding the budget (overlap at the boundaries allows two).
+    std::vector<std::size_t> position(count);
+    for (std::size_t k = 0; k < count; ++k) position[tree.order[k]] = k;
+    for (const float budget : {0.0f, 1e-4f, 0.01f, 0.05f, 0.2f, 1.0f, 10.0f}) {
+      std::vector<int> drawn_over(count, 0);
+      for (std::size_t e = 0; e < tree.prefix(budget); ++e) {
+        if (!(budget >= tree.error_min[e] && budget < tree.error_max[e])) continue;
+        const std::uint32_t s = tree.source[e];
+        if (s < count) {
+          ++drawn_over[s];
+        } else {
+          for (std::uint32_t k = tree.node_begin[s - count]; k < tree.node_end[s - count]; ++k) ++drawn_over[tree.order[k]];
+        }
+      }
+      for (std::size_t s = 0; s < count; ++s) {
+        EXPECT_GE(drawn_over[s], 1) << "splat " << s << " budget " << budget;
+        EXPECT_LE(drawn_over[s], 2) << "splat " << s << " budget " << budget;
+      }
+      // Entries past the prefix can never be drawn at this budget or above.
+      for (std::size_t e = tree.prefix(budget); e < tree.size(); ++e) EXPECT_LE(tree.error_max[e], budget);
+    }
+    // Budget 0 draws exactly the originals.
+    std::size_t at_zero = 0;
+    for (std::size_t e = 0; e < tree.size(); ++e) at_zero += 0.0f >= tree.error_min[e] && 0.0f < tree.error_max[e];
+    EXPECT_EQ(at_zero, count);
+    // A node encloses its splats' centres and takes their mean row.
+    std::vector<float> rows(count);
+    for (std::size_t s = 0; s < count; ++s) rows[s] = static_cast<float>(s);
+    const std::vector<float> gathered = gather_tree_rows(tree, rows.data(), 1);
+    for (std::size_t e = 0; e < tree.size(); ++e) {
+      const std::uint32_t s = tree.source[e];
+      if (s < count) {
+        EXPECT_EQ(gathered[e], static_cast<float>(s));
+        continue;
+      }
+      const std::size_t node = s - count;
+      double mean = 0;
+      const glm::vec3 c(tree.nodes[node].center.x, tree.nodes[node].center.y, tree.nodes[node].center.z);
+      const float radius = glm::length(glm::vec3(tree.nodes[node].major.x, tree.nodes[node].major.y, tree.nodes[node].major.z));
+      for (std::uint32_t k = tree.node_begin[node]; k < tree.node_end[node]; ++k) {
+        mean += tree.order[k];
+        const auto& p = splats[tree.order[k]].center;
+        EXPECT_LE(glm::length(glm::vec3(p.x, p.y, p.z) - c), radius * 1.0001f);
+      }
+      EXPECT_NEAR(gathered[e], mean / (tree.node_end[node] - tree.node_begin[node]), 1e-3);
+    }
+  }
+}
+
+TEST(PresenterLod, TreeFileRoundTripsAndRejectsDamage) {
+  const auto splats = sphere_splats(300);
+  const SplatTree tree = build_splat_tree(splats);
+  const std::string path = (std::filesystem::temp_directory_path() / "splatcl-present-tree.spt").string();
+  write_splat_tree(path, tree);
+  const SplatTree back = read_splat_tree(path, 300);
+  EXPECT_EQ(back.source, tree.source);
+  EXPECT_EQ(back.error_min, tree.error_min);
+  EXPECT_EQ(back.error_max, tree.error_max);
+  EXPECT_EQ(back.order, tree.order);
+  ASSERT_EQ(back.nodes.size(), tree.nodes.size());
+  EXPECT_EQ(back.nodes.back().center.x, tree.nodes.back().center.x);
+  EXPECT_THROW(read_splat_tree(path, 301), Error);  // built over another splat set
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(200);
+    f.put('\x7f');
+  }
+  EXPECT_THROW(read_splat_tree(path, 300), Error);  // checksum
+  std::filesystem::resize_file(path, 20);
+  EXPECT_THROW(read_splat_tree(path, 300), Error);
+  EXPECT_THROW(read_splat_tree(path + ".missing", 300), Error);
+  std::filesystem::remove(path);
+}
+
+TEST(PresenterScene, SplatColoursAndLodOptionsAreValidated) {
+  const Scene scene = parse_scene(
+      R"({"objects": [{"mesh": {"procedural": "box"}, "color": "splats", "color_field": "soft"},
+                       {"mesh": {"procedural": "box"}, "color": [0.1, 0.2, 0.3]}],
+          "quality": {"lod_error": 1.5, "lod_leaf": 8}})",
+      "s.json", ".");
+  EXPECT_TRUE(scene.objects[0].splat_colors);
+  EXPECT_EQ(scene.objects[0].color_field, "soft");
+  EXPECT_FALSE(scene.objects[1].splat_colors);
+  EXPECT_EQ(scene.quality.lod_error, 1.5f);
+  EXPECT_EQ(scene.quality.lod_leaf, 8u);
+  EXPECT_EQ(default_scene().quality.lod_error, 0.0f);  // LOD is off by default
+  const auto fails = [](const std::string& text, const std::string& field) {
+    try {
+      parse_scene(text, "s.json", ".");
+    } catch (const Error& e) {
+      return std::string(e.what()).find(field) != std::string::npos;
+    }
+    return false;
+  };
+  EXPECT_TRUE(fails(R"({"objects": [{"mesh": {"procedural": "box"}, "color": "texture"}]})", "'color'"));
+  EXPECT_TRUE(fails(R"({"objects": [{"mesh": {"procedural": "box"}, "color": "splats", "color_field": "plaid"}]})", "'color_field'"));
+  EXPECT_TRUE(fails(R"({"objects": [{"mesh": {"procedural": "box"}, "color_field": "soft"}]})", "'color_field'"));
+  EXPECT_TRUE(fails(R"({"objects": [], "quality": {"lod_error": -1}})", "'lod_error'"));
+  Scene s = default_scene();
+  Overrides o;
+  o.lod = 2;
+  apply_overrides(s, o);
+  EXPECT_EQ(s.quality.lod_error, 2.0f);
+}
+
+// A long box coloured by the soft field (red at low x to white at high x along its longest axis):
+// the albedo view shows red on the left end and white on the right end.
+TEST_F(PresenterTest, PerSplatColoursReachTheAlbedo) {
+  Scene scene = test_scene();
+  scene.floor.enabled = false;
+  scene.objects.resize(1);
+  ObjectSpec& bar = scene.objects[0];
+  bar = ObjectSpec{};
+  bar.name = "bar";
+  bar.mesh.procedural = "box";
+  bar.mesh.size = {4.0f, 1.0f, 1.0f};
+  bar.mesh.rings = 8;
+  bar.splat_colors = true;
+  bar.color_field = "soft";
+  bar.position = {0.0f, 0.8f, 0.0f};
+  Presenter presenter(scene, *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+  presenter.debug_view = DebugView::Albedo;
+  presenter.render(0.0f);
+  const auto rgb = presenter.read_hdr_rgb();
+  const auto mask = presenter.read_coverage();
+  int lo = 160, hi = -1;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      if (mask[static_cast<std::size_t>(y) * 160 + static_cast<std::size_t>(x)]) lo = std::min(lo, x), hi = std::max(hi, x);
+  ASSERT_GT(hi - lo, 40);
+  // Mean albedo over the covered pixels of the outer eighths of the bar's width.
+  const auto mean = [&](int x0, int x1) {
+    glm::dvec3 sum(0.0);
+    int n = 0;
+    for (int y = 0; y < 120; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * 160 + static_cast<std::size_t>(x);
+        if (!mask[p]) continue;
+        sum += glm::dvec3(rgb[3 * p], rgb[3 * p + 1], rgb[3 * p + 2]);
+        ++n;
+      }
+    return n ? sum / static_cast<double>(n) : sum;
+  };
+  const int eighth = (hi - lo) / 8;
+  const glm::dvec3 left = mean(lo, lo + eighth), right = mean(hi - eighth, hi);
+  EXPECT_GT(left.r, 0.8) << "left red";
+  EXPECT_LT(left.g, 0.2) << "left not white";
+  EXPECT_GT(right.r, 0.8) << "right red channel";
+  EXPECT_GT(right.g, 0.55) << "right white";
+  EXPECT_GT(right.b, 0.55) << "right white";
+  // The scene colour of the object is ignored when the splats carry colours.
+  bar.splat_colors = false;
+  bar.color = {0.0f, 0.0f, 1.0f};
+  Presenter uniform(scene, *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+  uniform.debug_view = DebugView::Albedo;
+  uniform.render(0.0f);
+  const auto blue = uniform.read_hdr_rgb();
+  for (std::size_t p = 0; p < mask.size(); ++p)
+    if (mask[p]) {
+      ASSERT_EQ(blue[3 * p], 0.0f);
+    }
+}
+
+// The default scene seen from 3.5 times farther: LOD at 2 pixels draws fewer splats and still
+// covers the triangle meshes' silhouette; LOD 0 is the same image as LOD off, bit for bit.
+TEST_F(PresenterTest, LodDrawsFewerSplatsFarAwayAndKeepsTheSilhouette) {
+  Scene scene = test_scene();
+  scene.floor.enabled = false;
+  const auto target = scene.camera.target;
+  scene.camera.eye = target + 3.5f * (scene.camera.eye - target);
+  Presenter presenter(scene, *runtime_, 320, 240, SPLATCL_TEST_CACHE);
+  const FrameStats off = presenter.render(0.0f);
+  const auto image_off = presenter.read_hdr_rgb();
+  const Coverage coverage_off = silhouette_coverage(presenter, 0.0f);
+  presenter.scene().quality.lod_error = 2.0f;
+  const FrameStats on = presenter.render(0.0f);
+  const Coverage coverage_on = silhouette_coverage(presenter, 0.0f);
+  ASSERT_GT(coverage_on.mesh, 500u);
+  EXPECT_LT(on.splats, off.splats / 2) << on.splats << " of " << off.splats;
+  EXPECT_GE(coverage_on.covered, 0.995) << "LOD off: " << coverage_off.covered;
+  EXPECT_LT(coverage_on.spill, 0.25) << "LOD off: " << coverage_off.spill;
+  presenter.scene().quality.lod_error = 0.0f;
+  const FrameStats zero = presenter.render(0.0f);
+  EXPECT_EQ(zero.splats, off.splats);
+  EXPECT_EQ(presenter.read_hdr_rgb(), image_off);
+  // Closer than the coarsest level needs, the same threshold keeps (nearly) every original splat.
+  Presenter near(test_scene(), *runtime_, 320, 240, SPLATCL_TEST_CACHE);
+  const FrameStats near_off = near.render(0.0f);
+  near.scene().quality.lod_error = 0.05f;
+  EXPECT_GE(near.render(0.0f).splats, near_off.splats * 9 / 10);
 }
 
 }  // namespace

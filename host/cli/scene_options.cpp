@@ -1,0 +1,27 @@
+#include "cli/scene_options.hpp"
+
+namespace splatcl::cli {
+
+present::Scene SceneOptions::load() const {
+  present::Scene s = scene.empty() ? present::default_scene() : present::load_scene(scene);
+  present::apply_overrides(s, overrides);
+  return s;
+}
+
+std::string SceneOptions::cache_dir() const { return cache.empty() ? present::default_cache_dir() : cache; }
+
+void add_scene_options(CLI::App& app, SceneOptions& o) {
+  app.add_option("scene", o.scene, "Scene JSON (default: the embedded data/presenter-scene.json)");
+  app.add_option("--shading", o.overrides.shading, "clustered, tiled or brute (default: the scene's)");
+  app.add_option("--mode", o.overrides.mode, "splats (three-pass Gaussian splatting) or points (low quality)");
+  app.add_option("--shadows", o.overrides.shadows, "Key-light shadows: splat, pixel or off");
+  app.add_option("--lights", o.overrides.lights, "Number of generated point lights (default: the scene's)");
+  app.add_option("--lod", o.overrides.lod,
+                 "Level of detail: screen-space error threshold in pixels, 0 = off (default: the scene's quality.lod_error)");
+  app.add_option("--specular", o.overrides.specular,
+                 "Blinn-Phong highlight strength in [0, 100], 0 = Lambert only (default: the scene's quality.specular, 0)");
+  app.add_option("--cache", o.cache, "Asset cache directory (default: $SPLATCL_CACHE, else ~/.cache/splatcl)");
+  add_device_option(app, o.device);
+}
+
+}  // namespace splatcl::cli

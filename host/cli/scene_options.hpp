@@ -1,0 +1,28 @@
+#pragma once
+// The scene options `splatcl render` and `splatcl view` share: the scene file, the quality
+// overrides, the asset cache and the OpenCL device, registered once and resolved into a Scene.
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.hpp"
+#include "present/assets.hpp"
+#include "present/scene.hpp"
+
+namespace splatcl::cli {
+
+struct SceneOptions {
+  std::string scene;  // empty: the embedded default scene
+  std::string cache;  // empty: present::default_cache_dir()
+  present::Overrides overrides;
+  DeviceOptions device;
+
+  // The scene file, or the default scene, with the overrides applied.
+  present::Scene load() const;
+  std::string cache_dir() const;
+};
+
+// Adds the positional scene, --shading, --mode, --shadows, --lights, --lod, --cache and --device.
+void add_scene_options(CLI::App& app, SceneOptions& options);
+
+}  // namespace splatcl::cli

@@ -1,0 +1,98 @@
+#include "csm/build_options.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "csm/sphere_grid.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl::csm {
+
+const std::vector<ParameterInfo>& csm_parameters() {
+  static const std::vector<ParameterInfo> list{
+      {"maps", "Number of maps N: G^2 for uniform/regular, 2T^2 for ao"},
+      {"res", "Map resolution M (M x M pixels), 1..8192"},
+      {"dist", "Direction grid: uniform, regular (G x G) or ao (the AO thesis's T x 2T)"},
+      {"order", "Map order: zigzag-h, zigzag-v, linear-h, linear-v (h = theta fastest), hilbert, morton (extension)"},
+      {"pole", "Object axis of the sphere's pole: y, z, x, or y180, z180, x180 (poles swapped)"},
+      {"single_hit", "z2 of single-surface pixels: sphere-exit (the ray's exit from the bounding sphere) or exact (z2 = z1)"},
+      {"encoding", "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)"},
+      {"capture", "Capture method: raster (two-layer depth buffer) or raycast (SAH BVH); same depths up to rounding and "
+                  "triangle-edge pixels"},
+      {"batch", "Maps captured per batch (0: about 8 M samples); memory only, the file is the same"},
+  };
+  return list;
+}
+
+bool is_csm_parameter(const std::string& name) {
+  const std::string key = parameter_key(name);
+  const auto& list = csm_parameters();
+  return std::any_of(list.begin(), list.end(), [&](const ParameterInfo& p) { return key == p.key; });
+}
+
+void set_parameter(CsmParameters& p, const std::string& name, const nlohmann::json& value) {
+  const std::string key = parameter_key(name);
+  if (key == "maps") {
+    p.maps = static_cast<std::uint32_t>(integer_parameter(name, value, 1, 1 << 24));
+  } else if (key == "res") {
+    p.res = static_cast<std::uint32_t>(integer_parameter(name, value, 1, 8192));
+  } else if (key == "dist") {
+    p.dist = string_parameter(name, value);
+  } else if (key == "order") {
+    p.order = string_parameter(name, value);
+  } else if (key == "pole") {
+    p.pole = string_parameter(name, value);
+  } else if (key == "single_hit") {
+    p.single_hit = string_parameter(name, value);
+  } else if (key == "encoding") {
+    p.encoding = string_parameter(name, value);
+  } else if (key == "capture") {
+    p.capture = string_parameter(name, value);
+  } else if (key == "batch") {
+    p.batch = static_cast<std::uint32_t>(integer_parameter(name, value, 0, 1 << 24));
+  } else {
+    throw Error(fmt::format("unknown CSM parameter '{}'", name));
+  }
+}
+
+void validate(const CsmParameters& p) {
+  auto in_key = [](const char* key, auto&& check) {
+    try {
+      check();
+    } catch (const Error& e) {
+      throw Error(fmt::format("'{}': {}", key, e.what()));
+    }
+  };
+  if (p.res < 1 || p.res > 8192) throw Error(fmt::format("'res' must be an integer from 1 to 8192, got {}", p.res));
+  in_key("dist", [&] { parse_distribution(p.dist); });
+  in_key("order", [&] { parse_order(p.order); });
+  in_key("pole", [&] { parse_pole_axis(p.pole); });
+  in_key("single_hit", [&] { parse_single_hit(p.single_hit); });
+  in_key("encoding", [&] { parse_encoding(p.encoding); });
+  in_key("capture", [&] { parse_capture_method(p.capture); });
+  in_key("maps", [&] { SphereGrid(parse_distribution(p.dist), parse_order(p.order), parse_pole_axis(p.pole), p.maps); });
+}
+
+nlohmann::json to_json(const CsmParameters& p) {
+  return {{"maps", p.maps},   {"res", p.res},   {"dist", p.dist},         {"order", p.order},
+          {"pole", p.pole},   {"single_hit", p.single_hit}, {"capture", p.capture}, {"encoding", p.encoding}};
+}
+
+BuildOptions to_build_options(const CsmParameters& p) {
+  validate(p);
+  BuildOptions options;
+  options.maps = p.maps;
+  options.resolution = p.res;
+  options.distribution = parse_distribution(p.dist);
+  options.order = parse_order(p.order);
+  options.pole = parse_pole_axis(p.pole);
+  options.single_hit = parse_single_hit(p.single_hit);
+  options.capture = parse_capture_method(p.capture);
+  options.batch_maps = p.batch;
+  return options;
+}
+
+Encoding file_encoding(const CsmParameters& p) { return parse_encoding(p.encoding); }
+
+}  // namespace splatcl::csm

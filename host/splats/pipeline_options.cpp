@@ -1,0 +1,131 @@
+#include "splats/pipeline_options.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/error.hpp"
+
+namespace splatcl::splats {
+
+const std::vector<ParameterInfo>& splat_parameters() {
+  static const std::vector<ParameterInfo> list{
+      {"eps", "Geometric tolerance epsilon, absolute in model units (0: eps_diag times the bounding-box diagonal)"},
+      {"eps_diag", "Epsilon as a fraction of the bounding-box diagonal when eps is 0"},
+      {"color_tol", "Colour tolerance phi per RGB channel, 0..255 (255 ignores colour)"},
+      {"color_field", "Sample colours without a texture: grey, soft (red to white gradient), hard (3-D checker of flat colours) or "
+                      "rainbow (cells of continuous hue bands with hard edges between cells)"},
+      {"texture", "Texture image applied through the mesh's texture coordinates (nearest texel)", false, true},
+      {"samples", "vertices, or grid:N (vertices plus, on every face, the grid points of spacing shortest-edge / N strictly inside it)"},
+      {"k", "Neighbourhood size, 1..1024"},
+      {"rounds", "Optimisation rounds (relaxation + removal), 0..1000"},
+      {"literal_lambda", "Read lambda in the size corrections literally instead of as the axis ratio sqrt(lambda)", true},
+      {"retest_violator", "Ellipse phase with b = d1, re-testing the circle phase's violator", true},
+      {"clip", "Clipped splats (thesis ch. 4): skip violators on one side and cut the splat there with a line", true},
+  };
+  return list;
+}
+
+bool is_splat_parameter(const std::string& name) {
+  const std::string key = parameter_key(name);
+  const auto& list = splat_parameters();
+  return std::any_of(list.begin(), list.end(), [&](const ParameterInfo& p) { return key == p.key; });
+}
+
+void set_parameter(SplatParameters& p, const std::string& name, const nlohmann::json& value) {
+  const std::string key = parameter_key(name);
+  if (key == "eps") {
+    p.eps = number_parameter(name, value);
+    if (!(p.eps >= 0 && std::isfinite(p.eps))) throw Error(fmt::format("'{}' must be >= 0 (0: use eps_diag), got {}", name, shown_value(value)));
+  } else if (key == "eps_diag") {
+    p.eps_diag = number_parameter(name, value);
+    if (!(p.eps_diag > 0 && std::isfinite(p.eps_diag))) throw Error(fmt::format("'{}' must be positive, got {}", name, shown_value(value)));
+  } else if (key == "k") {
+    p.k = static_cast<unsigned>(integer_parameter(name, value, 1, 1024));
+  } else if (key == "samples") {
+    p.samples = string_parameter(name, value);
+  } else if (key == "color_tol") {
+    p.color_tol = static_cast<int>(integer_parameter(name, value, 0, 255));
+  } else if (key == "color_field") {
+    p.color_field = string_parameter(name, value);
+  } else if (key == "texture") {
+    p.texture = string_parameter(name, value);
+  } else if (key == "rounds") {
+    p.rounds = static_cast<unsigned>(integer_parameter(name, value, 0, 1000));
+  } else if (key == "clip") {
+    p.clip = bool_parameter(name, value);
+  } else if (key == "literal_lambda") {
+    p.literal_lambda = bool_parameter(name, value);
+  } else if (key == "retest_violator") {
+    p.retest_violator = bool_parameter(name, value);
+  } else {
+    throw Error(fmt::format("unknown splat parameter '{}'", name));
+  }
+}
+
+void validate(const SplatParameters& p) {
+  auto in_key = [](const char* key, auto&& check) {
+    try {
+      check();
+    } catch (const Error& e) {
+      throw Error(fmt::format("'{}': {}", key, e.what()));
+    }
+  };
+  in_key("samples", [&] { parse_sampling(p.samples); });
+  in_key("color_field", [&] { parse_color_field(p.color_field); });
+}
+
+nlohmann::json to_json(const SplatParameters& p) {
+  return {{"eps", p.eps},
+          {"eps_diag", p.eps_diag},
+          {"k", p.k},
+          {"samples", p.samples},
+          {"color_tol", p.color_tol},
+          {"color_field", p.color_field},
+          {"texture", p.texture},
+          {"rounds", p.rounds},
+          {"clip", p.clip},
+          {"literal_lambda", p.literal_lambda},
+          {"retest_violator", p.retest_violator}};
+}
+
+SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::string& model) {
+  validate(p);
+  SplatSetup setup;
+  PipelineOptions& options = setup.options;
+  options.sampling = parse_sampling(p.samples);
+  options.k = p.k;
+  options.rounds = p.rounds;
+  options.fit.color_tolerance = p.color_tol;
+  options.fit.literal_lambda = p.literal_lambda;
+  options.fit.retest_violator = p.retest_violator;
+  options.fit.clip = p.clip;
+  setup.diagonal = mesh.bounds().diagonal();
+  options.fit.eps = static_cast<float>(p.eps > 0 ? p.eps : p.eps_diag * setup.diagonal);
+  setup.colors.bounds = mesh.bounds();
+  setup.colors.field = parse_color_field(p.color_field);
+  setup.color_description = to_string(setup.colors.field);
+  if (!p.texture.empty()) {
+    if (!mesh.has_texcoords()) throw Error(model + " has no texture coordinates for the texture " + p.texture);
+    setup.colors.texture = load_texture(p.texture);
+    setup.color_description = "texture:" + p.texture;
+  }
+  return setup;
+}
+
+SplatFileInfo splat_file_info(const SplatSetup& setup, const SplatRun& run, const std::string& model) {
+  const PipelineOptions& o = setup.options;
+  return {model, to_string(o.sampling), o.fit.eps, run.neighbors.k, o.fit.color_tolerance, setup.color_description, o.fit.clip};
+}
+
+nlohmann::json splat_statistics(const SplatRun& run, const SplatSetup& setup, const std::string& model, const std::string& output) {
+  nlohmann::json stats = run_statistics(run, setup.options);
+  stats["model"] = model;
+  stats["bbox_diagonal"] = setup.diagonal;
+  stats["color_source"] = setup.color_description;
+  stats["output"] = output;
+  return stats;
+}
+
+}  // namespace splatcl::splats

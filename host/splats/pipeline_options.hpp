@@ -1,0 +1,54 @@
+#pragma once
+// The splat stage's build parameters, one list for `splatcl splats` (options --NAME) and
+// `splatcl batch` (manifest keys NAME): their defaults, parsing and validation, and their
+// translation into the pipeline's options and colour source for one mesh.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/parameters.hpp"
+#include "splats/pipeline.hpp"
+
+namespace splatcl::splats {
+
+struct SplatParameters {
+  double eps = 0;                    // absolute ε in model units; 0: eps_diag × bounding-box diagonal
+  double eps_diag = 0.001;
+  unsigned k = 10;                   // neighbourhood size
+  std::string samples = "vertices";  // or "grid:N"
+  int color_tol = 255;               // φ per channel; 255 ignores colour
+  std::string color_field = "grey";  // colours without a texture
+  std::string texture;               // image through the mesh's texture coordinates; empty: none
+  unsigned rounds = 5;               // optimisation rounds
+  bool clip = false, literal_lambda = false, retest_violator = false;
+};
+
+// Every parameter, in the order of `splatcl splats --help`.
+const std::vector<ParameterInfo>& splat_parameters();
+// Whether `name` (any spelling, see parameter_key) is one of them.
+bool is_splat_parameter(const std::string& name);
+// Sets the parameter `name` from a JSON value or text. Throws Error naming it as given for an
+// unknown name or a value out of range.
+void set_parameter(SplatParameters& params, const std::string& name, const nlohmann::json& value);
+// Checks what set_parameter cannot check alone (the sampling spec, the colour field name).
+void validate(const SplatParameters& params);
+// Every parameter by key: a run's record, and what its parameters checksum is computed from.
+nlohmann::json to_json(const SplatParameters& params);
+
+// What the parameters make of one mesh: ε resolved against its bounding-box diagonal, the colour
+// source (the texture loaded), and the names the splat file and statistics record.
+struct SplatSetup {
+  PipelineOptions options;
+  ColorSource colors;
+  std::string color_description;  // "grey", "soft", ..., or "texture:FILE"
+  double diagonal = 0;
+};
+// Throws Error for invalid parameters, a texture that cannot be read, or a textured run on a mesh
+// without texture coordinates (naming `model`).
+SplatSetup splat_setup(const SplatParameters& params, const Mesh& mesh, const std::string& model);
+SplatFileInfo splat_file_info(const SplatSetup& setup, const SplatRun& run, const std::string& model);
+// run_statistics plus the model, its diagonal, the colour source and the output file's name.
+nlohmann::json splat_statistics(const SplatRun& run, const SplatSetup& setup, const std::string& model, const std::string& output);
+
+}  // namespace splatcl::splats
