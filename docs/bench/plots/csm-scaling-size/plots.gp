@@ -1,6 +1,6 @@
 # Written by 'splatcl bench plot'; rerun with: gnuplot docs/bench/plots/csm-scaling-size/plots.gp
 
-set terminal pngcairo size 1100,800 noenhanced font ",9"
+set terminal pngcairo size 1348,800 noenhanced font ",9"
 set linetype 1 lc rgb "#1f77b4" lw 2 pt 1
 set linetype 2 lc rgb "#ff7f0e" lw 2 pt 2
 set linetype 3 lc rgb "#2ca02c" lw 2 pt 3
@@ -32,11 +32,11 @@ set xtics rotate by 30 right
 set bmargin 17
 set lmargin 40
 set key outside right top
-plot for [i=2:6] "docs/bench/plots/csm-scaling-size/throughput-csm.dat" using i:xtic(1) title columnhead(i)
+plot for [i=2:10] "docs/bench/plots/csm-scaling-size/throughput-csm.dat" using i:xtic(1) title columnhead(i)
 unset output
 reset
 
-set terminal pngcairo size 1200,826 noenhanced font ",9"
+set terminal pngcairo size 1200,868 noenhanced font ",9"
 set linetype 1 lc rgb "#1f77b4" lw 2 pt 1
 set linetype 2 lc rgb "#ff7f0e" lw 2 pt 2
 set linetype 3 lc rgb "#2ca02c" lw 2 pt 3
@@ -63,14 +63,17 @@ set logscale xy 2
 set xlabel "problem size"
 set ylabel "throughput (units per second)"
 set format y "%.3g"
-plot "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 0 using 1:2 with linespoints title "capture model=stanford-bunny res=128: reference [rays/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 1 using 1:2 with linespoints title "capture model=stanford-bunny res=128: opencl [rays/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 2 using 1:2 with linespoints title "capture model=stanford-bunny res=128: embree rtcIntersect16 3.13.5 [rays/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 3 using 1:2 with linespoints title "compress model=stanford-bunny res=128: reference [samples/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 4 using 1:2 with linespoints title "compress model=stanford-bunny res=128: opencl [samples/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 5 using 1:2 with linespoints title "visibility model=stanford-bunny maps=1024 res=64: reference [queries/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 6 using 1:2 with linespoints title "visibility model=stanford-bunny maps=1024 res=64: opencl [queries/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 7 using 1:2 with linespoints title "ao model=stanford-bunny maps=1024 res=64: reference [samples/s]", \
-     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 8 using 1:2 with linespoints title "ao model=stanford-bunny maps=1024 res=64: opencl [samples/s]"
+plot "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 0 using 1:2 with linespoints title "capture model=stanford-bunny res=128: reference raycast [rays/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 1 using 1:2 with linespoints title "capture model=stanford-bunny res=128: opencl raycast [rays/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 2 using 1:2 with linespoints title "capture model=stanford-bunny res=128: reference raster [rays/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 3 using 1:2 with linespoints title "capture model=stanford-bunny res=128: opencl raster [rays/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 4 using 1:2 with linespoints title "capture model=stanford-bunny res=128: embree rtcIntersect16 3.13.5 [rays/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 5 using 1:2 with linespoints title "compress model=stanford-bunny res=128: reference [samples/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 6 using 1:2 with linespoints title "compress model=stanford-bunny res=128: opencl [samples/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 7 using 1:2 with linespoints title "visibility model=stanford-bunny maps=1024 res=64: reference [queries/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 8 using 1:2 with linespoints title "visibility model=stanford-bunny maps=1024 res=64: opencl [queries/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 9 using 1:2 with linespoints title "visibility-host-io model=stanford-bunny maps=1024 res=64: opencl [queries/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 10 using 1:2 with linespoints title "ao model=stanford-bunny maps=1024 res=64: reference [samples/s]", \
+     "docs/bench/plots/csm-scaling-size/scaling-size-csm.dat" index 11 using 1:2 with linespoints title "ao model=stanford-bunny maps=1024 res=64: opencl [samples/s]"
 unset output
 reset

@@ -1,6 +1,6 @@
 # Written by 'splatcl bench plot'; rerun with: gnuplot docs/bench/plots/csm/plots.gp
 
-set terminal pngcairo size 1240,800 noenhanced font ",9"
+set terminal pngcairo size 1348,800 noenhanced font ",9"
 set linetype 1 lc rgb "#1f77b4" lw 2 pt 1
 set linetype 2 lc rgb "#ff7f0e" lw 2 pt 2
 set linetype 3 lc rgb "#2ca02c" lw 2 pt 3
