@@ -34,7 +34,13 @@ void measure_sort_peers(Session& session, Case c, PeerWork work, const std::vect
     if (with_sort) boost_compute.sort();
     count = with_unique ? boost_compute.unique() : keys.size();
   });
-  expect_same_output(describe(c), boost_compute.download(count), expected);
+  // Boost.Compute's unique is wrong on PoCL with one thread (POCL_MAX_PTHREAD_COUNT=1, as
+  // --scaling threads runs it): a peer's bug must not cost the run every other result.
+  try {
+    expect_same_output(describe(c), boost_compute.download(count), expected);
+  } catch (const Error& wrong) {
+    session.withdraw_last_record(wrong.what());
+  }
 #endif
 }
 

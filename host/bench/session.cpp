@@ -128,6 +128,13 @@ Session::~Session() {
   if (progress_line_open_) std::fputc('\n', stderr);
 }
 
+void Session::withdraw_last_record(const std::string& why) {
+  if (!records_.empty()) records_.pop_back();
+  if (progress_line_open_) std::fputc('\n', stderr);
+  progress_line_open_ = false;
+  std::fprintf(stderr, "splatcl: warning: %s; that row is left out\n", why.c_str());
+}
+
 void Session::show_progress(const std::string& text, bool final_line) {
   if (!progress_) return;
   // \r and erase-line keep one updating line per case.

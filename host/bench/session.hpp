@@ -77,6 +77,10 @@ class Session {
 
   // The record the last measure() call added, for fields known only after the run.
   Record& last_record() { return records_.empty() ? unrecorded_ : records_.back(); }
+  // Takes back the record the last measure() call added, with a warning naming why on stderr:
+  // for a peer library whose output is wrong on this device (its time would mean nothing), where
+  // failing the whole run would hide every other result.
+  void withdraw_last_record(const std::string& why);
 
   Results results() const;
   // Prints the markdown report on stdout and writes the --json file when one was asked for.

@@ -85,6 +85,19 @@ TEST(BenchSession, FinishPrintsTheTableAndWritesTheFile) {
   EXPECT_EQ(written.machine["opencl_device"], session.runtime().info().name);
 }
 
+TEST(BenchSession, AWithdrawnRowLeavesTheOthers) {
+  Session session("test", quick_options());
+  session.measure(reference_case("kept", 10, "keys"), {}, [] {});
+  session.measure(reference_case("wrong", 10, "keys"), {}, [] {});
+  testing::internal::CaptureStderr();
+  session.withdraw_last_record("bench wrong: output differs from the reference at index 3");
+  const std::string warning = testing::internal::GetCapturedStderr();
+  ASSERT_EQ(session.records().size(), 1u);
+  EXPECT_EQ(session.records()[0].case_name, "kept");
+  EXPECT_NE(warning.find("warning: bench wrong: output differs from the reference at index 3; that row is left out"),
+            std::string::npos);
+}
+
 TEST(BenchSession, MissingOutputDirectoryFailsBeforeMeasuring) {
   EXPECT_THROW(Session("test", quick_options("/nonexistent-splatcl-dir/out.json")), Error);
 }
