@@ -1,6 +1,7 @@
 // splatcl: one program, subcommands. Every failure is one line on stderr and a non-zero exit.
 #include <cstdio>
 #include <exception>
+#include <string>
 #include <vector>
 
 #include "cli/commands.hpp"
@@ -35,6 +36,19 @@ int main(int argc, char** argv) {
   add(splatcl::cli::register_batch);
   add(splatcl::cli::register_render);
   add(splatcl::cli::register_view);
+  // CLI11 reports an unknown command word as "A subcommand is required"; name it instead.
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string known;
+    bool found = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      found = found || sub->get_name() == argv[1];
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!found) {
+      std::fprintf(stderr, "splatcl: unknown command '%s' (commands: %s)\n", argv[1], known.c_str());
+      return 1;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
