@@ -231,33 +231,46 @@ void traverse(const Bvh& bvh, const float o[3], const float inv[3], Limit limit,
 
 }  // namespace
 
-std::vector<BvhTriangle> mesh_triangles(const splats::Mesh& mesh, Vec3 origin) {
-  std::vector<BvhTriangle> triangles;
-  const auto rel = [&](std::uint32_t v, float out[3]) {
-    const Vec3 p = mesh.vertices[v];
-    out[0] = static_cast<float>(static_cast<double>(p.x) - origin.x);
-    out[1] = static_cast<float>(static_cast<double>(p.y) - origin.y);
-    out[2] = static_cast<float>(static_cast<double>(p.z) - origin.z);
-  };
+void relative_position(const splats::Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]) {
+  const Vec3 p = mesh.vertices[v];
+  out[0] = static_cast<float>(static_cast<double>(p.x) - origin.x);
+  out[1] = static_cast<float>(static_cast<double>(p.y) - origin.y);
+  out[2] = static_cast<float>(static_cast<double>(p.z) - origin.z);
+}
+
+std::vector<std::uint32_t> casting_triangles(const splats::Mesh& mesh, Vec3 origin) {
+  std::vector<std::uint32_t> triangles;
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
     const std::uint32_t first = mesh.face_offsets[f], last = mesh.face_offsets[f + 1];
     for (std::uint32_t c = first + 1; c + 1 < last; ++c) {
-      BvhTriangle t;
-      float p1[3], p2[3];
-      rel(mesh.corners[first], t.v0);
-      rel(mesh.corners[c], p1);
-      rel(mesh.corners[c + 1], p2);
-      for (int k = 0; k < 3; ++k) {
-        t.e1[k] = p1[k] - t.v0[k];
-        t.e2[k] = p2[k] - t.v0[k];
-      }
-      const Vec3 e1{t.e1[0], t.e1[1], t.e1[2]}, e2{t.e2[0], t.e2[1], t.e2[2]};
-      const Vec3 n = splats::cross(e1, e2);
-      if (!(splats::dot(n, n) > 0)) continue;
-      triangles.push_back(t);
+      const std::uint32_t v[3] = {mesh.corners[first], mesh.corners[c], mesh.corners[c + 1]};
+      float p[3][3];
+      for (int k = 0; k < 3; ++k) relative_position(mesh, v[k], origin, p[k]);
+      const Vec3 e1{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+      const Vec3 e2{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+      const Vec3 n = cross(e1, e2);
+      if (!(dot(n, n) > 0)) continue;
+      triangles.insert(triangles.end(), v, v + 3);
     }
   }
   if (triangles.empty()) throw Error(mesh.source + ": every face is degenerate (zero area), nothing casts a shadow");
+  return triangles;
+}
+
+std::vector<BvhTriangle> mesh_triangles(const splats::Mesh& mesh, Vec3 origin) {
+  const std::vector<std::uint32_t> corners = casting_triangles(mesh, origin);
+  std::vector<BvhTriangle> triangles(corners.size() / 3);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    BvhTriangle& tri = triangles[t];
+    float p1[3], p2[3];
+    relative_position(mesh, corners[3 * t], origin, tri.v0);
+    relative_position(mesh, corners[3 * t + 1], origin, p1);
+    relative_position(mesh, corners[3 * t + 2], origin, p2);
+    for (int k = 0; k < 3; ++k) {
+      tri.e1[k] = p1[k] - tri.v0[k];
+      tri.e2[k] = p2[k] - tri.v0[k];
+    }
+  }
   return triangles;
 }
 

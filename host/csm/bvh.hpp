@@ -37,8 +37,15 @@ struct Bvh {
 // Maximum tree depth; the kernels' traversal stack has this many entries.
 inline constexpr std::uint32_t kBvhMaxDepth = 64;
 
-// The mesh's faces, fan-triangulated, relative to `origin`; zero-area triangles are dropped.
-// Throws Error naming the mesh when no triangle with a positive area remains.
+// Vertex v relative to `origin` as both capture methods see it: the float of the double difference.
+void relative_position(const splats::Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]);
+
+// The triangles that cast shadows, for both capture methods: the mesh's faces fan-triangulated
+// from their first corner, without those whose float edge cross product relative to `origin` is
+// zero. Vertex index triples, flat. Throws Error naming the mesh when none remains.
+std::vector<std::uint32_t> casting_triangles(const splats::Mesh& mesh, Vec3 origin);
+
+// casting_triangles as positions relative to `origin` (a vertex and two edges each).
 std::vector<BvhTriangle> mesh_triangles(const splats::Mesh& mesh, Vec3 origin);
 
 // Binned SAH build; leaves hold at most 4 triangles.

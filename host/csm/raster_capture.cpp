@@ -56,26 +56,7 @@ CaptureMethod parse_capture_method(const std::string& text) {
 }
 
 RasterMesh raster_mesh(const splats::Mesh& mesh, Vec3 origin) {
-  // The ray caster's triangle set: fan triangles whose float edge cross product is not zero.
-  std::vector<std::uint32_t> tris;
-  const auto rel = [&](std::uint32_t v, int k) {
-    const Vec3 p = mesh.vertices[v];
-    const double c = k == 0 ? double{p.x} - origin.x : k == 1 ? double{p.y} - origin.y : double{p.z} - origin.z;
-    return static_cast<float>(c);
-  };
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    const std::uint32_t first = mesh.face_offsets[f], last = mesh.face_offsets[f + 1];
-    for (std::uint32_t c = first + 1; c + 1 < last; ++c) {
-      const std::uint32_t v[3] = {mesh.corners[first], mesh.corners[c], mesh.corners[c + 1]};
-      Vec3 e1, e2;
-      e1 = {rel(v[1], 0) - rel(v[0], 0), rel(v[1], 1) - rel(v[0], 1), rel(v[1], 2) - rel(v[0], 2)};
-      e2 = {rel(v[2], 0) - rel(v[0], 0), rel(v[2], 1) - rel(v[0], 1), rel(v[2], 2) - rel(v[0], 2)};
-      const Vec3 n = splats::cross(e1, e2);
-      if (!(splats::dot(n, n) > 0)) continue;
-      tris.insert(tris.end(), v, v + 3);
-    }
-  }
-  if (tris.empty()) throw Error(mesh.source + ": every face is degenerate (zero area), nothing casts a shadow");
+  const std::vector<std::uint32_t> tris = casting_triangles(mesh, origin);
   const std::size_t count = tris.size() / 3;
   // Morton order of the centroids over the mesh's bounding box.
   splats::Box box;
@@ -100,7 +81,9 @@ RasterMesh raster_mesh(const splats::Mesh& mesh, Vec3 origin) {
       const std::uint32_t v = tris[3 * t + static_cast<std::size_t>(k)];
       if (renumber[v] == UINT32_MAX) {
         renumber[v] = out.vertex_count();
-        for (int axis = 0; axis < 3; ++axis) out.vertices.push_back(rel(v, axis));
+        float p[3];
+        relative_position(mesh, v, origin, p);
+        out.vertices.insert(out.vertices.end(), p, p + 3);
       }
       out.triangles.push_back(renumber[v]);
     }
