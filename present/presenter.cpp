@@ -324,22 +324,21 @@ std::vector<glm::vec3> sky_sh(const Sky& sky) {
 // The compile-time modes of the final shading shader (shaders::kShade).
 struct ShadeVariant {
   int debug = 0;  // DebugView, footprints drawn as albedo
-  bool brute_force = false, pixel_shadows = false, pixel_ao = false, use_ao = true, specular = false;
+  bool brute_force = false, pixel_shadows = false, pixel_ao = false, hdr_output = true, specular = false;
   int key_count = 0;
   std::uint32_t key() const {
     return static_cast<std::uint32_t>(debug) | (brute_force ? 1u : 0u) << 3 | (pixel_shadows ? 1u : 0u) << 4 |
-           (pixel_ao ? 1u : 0u) << 5 | (use_ao ? 1u : 0u) << 6 | (specular ? 1u : 0u) << 7 |
+           (pixel_ao ? 1u : 0u) << 5 | (hdr_output ? 1u : 0u) << 6 | (specular ? 1u : 0u) << 7 |
            static_cast<std::uint32_t>(key_count) << 8;
   }
 };
 
 struct Presenter::Impl {
-  GLuint splat_program = 0, visibility_program = 0, accumulate_program = 0, point_program = 0, normalize_program = 0,
-         mesh_program = 0;
+  GLuint splat_program = 0, visibility_program = 0, accumulate_program = 0, point_program = 0, mesh_program = 0;
   std::map<std::uint32_t, GLuint> shade_programs;  // final shading, one per variant (shade_program)
-  GLuint splat_vao = 0, static_vbo = 0, dynamic_vbo = 0, empty_vao = 0;
-  GLuint depth = 0, accum[4] = {}, gbuffer[5] = {}, hdr = 0, display = 0, pixel_list = 0, pixel_shadow = 0, pixel_ao = 0;
-  GLuint accum_fbo = 0, gbuffer_fbo = 0, visibility_fbo = 0, hdr_fbo = 0, display_fbo = 0;
+  GLuint splat_vao = 0, static_vbo = 0, dynamic_vbo = 0, quad_ibo = 0, empty_vao = 0;
+  GLuint depth = 0, accum[4] = {}, hdr = 0, display = 0, pixel_list = 0, pixel_shadow = 0, pixel_ao = 0;
+  GLuint accum_fbo = 0, visibility_fbo = 0, hdr_fbo = 0, display_fbo = 0;
   GLuint mesh_color = 0, mesh_depth = 0, mesh_fbo = 0;
   GLuint ssbo[4] = {};
   std::vector<GLuint> mesh_vbos, mesh_vaos;
@@ -348,6 +347,7 @@ struct Presenter::Impl {
   std::unique_ptr<cluster::ClusterPipeline> clusters;
   std::vector<glm::mat4> last_placements;
   bool have_lighting = false;
+  bool hdr_written = false;  // the last frame wrote the HDR target
   // The per-splat rows (bent normal + AO, key-light visibility) of the last lighting update, the
   // settings and placements they were computed with: the incremental update starts from them.
   std::vector<float> lighting_rows;
@@ -386,8 +386,8 @@ struct Presenter::Impl {
     if (found != shade_programs.end()) return found->second;
     const std::string source = fmt::format(
         "#version 450 core\n#define DEBUG_VIEW {}\n#define BRUTE_FORCE {}\n#define PIXEL_SHADOWS {}\n"
-        "#define PIXEL_AO {}\n#define USE_AO {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n{}",
-        v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.use_ao ? 1 : 0, v.key_count,
+        "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n{}",
+        v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.hdr_output ? 1 : 0, v.key_count,
         v.specular ? 1 : 0, shaders::kShade);
     const GLuint program = link(shaders::kFullscreenVertex, source.c_str(), "shading");
     shade_programs.emplace(v.key(), program);
@@ -395,21 +395,15 @@ struct Presenter::Impl {
   }
 
   void delete_targets() {
-    const GLuint fbos[] = {accum_fbo, gbuffer_fbo, visibility_fbo, hdr_fbo, display_fbo, mesh_fbo};
-    glDeleteFramebuffers(6, fbos);
-    const GLuint textures[] = {depth,      accum[0],   accum[1],   accum[2],     accum[3],     gbuffer[0], gbuffer[1],
-                               gbuffer[2], gbuffer[3], gbuffer[4], hdr,          display,      pixel_list, pixel_shadow,
-                               mesh_color, mesh_depth, pixel_ao};
-    glDeleteTextures(17, textures);
+    const GLuint fbos[] = {accum_fbo, visibility_fbo, hdr_fbo, display_fbo, mesh_fbo};
+    glDeleteFramebuffers(5, fbos);
+    const GLuint textures[] = {depth,        accum[0],   accum[1],   accum[2], accum[3], hdr,      display,
+                               pixel_list,   pixel_shadow, mesh_color, mesh_depth, pixel_ao};
+    glDeleteTextures(12, textures);
   }
   void make_targets(int width, int height) {
     depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
     for (GLuint& t : accum) t = make_texture(GL_RGBA32F, width, height);
-    gbuffer[0] = make_texture(GL_RGBA16F, width, height);
-    gbuffer[1] = make_texture(GL_RGBA16F, width, height);
-    gbuffer[2] = make_texture(GL_R32F, width, height);
-    gbuffer[3] = make_texture(GL_RGBA16F, width, height);
-    gbuffer[4] = make_texture(GL_RGBA16F, width, height);
     hdr = make_texture(GL_RGBA32F, width, height);
     display = make_texture(GL_RGBA8, width, height);
     pixel_list = make_texture(GL_R32UI, width, height);
@@ -419,7 +413,6 @@ struct Presenter::Impl {
     mesh_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
     visibility_fbo = make_framebuffer({}, depth, "splat visibility");
     accum_fbo = make_framebuffer({accum[0], accum[1], accum[2], accum[3]}, depth, "splat accumulation");
-    gbuffer_fbo = make_framebuffer({gbuffer[0], gbuffer[1], gbuffer[2], gbuffer[3], gbuffer[4]}, depth, "G-buffer");
     hdr_fbo = make_framebuffer({hdr, display}, 0, "shading");
     display_fbo = make_framebuffer({display}, 0, "display");
     mesh_fbo = make_framebuffer({mesh_color}, mesh_depth, "mesh mask");
@@ -493,11 +486,10 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   }
   const std::size_t instance_count = statics.size() / kRow;  // originals and LOD entries
 
-  g.splat_program = link(shaders::kSplatVertex, shaders::kSplatVisibility, "splat visibility");
+  g.splat_program = link(shaders::kSplatVertex.c_str(), shaders::kSplatVisibility, "splat visibility");
   g.visibility_program = g.splat_program;
-  g.accumulate_program = link(shaders::kSplatVertex, shaders::kSplatAccumulate, "splat accumulation");
-  g.point_program = link(shaders::kPointVertex, shaders::kPointFragment, "points");
-  g.normalize_program = link(shaders::kFullscreenVertex, shaders::kNormalize, "normalisation");
+  g.accumulate_program = link(shaders::kSplatVertex.c_str(), shaders::kSplatAccumulate.c_str(), "splat accumulation");
+  g.point_program = link(shaders::kPointVertex.c_str(), shaders::kPointFragment.c_str(), "points");
   g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
 
   glCreateVertexArrays(1, &g.splat_vao);
@@ -508,18 +500,18 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
                        statics.empty() ? nullptr : statics.data(), 0);
   glNamedBufferStorage(g.dynamic_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * 8 * sizeof(float)),
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
-  glVertexArrayVertexBuffer(g.splat_vao, 0, g.static_vbo, 0, kRow * sizeof(float));
-  glVertexArrayVertexBuffer(g.splat_vao, 1, g.dynamic_vbo, 0, 8 * sizeof(float));
-  glVertexArrayBindingDivisor(g.splat_vao, 0, 1);
-  glVertexArrayBindingDivisor(g.splat_vao, 1, 1);
-  for (GLuint a = 0; a < 8; ++a) {
-    glEnableVertexArrayAttrib(g.splat_vao, a);
-    const bool dynamic = a == 5 || a == 6;
-    const GLint components = dynamic ? 4 : a == 7 ? 2 : 3;
-    glVertexArrayAttribFormat(g.splat_vao, a, components, GL_FLOAT, GL_FALSE,
-                              dynamic ? (a - 5) * 4 * sizeof(float) : (a == 7 ? 15 : a * 3) * sizeof(float));
-    glVertexArrayAttribBinding(g.splat_vao, a, dynamic ? 1 : 0);
+  // The splat shaders pull their rows from static_vbo and dynamic_vbo (storage buffers 4 and 5);
+  // the vertices of splat s are 4s..4s+3, two triangles per quad.
+  std::vector<std::uint32_t> quad_indices(6 * instance_count);
+  for (std::size_t i = 0; i < instance_count; ++i) {
+    const auto v = static_cast<std::uint32_t>(4 * i);
+    const std::uint32_t quad[6] = {v, v + 1, v + 2, v + 2, v + 1, v + 3};
+    std::copy(quad, quad + 6, quad_indices.begin() + static_cast<std::ptrdiff_t>(6 * i));
   }
+  glCreateBuffers(1, &g.quad_ibo);
+  glNamedBufferStorage(g.quad_ibo, static_cast<GLsizeiptr>(std::max<std::size_t>(quad_indices.size(), 1) * 4),
+                       quad_indices.empty() ? nullptr : quad_indices.data(), 0);
+  glVertexArrayElementBuffer(g.splat_vao, g.quad_ibo);
   glCreateBuffers(4, g.ssbo);
 
   // Triangle meshes of the objects, for the coverage test.
@@ -558,11 +550,11 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
 Presenter::~Presenter() {
   Impl& g = *impl_;
   g.delete_targets();
-  for (GLuint p : {g.splat_program, g.accumulate_program, g.point_program, g.normalize_program, g.mesh_program})
+  for (GLuint p : {g.splat_program, g.accumulate_program, g.point_program, g.mesh_program})
     glDeleteProgram(p);
   for (const auto& [key, program] : g.shade_programs) glDeleteProgram(program);
-  const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};
-  glDeleteBuffers(6, buffers);
+  const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.quad_ibo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};
+  glDeleteBuffers(7, buffers);
   glDeleteBuffers(static_cast<GLsizei>(g.mesh_vbos.size()), g.mesh_vbos.data());
   glDeleteVertexArrays(static_cast<GLsizei>(g.mesh_vaos.size()), g.mesh_vaos.data());
   glDeleteVertexArrays(1, &g.splat_vao);
@@ -922,12 +914,18 @@ FrameStats Presenter::render(float time) {
 
   glViewport(0, 0, width_, height_);
   glBindVertexArray(g.splat_vao);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.static_vbo);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.dynamic_vbo);
   const auto set_common = [&](GLuint program) {
     glUseProgram(program);
     glUniformMatrix4fv(glGetUniformLocation(program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
     glUniformMatrix4fv(glGetUniformLocation(program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
     glUniform3fv(glGetUniformLocation(program, "u_eye"), 1, glm::value_ptr(eye));
     glUniform1f(glGetUniformLocation(program, "u_scale"), q.splat_scale);
+    // The per-splat ambient term (SPLAT_HEAD): 2 = the AO itself for the AO view.
+    const int ambient = debug_view == DebugView::AmbientOcclusion ? 2 : ambient_occlusion ? 0 : 1;
+    glUniform1i(glGetUniformLocation(program, "u_ambient"), ambient);
+    glUniform3fv(glGetUniformLocation(program, "u_sh"), 9, glm::value_ptr(g.sh[0]));
   };
   const auto draw_objects = [&](GLuint program, bool points) {
     const GLint model = glGetUniformLocation(program, "u_model");
@@ -945,24 +943,28 @@ FrameStats Presenter::render(float time) {
       }
       if (count == 0) continue;
       glUniform1f(glGetUniformLocation(program, "u_lod"), lod_scale);
-      glUniform1i(glGetUniformLocation(program, "u_base"), static_cast<GLint>(first));
       if (points)
-        glDrawArraysInstancedBaseInstance(GL_POINTS, 0, 1, static_cast<GLsizei>(count), static_cast<GLuint>(first));
+        glDrawArrays(GL_POINTS, static_cast<GLint>(first), static_cast<GLsizei>(count));
       else
-        glDrawArraysInstancedBaseInstance(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count), static_cast<GLuint>(first));
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(6 * first * sizeof(std::uint32_t)));
     }
   };
   const float zero[4] = {0, 0, 0, 0};
   const float one = 1.0f;
   glDisable(GL_CULL_FACE);
+  // The accumulation targets are the G-buffer; the fourth holds key lights 1-3 only.
+  const GLenum accum_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+  const GLsizei accum_count = scene_.key_lights.size() > 1 ? 4 : 3;
+  glNamedFramebufferDrawBuffers(g.accum_fbo, accum_count, accum_buffers);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.accum_fbo);
+  for (GLint b = 0; b < accum_count; ++b) glClearBufferfv(GL_COLOR, b, zero);
+  glDepthMask(GL_TRUE);
+  glClearBufferfv(GL_DEPTH, 0, &one);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
   if (q.mode == "points") {
     g.timers.begin("gl: points");
-    glBindFramebuffer(GL_FRAMEBUFFER, g.gbuffer_fbo);
-    glDepthMask(GL_TRUE);
-    for (GLint b = 0; b < 5; ++b) glClearBufferfv(GL_COLOR, b, zero);
-    glClearBufferfv(GL_DEPTH, 0, &one);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
     glEnable(GL_PROGRAM_POINT_SIZE);
     set_common(g.point_program);
     glUniform1f(glGetUniformLocation(g.point_program, "u_viewport_height"), static_cast<float>(height_));
@@ -973,10 +975,6 @@ FrameStats Presenter::render(float time) {
     // Pass 1: visibility (depth only, pushed back by ε).
     g.timers.begin("gl: splat visibility");
     glBindFramebuffer(GL_FRAMEBUFFER, g.visibility_fbo);
-    glDepthMask(GL_TRUE);
-    glClearBufferfv(GL_DEPTH, 0, &one);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     set_common(g.visibility_program);
     glUniform1f(glGetUniformLocation(g.visibility_program, "u_depth_offset"), q.depth_offset);
@@ -986,7 +984,6 @@ FrameStats Presenter::render(float time) {
     // Pass 2: Gaussian-weighted accumulation of the splats within ε of the front.
     g.timers.begin("gl: splat accumulation");
     glBindFramebuffer(GL_FRAMEBUFFER, g.accum_fbo);
-    for (GLint b = 0; b < 4; ++b) glClearBufferfv(GL_COLOR, b, zero);
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
     glEnable(GL_BLEND);
@@ -998,25 +995,12 @@ FrameStats Presenter::render(float time) {
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
     g.timers.end();
-    // Pass 3: normalisation into the G-buffer.
-    g.timers.begin("gl: normalization");
-    glDisable(GL_DEPTH_TEST);
-    glBindFramebuffer(GL_FRAMEBUFFER, g.gbuffer_fbo);
-    glUseProgram(g.normalize_program);
-    glBindTextures(0, 4, g.accum);
-    glBindVertexArray(g.empty_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    g.timers.end();
   }
   glDisable(GL_DEPTH_TEST);
 
   // Readback of the view-space depth for the cluster stage.
   Stopwatch clock;
-  std::vector<float> view_z(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.gbuffer_fbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT2);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, view_z.data());
+  const std::vector<float> view_z = read_view_z();
   stats.stages.push_back({"readback: depth", clock.elapsed_ms()});
 
   // Lights in view space.
@@ -1109,9 +1093,7 @@ FrameStats Presenter::render(float time) {
     Stopwatch c;
     std::vector<splats::Vec4> receivers;
     std::vector<std::size_t> where;
-    std::vector<float> normals_rgba(view_z.size() * 4);
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normals_rgba.data());
+    const std::vector<float> normals = read_normals();
     for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
       for (std::uint32_t x = 0; x < static_cast<std::uint32_t>(width_); ++x) {
         const std::size_t p = std::size_t{y} * static_cast<std::size_t>(width_) + x;
@@ -1120,7 +1102,7 @@ FrameStats Presenter::render(float time) {
         const cluster::Vec3 v = cluster::pixel_view_position(layout, x, y, *d);
         const cluster::Vec3 w = frame.eye + frame.direction_to_world(v);
         const float b = q.ao_bias;
-        receivers.push_back({w.x + b * normals_rgba[4 * p], w.y + b * normals_rgba[4 * p + 1], w.z + b * normals_rgba[4 * p + 2], 1});
+        receivers.push_back({w.x + b * normals[3 * p], w.y + b * normals[3 * p + 1], w.z + b * normals[3 * p + 2], 1});
         where.push_back(p);
       }
     pixel_shadow.assign(view_z.size() * 4, 1.0f);
@@ -1146,10 +1128,7 @@ FrameStats Presenter::render(float time) {
   std::vector<splats::Vec4> pixel_ao_values;
   if (pixel_ao && ambient_occlusion) {
     Stopwatch c;
-    std::vector<float> normals_rgba(view_z.size() * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, g.gbuffer_fbo);
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, normals_rgba.data());
+    const std::vector<float> normals = read_normals();
     csm::AoRequest request;
     std::vector<std::size_t> where;
     for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
@@ -1159,7 +1138,7 @@ FrameStats Presenter::render(float time) {
         if (!d) continue;
         const cluster::Vec3 w = frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, *d));
         request.positions.push_back({w.x, w.y, w.z, 0});
-        request.normals.push_back({normals_rgba[4 * p], normals_rgba[4 * p + 1], normals_rgba[4 * p + 2], 0});
+        request.normals.push_back({normals[3 * p], normals[3 * p + 1], normals[3 * p + 2], 0});
         where.push_back(p);
       }
     // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
@@ -1216,20 +1195,20 @@ FrameStats Presenter::render(float time) {
   // Final shading.
   g.timers.begin("gl: shading");
   for (GLuint i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, g.ssbo[i]);
-  glBindFramebuffer(GL_FRAMEBUFFER, g.hdr_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, hdr_output ? g.hdr_fbo : g.display_fbo);
   const int keys = static_cast<int>(scene_.key_lights.size());
   ShadeVariant variant;
   variant.debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
   variant.brute_force = brute;
   variant.pixel_shadows = !pixel_shadow.empty();
   variant.pixel_ao = !pixel_ao_values.empty();
-  variant.use_ao = ambient_occlusion;
+  variant.hdr_output = hdr_output;
   variant.key_count = q.shadows == "off" ? 0 : keys;
   variant.specular = q.specular > 0;
   const GLuint sp = g.shade_program(variant);
   glUseProgram(sp);
-  const GLuint textures[8] = {g.gbuffer[0], g.gbuffer[1], g.gbuffer[2], g.gbuffer[3],
-                              g.gbuffer[4], g.pixel_list, g.pixel_shadow, g.pixel_ao};
+  const GLuint textures[8] = {g.accum[0], g.accum[1], g.accum[2], g.accum[3],
+                              0,          g.pixel_list, g.pixel_shadow, g.pixel_ao};
   glBindTextures(0, 8, textures);
   glUniformMatrix4fv(glGetUniformLocation(sp, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
   glUniform2f(glGetUniformLocation(sp, "u_tan_half"), layout.tan_half_x, layout.tan_half_y);
@@ -1248,6 +1227,7 @@ FrameStats Presenter::render(float time) {
   glUniform1f(glGetUniformLocation(sp, "u_shininess"), q.shininess);
   glBindVertexArray(g.empty_vao);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  g.hdr_written = hdr_output;
   g.timers.end();
   g.timers.collect(stats.stages);
   if (const GLenum error = glGetError(); error != GL_NO_ERROR)
@@ -1277,21 +1257,40 @@ std::vector<float> Presenter::read_display_rgb() const {
   return drop_alpha(read_rgba(impl_->display_fbo, GL_COLOR_ATTACHMENT0, width_, height_));
 }
 std::vector<float> Presenter::read_hdr_rgb() const {
+  if (!impl_->hdr_written) throw Error("the last frame was rendered without HDR output (Presenter::hdr_output)");
   return drop_alpha(read_rgba(impl_->hdr_fbo, GL_COLOR_ATTACHMENT0, width_, height_));
 }
+std::vector<float> Presenter::read_weight_channel(int target) const {
+  std::vector<float> values(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->accum_fbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(target));
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, values.data());
+  return values;
+}
 std::vector<std::uint8_t> Presenter::read_coverage() const {
-  const auto rgba = read_rgba(impl_->gbuffer_fbo, GL_COLOR_ATTACHMENT0, width_, height_);
-  std::vector<std::uint8_t> mask(rgba.size() / 4);
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = rgba[4 * i + 3] > 0.0f ? 1 : 0;
+  const std::vector<float> weight = read_weight_channel(0);
+  std::vector<std::uint8_t> mask(weight.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = weight[i] > 0.0f ? 1 : 0;
   return mask;
 }
 std::vector<float> Presenter::read_view_z() const {
-  std::vector<float> z(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->gbuffer_fbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT2);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, z.data());
+  // Σw·z / Σw, the division the shading does; 0 where no splat covers the pixel.
+  std::vector<float> z = read_weight_channel(1);
+  const std::vector<float> weight = read_weight_channel(0);
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = weight[i] > 0.0f ? z[i] / weight[i] : 0.0f;
   return z;
+}
+std::vector<float> Presenter::read_normals() const {
+  const auto z_normal = read_rgba(impl_->accum_fbo, GL_COLOR_ATTACHMENT1, width_, height_);
+  std::vector<float> normals(z_normal.size() / 4 * 3, 0.0f);
+  for (std::size_t i = 0; i < normals.size() / 3; ++i) {
+    const glm::vec3 sum(z_normal[4 * i + 1], z_normal[4 * i + 2], z_normal[4 * i + 3]);
+    if (glm::dot(sum, sum) <= 0.0f) continue;
+    const glm::vec3 n = glm::normalize(sum);
+    std::copy(&n.x, &n.x + 3, normals.begin() + static_cast<std::ptrdiff_t>(3 * i));
+  }
+  return normals;
 }
 
 std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {

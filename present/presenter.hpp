@@ -60,6 +60,8 @@ class Presenter {
   // occluder (before or after its move) and the moved objects' own splats; the result equals a full
   // recomputation exactly. Off: every splat each time (cross-map PCF always does that).
   bool incremental_lighting = true;
+  // The shading also writes linear radiance (read_hdr_rgb); off, only the tone-mapped image.
+  bool hdr_output = true;
 
   // Renders the scene at `time` into the presenter's framebuffers.
   FrameStats render(float time);
@@ -67,7 +69,8 @@ class Presenter {
   std::vector<float> read_display_rgb() const;  // tone-mapped, [0, 1]
   std::vector<float> read_hdr_rgb() const;      // linear radiance before tone mapping
   std::vector<std::uint8_t> read_coverage() const;  // 1 where a splat covers the pixel
-  std::vector<float> read_view_z() const;
+  std::vector<float> read_view_z() const;           // view-space z, 0 where no splat covers the pixel
+  std::vector<float> read_normals() const;          // world normal xyz per pixel, 0 where uncovered
   // Rasterises the objects' triangle meshes at `time` with the same camera: 1 where covered.
   std::vector<std::uint8_t> render_mesh_mask(float time);
   // The display framebuffer (for blitting into a window).
@@ -97,6 +100,7 @@ class Presenter {
   std::vector<ObjectRange> objects_;  // scene objects then the floor
   std::vector<ObjectAssets> assets_;
   std::vector<glm::vec4> splat_ao_;
+  std::vector<float> read_weight_channel(int target) const;  // red channel of an accumulation target
   void update_splat_lighting(const std::vector<glm::mat4>& placements, FrameStats& stats);
 };
 

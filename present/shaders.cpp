@@ -1,116 +1,152 @@
 #include "present/shaders.hpp"
 
+#include <string>
+
 namespace splatcl::present::shaders {
+namespace {
 
-// Per-splat attributes shared by the splat vertex shaders. Model space: centre, normal, the two
-// semi-axis vectors; then the colour, the per-splat CL results (bent normal + AO, key-light
-// visibility), both already in world space, and the LOD interval [e_min, e_max) (model units).
-#define SPLAT_INPUTS                                                                              \
-  "layout(location = 0) in vec3 a_center;\n"                                                      \
-  "layout(location = 1) in vec3 a_normal;\n"                                                      \
-  "layout(location = 2) in vec3 a_major;\n"                                                       \
-  "layout(location = 3) in vec3 a_minor;\n"                                                       \
-  "layout(location = 4) in vec3 a_albedo;\n"                                                      \
-  "layout(location = 5) in vec4 a_ao;\n"                                                          \
-  "layout(location = 6) in vec4 a_shadow;\n"                                                      \
-  "layout(location = 7) in vec2 a_lod;\n"                                                         \
-  "uniform mat4 u_model, u_view, u_proj;\n"                                                       \
-  "uniform vec3 u_eye;\n"                                                                         \
-  "uniform float u_scale;\n"                                                                      \
-  "uniform float u_lod;  // LOD error per model unit of eye distance; 0 = off\n"                  \
-  "uniform int u_base;  // first instance of the draw: gl_BaseInstance needs GL 4.6\n"            \
-  "flat out vec3 v_albedo;\n"                                                                     \
-  "flat out vec3 v_normal;\n"                                                                     \
-  "flat out vec4 v_ao;\n"                                                                         \
-  "flat out vec4 v_shadow;\n"                                                                     \
-  "flat out uint v_id;\n"
+// Irradiance from the sky's 9 SH coefficients (Ramamoorthi & Hanrahan 2001, Eq. 13), for the
+// per-splat ambient term and the per-pixel one of the pixel-AO mode.
+const char* const kShIrradiance = R"(
+uniform vec3 u_sh[9];  // irradiance SH of the sky
+vec3 sh_irradiance(vec3 n) {
+  const float c1 = 0.429043, c2 = 0.511664, c3 = 0.743125, c4 = 0.886227, c5 = 0.247708;
+  return c1 * u_sh[8] * (n.x * n.x - n.y * n.y) + c3 * u_sh[6] * n.z * n.z + c4 * u_sh[0] - c5 * u_sh[6]
+       + 2.0 * c1 * (u_sh[4] * n.x * n.y + u_sh[7] * n.x * n.z + u_sh[5] * n.y * n.z)
+       + 2.0 * c2 * (u_sh[3] * n.x + u_sh[1] * n.y + u_sh[2] * n.z);
+}
+)";
 
-// The head both splat vertex shaders share: world centre c, normal n and model rotation m, the
-// flat outputs, and whether the splat is drawn (it faces the eye and, with LOD on, the eye distance
-// puts its error in its interval: the digest's sequential point tree test).
-#define SPLAT_HEAD                                                                                \
-  "#version 450 core\n" SPLAT_INPUTS                                                              \
-  "bool splat_head(out vec3 c, out vec3 n, out mat3 m) {\n"                                       \
-  "  m = mat3(u_model);\n"                                                                        \
-  "  c = (u_model * vec4(a_center, 1.0)).xyz;\n"                                                  \
-  "  n = normalize(m * a_normal);\n"                                                              \
-  "  v_albedo = a_albedo; v_normal = n; v_ao = a_ao; v_shadow = a_shadow;\n"                      \
-  "  v_id = uint(gl_InstanceID + u_base);\n"                                                      \
-  "  if (u_lod > 0.0) {\n"                                                                        \
-  "    float e = length(u_eye - c) * u_lod;\n"                                                    \
-  "    if (e < a_lod.x || e >= a_lod.y) return false;\n"                                         \
-  "  }\n"                                                                                         \
-  "  return dot(n, u_eye - c) > 0.0;\n"                                                           \
-  "}\n"
+// The head both splat vertex shaders share. Per-splat attributes are pulled from storage buffers
+// by splat index (gl_VertexID: 4 per splat for quads, 1 for points): llvmpipe runs an instanced
+// draw as one small vertex batch per instance, a plain draw shades its vertices 8 at a time.
+// Static rows (17 floats, model space): centre, normal, the two semi-axis vectors, colour, the LOD
+// interval [e_min, e_max) (model units). Lighting rows (2 vec4, world space): the per-splat CL
+// results, bent normal + AO and key-light visibility.
+// splat_head gives the world centre c, normal n and model rotation m, sets the flat outputs, and
+// tells whether the splat is drawn (it faces the eye and, with LOD on, the eye distance puts its
+// error in its interval: the digest's sequential point tree test). The ambient term is evaluated
+// per splat, where the AO is known: irradiance of the sky around the bent normal times AO
+// (u_ambient 0), around the normal without AO (1), or the AO itself as grey (2, the AO view).
+const std::string kSplatHead = std::string("#version 450 core\n") + kShIrradiance + R"(
+layout(std430, binding = 4) readonly buffer SplatStatics { float splat_statics[]; };
+layout(std430, binding = 5) readonly buffer SplatLighting { vec4 splat_lighting[]; };
+uniform mat4 u_model, u_view, u_proj;
+uniform vec3 u_eye;
+uniform float u_scale;
+uniform float u_lod;  // LOD error per model unit of eye distance; 0 = off
+uniform int u_ambient;
+flat out vec3 v_albedo;
+flat out vec3 v_normal;
+flat out vec3 v_ambient;
+flat out vec4 v_shadow;
+flat out uint v_id;
+vec3 a_major, a_minor;
+vec3 static3(uint o) { return vec3(splat_statics[o], splat_statics[o + 1u], splat_statics[o + 2u]); }
+bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
+  uint o = 17u * s;
+  m = mat3(u_model);
+  c = (u_model * vec4(static3(o), 1.0)).xyz;
+  n = normalize(m * static3(o + 3u));
+  a_major = static3(o + 6u);
+  a_minor = static3(o + 9u);
+  v_albedo = static3(o + 12u);
+  v_normal = n;
+  vec4 ao = splat_lighting[2u * s];
+  vec3 bent = length(ao.xyz) > 0.0 ? normalize(ao.xyz) : n;
+  v_ambient = u_ambient == 2 ? vec3(ao.w)
+            : u_ambient == 1 ? max(sh_irradiance(n), vec3(0.0)) / 3.14159265
+                             : max(sh_irradiance(bent), vec3(0.0)) / 3.14159265 * ao.w;
+  v_shadow = splat_lighting[2u * s + 1u];
+  v_id = s;
+  if (u_lod > 0.0) {
+    float e = length(u_eye - c) * u_lod;
+    if (e < splat_statics[o + 15u] || e >= splat_statics[o + 16u]) return false;
+  }
+  return dot(n, u_eye - c) > 0.0;
+}
+)";
+}  // namespace
 
-const char* const kSplatVertex = SPLAT_HEAD R"(
+const std::string kSplatVertex = kSplatHead + R"(
 out vec2 v_local;
 out vec3 v_view_pos;
+uniform float u_depth_offset;  // ε of the visibility pass, 0 in the accumulation pass
 void main() {
   vec3 c, n;
   mat3 m;
   // Culled splats (back-facing, or outside their LOD interval) are moved outside the clip volume.
-  if (!splat_head(c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); return; }
+  if (!splat_head(uint(gl_VertexID) >> 2, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); return; }
   vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
   // The quad lies in the splat's plane, so the rasterised depth is the ray-cast depth of that plane
   // at every pixel (perspective correct), and v_local is the pixel's ellipse coordinate.
   vec3 p = c + u_scale * (corner.x * (m * a_major) + corner.y * (m * a_minor));
   v_local = corner;
   v_view_pos = (u_view * vec4(p, 1.0)).xyz;
-  gl_Position = u_proj * vec4(v_view_pos, 1.0);
+  // The visibility pass pushes each corner back by ε along its view ray. Done per vertex rather than
+  // per pixel, the fragment shader writes no depth and llvmpipe keeps its early depth test; across
+  // a splat the offset differs from ε by a second-order amount in the splat's angular size.
+  gl_Position = u_proj * vec4(v_view_pos * (1.0 + u_depth_offset / length(v_view_pos)), 1.0);
 }
 )";
 
 const char* const kSplatVisibility = R"(#version 450 core
 in vec2 v_local;
-in vec3 v_view_pos;
-uniform mat4 u_proj;
-uniform float u_depth_offset;
 void main() {
   if (dot(v_local, v_local) > 1.0) discard;
-  // Push the surface back by ε along the view ray, so pass 2 blends every splat within ε of the front.
-  vec3 p = v_view_pos * (1.0 + u_depth_offset / length(v_view_pos));
-  vec4 clip = u_proj * vec4(p, 1.0);
-  gl_FragDepth = 0.5 * clip.z / clip.w + 0.5;
 }
 )";
 
-const char* const kSplatAccumulate = R"(#version 450 core
-in vec2 v_local;
-in vec3 v_view_pos;
-flat in vec3 v_albedo;
-flat in vec3 v_normal;
-flat in vec4 v_ao;
-flat in vec4 v_shadow;
-flat in uint v_id;
-uniform float u_beta;
-uniform int u_footprints;
-layout(location = 0) out vec4 o_albedo;   // Σ w·albedo, Σ w
-layout(location = 1) out vec4 o_normal;   // Σ w·n, Σ w·z_view
-layout(location = 2) out vec4 o_ao;       // Σ w·bent, Σ w·AO
-layout(location = 3) out vec4 o_shadow;   // Σ w·visibility per key light
+namespace {
+// The accumulation targets, also the G-buffer the shading reads (it divides by Σw itself, so no
+// normalisation pass writes a second set of full-screen targets). Σw and Σw·z lead their targets,
+// so the cluster stage reads them back as single channels.
+const char* const kAccumulationTargets = R"(
+layout(location = 0) out vec4 o_weight_albedo;   // Σw, Σw·albedo
+layout(location = 1) out vec4 o_z_normal;        // Σw·z_view, Σw·n (world)
+layout(location = 2) out vec4 o_shadow_ambient;  // Σw·visibility of key light 0, Σw·ambient
+layout(location = 3) out vec4 o_shadows;         // Σw·visibility of key lights 1-3 (bound with 2+ key lights)
 vec3 hash_color(uint id) {
   uint h = id * 2654435761u; h ^= h >> 15; h *= 2246822519u; h ^= h >> 13;
   return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0;
 }
-void main() {
-  float r2 = dot(v_local, v_local);
-  if (r2 > 1.0) discard;
-  float w = exp(-u_beta * r2);
-  o_albedo = vec4(w * (u_footprints != 0 ? hash_color(v_id) : v_albedo), w);
-  o_normal = vec4(w * v_normal, w * v_view_pos.z);
-  o_ao = w * v_ao;
-  o_shadow = w * v_shadow;
+void write_splat(float w, float view_z) {
+  o_weight_albedo = vec4(w, w * (u_footprints != 0 ? hash_color(v_id) : v_albedo));
+  o_z_normal = vec4(w * view_z, w * v_normal);
+  o_shadow_ambient = vec4(w * v_shadow.x, w * v_ambient);
+  o_shadows = vec4(w * v_shadow.yzw, 0.0);
 }
 )";
 
-const char* const kPointVertex = SPLAT_HEAD R"(
+const char* const kSplatFlatInputs = R"(
+flat in vec3 v_albedo;
+flat in vec3 v_normal;
+flat in vec3 v_ambient;
+flat in vec4 v_shadow;
+flat in uint v_id;
+uniform int u_footprints;
+)";
+
+}  // namespace
+
+const std::string kSplatAccumulate = std::string("#version 450 core\n") + kSplatFlatInputs + kAccumulationTargets + R"(
+in vec2 v_local;
+in vec3 v_view_pos;
+uniform float u_beta;
+void main() {
+  float r2 = dot(v_local, v_local);
+  if (r2 > 1.0) discard;
+  write_splat(exp(-u_beta * r2), v_view_pos.z);
+}
+)";
+
+const std::string kPointVertex = kSplatHead + R"(
 uniform float u_viewport_height;
 out float v_view_z;
 void main() {
   vec3 c, n;
   mat3 m;
-  bool drawn = splat_head(c, n, m);
+  bool drawn = splat_head(uint(gl_VertexID), c, n, m);
   vec4 view = u_view * vec4(c, 1.0);
   v_view_z = view.z;
   if (!drawn) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); gl_PointSize = 1.0; return; }
@@ -121,30 +157,10 @@ void main() {
 }
 )";
 
-const char* const kPointFragment = R"(#version 450 core
-flat in vec3 v_albedo;
-flat in vec3 v_normal;
-flat in vec4 v_ao;
-flat in vec4 v_shadow;
-flat in uint v_id;
+// The nearest point's attributes with weight 1, into the accumulation targets.
+const std::string kPointFragment = std::string("#version 450 core\n") + kSplatFlatInputs + kAccumulationTargets + R"(
 in float v_view_z;
-uniform int u_footprints;
-layout(location = 0) out vec4 g_albedo;
-layout(location = 1) out vec4 g_normal;
-layout(location = 2) out float g_view_z;
-layout(location = 3) out vec4 g_ao;
-layout(location = 4) out vec4 g_shadow;
-vec3 hash_color(uint id) {
-  uint h = id * 2654435761u; h ^= h >> 15; h *= 2246822519u; h ^= h >> 13;
-  return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0;
-}
-void main() {
-  g_albedo = vec4(u_footprints != 0 ? hash_color(v_id) : v_albedo, 1.0);
-  g_normal = vec4(v_normal, 0.0);
-  g_view_z = v_view_z;
-  g_ao = vec4(normalize(v_ao.xyz + vec3(0.0, 1e-6, 0.0)), v_ao.w);
-  g_shadow = v_shadow;
-}
+void main() { write_splat(1.0, v_view_z); }
 )";
 
 const char* const kFullscreenVertex = R"(#version 450 core
@@ -154,47 +170,22 @@ void main() {
 }
 )";
 
-const char* const kNormalize = R"(#version 450 core
-layout(binding = 0) uniform sampler2D u_albedo;
-layout(binding = 1) uniform sampler2D u_normal;
-layout(binding = 2) uniform sampler2D u_ao;
-layout(binding = 3) uniform sampler2D u_shadow;
-layout(location = 0) out vec4 g_albedo;
-layout(location = 1) out vec4 g_normal;
-layout(location = 2) out float g_view_z;
-layout(location = 3) out vec4 g_ao;
-layout(location = 4) out vec4 g_shadow;
-void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  vec4 a = texelFetch(u_albedo, p, 0);
-  if (a.w <= 0.0) { g_albedo = vec4(0.0); g_normal = vec4(0.0); g_view_z = 0.0; g_ao = vec4(0.0, 1.0, 0.0, 1.0); g_shadow = vec4(1.0); return; }
-  float inv = 1.0 / a.w;
-  vec4 n = texelFetch(u_normal, p, 0);
-  vec4 ao = texelFetch(u_ao, p, 0) * inv;
-  g_albedo = vec4(a.rgb * inv, 1.0);
-  g_normal = vec4(normalize(n.xyz), 0.0);
-  g_view_z = n.w * inv;
-  g_ao = vec4(length(ao.xyz) > 0.0 ? normalize(ao.xyz) : g_normal.xyz, ao.w);
-  g_shadow = texelFetch(u_shadow, p, 0) * inv;
-}
-)";
-
 // Compiled once per variant: the presenter prepends "#version 450 core" and the defines DEBUG_VIEW
 // (0 final, 1 albedo, 2 normals, 3 AO, 4 lights per cluster, 5 shadows, 6 depth), BRUTE_FORCE,
-// PIXEL_SHADOWS, PIXEL_AO, USE_AO, KEY_COUNT and SPECULAR. On llvmpipe every branch on a uniform
+// PIXEL_SHADOWS, PIXEL_AO, KEY_COUNT, SPECULAR and HDR_OUTPUT. On llvmpipe every branch on a uniform
 // runs both sides under a mask, so the modes are constants and the dead paths are compiled out.
-const char* const kShade = R"(
+// The G-buffer is the accumulation targets: every attribute is a Σw-weighted sum divided here.
+const std::string kShade = std::string(kShIrradiance) + R"(
 // center_inv_r2: view-space centre and 1/r² (the falloff needs (d/r)² only, so no root per light).
 struct Light { vec4 center_inv_r2; vec4 color; };
 layout(std430, binding = 0) readonly buffer Lights { Light lights[]; };
 layout(std430, binding = 1) readonly buffer Offsets { uint list_offsets[]; };
 layout(std430, binding = 2) readonly buffer Counts { uint list_counts[]; };
 layout(std430, binding = 3) readonly buffer Indices { uint list_indices[]; };
-layout(binding = 0) uniform sampler2D g_albedo;
-layout(binding = 1) uniform sampler2D g_normal;
-layout(binding = 2) uniform sampler2D g_view_z;
-layout(binding = 3) uniform sampler2D g_ao;
-layout(binding = 4) uniform sampler2D g_shadow;
+layout(binding = 0) uniform sampler2D g_weight_albedo;
+layout(binding = 1) uniform sampler2D g_z_normal;
+layout(binding = 2) uniform sampler2D g_shadow_ambient;
+layout(binding = 3) uniform sampler2D g_shadows;
 layout(binding = 5) uniform usampler2D u_pixel_list;
 layout(binding = 6) uniform sampler2D u_pixel_shadow;
 layout(binding = 7) uniform sampler2D u_pixel_ao_texture;
@@ -204,19 +195,15 @@ uniform vec2 u_viewport;
 uniform int u_light_count;
 uniform vec4 u_key_center[4];  // view space, 1/r² in w
 uniform vec3 u_key_color[4];
-uniform vec3 u_sh[9];          // irradiance SH of the sky
 uniform float u_heat_max;
 uniform float u_specular;      // Blinn-Phong: white highlight strength (SPECULAR only)
 uniform float u_shininess;     // Blinn-Phong exponent (SPECULAR only)
+#if HDR_OUTPUT
 layout(location = 0) out vec4 o_hdr;
 layout(location = 1) out vec4 o_display;
-
-vec3 sh_irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001, Eq. 13
-  const float c1 = 0.429043, c2 = 0.511664, c3 = 0.743125, c4 = 0.886227, c5 = 0.247708;
-  return c1 * u_sh[8] * (n.x * n.x - n.y * n.y) + c3 * u_sh[6] * n.z * n.z + c4 * u_sh[0] - c5 * u_sh[6]
-       + 2.0 * c1 * (u_sh[4] * n.x * n.y + u_sh[7] * n.x * n.z + u_sh[5] * n.y * n.z)
-       + 2.0 * c2 * (u_sh[3] * n.x + u_sh[1] * n.y + u_sh[2] * n.z);
-}
+#else
+layout(location = 0) out vec4 o_display;
+#endif
 
 vec3 heat(float t) {
   t = clamp(t, 0.0, 1.0);
@@ -240,30 +227,45 @@ void add_light(vec4 center_inv_r2, vec3 color, vec3 position, vec3 n, vec3 to_ey
 #endif
 }
 
+// Key-light visibility per key light, from the splats or per pixel.
+vec4 key_visibility(ivec2 p, float inv_weight) {
+#if PIXEL_SHADOWS
+  return texelFetch(u_pixel_shadow, p, 0);
+#elif KEY_COUNT > 1
+  return vec4(texelFetch(g_shadow_ambient, p, 0).x, texelFetch(g_shadows, p, 0).xyz) * inv_weight;
+#else
+  return vec4(texelFetch(g_shadow_ambient, p, 0).x * inv_weight, 1.0, 1.0, 1.0);
+#endif
+}
+
 vec4 shade(ivec2 p) {
-  vec4 albedo = texelFetch(g_albedo, p, 0);
-  if (albedo.w <= 0.0) return vec4(DEBUG_VIEW == 0 ? sh_irradiance(vec3(0.0, 0.3, 1.0)) / 3.14159265 * 0.6 : vec3(0.0), 1.0);
+  vec4 weight_albedo = texelFetch(g_weight_albedo, p, 0);
+  if (weight_albedo.x <= 0.0) return vec4(DEBUG_VIEW == 0 ? sh_irradiance(vec3(0.0, 0.3, 1.0)) / 3.14159265 * 0.6 : vec3(0.0), 1.0);
+  float inv_weight = 1.0 / weight_albedo.x;
+  vec3 albedo = weight_albedo.yzw * inv_weight;
+  vec4 z_normal = texelFetch(g_z_normal, p, 0);
+  vec3 n_world = normalize(z_normal.yzw);
 #if DEBUG_VIEW == 1
-  return vec4(albedo.rgb, 1.0);
+  return vec4(albedo, 1.0);
 #elif DEBUG_VIEW == 2
-  return vec4(0.5 * texelFetch(g_normal, p, 0).xyz + 0.5, 1.0);
+  return vec4(0.5 * n_world + 0.5, 1.0);
 #elif DEBUG_VIEW == 3
-  return vec4(vec3(PIXEL_AO != 0 ? texelFetch(u_pixel_ao_texture, p, 0).w : texelFetch(g_ao, p, 0).w), 1.0);
+  // The splat passes carry the AO itself in the ambient channels for this view.
+  return vec4(vec3(PIXEL_AO != 0 ? texelFetch(u_pixel_ao_texture, p, 0).w : texelFetch(g_shadow_ambient, p, 0).y * inv_weight), 1.0);
 #elif DEBUG_VIEW == 4
   uint list = texelFetch(u_pixel_list, p, 0).x;
   float count = BRUTE_FORCE != 0 ? float(u_light_count) : (list == 0xFFFFFFFFu ? 0.0 : float(list_counts[list]));
   return vec4(heat(count / u_heat_max), 1.0);
 #elif DEBUG_VIEW == 5
-  vec4 shadow = PIXEL_SHADOWS != 0 ? texelFetch(u_pixel_shadow, p, 0) : texelFetch(g_shadow, p, 0);
+  vec4 shadow = key_visibility(p, inv_weight);
   float v = 1.0;  // the darkest key light's visibility
   for (int k = 0; k < KEY_COUNT; ++k) v = min(v, shadow[k]);
   return vec4(vec3(v), 1.0);
 #elif DEBUG_VIEW == 6
-  return vec4(vec3(-texelFetch(g_view_z, p, 0).x / 20.0), 1.0);
+  return vec4(vec3(-z_normal.x * inv_weight / 20.0), 1.0);
 #else
-  vec3 n_world = texelFetch(g_normal, p, 0).xyz;
-  // Same reconstruction as cluster::pixel_view_position.
-  float d = -texelFetch(g_view_z, p, 0).x;
+  // Same reconstruction as cluster::pixel_view_position, from the same Σw·z / Σw as the cluster stage.
+  float d = -(z_normal.x * inv_weight);
   vec2 ndc = (vec2(p) + 0.5) * 2.0 / u_viewport - 1.0;
   vec3 position = vec3(ndc * d * u_tan_half, -d);
   vec3 n = normalize(mat3(u_view) * n_world);
@@ -283,24 +285,27 @@ vec4 shade(ivec2 p) {
   }
 #endif
 #if KEY_COUNT > 0
-  vec4 shadow = PIXEL_SHADOWS != 0 ? texelFetch(u_pixel_shadow, p, 0) : texelFetch(g_shadow, p, 0);
+  vec4 shadow = key_visibility(p, inv_weight);
   for (int k = 0; k < KEY_COUNT; ++k)
     add_light(u_key_center[k], u_key_color[k], position, n, to_eye, shadow[k], diffuse, specular);
 #endif
-  // Ambient: sky irradiance in the bent normal's direction, times AO (albedo/π · E).
-#if USE_AO
-  vec4 ao = PIXEL_AO != 0 ? texelFetch(u_pixel_ao_texture, p, 0) : texelFetch(g_ao, p, 0);
+  // Ambient: sky irradiance around the bent normal times AO (albedo/π · E), evaluated per splat by
+  // the splat passes, or per pixel in the pixel-AO mode.
+#if PIXEL_AO
+  vec4 ao = texelFetch(u_pixel_ao_texture, p, 0);
   vec3 ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
 #else
-  vec3 ambient = max(sh_irradiance(n_world), vec3(0.0)) / 3.14159265;
+  vec3 ambient = texelFetch(g_shadow_ambient, p, 0).yzw * inv_weight;
 #endif
-  return vec4(albedo.rgb * (diffuse + ambient) + u_specular * specular, 1.0);
+  return vec4(albedo * (diffuse + ambient) + u_specular * specular, 1.0);
 #endif
 }
 
 void main() {
   vec4 color = shade(ivec2(gl_FragCoord.xy));
+#if HDR_OUTPUT
   o_hdr = color;
+#endif
   vec3 c = DEBUG_VIEW == 0 ? vec3(1.0) - exp(-color.rgb) : color.rgb;  // exposure curve keeps many lights in range
   o_display = vec4(pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
 }

@@ -46,6 +46,9 @@ int run_render(const RenderOptions& o) {
   Stopwatch setup;
   present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir(),
                                [&](const std::string& what) { progress.show("building " + what); });
+  // Linear radiance is written only for an .exr image: a PNG needs the tone-mapped target alone.
+  const bool exr = o.output.size() > 4 && o.output.substr(o.output.size() - 4) == ".exr";
+  presenter.hdr_output = exr;
   progress.clear();
   presenter.debug_view = view;
   presenter.pixel_ao = presenter.pixel_ao || o.pixel_ao;
@@ -96,7 +99,6 @@ int run_render(const RenderOptions& o) {
   const double frame_ms = frame_total / measured;
   fmt::print("frame      {:.2f} ms = {:.1f} fps\n", frame_ms, 1000.0 / frame_ms);
   if (!o.output.empty()) {
-    const bool exr = o.output.size() > 4 && o.output.substr(o.output.size() - 4) == ".exr";
     write_image_rgb(o.output, width, height, exr ? presenter.read_hdr_rgb() : presenter.read_display_rgb());
     fmt::print("image      {}\n", o.output);
   }

@@ -49,6 +49,7 @@ int run_view(const ViewOptions& o) {
   auto context = present::GlContext::window(width, height, "splatcl view");
   GLFWwindow* window = context->glfw_window();
   present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir());
+  presenter.hdr_output = false;  // the window and screenshots show the tone-mapped image
   std::fprintf(stderr, "%s\n", kHelpKeys);
 
   present::Scene& s = presenter.scene();
