@@ -336,7 +336,7 @@ struct ShadeVariant {
 struct Presenter::Impl {
   GLuint splat_program = 0, visibility_program = 0, accumulate_program = 0, point_program = 0, mesh_program = 0;
   std::map<std::uint32_t, GLuint> shade_programs;  // final shading, one per variant (shade_program)
-  GLuint splat_vao = 0, static_vbo = 0, dynamic_vbo = 0, quad_ibo = 0, empty_vao = 0;
+  GLuint static_vbo = 0, dynamic_vbo = 0, empty_vao = 0;
   GLuint depth = 0, accum[4] = {}, hdr = 0, display = 0, pixel_list = 0, pixel_shadow = 0, pixel_ao = 0;
   GLuint accum_fbo = 0, visibility_fbo = 0, hdr_fbo = 0, display_fbo = 0;
   GLuint mesh_color = 0, mesh_depth = 0, mesh_fbo = 0;
@@ -492,7 +492,6 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   g.point_program = link(shaders::kPointVertex.c_str(), shaders::kPointFragment.c_str(), "points");
   g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
 
-  glCreateVertexArrays(1, &g.splat_vao);
   glCreateVertexArrays(1, &g.empty_vao);
   glCreateBuffers(1, &g.static_vbo);
   glCreateBuffers(1, &g.dynamic_vbo);
@@ -501,17 +500,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   glNamedBufferStorage(g.dynamic_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * 8 * sizeof(float)),
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
   // The splat shaders pull their rows from static_vbo and dynamic_vbo (storage buffers 4 and 5);
-  // the vertices of splat s are 4s..4s+3, two triangles per quad.
-  std::vector<std::uint32_t> quad_indices(6 * instance_count);
-  for (std::size_t i = 0; i < instance_count; ++i) {
-    const auto v = static_cast<std::uint32_t>(4 * i);
-    const std::uint32_t quad[6] = {v, v + 1, v + 2, v + 2, v + 1, v + 3};
-    std::copy(quad, quad + 6, quad_indices.begin() + static_cast<std::ptrdiff_t>(6 * i));
-  }
-  glCreateBuffers(1, &g.quad_ibo);
-  glNamedBufferStorage(g.quad_ibo, static_cast<GLsizeiptr>(std::max<std::size_t>(quad_indices.size(), 1) * 4),
-                       quad_indices.empty() ? nullptr : quad_indices.data(), 0);
-  glVertexArrayElementBuffer(g.splat_vao, g.quad_ibo);
+  // the vertices of splat s are 3s..3s+2, one triangle around its ellipse (points: vertex s).
   glCreateBuffers(4, g.ssbo);
 
   // Triangle meshes of the objects, for the coverage test.
@@ -553,11 +542,10 @@ Presenter::~Presenter() {
   for (GLuint p : {g.splat_program, g.accumulate_program, g.point_program, g.mesh_program})
     glDeleteProgram(p);
   for (const auto& [key, program] : g.shade_programs) glDeleteProgram(program);
-  const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.quad_ibo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};
-  glDeleteBuffers(7, buffers);
+  const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};
+  glDeleteBuffers(6, buffers);
   glDeleteBuffers(static_cast<GLsizei>(g.mesh_vbos.size()), g.mesh_vbos.data());
   glDeleteVertexArrays(static_cast<GLsizei>(g.mesh_vaos.size()), g.mesh_vaos.data());
-  glDeleteVertexArrays(1, &g.splat_vao);
   glDeleteVertexArrays(1, &g.empty_vao);
 }
 
@@ -913,7 +901,7 @@ FrameStats Presenter::render(float time) {
   }
 
   glViewport(0, 0, width_, height_);
-  glBindVertexArray(g.splat_vao);
+  glBindVertexArray(g.empty_vao);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.static_vbo);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.dynamic_vbo);
   const auto set_common = [&](GLuint program) {
@@ -946,8 +934,7 @@ FrameStats Presenter::render(float time) {
       if (points)
         glDrawArrays(GL_POINTS, static_cast<GLint>(first), static_cast<GLsizei>(count));
       else
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count), GL_UNSIGNED_INT,
-                       reinterpret_cast<const void*>(6 * first * sizeof(std::uint32_t)));
+        glDrawArrays(GL_TRIANGLES, static_cast<GLint>(3 * first), static_cast<GLsizei>(3 * count));
     }
   };
   const float zero[4] = {0, 0, 0, 0};

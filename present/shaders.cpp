@@ -18,8 +18,8 @@ vec3 sh_irradiance(vec3 n) {
 )";
 
 // The head both splat vertex shaders share. Per-splat attributes are pulled from storage buffers
-// by splat index (gl_VertexID: 4 per splat for quads, 1 for points): llvmpipe runs an instanced
-// draw as one small vertex batch per instance, a plain draw shades its vertices 8 at a time.
+// by splat index (gl_VertexID: 3 per splat, 1 for points): llvmpipe runs an instanced draw as one
+// small vertex batch per instance, a plain draw shades its vertices 8 at a time.
 // Static rows (17 floats, model space): centre, normal, the two semi-axis vectors, colour, the LOD
 // interval [e_min, e_max) (model units). Lighting rows (2 vec4, world space): the per-splat CL
 // results, bent normal + AO and key-light visibility.
@@ -76,9 +76,12 @@ void main() {
   vec3 c, n;
   mat3 m;
   // Culled splats (back-facing, or outside their LOD interval) are moved outside the clip volume.
-  if (!splat_head(uint(gl_VertexID) >> 2, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); return; }
-  vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
-  // The quad lies in the splat's plane, so the rasterised depth is the ray-cast depth of that plane
+  // The splat passes cost per primitive on llvmpipe more than per pixel: one triangle circumscribing
+  // the ellipse (inradius 1 in ellipse coordinates) is cheaper than a quad of two.
+  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); return; }
+  int j = gl_VertexID % 3;
+  vec2 corner = j == 0 ? vec2(0.0, 2.0) : vec2(j == 1 ? -1.7320508 : 1.7320508, -1.0);
+  // The triangle lies in the splat's plane, so the rasterised depth is the ray-cast depth of that plane
   // at every pixel (perspective correct), and v_local is the pixel's ellipse coordinate.
   vec3 p = c + u_scale * (corner.x * (m * a_major) + corner.y * (m * a_minor));
   v_local = corner;
