@@ -99,30 +99,45 @@ csm::Transform to_transform(const glm::mat4& m) {
 
 splats::Vec4 vec4(glm::vec3 v) { return {v.x, v.y, v.z, 0.0f}; }
 
-// GL timer queries, one per named pass, read after the frame.
+// Per named GL pass: a timer query read after the frame, or with `wall` the wall clock between two
+// glFinish calls. llvmpipe rasterises a pass when a later command needs its result, so its queries
+// and the next wait (the depth readback) do not split the time between passes; the wall clock
+// does, at the price of serialising the frame.
 struct GpuTimers {
+  bool wall = false;
   std::vector<GLuint> queries;
   std::vector<std::string> names;
+  std::vector<double> wall_ms;
   std::size_t used = 0;
+  Stopwatch clock;
   void begin(const char* name) {
     if (used == queries.size()) {
       GLuint q = 0;
       glGenQueries(1, &q);
       queries.push_back(q);
       names.emplace_back();
+      wall_ms.push_back(0.0);
     }
     names[used] = name;
+    if (wall) {
+      glFinish();
+      clock.restart();
+    }
     glBeginQuery(GL_TIME_ELAPSED, queries[used]);
   }
   void end() {
     glEndQuery(GL_TIME_ELAPSED);
+    if (wall) {
+      glFinish();
+      wall_ms[used] = clock.elapsed_ms();
+    }
     ++used;
   }
   void collect(std::vector<StageTime>& out) {
     for (std::size_t i = 0; i < used; ++i) {
       GLuint64 ns = 0;
       glGetQueryObjectui64v(queries[i], GL_QUERY_RESULT, &ns);
-      out.push_back({names[i], static_cast<double>(ns) * 1e-6});
+      out.push_back({names[i], wall ? wall_ms[i] : static_cast<double>(ns) * 1e-6});
     }
     used = 0;
   }
@@ -856,6 +871,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
 FrameStats Presenter::render(float time) {
   Impl& g = *impl_;
   const Quality& q = scene_.quality;
+  g.timers.wall = wall_clock_passes;
   FrameStats stats;
   Stopwatch frame_clock;
   stats.splats = static_cast<std::uint32_t>(splat_ao_.size());

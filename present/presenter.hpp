@@ -62,6 +62,9 @@ class Presenter {
   bool incremental_lighting = true;
   // The shading also writes linear radiance (read_hdr_rgb); off, only the tone-mapped image.
   bool hdr_output = true;
+  // GL passes timed by wall clock between glFinish calls instead of timer queries (serialises the
+  // frame; on llvmpipe only this splits the time between passes and the depth readback's wait).
+  bool wall_clock_passes = false;
 
   // Renders the scene at `time` into the presenter's framebuffers.
   FrameStats render(float time);

@@ -24,6 +24,7 @@ struct RenderOptions {
   std::string output, size = "640x480", view = "final", json;
   unsigned frames = 1;
   bool pixel_ao = false;
+  bool wall_passes = false;
   double time = -1, dt = 1.0 / 30.0;
 };
 
@@ -52,6 +53,7 @@ int run_render(const RenderOptions& o) {
   progress.clear();
   presenter.debug_view = view;
   presenter.pixel_ao = presenter.pixel_ao || o.pixel_ao;
+  presenter.wall_clock_passes = o.wall_passes;
   const double setup_ms = setup.elapsed_ms();
 
   const double start = o.time >= 0 ? o.time : scene.time;
@@ -108,6 +110,7 @@ int run_render(const RenderOptions& o) {
                                     {"splats", last.splats},         {"shading", scene.quality.shading},
                                     {"lod_error", scene.quality.lod_error},
                                     {"mode", scene.quality.mode},    {"frames_measured", measured},
+                                    {"gl_pass_clock", o.wall_passes ? "wall" : "timer queries"},
                                     {"frame_ms", frame_ms},          {"fps", 1000.0 / frame_ms},
                                     {"stages_ms", stages},           {"device", runtime->info().name},
                                     {"renderer", context->renderer()}};
@@ -132,6 +135,8 @@ Action register_render(CLI::App& app) {
   sub->add_option("--view", o->view, "final, albedo, normals, ao, clusters (lights per cluster), shadows, depth, footprints")
       ->capture_default_str();
   sub->add_option("--json", o->json, "Write the timings as JSON");
+  sub->add_flag("--wall-passes", o->wall_passes,
+                "Time each GL pass by wall clock between glFinish calls (serialises the frame) instead of timer queries");
   return [o] { return run_render(*o); };
 }
 

@@ -640,5 +640,31 @@ TEST_F(PresenterTest, LodDrawsFewerSplatsFarAwayAndKeepsTheSilhouette) {
   EXPECT_GE(near.render(0.0f).splats, near_off.splats * 9 / 10);
 }
 
+// Timing the GL passes by wall clock (glFinish around each pass) changes no pixel and reports the
+// same passes; without HDR output the tone-mapped image is the same and read_hdr_rgb refuses.
+TEST_F(PresenterTest, WallClockPassesAndHdrOutputChangeNoPixel) {
+  Presenter presenter(test_scene(), *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+  const auto pass_names = [](const FrameStats& stats) {
+    std::vector<std::string> names;
+    for (const StageTime& s : stats.stages)
+      if (s.name.rfind("gl: ", 0) == 0) names.push_back(s.name);
+    return names;
+  };
+  const FrameStats queried = presenter.render(0.25f);
+  const auto display = presenter.read_display_rgb();
+  const auto hdr = presenter.read_hdr_rgb();
+  presenter.wall_clock_passes = true;
+  const FrameStats walled = presenter.render(0.25f);
+  EXPECT_EQ(pass_names(walled), pass_names(queried));
+  EXPECT_EQ(pass_names(walled), (std::vector<std::string>{"gl: splat visibility", "gl: splat accumulation", "gl: shading"}));
+  for (const StageTime& s : walled.stages) EXPECT_GE(s.ms, 0.0) << s.name;
+  EXPECT_EQ(presenter.read_display_rgb(), display);
+  EXPECT_EQ(presenter.read_hdr_rgb(), hdr);
+  presenter.hdr_output = false;
+  presenter.render(0.25f);
+  EXPECT_EQ(presenter.read_display_rgb(), display);
+  EXPECT_THROW(presenter.read_hdr_rgb(), Error);
+}
+
 }  // namespace
 }  // namespace splatcl::present
