@@ -10,6 +10,7 @@
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "splats/pipeline.hpp"
+#include "splats/pipeline_options.hpp"
 
 namespace splatcl::present {
 namespace {
@@ -77,27 +78,21 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   }
   if (!assets.splats_cached) {
     if (progress) progress(fmt::format("{}: splats", object.name));
-    splats::PipelineOptions options;
-    options.sampling = splats::parse_sampling(q.sampling);
-    options.fit.eps = q.eps_diagonal * assets.mesh.bounds().diagonal();
-    if (object.splat_colors) options.fit.color_tolerance = static_cast<int>(object.color_tolerance);
-    splats::ColorSource colors;
-    colors.bounds = assets.mesh.bounds();
-    std::string color_name = "grey";
-    if (object.splat_colors && !texture_path.empty()) {
-      if (!assets.mesh.has_texcoords())
-        throw Error(fmt::format("{}: 'texture' needs a mesh with texture coordinates ({} has none)", scene.source, object.name));
-      colors.texture = splats::load_texture(texture_path);
-      color_name = "texture:" + object.texture;
-    } else if (object.splat_colors) {
-      colors.field = splats::parse_color_field(object.color_field);
-      color_name = object.color_field;
+    // The scene's quality settings and colour source as the splat stage's shared parameter list.
+    splats::SplatParameters params;
+    params.samples = q.sampling;
+    params.eps_diag = q.eps_diagonal;
+    if (object.splat_colors) {
+      params.color_tol = static_cast<int>(object.color_tolerance);
+      if (!texture_path.empty())
+        params.texture = texture_path;
+      else
+        params.color_field = object.color_field;
     }
-    const splats::SplatRun run = splats::generate_splats(assets.mesh, colors, options, &runtime);
+    const splats::SplatSetup setup = splats::splat_setup(params, assets.mesh, fmt::format("{}: {}", scene.source, object.name));
+    const splats::SplatRun run = splats::generate_splats(assets.mesh, setup.colors, setup.options, &runtime);
     assets.splats = run.records();
-    const splats::SplatFileInfo info{assets.mesh.source, splats::to_string(options.sampling), options.fit.eps,
-                                     run.neighbors.k, options.fit.color_tolerance, color_name, false};
-    splats::write_splat_file(splat_path, assets.splats, info);
+    splats::write_splat_file(splat_path, assets.splats, splats::splat_file_info(setup, run, assets.mesh.source));
   }
   if (assets.splats_cached && std::filesystem::exists(tree_path)) {
     try {
