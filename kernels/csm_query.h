@@ -455,23 +455,18 @@ inline void csm_ao_rotate(const float* h, float sx, float sy, float sz, float* d
   d[2] = twice * h[2] - sz;
 }
 
-inline void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
-                                  float pz, float nx, float ny, float nz, uint ground, float bias, float* out) {
-  float h[3];
-  csm_ao_rotation_axis(nx, ny, nz, h);
-  float lit = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f;
-  for (uint k = 0; k < samples; ++k) {
-    float d[3];
-    csm_ao_rotate(h, pattern[4u * k], pattern[4u * k + 1u], pattern[4u * k + 2u], d);
-    const float dx = d[0], dy = d[1], dz = d[2];
-    if (ground && dy < 0.0f) continue;
-    if (csm_visibility(scene, px, py, pz, dx, dy, dz, CSM_FILTER_NONE, bias) > 0.0f) {
-      lit += 1.0f;
-      bx += dx;
-      by += dy;
-      bz += dz;
-    }
-  }
+// The AO of a receiver from its lit directions: sum = (lit count, Σ dx, Σ dy, Σ dz), starting at 0 and
+// adding the lit directions in pattern order (csm_ao_add); out as csm_ambient_occlusion. Shared with
+// the presenter's incremental AO, which knows the lit directions without running the kernel.
+inline void csm_ao_add(float* sum, float dx, float dy, float dz) {
+  sum[0] += 1.0f;
+  sum[1] += dx;
+  sum[2] += dy;
+  sum[3] += dz;
+}
+
+inline void csm_ao_finish(const float* sum, float nx, float ny, float nz, uint samples, float* out) {
+  const float lit = sum[0], bx = sum[1], by = sum[2], bz = sum[3];
   const float blen = csm_sqrt(bx * bx + by * by + bz * bz);
   if (lit > 0.0f && blen > 0.0f) {
     out[0] = bx / blen;
@@ -483,6 +478,21 @@ inline void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float*
     out[2] = nz;
   }
   out[3] = lit / (float)samples;
+}
+
+inline void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
+                                  float pz, float nx, float ny, float nz, uint ground, float bias, float* out) {
+  float h[3];
+  csm_ao_rotation_axis(nx, ny, nz, h);
+  float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (uint k = 0; k < samples; ++k) {
+    float d[3];
+    csm_ao_rotate(h, pattern[4u * k], pattern[4u * k + 1u], pattern[4u * k + 2u], d);
+    const float dx = d[0], dy = d[1], dz = d[2];
+    if (ground && dy < 0.0f) continue;
+    if (csm_visibility(scene, px, py, pz, dx, dy, dz, CSM_FILTER_NONE, bias) > 0.0f) csm_ao_add(sum, dx, dy, dz);
+  }
+  csm_ao_finish(sum, nx, ny, nz, samples, out);
 }
 
 #endif  // SPLATCL_CSM_QUERY_H

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -168,18 +167,25 @@ std::vector<glm::vec3> key_light_points(const Light& light, std::uint32_t sample
 std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const std::vector<splats::Vec4>& receivers,
                                         const Light& light, std::uint32_t samples, csm::Filter filter, float bias) {
   const std::vector<glm::vec3> light_points = key_light_points(light, samples);
-  std::vector<float> sum(receivers.size(), 0.0f);
-  std::vector<splats::Vec4> points(receivers.size());
+  // One batch for all the light's points (point-major: each point's run of receivers stays as
+  // coherent as on its own), so one launch per instance instead of one per instance and point.
+  const std::size_t n = receivers.size();
+  std::vector<splats::Vec4> batch, points;
+  batch.reserve(n * light_points.size());
+  points.reserve(n * light_points.size());
   for (const glm::vec3& p : light_points) {
-    std::fill(points.begin(), points.end(), splats::Vec4{p.x, p.y, p.z, 1.0f});
-    const std::vector<float> visible = queries.run(receivers, points, filter, bias);
-    for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += visible[i];
+    batch.insert(batch.end(), receivers.begin(), receivers.end());
+    points.insert(points.end(), n, splats::Vec4{p.x, p.y, p.z, 1.0f});
   }
+  const std::vector<float> visible = queries.run(batch, points, filter, bias);
+  std::vector<float> sum(n, 0.0f);
+  for (std::size_t j = 0; j < light_points.size(); ++j)
+    for (std::size_t i = 0; i < n; ++i) sum[i] += visible[j * n + i];
   for (float& v : sum) v /= static_cast<float>(light_points.size());
   return sum;
 }
 
-// Incremental per-splat lighting. A CSM query through one occluder instance (csm_query.h) is 1
+// Culling the per-splat lighting queries. A CSM query through one occluder instance (csm_query.h) is 1
 // exactly unless one of its taps reads a non-empty texel with a stored depth in front of the
 // receiver. Non-empty texels have their centres inside the disc of the bounding sphere's radius R;
 // taps (4 × 4 PCF at most) lie within 2.5·√2 texels of the receiver's projection; stored depths are
@@ -191,22 +197,33 @@ std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const s
 struct Cone {
   bool always = false;   // p too close to the sphere: every direction may reach it
   glm::vec3 to_centre{}; // centre − p
+  float distance = 0;    // |centre − p|
   float cos_limit = 0;   // w may reach iff cos∠(w, centre − p) >= cos_limit
-  bool may_reach(glm::vec3 w) const {
-    return always || glm::dot(w, to_centre) >= cos_limit * glm::length(w) * glm::length(to_centre);
+  // w_length = |w|, computed once per direction for all the cones.
+  bool may_reach(glm::vec3 w, float w_length) const {
+    return always || glm::dot(w, to_centre) >= cos_limit * w_length * distance;
   }
 };
 
 struct MovedReach {
   glm::vec3 centre{};        // bounding sphere, world space
   float radius = 0, reach = 0, slack = 0;
+  float cos_slack = 1, sin_slack = 0;
   Cone cone_from(glm::vec3 p) const {
     Cone cone;
     cone.to_centre = centre - p;
     const float d2 = glm::dot(cone.to_centre, cone.to_centre);
     // Behind the sphere within the line's reach (the second case above), or inside it.
     if (d2 <= radius * radius + reach * reach) return cone.always = true, cone;
-    const float limit = std::asin(std::min(1.0f, reach / std::sqrt(d2))) + slack;
+    cone.distance = std::sqrt(d2);
+    const float sin_reach = std::min(1.0f, reach / cone.distance);  // of the angle R' subtends from p
+    if (slack < 0.5f * std::numbers::pi_v<float>) {
+      // cos(asin(sin_reach) + slack) without trigonometric calls (both angles below π/2, their sum
+      // below π); its rounding is far inside the margins of R' and the slack.
+      cone.cos_limit = std::sqrt(1.0f - sin_reach * sin_reach) * cos_slack - sin_reach * sin_slack;
+      return cone;
+    }
+    const float limit = std::asin(sin_reach) + slack;
     if (limit >= std::numbers::pi_v<float>) return cone.always = true, cone;
     cone.cos_limit = std::cos(limit);
     return cone;
@@ -266,34 +283,36 @@ MovedReach moved_reach(const csm::CsmInfo& info, const glm::mat4& placement, flo
   reach.radius = static_cast<float>(stretch * info.sphere.radius * 1.0001);
   reach.reach = static_cast<float>(stretch * (info.sphere.radius + 5.0 * texel) * 1.0001);
   reach.slack = slack;
+  reach.cos_slack = std::cos(slack);
+  reach.sin_slack = std::sin(slack);
   return reach;
 }
 
-// PoCL compiles a kernel anew for each work-group size it picks, and it picks one per global size
-// (the CSM drivers leave the local size to it): batches of varying size, as the incremental update
-// makes, are padded to m·2^k (8 <= m < 16) entries, at most 1/8 more, so few sizes ever occur.
-template <class T>
-void pad_batch(std::vector<T>& batch) {
-  if (batch.empty()) return;
-  const std::size_t n = batch.size();
-  const std::size_t step = n < 16 ? 1 : std::size_t{1} << (std::bit_width(n) - 4);
-  batch.resize((n + step - 1) / step * step, batch.back());
-}
-
-// The AO kernel's query directions for receiver normal n (the rotation functions of
-// kernels/csm_query.h, and neither side contracts them, so the vectors are bit-identical); w = 0 marks a direction below the floor, which the kernel counts
-// as occluded without a query.
-void ao_directions(const splats::Vec4& n, const splats::Vec4* pattern, std::uint32_t samples, bool ground,
-                   std::vector<splats::Vec4>& out) {
+// The AO kernel's query directions for receiver normal n into out[0 .. samples) (the rotation
+// functions of kernels/csm_query.h, and neither side contracts them, so the vectors are
+// bit-identical); w = |d| for the Cone tests, or 0 for a direction below the floor, which the kernel
+// counts as occluded without a query.
+void ao_directions(const splats::Vec4& n, const splats::Vec4* pattern, std::uint32_t samples, bool ground, splats::Vec4* out) {
   float h[3];
   csm::device::csm_ao_rotation_axis(n.x, n.y, n.z, h);
-  out.clear();
   for (std::uint32_t k = 0; k < samples; ++k) {
     float d[3];
     csm::device::csm_ao_rotate(h, pattern[k].x, pattern[k].y, pattern[k].z, d);
-    out.push_back({d[0], d[1], d[2], ground && d[1] < 0.0f ? 0.0f : 1.0f});
+    out[k] = {d[0], d[1], d[2], ground && d[1] < 0.0f ? 0.0f : glm::length(glm::vec3(d[0], d[1], d[2]))};
   }
 }
+
+// A batch of (receiver, light) visibility queries and, per query, where its answer goes.
+struct QueryBatch {
+  std::vector<splats::Vec4> receivers, lights;
+  std::vector<std::size_t> where;
+  void add(const splats::Vec4& receiver, const splats::Vec4& light, std::size_t at) {
+    receivers.push_back(receiver);
+    lights.push_back(light);
+    where.push_back(at);
+  }
+};
+
 
 }  // namespace
 
@@ -375,6 +394,18 @@ struct Presenter::Impl {
   std::vector<char> cached_movers;
   std::vector<std::uint64_t> static_lit, lit_mask;
   std::vector<float> static_shadow;
+  std::vector<splats::Vec4> static_directions;  // per splat and sample: its AO direction, w = |d| (0: below the floor)
+  // Every object's CSM on the CL device (csm_tables), uploaded on first use; each query run places
+  // the instances it goes through, which uploads only the instance table.
+  std::unique_ptr<csm::AmbientOcclusion> csm_device;
+  csm::AmbientOcclusion& csm_tables(Runtime& runtime, const std::vector<ObjectAssets>& assets) {
+    if (!csm_device) {
+      std::vector<const csm::Csm*> csms;
+      for (const ObjectAssets& a : assets) csms.push_back(&a.csm);
+      csm_device = std::make_unique<csm::AmbientOcclusion>(runtime, csm::VisibilityScene(csms, {}));
+    }
+    return *csm_device;
+  }
 
   float map_slack(std::size_t object, const csm::CsmInfo& info) {
     const auto found = map_slacks.find(object);
@@ -625,10 +656,8 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       normals[r.first + s] = vec4(nrm);
     }
   }
-  std::vector<const csm::Csm*> csms;
   std::vector<csm::Instance> instances;
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
-    csms.push_back(&assets_[i].csm);
     if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
   }
   const Quality& q = scene_.quality;
@@ -644,11 +673,13 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   std::vector<std::vector<glm::vec3>> light_points;  // per key light
   for (const Light& light : scene_.key_lights) light_points.push_back(key_light_points(light, q.shadow_samples));
 
-  // Full update: every splat through the AO and shadow kernels. Incremental (occluders moved since
-  // the last update, same settings): the moved objects' splats through the kernels; every other
-  // splat from its cached visibility through the static occluders and new queries through the moved
-  // ones, only where those can answer "occluded" (Cone); the AO kernel then reruns only the splats
-  // whose set of lit AO directions changed. Both give the same rows bit for bit.
+  // Full update: every splat's AO directions and key-light points through each occluder instance,
+  // where its Cone may reach. Incremental (occluders moved since the last update, same settings):
+  // the moved objects' splats as in the full update; every other splat from its cached visibility
+  // through the static occluders and new queries through the moved ones, only where those can
+  // answer "occluded" (Cone); a splat whose set of lit AO directions changed gets its row from that
+  // set (csm_ao_finish, as the AO kernel does). Both give the same rows bit for bit, and the same as
+  // the AO kernel and one visibility batch through all instances (key_light_visibility).
   const bool incremental = incremental_lighting && g.lighting_rows.size() == n * 8 && g.lighting_signature == signature &&
                            g.lit_placements.size() == placements.size() && filter != csm::Filter::CrossMap &&
                            q.ao_bias >= 0;
@@ -666,146 +697,158 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   for (std::size_t s = 0; s < n; ++s)
     if (kernel_receiver[s]) ao_subset.push_back(static_cast<std::uint32_t>(s)), shadow_subset.push_back(static_cast<std::uint32_t>(s));
 
+  // Runs (receiver, light) queries through `through` (the CSM tables stay on the device, only the
+  // instances are placed); no instances: all lit. Batches of any size: the chunked kernel's
+  // work-group size is fixed on the CPU, so PoCL compiles it once, not once per batch size.
+  const auto run_queries = [&](const std::vector<csm::Instance>& through, const std::vector<splats::Vec4>& receivers,
+                               const std::vector<splats::Vec4>& lights, csm::Filter f) {
+    if (through.empty() || receivers.empty()) return std::vector<float>(receivers.size(), 1.0f);
+    csm::VisibilityQueries& queries = g.csm_tables(runtime_, assets_).queries();
+    queries.place(through);
+    return queries.run(receivers, lights, f, q.ao_bias);
+  };
+  // Where the queries through an instance may answer "occluded" (Cone): with the map choice of
+  // Filter::None or SameMap and a bias >= 0 (CrossMap taps 4 maps; an unbounded slack there).
+  const bool cull = filter != csm::Filter::CrossMap && q.ao_bias >= 0;
+  std::vector<MovedReach> instance_reaches;  // per entry of `instances`
+  for (const csm::Instance& instance : instances) {
+    const csm::CsmInfo& info = assets_[instance.occluder].csm.info;
+    instance_reaches.push_back(moved_reach(info, placements[instance.occluder], g.map_slack(instance.occluder, info)));
+  }
+
+  // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
+  const std::uint32_t samples = q.ao_samples;
+  const auto directions_of = [&](std::size_t s, splats::Vec4* out) {
+    ao_directions(normals[s], &g.ao_patterns[std::size_t{g.ao_pattern_of[s]} * samples], samples, scene_.floor.enabled, out);
+  };
+
   if (incremental) {
     Stopwatch clock;
-    const std::uint32_t samples = q.ao_samples, words = (samples + 63) / 64;
-    const std::size_t points = light_points.empty() ? 0 : light_points[0].size();
+    const std::uint32_t words = (samples + 63) / 64;
+    // Slots per key light: its points (a light of size 0 has one, others shadow_samples).
+    std::size_t points = 0;
+    for (const auto& p : light_points) points = std::max(points, p.size());
     const std::size_t keys = light_points.size();
     std::vector<csm::Instance> static_instances, moving_instances;
     std::vector<MovedReach> reaches;
-    for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
-      if (!scene_.objects[i].occluder) continue;
-      (moved[i] ? moving_instances : static_instances).push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
-      if (moved[i]) reaches.push_back(moved_reach(assets_[i].csm.info, placements[i], g.map_slack(i, assets_[i].csm.info)));
+    for (std::size_t k = 0; k < instances.size(); ++k) {
+      const bool moving = moved[instances[k].occluder];
+      (moving ? moving_instances : static_instances).push_back(instances[k]);
+      if (moving) reaches.push_back(instance_reaches[k]);
     }
-    // Runs (receiver, light) queries through the static or the moved instances (their scene tables
-    // built and uploaded once per update); no instances: all lit.
-    std::unique_ptr<csm::VisibilityQueries> static_queries, moving_queries;
-    const auto run_queries = [&](const std::vector<csm::Instance>& through, const std::vector<splats::Vec4>& receivers,
-                                 const std::vector<splats::Vec4>& lights, csm::Filter f) {
-      if (through.empty() || receivers.empty()) return std::vector<float>(receivers.size(), 1.0f);
-      std::unique_ptr<csm::VisibilityQueries>& queries = &through == &static_instances ? static_queries : moving_queries;
-      if (!queries) {
-        // Only the CSMs these instances use: the scene tables copy and upload every CSM they get.
-        std::vector<const csm::Csm*> used;
-        std::vector<csm::Instance> renumbered;
-        for (const csm::Instance& instance : through) {
-          renumbered.push_back({static_cast<std::uint32_t>(used.size()), instance.placement});
-          used.push_back(csms[instance.occluder]);
-        }
-        queries = std::make_unique<csm::VisibilityQueries>(runtime_, csm::VisibilityScene(used, renumbered));
-      }
-      std::vector<splats::Vec4> padded_receivers = receivers, padded_lights = lights;
-      pad_batch(padded_receivers);
-      pad_batch(padded_lights);
-      std::vector<float> visible = queries->run(padded_receivers, padded_lights, f, q.ao_bias);
-      visible.resize(receivers.size());
-      return visible;
-    };
-    std::vector<splats::Vec4> directions;
-    const auto directions_of = [&](std::size_t s) {
-      ao_directions(normals[s], &g.ao_patterns[std::size_t{g.ao_pattern_of[s]} * samples], samples, scene_.floor.enabled,
-                    directions);
-    };
     // The cache of visibility through the static occluders, rebuilt when the moving set changes.
     const bool rebuild = g.cached_movers != moved;
     if (rebuild) {
       g.static_lit.assign(do_ao ? n * words : 0, 0);
       g.lit_mask.assign(g.static_lit.size(), 0);
       g.static_shadow.assign(do_shadows ? n * keys * points : 0, 1.0f);
-      std::vector<splats::Vec4> receivers, lights;
-      std::vector<std::size_t> where;
+      g.static_directions.assign(do_ao ? n * samples : 0, splats::Vec4{});
+      QueryBatch ao_batch;
       for (std::size_t s = 0; s < n && do_ao; ++s) {
         if (kernel_receiver[s]) continue;
-        directions_of(s);
+        splats::Vec4* d = &g.static_directions[s * samples];
+        directions_of(s, d);
         for (std::uint32_t j = 0; j < samples; ++j)
-          if (directions[j].w != 0) {
-            receivers.push_back(positions[s]);
-            lights.push_back({directions[j].x, directions[j].y, directions[j].z, 0.0f});
-            where.push_back(s * words * 64 + j);
-          }
+          if (d[j].w != 0) ao_batch.add(positions[s], {d[j].x, d[j].y, d[j].z, 0.0f}, s * words * 64 + j);
       }
-      const std::vector<float> lit = run_queries(static_instances, receivers, lights, csm::Filter::None);
-      for (std::size_t k = 0; k < where.size(); ++k)
-        if (lit[k] > 0.0f) g.static_lit[where[k] / 64] |= std::uint64_t{1} << (where[k] % 64);
-      receivers.clear(), lights.clear(), where.clear();
+      const std::vector<float> lit = run_queries(static_instances, ao_batch.receivers, ao_batch.lights, csm::Filter::None);
+      for (std::size_t k = 0; k < ao_batch.where.size(); ++k) {
+        const std::size_t bit = ao_batch.where[k];
+        if (lit[k] > 0.0f) g.static_lit[bit / 64] |= std::uint64_t{1} << (bit % 64);
+      }
+      QueryBatch shadow_batch;
       for (std::size_t s = 0; s < n && do_shadows; ++s) {
         if (kernel_receiver[s]) continue;
         for (std::size_t k = 0; k < keys; ++k)
-          for (std::size_t j = 0; j < points; ++j) {
-            receivers.push_back(lifted[s]);
-            lights.push_back({light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f});
-            where.push_back((s * keys + k) * points + j);
-          }
+          for (std::size_t j = 0; j < light_points[k].size(); ++j)
+            shadow_batch.add(lifted[s], {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f},
+                             (s * keys + k) * points + j);
       }
-      const std::vector<float> visible = run_queries(static_instances, receivers, lights, filter);
-      for (std::size_t k = 0; k < where.size(); ++k) g.static_shadow[where[k]] = visible[k];
+      const std::vector<float> visible = run_queries(static_instances, shadow_batch.receivers, shadow_batch.lights, filter);
+      for (std::size_t k = 0; k < shadow_batch.where.size(); ++k) g.static_shadow[shadow_batch.where[k]] = visible[k];
       g.cached_movers = moved;
     }
     // Queries through the moved occluders where they may answer "occluded".
-    std::vector<splats::Vec4> receivers, lights;
-    std::vector<std::size_t> where;
     std::vector<std::uint64_t> mask = g.static_lit;
+    const auto cones_from = [&](glm::vec3 p, std::vector<Cone>& cones) {
+      cones.clear();
+      for (const MovedReach& reach : reaches) cones.push_back(reach.cone_from(p));
+    };
+    const auto reached = [](const std::vector<Cone>& cones, glm::vec3 w, float length) {
+      return std::any_of(cones.begin(), cones.end(), [&](const Cone& c) { return c.may_reach(w, length); });
+    };
+    QueryBatch ao_batch;
+    std::vector<Cone> cones;
     for (std::size_t s = 0; s < n && do_ao && !reaches.empty(); ++s) {
       if (kernel_receiver[s]) continue;
-      std::vector<Cone> cones;
-      for (const MovedReach& reach : reaches) cones.push_back(reach.cone_from({positions[s].x, positions[s].y, positions[s].z}));
-      directions_of(s);
+      // No lit direction left to test (all occluded by the static occluders or below the floor).
+      if (std::all_of(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
+                      mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words), [](std::uint64_t w) { return w == 0; }))
+        continue;
+      cones_from({positions[s].x, positions[s].y, positions[s].z}, cones);
+      const splats::Vec4* d = &g.static_directions[s * samples];
       for (std::uint32_t j = 0; j < samples; ++j) {
         const std::size_t bit = s * words * 64 + j;
-        if (!(mask[bit / 64] >> (bit % 64) & 1)) continue;
-        const glm::vec3 d(directions[j].x, directions[j].y, directions[j].z);
-        if (std::none_of(cones.begin(), cones.end(), [&](const Cone& c) { return c.may_reach(d); })) continue;
-        receivers.push_back(positions[s]);
-        lights.push_back({directions[j].x, directions[j].y, directions[j].z, 0.0f});
-        where.push_back(bit);
+        if ((mask[bit / 64] >> (bit % 64) & 1) && reached(cones, {d[j].x, d[j].y, d[j].z}, d[j].w))
+          ao_batch.add(positions[s], {d[j].x, d[j].y, d[j].z, 0.0f}, bit);
       }
     }
-    const std::vector<float> lit = run_queries(moving_instances, receivers, lights, csm::Filter::None);
-    for (std::size_t k = 0; k < where.size(); ++k)
-      if (!(lit[k] > 0.0f)) mask[where[k] / 64] &= ~(std::uint64_t{1} << (where[k] % 64));
+    const std::vector<float> lit = run_queries(moving_instances, ao_batch.receivers, ao_batch.lights, csm::Filter::None);
+    for (std::size_t k = 0; k < ao_batch.where.size(); ++k) {
+      const std::size_t bit = ao_batch.where[k];
+      if (!(lit[k] > 0.0f)) mask[bit / 64] &= ~(std::uint64_t{1} << (bit % 64));
+    }
     for (std::size_t s = 0; s < n && do_ao; ++s) {
       if (kernel_receiver[s]) continue;
       const bool changed = rebuild || !std::equal(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
                                                   mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words),
                                                   g.lit_mask.begin() + static_cast<std::ptrdiff_t>(s * words));
-      if (changed) ao_subset.push_back(static_cast<std::uint32_t>(s));
+      if (!changed) continue;
+      if (instances.empty()) {
+        ao_subset.push_back(static_cast<std::uint32_t>(s));  // no occluder: the row of the full update
+        continue;
+      }
+      // The mask holds the kernel's answer for every direction: its row without the kernel.
+      const splats::Vec4* d = &g.static_directions[s * samples];
+      float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      for (std::uint32_t j = 0; j < samples; ++j) {
+        const std::size_t bit = s * words * 64 + j;
+        if (mask[bit / 64] >> (bit % 64) & 1) csm::device::csm_ao_add(sum, d[j].x, d[j].y, d[j].z);
+      }
+      csm::device::csm_ao_finish(sum, normals[s].x, normals[s].y, normals[s].z, samples, &dynamic[8 * s]);
+      ++stats.lighting_receivers;
     }
     g.lit_mask = std::move(mask);
     // Key-light visibility: per light point the product of the instances' PCF fractions, which are
     // multiples of 1/16, so static × moved is exact; then the mean over the points as in
     // key_light_visibility.
-    receivers.clear(), lights.clear(), where.clear();
     std::vector<float> shadow = g.static_shadow;
+    QueryBatch shadow_batch;
     for (std::size_t s = 0; s < n && do_shadows && !reaches.empty(); ++s) {
       if (kernel_receiver[s]) continue;
       const glm::vec3 lift(lifted[s].x, lifted[s].y, lifted[s].z);
-      std::vector<Cone> cones;
-      for (const MovedReach& reach : reaches) cones.push_back(reach.cone_from(lift));
+      cones_from(lift, cones);
       for (std::size_t k = 0; k < keys; ++k)
-        for (std::size_t j = 0; j < points; ++j) {
+        for (std::size_t j = 0; j < light_points[k].size(); ++j) {
           const std::size_t at = (s * keys + k) * points + j;
-          if (shadow[at] == 0.0f) continue;
           const glm::vec3 w = light_points[k][j] - lift;
-          if (std::none_of(cones.begin(), cones.end(), [&](const Cone& c) { return c.may_reach(w); })) continue;
-          receivers.push_back(lifted[s]);
-          lights.push_back({light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f});
-          where.push_back(at);
+          if (shadow[at] != 0.0f && reached(cones, w, glm::length(w)))
+            shadow_batch.add(lifted[s], {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f}, at);
         }
     }
-    const std::vector<float> visible = run_queries(moving_instances, receivers, lights, filter);
-    for (std::size_t k = 0; k < where.size(); ++k) shadow[where[k]] *= visible[k];
+    const std::vector<float> visible = run_queries(moving_instances, shadow_batch.receivers, shadow_batch.lights, filter);
+    for (std::size_t k = 0; k < shadow_batch.where.size(); ++k) shadow[shadow_batch.where[k]] *= visible[k];
     for (std::size_t s = 0; s < n && do_shadows; ++s) {
       if (kernel_receiver[s]) continue;
       for (std::size_t k = 0; k < keys; ++k) {
         float sum = 0.0f;
-        for (std::size_t j = 0; j < points; ++j) sum += shadow[(s * keys + k) * points + j];
-        dynamic[8 * s + 4 + k] = sum / static_cast<float>(points);
+        for (std::size_t j = 0; j < light_points[k].size(); ++j) sum += shadow[(s * keys + k) * points + j];
+        dynamic[8 * s + 4 + k] = sum / static_cast<float>(light_points[k].size());
       }
     }
     stats.stages.push_back({rebuild ? "cl: static occluder cache" : "cl: moved occluder queries", clock.elapsed_ms()});
   }
-  stats.lighting_receivers = static_cast<std::uint32_t>(ao_subset.size());
+  stats.lighting_receivers += static_cast<std::uint32_t>(ao_subset.size());
   // Rows to recompute start as "unoccluded": bent normal = normal, AO 1, every key light visible.
   for (const std::uint32_t s : ao_subset) {
     float* row = &dynamic[8 * std::size_t{s}];
@@ -814,39 +857,80 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   for (const std::uint32_t s : shadow_subset) std::fill(&dynamic[8 * std::size_t{s} + 4], &dynamic[8 * std::size_t{s} + 8], 1.0f);
 
   if (!instances.empty() && ((do_ao && !ao_subset.empty()) || (do_shadows && !shadow_subset.empty()))) {
-    const csm::VisibilityScene visibility(csms, instances);
     if (do_ao && !ao_subset.empty()) {
       Stopwatch clock;
-      csm::AmbientOcclusion ao(runtime_, visibility);
-      csm::AoRequest request;
-      for (const std::uint32_t s : ao_subset) {
-        request.positions.push_back(positions[s]);
-        request.normals.push_back(normals[s]);
-        request.pattern_of.push_back(g.ao_pattern_of[s]);
+      // Per (receiver, direction) the lit flag through every instance (Filter::None: 0 or 1, as the AO
+      // kernel's csm_visibility), each instance queried only where its Cone may reach and the
+      // direction is still lit; then the rows from the lit directions as the AO kernel makes them.
+      const std::size_t m = ao_subset.size();
+      std::vector<splats::Vec4> receiver_directions(m * samples);
+      std::vector<char> unblocked(m * samples);  // direction above the floor and lit so far
+      for (std::size_t r = 0; r < m; ++r) {
+        directions_of(ao_subset[r], &receiver_directions[r * samples]);
+        for (std::uint32_t j = 0; j < samples; ++j) unblocked[r * samples + j] = receiver_directions[r * samples + j].w != 0;
       }
-      request.patterns = g.ao_patterns;
-      request.samples = q.ao_samples;
-      request.ground = scene_.floor.enabled;
-      request.bias = q.ao_bias;
-      if (incremental) pad_batch(request.positions), pad_batch(request.normals), pad_batch(request.pattern_of);
-      const std::vector<splats::Vec4> out = ao.run(request);
-      for (std::size_t k = 0; k < ao_subset.size(); ++k) {
-        float* row = &dynamic[8 * std::size_t{ao_subset[k]}];
-        row[0] = out[k].x, row[1] = out[k].y, row[2] = out[k].z, row[3] = out[k].w;
+      for (std::size_t i = 0; i < instances.size(); ++i) {
+        QueryBatch batch;
+        for (std::size_t r = 0; r < m; ++r) {
+          const splats::Vec4& p = positions[ao_subset[r]];
+          const Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : Cone{true};
+          for (std::uint32_t j = 0; j < samples; ++j) {
+            const std::size_t at = r * samples + j;
+            const splats::Vec4& d = receiver_directions[at];
+            if (unblocked[at] && cone.may_reach({d.x, d.y, d.z}, d.w)) batch.add(p, {d.x, d.y, d.z, 0.0f}, at);
+          }
+        }
+        const std::vector<float> visible = run_queries({instances[i]}, batch.receivers, batch.lights, csm::Filter::None);
+        for (std::size_t x = 0; x < batch.where.size(); ++x)
+          if (!(visible[x] > 0.0f)) unblocked[batch.where[x]] = 0;
+      }
+      for (std::size_t r = 0; r < m; ++r) {
+        const splats::Vec4& nrm = normals[ao_subset[r]];
+        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (std::uint32_t j = 0; j < samples; ++j) {
+          const splats::Vec4& d = receiver_directions[r * samples + j];
+          if (unblocked[r * samples + j]) csm::device::csm_ao_add(sum, d.x, d.y, d.z);
+        }
+        csm::device::csm_ao_finish(sum, nrm.x, nrm.y, nrm.z, samples, &dynamic[8 * std::size_t{ao_subset[r]}]);
       }
       stats.stages.push_back({"cl: splat AO", clock.elapsed_ms()});
     }
     if (do_shadows && !shadow_subset.empty()) {
       Stopwatch clock;
-      csm::VisibilityQueries queries(runtime_, visibility);
-      std::vector<splats::Vec4> receivers;
-      for (const std::uint32_t s : shadow_subset) receivers.push_back(lifted[s]);
-      if (incremental) pad_batch(receivers);
-      for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
-        const std::vector<float> visible =
-            key_light_visibility(queries, receivers, scene_.key_lights[k], q.shadow_samples, filter, q.ao_bias);
-        for (std::size_t j = 0; j < shadow_subset.size(); ++j) dynamic[8 * std::size_t{shadow_subset[j]} + 4 + k] = visible[j];
+      // Per (key light, point, receiver), point-major as in key_light_visibility, the product of the
+      // instances' PCF fractions; each instance is queried only where its Cone may reach and the
+      // product is not 0 yet: a skipped answer is 1 or meets a 0, and products of multiples of 1/16
+      // are exact in any order. Then, as there, the mean over each light's points.
+      const std::size_t m = shadow_subset.size();
+      std::vector<std::size_t> light_base{0};  // first entry of each key light's points
+      for (const auto& p : light_points) light_base.push_back(light_base.back() + p.size() * m);
+      std::vector<float> product(light_base.back(), 1.0f);
+      std::vector<Cone> cones(m);
+      const auto lift = [&](std::size_t r) {
+        const splats::Vec4& p = lifted[shadow_subset[r]];
+        return glm::vec3(p.x, p.y, p.z);
+      };
+      for (std::size_t i = 0; i < instances.size(); ++i) {
+        for (std::size_t r = 0; r < m; ++r) cones[r] = cull ? instance_reaches[i].cone_from(lift(r)) : Cone{true};
+        QueryBatch batch;
+        for (std::size_t k = 0; k < light_points.size(); ++k)
+          for (std::size_t j = 0; j < light_points[k].size(); ++j) {
+            const splats::Vec4 point{light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f};
+            for (std::size_t r = 0; r < m; ++r) {
+              const std::size_t at = light_base[k] + j * m + r;
+              const glm::vec3 w = light_points[k][j] - lift(r);
+              if (product[at] != 0.0f && cones[r].may_reach(w, glm::length(w))) batch.add(lifted[shadow_subset[r]], point, at);
+            }
+          }
+        const std::vector<float> visible = run_queries({instances[i]}, batch.receivers, batch.lights, filter);
+        for (std::size_t x = 0; x < batch.where.size(); ++x) product[batch.where[x]] *= visible[x];
       }
+      for (std::size_t r = 0; r < m; ++r)
+        for (std::size_t k = 0; k < light_points.size(); ++k) {
+          float sum = 0.0f;
+          for (std::size_t j = 0; j < light_points[k].size(); ++j) sum += product[light_base[k] + j * m + r];
+          dynamic[8 * std::size_t{shadow_subset[r]} + 4 + k] = sum / static_cast<float>(light_points[k].size());
+        }
       stats.stages.push_back({"cl: splat shadows", clock.elapsed_ms()});
     }
   }

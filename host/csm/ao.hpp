@@ -52,6 +52,11 @@ class AmbientOcclusion {
  public:
   AmbientOcclusion(Runtime& runtime, const VisibilityScene& scene);
   std::vector<Vec4> run(const AoRequest& request, Profiler* profiler = nullptr);
+  // Other instances of the scene's CSMs; the CSM tables stay on the device (VisibilityQueries::place).
+  void place(const std::vector<Instance>& placed) { scene_.place(placed); }
+  // The scene tables on the device, placed as the last place() left them: visibility queries through
+  // the same instances (key-light shadows) need no second copy of the tables.
+  VisibilityQueries& queries() { return scene_; }
 
  private:
   Runtime& runtime_;

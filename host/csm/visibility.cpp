@@ -98,6 +98,7 @@ VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std:
   std::uint64_t segment_base = 0;
   for (const Csm* csm : csms) {
     const CsmInfo& info = csm->info;
+    infos.push_back(info);
     const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
     device::CsmOccluder oc = grid_occluder(grid, bounds);
     oc.centre[0] = info.sphere.centre.x;
@@ -127,10 +128,18 @@ VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std:
     depths.insert(depths.end(), csm->depth.begin(), csm->depth.end());
     segment_base += csm->segments();
   }
+  place(placed);
+}
+
+void VisibilityScene::place(const std::vector<Instance>& placed) { instances = place_instances(infos, placed); }
+
+std::vector<device::CsmInstance> place_instances(const std::vector<CsmInfo>& infos, const std::vector<Instance>& placed) {
+  std::vector<device::CsmInstance> instances;
+  instances.reserve(placed.size());
   for (const Instance& instance : placed) {
-    if (instance.occluder >= csms.size())
-      throw Error(fmt::format("occluder instance names CSM {} of {}", instance.occluder, csms.size()));
-    const CsmInfo& info = csms[instance.occluder]->info;
+    if (instance.occluder >= infos.size())
+      throw Error(fmt::format("occluder instance names CSM {} of {}", instance.occluder, infos.size()));
+    const CsmInfo& info = infos[instance.occluder];
     const Transform m = world_to_object(info, instance.placement);
     const auto frame = pole_frame(info.pole);
     device::CsmInstance in{};
@@ -144,6 +153,7 @@ VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std:
     in.occluder = instance.occluder;
     instances.push_back(in);
   }
+  return instances;
 }
 
 device::CsmScene VisibilityScene::view() const {
@@ -163,12 +173,8 @@ void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>&
   });
 }
 
-namespace {
-
-}  // namespace
-
 VisibilityQueries::VisibilityQueries(Runtime& runtime, const VisibilityScene& scene)
-    : runtime_(runtime), instance_count_(static_cast<cl_uint>(scene.instances.size())) {
+    : runtime_(runtime), infos_(scene.infos), instance_count_(static_cast<cl_uint>(scene.instances.size())) {
   instances_ = upload(runtime, scene.instances, "CSM instances", CL_MEM_READ_ONLY);
   occluders_ = upload(runtime, scene.occluders, "CSM occluders", CL_MEM_READ_ONLY);
   cells_ = upload(runtime, scene.cells, "CSM cameras", CL_MEM_READ_ONLY);
@@ -177,6 +183,18 @@ VisibilityQueries::VisibilityQueries(Runtime& runtime, const VisibilityScene& sc
   depths_ = upload(runtime, scene.depths, "CSM segment depths", CL_MEM_READ_ONLY);
   bounds_ = upload(runtime, scene.bounds, "CSM cell boundaries", CL_MEM_READ_ONLY);
   chunk_kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_chunks");
+}
+
+void VisibilityQueries::place(const std::vector<Instance>& placed) {
+  const std::vector<device::CsmInstance> instances = place_instances(infos_, placed);
+  if (instances.size() > UINT32_MAX) throw Error("more than 2^32 occluder instances");
+  // Blocking (the queue is in order: earlier launches have read the old table by then), so the
+  // host table may go right after.
+  primitives::detail::ensure_bytes(runtime_, instances_, std::max<std::size_t>(1, instances.size()) * sizeof(device::CsmInstance),
+                                   "CSM instances");
+  if (!instances.empty())
+    runtime_.queue().enqueueWriteBuffer(instances_, CL_TRUE, 0, instances.size() * sizeof(device::CsmInstance), instances.data());
+  instance_count_ = static_cast<cl_uint>(instances.size());
 }
 
 void VisibilityQueries::bind_scene(cl::Kernel& kernel, cl_uint first) const {
@@ -204,12 +222,16 @@ cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& 
     return event;
   }
   const std::size_t items = (count + kQueryChunk - 1) / kQueryChunk;
+  // CPU: one work-item (a chunk) per work-group. Left to itself PoCL makes one work-group of the
+  // few dozen items a batch of thousands of queries has, run by one thread; and it compiles the
+  // kernel once per work-group size, which is now fixed.
+  const std::size_t local = runtime_.is_cpu() ? 1 : 0;
   cl::Event last;
   for (cl_uint k = 0; k < instance_count_; ++k) {
     set_args(chunk_kernel_, receivers, lights, static_cast<cl_uint>(count), static_cast<cl_uint>(kQueryChunk), instances_, k,
              occluders_, cells_, offsets_, ends_, depths_, bounds_, static_cast<cl_uint>(filter), bias,
              static_cast<cl_uint>(k > 0 ? 1 : 0), out);
-    last = enqueue_1d(runtime_.queue(), chunk_kernel_, items, 0, profiler, "csm visibility");
+    last = enqueue_1d(runtime_.queue(), chunk_kernel_, items, local, profiler, "csm visibility");
   }
   return last;
 }

@@ -51,6 +51,11 @@ class VisibilityScene {
   // missing CSM, a singular placement, or more than 2^32 segments in all.
   VisibilityScene(const std::vector<const Csm*>& csms, const std::vector<Instance>& instances);
 
+  // Other instances of the same CSMs (new placements, another subset, none): only `instances`
+  // changes. Throws Error like the constructor.
+  void place(const std::vector<Instance>& placed);
+
+  std::vector<CsmInfo> infos;  // each CSM's header: what placing an instance of it needs
   std::vector<device::CsmOccluder> occluders;
   std::vector<device::CsmInstance> instances;
   std::vector<device::CsmCell> cells;
@@ -68,6 +73,10 @@ device::CsmOccluder grid_occluder(const SphereGrid& grid, std::vector<float>& bo
 // The world → object transform of an instance of `csm` (object transform · placement⁻¹).
 Transform world_to_object(const CsmInfo& info, const Transform& placement);
 
+// The instance table of `placed` instances of the CSMs whose headers are `infos` (computed in
+// double, stored as float). Throws Error for an instance naming a missing CSM or a singular placement.
+std::vector<device::CsmInstance> place_instances(const std::vector<CsmInfo>& infos, const std::vector<Instance>& placed);
+
 // Light vector of a query: light.xyz − light.w · receiver.xyz (w = 1 point light, w = 0 direction).
 // Native reference, multithreaded over queries.
 void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights,
@@ -77,6 +86,11 @@ void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>&
 class VisibilityQueries {
  public:
   VisibilityQueries(Runtime& runtime, const VisibilityScene& scene);
+  // Other instances of the scene's CSMs (as VisibilityScene::place): uploads only the instance table,
+  // so moving occluders reuse the CSM tables the constructor uploaded. Throws Error like place_instances.
+  void place(const std::vector<Instance>& placed);
+  std::size_t instance_count() const { return instance_count_; }
+
   // Device buffers of `count` float4 receivers and lights → `out` (count floats).
   cl::Event run(const cl::Buffer& receivers, const cl::Buffer& lights, std::size_t count, Filter filter, float bias,
                 cl::Buffer& out, Profiler* profiler = nullptr);
@@ -90,6 +104,7 @@ class VisibilityQueries {
 
  private:
   Runtime& runtime_;
+  std::vector<CsmInfo> infos_;
   cl_uint instance_count_;
   // Chunks of consecutive queries per work-item, one launch per instance.
   cl::Kernel chunk_kernel_;

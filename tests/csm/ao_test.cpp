@@ -75,18 +75,23 @@ AoRequest request_for(const std::vector<Vec4>& positions, const std::vector<Vec4
   return r;
 }
 
-TEST(CsmAo, KernelMatchesReferenceForEveryPatternSetAndInstances) {
-  std::mt19937 rng(4);
-  std::vector<Vec4> positions, normals;
+// Random receivers around the slab; every 100th normal is −o or +o (the rotation's degenerate cases).
+void random_receivers(unsigned seed, int count, std::vector<Vec4>& positions, std::vector<Vec4>& normals) {
+  std::mt19937 rng(seed);
   const auto u = [&] { return static_cast<float>(rng() >> 8) / 16777216.0f * 2 - 1; };
-  for (int k = 0; k < 1000; ++k) {
+  for (int k = 0; k < count; ++k) {
     positions.push_back({2 * u(), 1.5f * u(), 2 * u(), 1});
     Vec3 n{u(), u(), u()};
-    if (k % 100 == 0) n = {0, -1, 0};  // n = −o: the rotation's degenerate case
+    if (k % 100 == 0) n = {0, -1, 0};
     if (k % 100 == 1) n = {0, 1, 0};
     n = splats::normalized(n);
     normals.push_back({n.x, n.y, n.z, 0});
   }
+}
+
+TEST(CsmAo, KernelMatchesReferenceForEveryPatternSetAndInstances) {
+  std::vector<Vec4> positions, normals;
+  random_receivers(4, 1000, positions, normals);
   const Instance moved{0, {0, 0, 1, 0.5, 0, 1, 0, -0.9, -1, 0, 0, 0.25, 0, 0, 0, 1}};
   const VisibilityScene scene({&slab_csm()}, {{}, moved});
   AmbientOcclusion ao(runtime(), scene);
@@ -120,6 +125,37 @@ TEST(CsmAo, KernelMatchesReferenceForEveryPatternSetAndInstances) {
   bad.pattern_of[5] = 64;
   EXPECT_THROW(ao.run(bad), Error);
   EXPECT_TRUE(ao.run(request_for({}, {}, PatternSet::MonteCarlo, false)).empty());
+}
+
+// A driver placed anew (the presenter's moving occluders) answers like one built for the new
+// instances, and its queries() go through the same instances.
+TEST(CsmAo, PlacingNewInstancesEqualsAFreshDriver) {
+  std::vector<Vec4> positions, normals;
+  random_receivers(5, 300, positions, normals);
+  const AoRequest request = request_for(positions, normals, PatternSet::HammersleyScrambled, false);
+  const Instance moved{0, {0, 0, 1, 0.5, 0, 1, 0, -0.9, -1, 0, 0, 0.25, 0, 0, 0, 1}};
+  AmbientOcclusion ao(runtime(), VisibilityScene({&slab_csm()}, {{}}));
+  const std::vector<Vec4> lights(positions.size(), Vec4{0.3f, 1, 0.2f, 0});
+  for (const auto& instances : {std::vector<Instance>{moved, {}}, std::vector<Instance>{}, std::vector<Instance>{moved}}) {
+    ao.place(instances);
+    const VisibilityScene fresh({&slab_csm()}, instances);
+    std::vector<Vec4> ref;
+    ambient_occlusion_reference(fresh, request, ref);
+    const std::vector<Vec4> cl = ao.run(request);
+    ASSERT_EQ(cl.size(), ref.size());
+    EXPECT_EQ(std::memcmp(cl.data(), ref.data(), ref.size() * sizeof(Vec4)), 0) << instances.size() << " instances";
+    std::vector<float> visible;
+    visibility_reference(fresh, positions, lights, Filter::SameMap, 0.0f, visible);
+    const std::vector<float> through = ao.queries().run(positions, lights, Filter::SameMap, 0.0f);
+    EXPECT_EQ(std::memcmp(through.data(), visible.data(), visible.size() * sizeof(float)), 0) << instances.size() << " instances";
+    std::size_t open = 0;
+    for (const Vec4& r : ref) open += r.w == 1.0f;
+    if (instances.empty()) {
+      EXPECT_EQ(open, ref.size());
+    } else {
+      EXPECT_LT(open, ref.size());
+    }
+  }
 }
 
 TEST(CsmAo, AnalyticCases) {

@@ -1,6 +1,8 @@
 // Visibility queries: the OpenCL kernel against the native reference (identical results) on random
 // queries and edge cases, for every distribution, filter and several placed instances; map selection
 // against SphereGrid::nearest_cell; CSM visibility against exact ray casting.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -207,6 +209,53 @@ TEST(CsmVisibility, NoInstanceMeansLitAndEmptyBatches) {
   EXPECT_TRUE(queries.run({}, {}, Filter::None, 0.0f).empty());
   EXPECT_THROW(VisibilityScene({&scene_csm()}, {{1, kIdentity}}), Error);
   EXPECT_THROW(VisibilityScene({&scene_csm()}, {{0, Transform{}}}), Error);
+}
+
+// Placing other instances of the same CSMs (the presenter's moving occluders) changes only the
+// instance table: the same answers as a scene built afresh with those instances, through more
+// instances than before (the table grows), fewer, none (all lit) and a different subset; bad
+// instances are refused like by the constructor, leaving the previous placement in use.
+TEST(CsmVisibility, PlacingNewInstancesEqualsAFreshScene) {
+  const Csm ao = build(sphere_mesh(10, 20), Distribution::ThesisAo, Order::ZigzagV, PoleAxis::Z, 512, 24);
+  const std::vector<const Csm*> csms{&scene_csm(), &ao};
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  const Transform turned{0.5 * c, 0, 0.5 * s, 1.5, 0, 0.5, 0, -0.25, -0.5 * s, 0, 0.5 * c, 0.75, 0, 0, 0, 1};
+  const Transform shifted{1, 0, 0, 0.75, 0, 1, 0, 0.5, 0, 0, 1, -1, 0, 0, 0, 1};
+  const Queries q = random_queries(scene_csm(), 6000, 12);
+  VisibilityScene placed(csms, {{0, kIdentity}});
+  VisibilityQueries queries(runtime(), placed);
+  const std::vector<std::vector<Instance>> placements{
+      {{0, turned}, {1, shifted}, {0, shifted}}, {{1, turned}}, {}, {{0, shifted}, {1, kIdentity}}, {{0, kIdentity}}};
+  for (std::size_t k = 0; k < placements.size(); ++k) {
+    placed.place(placements[k]);
+    queries.place(placements[k]);
+    EXPECT_EQ(queries.instance_count(), placements[k].size());
+    const VisibilityScene fresh(csms, placements[k]);
+    ASSERT_EQ(placed.instances.size(), fresh.instances.size());
+    if (!fresh.instances.empty()) {
+      EXPECT_EQ(std::memcmp(placed.instances.data(), fresh.instances.data(), fresh.instances.size() * sizeof(device::CsmInstance)), 0);
+    }
+    for (Filter filter : {Filter::None, Filter::SameMap, Filter::CrossMap}) {
+      std::vector<float> ref;
+      visibility_reference(fresh, q.receivers, q.lights, filter, 0.0f, ref);
+      const std::string what = fmt::format("placement {} {}", k, to_string(filter));
+      expect_identical(ref, queries.run(q.receivers, q.lights, filter, 0.0f), what.c_str());
+      expect_identical(ref, VisibilityQueries(runtime(), fresh).run(q.receivers, q.lights, filter, 0.0f), what.c_str());
+      std::size_t lit = 0;
+      for (float v : ref) lit += v == 1.0f;
+      if (placements[k].empty()) {
+        EXPECT_EQ(lit, ref.size()) << what;
+      } else {
+        EXPECT_LT(lit, ref.size() - ref.size() / 100) << what;
+      }
+    }
+  }
+  EXPECT_THROW(queries.place({{2, kIdentity}}), Error);
+  EXPECT_THROW(queries.place({{0, Transform{}}}), Error);
+  EXPECT_THROW(placed.place({{2, kIdentity}}), Error);
+  std::vector<float> ref;
+  visibility_reference(VisibilityScene(csms, placements.back()), q.receivers, q.lights, Filter::None, 0.0f, ref);
+  expect_identical(ref, queries.run(q.receivers, q.lights, Filter::None, 0.0f), "after a refused placement");
 }
 
 TEST(CsmVisibility, ExactRigidMotionGivesTheSameAnswers) {
