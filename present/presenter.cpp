@@ -98,6 +98,14 @@ csm::Transform to_transform(const glm::mat4& m) {
 
 splats::Vec4 vec4(glm::vec3 v) { return {v.x, v.y, v.z, 0.0f}; }
 
+// Every occluder object placed at `placements` (one per scene object), as CSM instances.
+std::vector<csm::Instance> occluder_instances(const Scene& scene, const std::vector<glm::mat4>& placements) {
+  std::vector<csm::Instance> instances;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    if (scene.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
+  return instances;
+}
+
 // Per named GL pass: a timer query read after the frame, or with `wall` the wall clock between two
 // glFinish calls. llvmpipe rasterises a pass when a later command needs its result, so its queries
 // and the next wait (the depth readback) do not split the time between passes; the wall clock
@@ -656,10 +664,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       normals[r.first + s] = vec4(nrm);
     }
   }
-  std::vector<csm::Instance> instances;
-  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
-    if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
-  }
+  const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
   const Quality& q = scene_.quality;
   const csm::Filter filter = csm::parse_filter(q.filter);
   // Receivers lifted off their own surface by the bias, so a splat does not shadow itself.
@@ -1193,15 +1198,10 @@ FrameStats Presenter::render(float time) {
         where.push_back(p);
       }
     pixel_shadow.assign(view_z.size() * 4, 1.0f);
-    std::vector<const csm::Csm*> csms;
-    std::vector<csm::Instance> instances;
-    for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
-      csms.push_back(&assets_[i].csm);
-      if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
-    }
+    const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
     if (!instances.empty() && !receivers.empty()) {
-      const csm::VisibilityScene visibility(csms, instances);
-      csm::VisibilityQueries queries(runtime_, visibility);
+      csm::VisibilityQueries& queries = g.csm_tables(runtime_, assets_).queries();
+      queries.place(instances);
       for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
         const auto visible = key_light_visibility(queries, receivers, scene_.key_lights[k], q.shadow_samples,
                                                   csm::parse_filter(q.filter), q.ao_bias);
@@ -1236,15 +1236,10 @@ FrameStats Presenter::render(float time) {
     request.ground = scene_.floor.enabled;
     request.bias = q.ao_bias;
     pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, 1});
-    std::vector<const csm::Csm*> csms;
-    std::vector<csm::Instance> instances;
-    for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
-      csms.push_back(&assets_[i].csm);
-      if (scene_.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), to_transform(placements[i])});
-    }
+    const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
     if (!instances.empty() && !where.empty()) {
-      const csm::VisibilityScene visibility(csms, instances);
-      csm::AmbientOcclusion ao(runtime_, visibility);
+      csm::AmbientOcclusion& ao = g.csm_tables(runtime_, assets_);
+      ao.place(instances);
       const std::vector<splats::Vec4> out = ao.run(request);
       for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = out[r];
     } else {
