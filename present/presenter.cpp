@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <map>
 #include <numbers>
 
@@ -390,6 +391,7 @@ struct Presenter::Impl {
   std::vector<glm::mat4> last_placements;
   bool have_lighting = false;
   bool hdr_written = false;  // the last frame wrote the HDR target
+  std::vector<float> upload_rows;  // lighting rows of every instance (LOD entries included) to upload
   // The per-splat rows (bent normal + AO, key-light visibility) of the last lighting update, the
   // settings and placements they were computed with: the incremental update starts from them.
   std::vector<float> lighting_rows;
@@ -951,9 +953,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
     const std::vector<float> rows = gather_tree_rows(assets_[i].tree, dynamic.data() + objects_[i].first * 8, 8);
     dynamic.insert(dynamic.end(), rows.begin(), rows.end());
   }
-  Stopwatch clock;
-  if (n > 0) glNamedBufferSubData(g.dynamic_vbo, 0, static_cast<GLsizeiptr>(dynamic.size() * sizeof(float)), dynamic.data());
-  stats.stages.push_back({"upload: splat AO/shadows", clock.elapsed_ms()});
+  g.upload_rows = std::move(dynamic);  // render() uploads them: this may run beside the GL thread
   stats.ao_updated = true;
 }
 
@@ -967,11 +967,35 @@ FrameStats Presenter::render(float time) {
 
   std::vector<glm::mat4> placements;
   for (const ObjectSpec& o : scene_.objects) placements.push_back(o.placement(time));
-  if (!g.have_lighting || placements != g.last_placements) {
-    update_splat_lighting(placements, stats);
+  // The per-splat lighting (CL) of moved occluders runs on a worker thread beside the visibility
+  // pass, which does not read it: llvmpipe bins the splats on one thread and the lighting's host
+  // code leaves the CL device idle in between, so each fills the other's idle core. finish_lighting
+  // joins it and uploads the rows before the first pass that reads them. Only the worker uses the
+  // CL device meanwhile, only this thread GL.
+  std::future<FrameStats> lighting;
+  const bool relight = !g.have_lighting || placements != g.last_placements;
+  if (relight) {
+    lighting = std::async(overlap_lighting && !wall_clock_passes ? std::launch::async : std::launch::deferred,
+                          [this, placements] {
+                            FrameStats worker;
+                            update_splat_lighting(placements, worker);
+                            return worker;
+                          });
+  }
+  const auto finish_lighting = [&] {
+    if (!lighting.valid()) return;
+    const FrameStats worker = lighting.get();
+    stats.stages.insert(stats.stages.end(), worker.stages.begin(), worker.stages.end());
+    stats.ao_updated = worker.ao_updated;
+    stats.lighting_receivers = worker.lighting_receivers;
+    Stopwatch clock;
+    if (!g.upload_rows.empty())
+      glNamedBufferSubData(g.dynamic_vbo, 0, static_cast<GLsizeiptr>(g.upload_rows.size() * sizeof(float)), g.upload_rows.data());
+    stats.stages.push_back({"upload: splat AO/shadows", clock.elapsed_ms()});
     g.last_placements = placements;
     g.have_lighting = true;
-  }
+  };
+  if (q.mode == "points") finish_lighting();
 
   const cluster::Camera& cam = scene_.camera;
   const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
@@ -1073,6 +1097,8 @@ FrameStats Presenter::render(float time) {
     draw_objects(g.visibility_program, false);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     g.timers.end();
+    glFlush();  // llvmpipe rasterises the binned pass while this thread waits for the lighting
+    finish_lighting();
     // Pass 2: Gaussian-weighted accumulation of the splats within ε of the front.
     g.timers.begin("gl: splat accumulation");
     glBindFramebuffer(GL_FRAMEBUFFER, g.accum_fbo);

@@ -65,6 +65,9 @@ class Presenter {
   // GL passes timed by wall clock between glFinish calls instead of timer queries (serialises the
   // frame; on llvmpipe only this splits the time between passes and the depth readback's wait).
   bool wall_clock_passes = false;
+  // The per-splat lighting of moved occluders (CL) runs on a worker thread beside the visibility
+  // pass; off, before it. Same rows either way. Off while wall_clock_passes is on.
+  bool overlap_lighting = true;
 
   // Renders the scene at `time` into the presenter's framebuffers.
   FrameStats render(float time);

@@ -25,6 +25,7 @@ struct RenderOptions {
   unsigned frames = 1;
   bool pixel_ao = false;
   bool wall_passes = false;
+  bool serial_lighting = false;
   double time = -1, dt = 1.0 / 30.0;
 };
 
@@ -54,6 +55,7 @@ int run_render(const RenderOptions& o) {
   presenter.debug_view = view;
   presenter.pixel_ao = presenter.pixel_ao || o.pixel_ao;
   presenter.wall_clock_passes = o.wall_passes;
+  presenter.overlap_lighting = !o.serial_lighting;
   const double setup_ms = setup.elapsed_ms();
 
   const double start = o.time >= 0 ? o.time : scene.time;
@@ -137,6 +139,8 @@ Action register_render(CLI::App& app) {
   sub->add_option("--json", o->json, "Write the timings as JSON");
   sub->add_flag("--wall-passes", o->wall_passes,
                 "Time each GL pass by wall clock between glFinish calls (serialises the frame) instead of timer queries");
+  sub->add_flag("--serial-lighting", o->serial_lighting,
+                "Run the per-splat lighting of moved occluders after the visibility pass instead of beside it (for comparison)");
   return [o] { return run_render(*o); };
 }
 

@@ -640,6 +640,22 @@ TEST_F(PresenterTest, LodDrawsFewerSplatsFarAwayAndKeepsTheSilhouette) {
   EXPECT_GE(near.render(0.0f).splats, near_off.splats * 9 / 10);
 }
 
+// The per-splat lighting beside the visibility pass (worker thread) or after it: the same rows and
+// the same image, frame after frame with the torus moving.
+TEST_F(PresenterTest, OverlappedLightingEqualsSerialLighting) {
+  Presenter overlapped(test_scene(), *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+  Presenter serial(test_scene(), *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+  serial.overlap_lighting = false;
+  for (const float time : {0.0f, 0.1f, 0.2f, 0.2f, 1.5f}) {
+    const FrameStats a = overlapped.render(time);
+    const FrameStats b = serial.render(time);
+    EXPECT_EQ(a.ao_updated, b.ao_updated) << time;
+    EXPECT_EQ(a.lighting_receivers, b.lighting_receivers) << time;
+    EXPECT_EQ(overlapped.splat_lighting(), serial.splat_lighting()) << time;
+    EXPECT_EQ(overlapped.read_display_rgb(), serial.read_display_rgb()) << time;
+  }
+}
+
 // Timing the GL passes by wall clock (glFinish around each pass) changes no pixel and reports the
 // same passes; without HDR output the tone-mapped image is the same and read_hdr_rgb refuses.
 TEST_F(PresenterTest, WallClockPassesAndHdrOutputChangeNoPixel) {
