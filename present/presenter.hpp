@@ -1,15 +1,17 @@
 #pragma once
 // One frame of the presenter (issue 5):
-//   CL, when an occluder moved: per-splat ambient occlusion and bent normal from every occluder's
-//       CSM (csm::AmbientOcclusion) and per-splat key-light visibility (csm::VisibilityQueries, PCF)
-//   GL: splat visibility pass (depth pushed back by ε) → Gaussian-weighted accumulation →
-//       normalisation into the G-buffer (or one point pass in the low-quality mode)
-//   readback of the view-space depth
+//   CL, when an occluder moved, on a worker thread beside the visibility pass: per-splat ambient
+//       occlusion and bent normal from every occluder's CSM (csm::AmbientOcclusion) and per-splat
+//       key-light visibility (csm::VisibilityQueries, PCF)
+//   GL: splat visibility pass (depth pushed back by ε) → Gaussian-weighted accumulation into the
+//       G-buffer (or one point pass in the low-quality mode)
+//   readback of Σw and Σw·z (the view-space depth)
 //   CL: cluster keys → compaction → bounds → light assignment (cluster::ClusterPipeline); or tile
 //       lists on the host (tiled baseline); or nothing (brute-force baseline)
-//   upload of the lights and lists → GL final shading (Lambert with the corrected falloff, shadowed
-//   key lights, SH sky with the bent normal × AO) → tone mapping.
-// Every stage is timed: GL passes with timer queries, CL stages and transfers with wall clocks.
+//   upload of the lights and lists → GL final shading (division by Σw, Lambert with the corrected
+//   falloff, shadowed key lights, per-splat SH sky with the bent normal × AO) → tone mapping.
+// Every stage is timed: GL passes with timer queries (or wall clocks, wall_clock_passes), CL
+// stages and transfers with wall clocks.
 #include <cstdint>
 #include <memory>
 #include <string>
