@@ -542,7 +542,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   }
   const std::size_t instance_count = statics.size() / kRow;  // originals and LOD entries
 
-  g.splat_program = link(shaders::kSplatVertex.c_str(), shaders::kSplatVisibility, "splat visibility");
+  g.splat_program = link(shaders::kSplatVisibilityVertex.c_str(), shaders::kSplatVisibility, "splat visibility");
   g.visibility_program = g.splat_program;
   g.accumulate_program = link(shaders::kSplatVertex.c_str(), shaders::kSplatAccumulate.c_str(), "splat accumulation");
   g.point_program = link(shaders::kPointVertex.c_str(), shaders::kPointFragment.c_str(), "points");
@@ -690,6 +690,8 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   const bool incremental = incremental_lighting && g.lighting_rows.size() == n * 8 && g.lighting_signature == signature &&
                            g.lit_placements.size() == placements.size() && filter != csm::Filter::CrossMap &&
                            q.ao_bias >= 0;
+  // Set again when the update completes: one that fails half way forces a full update next time.
+  g.lighting_signature.clear();
   std::vector<char> moved(scene_.objects.size(), 1), kernel_receiver(n, 1);
   if (incremental) {
     for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = placements[i] != g.lit_placements[i];
@@ -972,10 +974,13 @@ FrameStats Presenter::render(float time) {
   // code leaves the CL device idle in between, so each fills the other's idle core. finish_lighting
   // joins it and uploads the rows before the first pass that reads them. Only the worker uses the
   // CL device meanwhile, only this thread GL.
+  // The first update runs on this thread: it builds the CL programs while llvmpipe compiles its
+  // shaders, and both would then use LLVM at once.
   std::future<FrameStats> lighting;
   const bool relight = !g.have_lighting || placements != g.last_placements;
+  const bool overlap = overlap_lighting && !wall_clock_passes && g.have_lighting && q.mode != "points";
   if (relight) {
-    lighting = std::async(overlap_lighting && !wall_clock_passes ? std::launch::async : std::launch::deferred,
+    lighting = std::async(overlap ? std::launch::async : std::launch::deferred,
                           [this, placements] {
                             FrameStats worker;
                             update_splat_lighting(placements, worker);

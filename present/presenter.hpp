@@ -68,7 +68,8 @@ class Presenter {
   // frame; on llvmpipe only this splits the time between passes and the depth readback's wait).
   bool wall_clock_passes = false;
   // The per-splat lighting of moved occluders (CL) runs on a worker thread beside the visibility
-  // pass; off, before it. Same rows either way. Off while wall_clock_passes is on.
+  // pass; off, on this thread after it. Same rows either way. Not for the first update, in the
+  // points mode, or while wall_clock_passes is on.
   bool overlap_lighting = true;
 
   // Renders the scene at `time` into the presenter's framebuffers.

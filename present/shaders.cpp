@@ -28,7 +28,7 @@ vec3 sh_irradiance(vec3 n) {
 // error in its interval: the digest's sequential point tree test). The ambient term is evaluated
 // per splat, where the AO is known: irradiance of the sky around the bent normal times AO
 // (u_ambient 0), around the normal without AO (1), or the AO itself as grey (2, the AO view).
-const std::string kSplatHead = std::string("#version 450 core\n") + kShIrradiance + R"(
+const std::string kSplatHead = std::string(kShIrradiance) + R"(
 layout(std430, binding = 4) readonly buffer SplatStatics { float splat_statics[]; };
 layout(std430, binding = 5) readonly buffer SplatLighting { vec4 splat_lighting[]; };
 uniform mat4 u_model, u_view, u_proj;
@@ -52,12 +52,18 @@ bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
   a_minor = static3(o + 9u);
   v_albedo = static3(o + 12u);
   v_normal = n;
+#ifdef VISIBILITY_PASS
+  // The visibility pass reads no lighting rows: they may still be in the making (Presenter::render).
+  v_ambient = vec3(0.0);
+  v_shadow = vec4(1.0);
+#else
   vec4 ao = splat_lighting[2u * s];
   vec3 bent = length(ao.xyz) > 0.0 ? normalize(ao.xyz) : n;
   v_ambient = u_ambient == 2 ? vec3(ao.w)
             : u_ambient == 1 ? max(sh_irradiance(n), vec3(0.0)) / 3.14159265
                              : max(sh_irradiance(bent), vec3(0.0)) / 3.14159265 * ao.w;
   v_shadow = splat_lighting[2u * s + 1u];
+#endif
   v_id = s;
   if (u_lod > 0.0) {
     float e = length(u_eye - c) * u_lod;
@@ -66,9 +72,8 @@ bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
   return dot(n, u_eye - c) > 0.0;
 }
 )";
-}  // namespace
 
-const std::string kSplatVertex = kSplatHead + R"(
+const char* const kSplatVertexMain = R"(
 out vec2 v_local;
 out vec3 v_view_pos;
 uniform float u_depth_offset;  // ε of the visibility pass, 0 in the accumulation pass
@@ -92,6 +97,11 @@ void main() {
   gl_Position = u_proj * vec4(v_view_pos * (1.0 + u_depth_offset / length(v_view_pos)), 1.0);
 }
 )";
+}  // namespace
+
+const std::string kSplatVertex = std::string("#version 450 core\n") + kSplatHead + kSplatVertexMain;
+const std::string kSplatVisibilityVertex =
+    std::string("#version 450 core\n#define VISIBILITY_PASS 1\n") + kSplatHead + kSplatVertexMain;
 
 const char* const kSplatVisibility = R"(#version 450 core
 in vec2 v_local;
@@ -143,7 +153,7 @@ void main() {
 }
 )";
 
-const std::string kPointVertex = kSplatHead + R"(
+const std::string kPointVertex = std::string("#version 450 core\n") + kSplatHead + R"(
 uniform float u_viewport_height;
 out float v_view_z;
 void main() {
@@ -268,7 +278,7 @@ vec4 shade(ivec2 p) {
   return vec4(vec3(-z_normal.x * inv_weight / 20.0), 1.0);
 #else
   // Same reconstruction as cluster::pixel_view_position, from the same Σw·z / Σw as the cluster stage.
-  float d = -(z_normal.x * inv_weight);
+  float d = -(z_normal.x / weight_albedo.x);
   vec2 ndc = (vec2(p) + 0.5) * 2.0 / u_viewport - 1.0;
   vec3 position = vec3(ndc * d * u_tan_half, -d);
   vec3 n = normalize(mat3(u_view) * n_world);

@@ -5,6 +5,7 @@
 
 namespace splatcl::present::shaders {
 
+extern const std::string kSplatVisibilityVertex;  // the same without the lighting rows (pass 1)
 extern const std::string kSplatVertex;        // a triangle around each splat's ellipse (HQ passes)
 extern const char* const kSplatVisibility;    // pass 1: ellipse test, depth pushed back by ε
 extern const std::string kSplatAccumulate;    // pass 2: Gaussian-weighted attribute sums = G-buffer

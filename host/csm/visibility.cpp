@@ -190,10 +190,16 @@ void VisibilityQueries::place(const std::vector<Instance>& placed) {
   if (instances.size() > UINT32_MAX) throw Error("more than 2^32 occluder instances");
   // Blocking (the queue is in order: earlier launches have read the old table by then), so the
   // host table may go right after.
+  // No instances until the new table is in place: a failed upload leaves none, not a stale count.
+  instance_count_ = 0;
   primitives::detail::ensure_bytes(runtime_, instances_, std::max<std::size_t>(1, instances.size()) * sizeof(device::CsmInstance),
                                    "CSM instances");
-  if (!instances.empty())
-    runtime_.queue().enqueueWriteBuffer(instances_, CL_TRUE, 0, instances.size() * sizeof(device::CsmInstance), instances.data());
+  try {
+    if (!instances.empty())
+      runtime_.queue().enqueueWriteBuffer(instances_, CL_TRUE, 0, instances.size() * sizeof(device::CsmInstance), instances.data());
+  } catch (...) {
+    rethrow_as_error("uploading CSM instances");
+  }
   instance_count_ = static_cast<cl_uint>(instances.size());
 }
 
