@@ -645,6 +645,13 @@ glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
   throw Error(fmt::format("splat {} out of range", splat));
 }
 
+std::string Presenter::lighting_settings() const {
+  const Quality& q = scene_.quality;
+  const bool do_shadows = q.shadows == "splat" && !scene_.key_lights.empty();
+  return fmt::format("{} {} {} {} {} {} {} {} {}", ambient_occlusion, do_shadows, q.filter, splat_ao_.size(), q.ao_samples,
+                     q.shadow_samples, q.ao_bias, scene_.key_lights.size(), scene_.floor.enabled);
+}
+
 void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, FrameStats& stats) {
   Impl& g = *impl_;
   const std::size_t n = splat_ao_.size();
@@ -675,8 +682,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
     lifted[s] = {positions[s].x + q.ao_bias * normals[s].x, positions[s].y + q.ao_bias * normals[s].y,
                  positions[s].z + q.ao_bias * normals[s].z, 1.0f};
   const bool do_ao = ambient_occlusion, do_shadows = q.shadows == "splat" && !scene_.key_lights.empty();
-  const std::string signature = fmt::format("{} {} {} {} {} {} {} {} {}", do_ao, do_shadows, q.filter, n, q.ao_samples,
-                                            q.shadow_samples, q.ao_bias, scene_.key_lights.size(), scene_.floor.enabled);
+  const std::string signature = lighting_settings();
   std::vector<std::vector<glm::vec3>> light_points;  // per key light
   for (const Light& light : scene_.key_lights) light_points.push_back(key_light_points(light, q.shadow_samples));
 
@@ -977,7 +983,8 @@ FrameStats Presenter::render(float time) {
   // The first update runs on this thread: it builds the CL programs while llvmpipe compiles its
   // shaders, and both would then use LLVM at once.
   std::future<FrameStats> lighting;
-  const bool relight = !g.have_lighting || placements != g.last_placements;
+  // Also when a lighting setting changed (the viewer's AO and shadow toggles), moving or not.
+  const bool relight = !g.have_lighting || placements != g.last_placements || g.lighting_signature != lighting_settings();
   const bool overlap = overlap_lighting && !wall_clock_passes && g.have_lighting && q.mode != "points";
   if (relight) {
     lighting = std::async(overlap ? std::launch::async : std::launch::deferred,

@@ -640,6 +640,24 @@ TEST_F(PresenterTest, LodDrawsFewerSplatsFarAwayAndKeepsTheSilhouette) {
   EXPECT_GE(near.render(0.0f).splats, near_off.splats * 9 / 10);
 }
 
+// A lighting setting changed with nothing moving (the viewer paused, AO or shadows toggled): the
+// rows follow at the next frame, and switching back gives the first rows again.
+TEST_F(PresenterTest, LightingSettingsChangeTheRowsWithoutMotion) {
+  Presenter presenter(test_scene(), *runtime_, 96, 72, SPLATCL_TEST_CACHE);
+  presenter.render(0.5f);
+  const std::vector<float> with_ao = presenter.splat_lighting();
+  EXPECT_FALSE(presenter.render(0.5f).ao_updated);  // same time, same settings: nothing to do
+  presenter.ambient_occlusion = false;
+  EXPECT_TRUE(presenter.render(0.5f).ao_updated);
+  EXPECT_NE(presenter.splat_lighting(), with_ao);
+  presenter.ambient_occlusion = true;
+  EXPECT_TRUE(presenter.render(0.5f).ao_updated);
+  EXPECT_EQ(presenter.splat_lighting(), with_ao);
+  presenter.scene().quality.shadows = "off";
+  EXPECT_TRUE(presenter.render(0.5f).ao_updated);
+  EXPECT_NE(presenter.splat_lighting(), with_ao);
+}
+
 // The per-splat lighting beside the visibility pass (worker thread) or after it: the same rows and
 // the same image, frame after frame with the torus moving.
 TEST_F(PresenterTest, OverlappedLightingEqualsSerialLighting) {
