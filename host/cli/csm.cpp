@@ -11,6 +11,7 @@
 
 #include "bench/measure.hpp"
 #include "cli/commands.hpp"
+#include "cli/parameter_options.hpp"
 #include "cli/progress.hpp"
 #include "csm/analysis.hpp"
 #include "csm/build.hpp"
@@ -28,10 +29,11 @@ using namespace splatcl::csm;
 
 struct BuildCommand {
   DeviceOptions device;
-  std::string model, output, coherence, distribution = "uniform", order = "zigzag-h", pole = "y", single_hit = "sphere-exit",
-                                        encoding = "plain", mode = "per-pixel", pixel_order = "hilbert",
-                                        capture = to_string(kDefaultCaptureMethod);
-  std::uint32_t maps = 4096, resolution = 128, batch = 0;
+  std::string model, output, coherence, mode = "per-pixel", pixel_order = "hilbert";
+  // The build parameters: `csm build` takes the list `splatcl batch` shares (--NAME options, applied
+  // after parsing); `quality` and `analyze` bind a subset of the same fields directly.
+  CsmParameters params;
+  std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();
   bool reference = false;
 };
 
@@ -101,20 +103,13 @@ void print_sizes(const Csm& csm, double plain_bytes, double compact_bytes) {
              mib(raw), mib(plain_bytes), raw / plain_bytes, mib(compact_bytes), raw / compact_bytes, 100.0 * compact_bytes / plain_bytes);
 }
 
-// The same checks and translation as `splatcl batch` (csm/build_options.hpp).
-BuildOptions build_options(const BuildCommand& c) {
-  CsmParameters p;
-  p.maps = c.maps;
-  p.res = c.resolution;
-  p.dist = c.distribution;
-  p.order = c.order;
-  p.pole = c.pole;
-  p.single_hit = c.single_hit;
-  p.capture = c.capture;
-  p.encoding = c.encoding;
-  p.batch = c.batch;
-  return to_build_options(p);
+// The parameters given, with the same checks and translation as `splatcl batch` (csm/build_options.hpp).
+CsmParameters parameters(const BuildCommand& c) {
+  CsmParameters p = c.params;
+  for (const auto& [option, value] : *c.given) set_parameter(p, option, value);
+  return p;
 }
+BuildOptions build_options(const BuildCommand& c) { return to_build_options(parameters(c)); }
 
 // --mode other than per-pixel: the thesis's alternatives, compared by size (no .csm written).
 int run_mode(const BuildCommand& c, CompressionMode mode) {
@@ -156,7 +151,7 @@ int run_build(const BuildCommand& c) {
   if (mode != CompressionMode::PerPixel) return run_mode(c, mode);
   if (c.output.empty()) throw Error("csm build: an output file is required (-o OUT.csm)");
   const BuildOptions options = build_options(c);
-  const Encoding encoding = parse_encoding(c.encoding);
+  const Encoding encoding = parse_encoding(parameters(c).encoding);
   ProgressLine progress("csm");
   progress.show("loading " + c.model);
   const splats::Mesh mesh = splats::load_mesh(c.model);
@@ -319,24 +314,11 @@ Action register_csm(CLI::App& app) {
   add_device_option(*build, b->device);
   build->add_option("model", b->model, "Input mesh (OBJ, PLY, OFF, STL)");
   build->add_option("-o,--output", b->output, "Output .csm file");
-  build->add_option("--maps", b->maps, "Number of maps N: G² for uniform/regular, 2T² for ao")->capture_default_str();
-  build->add_option("--res", b->resolution, "Map resolution M (M x M pixels)")->capture_default_str();
-  build->add_option("--dist", b->distribution, "Direction grid: uniform, regular (G x G) or ao (the AO thesis's T x 2T)")->capture_default_str();
-  build->add_option("--order", b->order, "Map order: zigzag-h, zigzag-v, linear-h, linear-v (h = theta fastest), hilbert, morton (extension)")
-      ->capture_default_str();
-  build->add_option("--pole", b->pole, "Object axis of the sphere's pole: y, z, x, or y180, z180, x180 (poles swapped)")->capture_default_str();
-  build->add_option("--single-hit", b->single_hit, "z2 of single-surface pixels: sphere-exit (the ray's exit from the bounding sphere) or exact (z2 = z1)")
-      ->capture_default_str();
-  build->add_option("--encoding", b->encoding, "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)")
-      ->capture_default_str();
+  add_parameter_options(*build, csm_parameters(), to_json(CsmParameters{}), b->given);
   build->add_option("--mode", b->mode, "Compression: per-pixel (writes the .csm), or for size comparison only: per-map, hilbert-3d "
                                        "(blocks of M maps), hilbert-4d (all maps in memory)")
       ->capture_default_str();
   build->add_option("--pixel-order", b->pixel_order, "Pixel curve of --mode per-map: hilbert, zigzag-h, zigzag-v")->capture_default_str();
-  build->add_option("--capture", b->capture, "Capture method of the per-pixel build: raster (two-layer depth buffer) or raycast (SAH BVH); "
-                                             "same depths up to rounding and triangle-edge pixels; recorded in the .csm; every --mode uses it")
-      ->capture_default_str();
-  build->add_option("--batch", b->batch, "Maps captured per batch (default: about 8 M samples)");
   build->add_option("--coherence", b->coherence, "Also write the coherence map (PNG: white = one segment, black = one per map)");
   build->add_flag("--reference", b->reference, "Use the native C++ reference instead of the OpenCL kernels (keeps all maps in memory)");
 
@@ -361,13 +343,13 @@ Action register_csm(CLI::App& app) {
   add_device_option(*quality, q->build.device);
   quality->add_option("model", q->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
   quality->add_option("--csm", q->csm_file, "Use this .csm (built from MODEL as loaded) instead of building one");
-  quality->add_option("--maps", q->build.maps, "Number of maps N of the CSM built")->capture_default_str();
-  quality->add_option("--res", q->build.resolution, "Map resolution M")->capture_default_str();
-  quality->add_option("--dist", q->build.distribution, "Direction grid: uniform, regular or ao")->capture_default_str();
-  quality->add_option("--order", q->build.order, "Map order")->capture_default_str();
-  quality->add_option("--pole", q->build.pole, "Object axis of the sphere's pole")->capture_default_str();
-  quality->add_option("--single-hit", q->build.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
-  quality->add_option("--capture", q->build.capture, "Capture method of the CSM built: raster or raycast")->capture_default_str();
+  quality->add_option("--maps", q->build.params.maps, "Number of maps N of the CSM built")->capture_default_str();
+  quality->add_option("--res", q->build.params.res, "Map resolution M")->capture_default_str();
+  quality->add_option("--dist", q->build.params.dist, "Direction grid: uniform, regular or ao")->capture_default_str();
+  quality->add_option("--order", q->build.params.order, "Map order")->capture_default_str();
+  quality->add_option("--pole", q->build.params.pole, "Object axis of the sphere's pole")->capture_default_str();
+  quality->add_option("--single-hit", q->build.params.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
+  quality->add_option("--capture", q->build.params.capture, "Capture method of the CSM built: raster or raycast")->capture_default_str();
   quality->add_option("--views", q->options.views, "Random camera and light configurations")->capture_default_str();
   quality->add_option("--image", q->options.image, "Image size (square) per view")->capture_default_str();
   quality->add_option("--fov", q->options.fov_degrees, "Camera field of view in degrees")->capture_default_str();
@@ -382,13 +364,13 @@ Action register_csm(CLI::App& app) {
   auto a = std::make_shared<AnalyzeCommand>();
   add_device_option(*analyze, a->build.device);
   analyze->add_option("model", a->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
-  analyze->add_option("--maps", a->build.maps, "Number of maps N")->capture_default_str();
-  analyze->add_option("--res", a->build.resolution, "Map resolution M")->capture_default_str();
-  analyze->add_option("--dist", a->build.distribution, "Direction grid: uniform, regular or ao")->capture_default_str();
-  analyze->add_option("--order", a->build.order, "Map order")->capture_default_str();
-  analyze->add_option("--pole", a->build.pole, "Object axis of the sphere's pole")->capture_default_str();
-  analyze->add_option("--single-hit", a->build.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
-  analyze->add_option("--capture", a->build.capture, "Capture method: raster or raycast (as csm build)")->capture_default_str();
+  analyze->add_option("--maps", a->build.params.maps, "Number of maps N")->capture_default_str();
+  analyze->add_option("--res", a->build.params.res, "Map resolution M")->capture_default_str();
+  analyze->add_option("--dist", a->build.params.dist, "Direction grid: uniform, regular or ao")->capture_default_str();
+  analyze->add_option("--order", a->build.params.order, "Map order")->capture_default_str();
+  analyze->add_option("--pole", a->build.params.pole, "Object axis of the sphere's pole")->capture_default_str();
+  analyze->add_option("--single-hit", a->build.params.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
+  analyze->add_option("--capture", a->build.params.capture, "Capture method: raster or raycast (as csm build)")->capture_default_str();
   analyze->add_option("--kmeans", a->kmeans, "Cluster the maps into K clusters (repeatable; all maps are kept in memory)");
   analyze->add_option("--iterations", a->iterations, "Largest number of k-means (Lloyd) iterations")->capture_default_str();
   analyze->add_option("--seed", a->seed, "Seed of the k-means start")->capture_default_str();
