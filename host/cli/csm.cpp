@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string_view>
 
 #include "bench/measure.hpp"
 #include "cli/commands.hpp"
@@ -30,9 +31,7 @@ using namespace splatcl::csm;
 struct BuildCommand {
   DeviceOptions device;
   std::string model, output, coherence, mode = "per-pixel", pixel_order = "hilbert";
-  // The build parameters: `csm build` takes the list `splatcl batch` shares (--NAME options, applied
-  // after parsing); `quality` and `analyze` bind a subset of the same fields directly.
-  CsmParameters params;
+  // The build parameters: the list `splatcl batch` shares, as --NAME options applied after parsing.
   std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();
   bool reference = false;
 };
@@ -103,9 +102,18 @@ void print_sizes(const Csm& csm, double plain_bytes, double compact_bytes) {
              mib(raw), mib(plain_bytes), raw / plain_bytes, mib(compact_bytes), raw / compact_bytes, 100.0 * compact_bytes / plain_bytes);
 }
 
+// The build parameters of a CSM made in memory (csm quality, csm analyze): the shared list without
+// the file encoding and the capture batch size, which only a written file or its memory use shows.
+void add_in_memory_build_options(CLI::App& app, BuildCommand& b) {
+  std::vector<ParameterInfo> in_memory;
+  for (const ParameterInfo& p : csm_parameters())
+    if (std::string_view(p.key) != "encoding" && std::string_view(p.key) != "batch") in_memory.push_back(p);
+  add_parameter_options(app, in_memory, to_json(CsmParameters{}), b.given);
+}
+
 // The parameters given, with the same checks and translation as `splatcl batch` (csm/build_options.hpp).
 CsmParameters parameters(const BuildCommand& c) {
-  CsmParameters p = c.params;
+  CsmParameters p;
   for (const auto& [option, value] : *c.given) set_parameter(p, option, value);
   return p;
 }
@@ -343,13 +351,7 @@ Action register_csm(CLI::App& app) {
   add_device_option(*quality, q->build.device);
   quality->add_option("model", q->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
   quality->add_option("--csm", q->csm_file, "Use this .csm (built from MODEL as loaded) instead of building one");
-  quality->add_option("--maps", q->build.params.maps, "Number of maps N of the CSM built")->capture_default_str();
-  quality->add_option("--res", q->build.params.res, "Map resolution M")->capture_default_str();
-  quality->add_option("--dist", q->build.params.dist, "Direction grid: uniform, regular or ao")->capture_default_str();
-  quality->add_option("--order", q->build.params.order, "Map order")->capture_default_str();
-  quality->add_option("--pole", q->build.params.pole, "Object axis of the sphere's pole")->capture_default_str();
-  quality->add_option("--single-hit", q->build.params.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
-  quality->add_option("--capture", q->build.params.capture, "Capture method of the CSM built: raster or raycast")->capture_default_str();
+  add_in_memory_build_options(*quality, q->build);
   quality->add_option("--views", q->options.views, "Random camera and light configurations")->capture_default_str();
   quality->add_option("--image", q->options.image, "Image size (square) per view")->capture_default_str();
   quality->add_option("--fov", q->options.fov_degrees, "Camera field of view in degrees")->capture_default_str();
@@ -364,13 +366,7 @@ Action register_csm(CLI::App& app) {
   auto a = std::make_shared<AnalyzeCommand>();
   add_device_option(*analyze, a->build.device);
   analyze->add_option("model", a->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
-  analyze->add_option("--maps", a->build.params.maps, "Number of maps N")->capture_default_str();
-  analyze->add_option("--res", a->build.params.res, "Map resolution M")->capture_default_str();
-  analyze->add_option("--dist", a->build.params.dist, "Direction grid: uniform, regular or ao")->capture_default_str();
-  analyze->add_option("--order", a->build.params.order, "Map order")->capture_default_str();
-  analyze->add_option("--pole", a->build.params.pole, "Object axis of the sphere's pole")->capture_default_str();
-  analyze->add_option("--single-hit", a->build.params.single_hit, "z2 of single-surface pixels: sphere-exit or exact")->capture_default_str();
-  analyze->add_option("--capture", a->build.params.capture, "Capture method: raster or raycast (as csm build)")->capture_default_str();
+  add_in_memory_build_options(*analyze, a->build);
   analyze->add_option("--kmeans", a->kmeans, "Cluster the maps into K clusters (repeatable; all maps are kept in memory)");
   analyze->add_option("--iterations", a->iterations, "Largest number of k-means (Lloyd) iterations")->capture_default_str();
   analyze->add_option("--seed", a->seed, "Seed of the k-means start")->capture_default_str();

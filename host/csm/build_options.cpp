@@ -19,7 +19,7 @@ const std::vector<ParameterInfo>& csm_parameters() {
       {"single_hit", "z2 of single-surface pixels: sphere-exit (the ray's exit from the bounding sphere) or exact (z2 = z1)"},
       {"encoding", "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)"},
       {"capture", "Capture method: raster (two-layer depth buffer) or raycast (SAH BVH); same depths up to rounding and "
-                  "triangle-edge pixels; recorded in the .csm (csm build --mode uses it too)"},
+                  "triangle-edge pixels; recorded in the .csm"},
       {"batch", "Maps captured per batch (0: about 8 M samples); memory only, the file is the same"},
   };
   return list;
