@@ -377,7 +377,7 @@ struct ShadeVariant {
 };
 
 struct Presenter::Impl {
-  GLuint splat_program = 0, visibility_program = 0, accumulate_program = 0, point_program = 0, mesh_program = 0;
+  GLuint visibility_program = 0, accumulate_program = 0, point_program = 0, mesh_program = 0;
   std::map<std::uint32_t, GLuint> shade_programs;  // final shading, one per variant (shade_program)
   GLuint static_vbo = 0, dynamic_vbo = 0, empty_vao = 0;
   GLuint depth = 0, accum[4] = {}, hdr = 0, display = 0, pixel_list = 0, pixel_shadow = 0, pixel_ao = 0;
@@ -542,8 +542,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   }
   const std::size_t instance_count = statics.size() / kRow;  // originals and LOD entries
 
-  g.splat_program = link(shaders::kSplatVisibilityVertex.c_str(), shaders::kSplatVisibility, "splat visibility");
-  g.visibility_program = g.splat_program;
+  g.visibility_program = link(shaders::kSplatVisibilityVertex.c_str(), shaders::kSplatVisibility, "splat visibility");
   g.accumulate_program = link(shaders::kSplatVertex.c_str(), shaders::kSplatAccumulate.c_str(), "splat accumulation");
   g.point_program = link(shaders::kPointVertex.c_str(), shaders::kPointFragment.c_str(), "points");
   g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
@@ -595,7 +594,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
 Presenter::~Presenter() {
   Impl& g = *impl_;
   g.delete_targets();
-  for (GLuint p : {g.splat_program, g.accumulate_program, g.point_program, g.mesh_program})
+  for (GLuint p : {g.visibility_program, g.accumulate_program, g.point_program, g.mesh_program})
     glDeleteProgram(p);
   for (const auto& [key, program] : g.shade_programs) glDeleteProgram(program);
   const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};

@@ -691,7 +691,11 @@ TEST_F(PresenterTest, WallClockPassesAndHdrOutputChangeNoPixel) {
   const FrameStats walled = presenter.render(0.25f);
   EXPECT_EQ(pass_names(walled), pass_names(queried));
   EXPECT_EQ(pass_names(walled), (std::vector<std::string>{"gl: splat visibility", "gl: splat accumulation", "gl: shading"}));
-  for (const StageTime& s : walled.stages) EXPECT_GE(s.ms, 0.0) << s.name;
+  for (const StageTime& s : walled.stages) {
+    if (s.name.rfind("gl: ", 0) == 0) {
+      EXPECT_GT(s.ms, 0.0) << s.name;  // a wall clock around real work
+    }
+  }
   EXPECT_EQ(presenter.read_display_rgb(), display);
   EXPECT_EQ(presenter.read_hdr_rgb(), hdr);
   presenter.hdr_output = false;
