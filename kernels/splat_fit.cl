@@ -213,7 +213,7 @@ inline bool color_similar(uchar4 a, uchar4 b, int tolerance) {
 
 // §3.6 size rule for one phase: geometric max(e1, e2), colour extrapolation 2 e2 - e1, e1 with no violator.
 inline float size_rule(float e1, float e2, int stop) {
-  if (stop == STOP_NONE || e2 < e1) return e1;
+  if (SIZE_AT_ACCEPTED || stop == STOP_NONE || e2 < e1) return e1;
   return stop == STOP_COLOR ? e2 + (e2 - e1) : e2;
 }
 
@@ -255,6 +255,7 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
   float b = 0.0f;
   float clip_x = 0.0f, clip_y = 0.0f;  // sum of the unit in-plane directions to the skipped violators
   uint rejected_count = 0;
+  bool full = false;  // Q reached MAX_COVERED: both phases end as if no violator was met
   for (int ellipse = 0; ellipse < 2; ++ellipse) {
     if (ellipse) {
       circle_extent1 = extent1, circle_extent2 = extent2, circle_stop = stop;
@@ -263,6 +264,7 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
       b = RETEST_VIOLATOR ? circle_extent1 : size_rule(circle_extent1, circle_extent2, circle_stop);
       ring_begin = circle_stop != STOP_NONE ? (RETEST_VIOLATOR ? pos : pos + 1u) : seen_len;
       ring_end = seen_len;
+      if (full) break;
     }
     for (;;) {
       for (uint r = ring_begin; r < ring_end; ++r) {
@@ -297,6 +299,10 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
           stop = violation, extent2 = key, stopped = true;
           break;
         }
+        if (qn == MAX_COVERED) {
+          full = true;
+          break;
+        }
         if (qn == capacity) {
           seen_clear(table, hash_mask, seen, seen_len);
           *count_out = capacity + 1u;
@@ -309,7 +315,7 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
         for (uint r = 0; r < k; ++r)
           if (seen_insert(table, hash_mask, row[r])) seen[seen_len++] = row[r];
       }
-      if (stopped || seen_len == ring_end) break;
+      if (stopped || full || seen_len == ring_end) break;
       ring_begin = ring_end, ring_end = seen_len;
     }
   }

@@ -12,10 +12,13 @@
 #include "cli/parameter_options.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
+#include "io/output_files.hpp"
 #include "runtime/error.hpp"
+#include "splats/gaussian_file.hpp"
 #include "splats/pipeline.hpp"
 #include "splats/pipeline_options.hpp"
 #include "splats/render.hpp"
+#include "splats/surface_check.hpp"
 
 namespace splatcl::cli {
 namespace {
@@ -25,18 +28,27 @@ using namespace splatcl::splats;
 struct SplatsOptions {
   DeviceOptions device;
   std::string model, output, stats, render;
+  std::string format = "splatcl";  // of -o: "splatcl" (splat PLY) or "3dgs" (3D Gaussian Splatting PLY)
   bool reference = false;
+  bool strict = false;  // mesh problems (mesh.hpp: MeshProblems) are an error, not a warning
   std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();  // the build parameters given
 };
 
 struct VerifyOptions {
-  std::string model, splats;
-  double eps = 0;
+  std::string model, splats, json;
+  std::string eps, points, ellipse_points, seed;  // as given ("" when not); parsed and validated by run_verify
 };
 
 int run_splats(const SplatsOptions& o) {
   if (o.model.empty()) throw Error("splats: a MODEL is required (see splatcl splats --help)");
   if (o.output.empty()) throw Error("splats: an output file is required (-o OUT.ply)");
+  if (o.format != "splatcl" && o.format != "3dgs") throw Error("--format must be splatcl or 3dgs, not '" + o.format + "'");
+  // Every output must be writable before any work; all are staged and committed together at the
+  // end, so a late failure (stats, render) leaves none of them, -o included.
+  check_output_file(o.output, "-o");
+  check_output_file(o.stats, "--stats");
+  check_output_file(o.render, "--render");
+  check_distinct_outputs({{"-o", o.output}, {"--stats", o.stats}, {"--render", o.render}});
   // The same parameters, parsing and translation as `splatcl batch` (splats/pipeline_options.hpp).
   SplatParameters params;
   for (const auto& [option, value] : *o.given) set_parameter(params, option, value);
@@ -46,6 +58,11 @@ int run_splats(const SplatsOptions& o) {
   Stopwatch load_clock;
   const Mesh mesh = load_mesh(o.model);
   const double load_ms = load_clock.elapsed_ms();
+  if (mesh.problems.any()) {
+    if (o.strict) throw Error(fmt::format("{}: {} (--strict)", o.model, mesh.problems.summary()));
+    progress.clear();
+    fmt::print(stderr, "splatcl: warning: {}: {}\n", o.model, mesh.problems.summary());
+  }
   const SplatSetup setup = splat_setup(params, mesh, o.model);
   const PipelineOptions& options = setup.options;
   const ColorSource& colors = setup.colors;
@@ -55,19 +72,35 @@ int run_splats(const SplatsOptions& o) {
   if (!o.reference) runtime = Runtime::create(o.device.device);
   SplatRun run = generate_splats(mesh, colors, options, runtime.get(), [&](const std::string& phase) { progress.show(phase); });
   run.phases.insert(run.phases.begin(), {"load", load_ms});
+  // Commit order: the secondary outputs first, -o last.
+  StagedOutputs outputs;
+  if (!o.stats.empty()) outputs.stage(o.stats);
+  if (!o.render.empty()) outputs.stage(o.render);
+  outputs.stage(o.output);
   progress.show("writing " + o.output);
   Stopwatch write_clock;
-  write_splat_file(o.output, run.records(), splat_file_info(setup, run, o.model));
+  const std::vector<SplatRecord> records = run.records();
+  std::size_t unclipped = 0;
+  outputs.write(o.output, [&](const std::string& path) {
+    if (o.format == "3dgs")
+      unclipped = write_gaussian_file(path, records);
+    else
+      write_splat_file(path, records, splat_file_info(setup, run, o.model));
+  });
   run.phases.push_back({"write", write_clock.elapsed_ms()});
   const nlohmann::json stats = splat_statistics(run, setup, o.model, o.output);
-  if (!o.stats.empty()) write_file_atomically(o.stats, stats.dump(2) + "\n");
+  if (!o.stats.empty()) outputs.write(o.stats, [&](const std::string& path) { write_file_atomically(path, stats.dump(2) + "\n"); });
   if (!o.render.empty()) {
     progress.show("rendering " + o.render);
     RenderOptions view;
     view.random_colors = colors.field == ColorField::Grey && !colors.texture;
-    render_splats(o.render, run.records(), view);
+    outputs.write(o.render, [&](const std::string& path) { render_splats(path, records, view); });
   }
+  outputs.commit();
   progress.clear();
+  if (unclipped > 0)
+    std::fprintf(stderr, "splatcl: warning: %zu of %zu splats are clipped; 3DGS has no clip lines, so %s has them unclipped\n",
+                 unclipped, records.size(), o.output.c_str());
 
   const double n = static_cast<double>(run.samples.size()), m = static_cast<double>(run.selected.size());
   fmt::print("model      {} ({} vertices, {} faces, bbox diagonal {:.6g})\n", o.model, mesh.vertices.size(), mesh.face_count(), diagonal);
@@ -75,8 +108,14 @@ int run_splats(const SplatsOptions& o) {
              run.samples.duplicates_dropped, run.neighbors.k);
   fmt::print("eps        {:.6g} ({:.3g} of the diagonal), colour tolerance {} ({})\n", options.fit.eps, options.fit.eps / diagonal,
              options.fit.color_tolerance, color_description);
+  if (!run.samples.note.empty()) fmt::print(stderr, "splatcl: note: {}: {}\n", o.model, run.samples.note);
   fmt::print("splats     {} ({:.1f}% of the samples, {:.2f} samples per splat); greedy {}, then {} swaps and {} removals in {} rounds\n",
              run.selected.size(), 100.0 * m / n, n / m, run.greedy_count, run.optimise.swaps, run.optimise.removals, run.optimise.rounds);
+  if (run.surface_bound)
+    fmt::print("surface    {} grown splats shrunk to the surface, {} of the selected made smaller by certification, {} added "
+               "in {} gap rounds; {} written\n",
+               run.surface_fit.shrunk, run.surface_fit.recertified, run.gap_splats.size(), run.surface_fit.gap_rounds,
+               run.output_count());
   fmt::print("error      before selection mean {:.3g} ({:.1f}% of eps); after mean {:.3g} ({:.1f}%), max {:.3g} ({:.1f}%)\n",
              run.before.mean, 100 * run.before.mean / options.fit.eps, run.after.mean, 100 * run.after.mean / options.fit.eps,
              run.after.max, 100 * run.after.max / options.fit.eps);
@@ -88,26 +127,95 @@ int run_splats(const SplatsOptions& o) {
   return 0;
 }
 
+// A whole-string number for option `what`, or Error naming it.
+double parse_number(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  double value = NAN;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) throw Error(what + " must be a number, not '" + text + "'");
+  return value;
+}
+
+std::uint64_t parse_count(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  unsigned long long value = 0;
+  try {
+    if (!text.empty() && text[0] != '-' && text[0] != '+') value = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) throw Error(what + " must be a non-negative integer, not '" + text + "'");
+  return value;
+}
+
 int run_verify(const VerifyOptions& o) {
-  ProgressLine progress("splats");
+  SurfaceCheckOptions check;
+  if (!o.eps.empty()) {
+    check.eps = parse_number(o.eps, "--eps");
+    if (!(check.eps > 0) || !std::isfinite(check.eps)) throw Error("--eps must be finite and positive, not " + o.eps);
+  }
+  if (!o.points.empty()) {
+    check.surface_points = parse_count(o.points, "--points");
+    if (check.surface_points < 1000) throw Error("--points must be at least 1000, not " + o.points);
+  }
+  if (!o.ellipse_points.empty()) {
+    check.ellipse_points = parse_count(o.ellipse_points, "--ellipse-points");
+    if (check.ellipse_points < 1 || check.ellipse_points > 100'000)
+      throw Error("--ellipse-points must be 1 to 100000, not " + o.ellipse_points);
+  }
+  if (!o.seed.empty()) check.seed = parse_count(o.seed, "--seed");
+  check_output_file(o.json, "--json");
+
+  ProgressLine progress("splats verify");
   progress.show("reading " + o.splats);
   const SplatFile file = read_splat_file(o.splats);
-  const float eps = static_cast<float>(o.eps > 0 ? o.eps : file.info.eps);
-  if (!(eps > 0)) throw Error(o.splats + " records no eps; pass --eps");
-  progress.show("sampling " + o.model);
+  if (o.eps.empty()) check.eps = file.info.eps;
+  if (!(check.eps > 0) || !std::isfinite(check.eps)) throw Error(o.splats + " records no eps; pass --eps");
+  progress.show("loading " + o.model);
   const Mesh mesh = load_mesh(o.model);
-  const Samples samples = sample_mesh(mesh, parse_sampling(file.info.sampling.empty() ? "vertices" : file.info.sampling), ColorSource{});
-  progress.show("checking coverage");
-  const VerifyReport report = verify_splats(samples, file.splats, eps);
+  const SurfaceCheckReport r = check_surface(mesh, file.splats, check, [&](const std::string& phase, double fraction) {
+    progress.show(fmt::format("{} {:.0f}%", phase, 100 * fraction));
+  });
+  if (!o.json.empty()) {
+    nlohmann::json json = to_json(r);
+    json["model"] = o.model;
+    json["splats_file"] = o.splats;
+    write_file_atomically(o.json, json.dump(2) + "\n");
+  }
   progress.clear();
-  fmt::print("splats     {} from {} ({} samples, {}), eps {:.6g}\n", report.splats, o.model, report.samples,
-             file.info.sampling, eps);
-  fmt::print("coverage   {} of {} samples covered; {} splats cover no sample\n", report.samples - report.uncovered,
-             report.samples, report.empty_splats);
-  fmt::print("error      mean {:.3g} = {:.1f}% of eps, max {:.3g} = {:.1f}% of eps\n", report.mean_error,
-             100 * report.mean_error / eps, report.max_error, 100 * report.max_error / eps);
-  if (!report.ok())
-    throw Error(fmt::format("{}: {} samples uncovered, {} splats cover no sample", o.splats, report.uncovered, report.empty_splats));
+
+  const double eps = r.eps;
+  fmt::print("verify     {} against {}, eps {:.6g}, seed {}\n", o.splats, o.model, eps, r.seed);
+  std::string count = fmt::format("{} points checked", r.surface_points);
+  if (r.surface_points_clamped)
+    count += fmt::format(" (5 A / (pi eps^2) = {:.0f}, clamped to [{}, {}])", std::ceil(r.surface_points_wanted), kMinSurfacePoints,
+                         kMaxSurfacePoints);
+  fmt::print("surface    area {:.6g}, {}; uncovered {:.4g}% of the area ({} points)", r.surface_area, count, 100 * r.uncovered_fraction,
+             r.uncovered_points);
+  if (r.holes > 0)
+    fmt::print(", {} holes, largest area {:.3g} ({:.3g} eps^2), diameter {:.3g} eps", r.holes, r.largest_hole_area,
+               r.largest_hole_area / (eps * eps), r.largest_hole_diameter / eps);
+  fmt::print("\n");
+  fmt::print("splats     {} ({} points checked); largest distance to the surface {:.4g} = {:.4g} eps (splat {}); "
+             "{:.4g}% of the splat area beyond eps; {} splats beyond eps\n",
+             r.splats, r.splat_points, r.max_distance, r.max_distance_eps(), r.worst_splat, 100 * r.area_beyond_fraction, r.splats_beyond);
+  fmt::print("shape      largest major semi-axis {:.4g} = {:.4g} of the diagonal; {} flipped, {} degenerate\n", r.largest_major,
+             r.largest_major_diagonal(), r.flipped, r.degenerate);
+  if (!r.ok()) {
+    std::string broken;
+    const auto add = [&](const std::string& part) { broken += (broken.empty() ? "" : "; ") + part; };
+    if (r.uncovered_points > 0)
+      add(fmt::format("surface not covered within eps ({:.3g}% of the area uncovered, largest hole {:.3g} eps across)",
+                      100 * r.uncovered_fraction, r.largest_hole_diameter / eps));
+    if (r.splats_beyond > 0)
+      add(fmt::format("{} splats leave the surface by more than eps (up to {:.3g} eps)", r.splats_beyond, r.max_distance_eps()));
+    if (r.degenerate > 0) add(fmt::format("{} degenerate splats", r.degenerate));
+    throw Error(fmt::format("{}: fails the two-sided bound at eps {:.6g} against {}: {}", o.splats, eps, o.model, broken));
+  }
   fmt::print("ok\n");
   return 0;
 }
@@ -122,17 +230,35 @@ Action register_splats(CLI::App& app) {
   add_device_option(*sub, o->device);
   sub->add_option("model", o->model, "Input mesh");
   sub->add_option("-o,--output", o->output, "Output splat PLY (position, normal, colour, major and minor semi-axis vectors and lengths)");
+  sub->add_option("--format", o->format,
+                  "Format of -o: splatcl (the splat PLY above) or 3dgs (3D Gaussian Splatting PLY: one flat Gaussian per "
+                  "splat, sigma = semi-axis/2; 3DGS has no clip lines, so --clip splats are written unclipped, with a warning)")
+      ->capture_default_str();
   sub->add_option("--stats", o->stats, "Write statistics (counts, reduction, errors against eps, time per phase) as JSON");
   sub->add_option("--render", o->render, "Also write an offscreen picture of the splats (PNG): per-splat colours for grey models, else the splat colours");
   sub->add_flag("--reference", o->reference, "Fit with the native C++ reference instead of the OpenCL kernels");
+  sub->add_flag("--strict", o->strict,
+                "Refuse a model with problems (faces dropped for a non-finite vertex, an index out of range or fewer than 3 "
+                "corners; zero-area or non-manifold faces; inconsistent orientation; faces pointing inward) instead of warning");
   // The build parameters: the same list, names and meaning as `splatcl batch` manifest keys.
   add_parameter_options(*sub, splat_parameters(), to_json(SplatParameters{}), o->given);
 
-  auto* verify = sub->add_subcommand("verify", "Check a splat file against its model: every sample covered within eps, no empty splat; reports mean error / eps");
+  auto* verify = sub->add_subcommand("verify",
+                                     "Check a splat file against the mesh surface, both ways: every point of every (clipped) "
+                                     "splat within eps of the surface, and every point of the surface within eps of a splat "
+                                     "that contains its projection and faces its way; exit 1 when either fails");
   auto v = std::make_shared<VerifyOptions>();
   verify->add_option("model", v->model, "The mesh the splats were made from")->required();
   verify->add_option("splats", v->splats, "Splat PLY written by splatcl splats")->required();
-  verify->add_option("--eps", v->eps, "Tolerance to check (default: the one recorded in the file)");
+  verify->add_option("--eps", v->eps, "Tolerance to check (default: the one recorded in the file)")->type_name("E");
+  verify->add_option("--points", v->points,
+                     "Random surface points to check, at least 1000 (default: 5 A / (pi eps^2), enough to hit a hole of "
+                     "diameter 2 eps 5 times, within [10000, 20000000])")
+      ->type_name("N");
+  verify->add_option("--ellipse-points", v->ellipse_points, "Area-uniform points per splat, 1 to 100000, besides its rim and clip chord (default 64)")
+      ->type_name("M");
+  verify->add_option("--seed", v->seed, "Seed of the random points (default 1)")->type_name("S");
+  verify->add_option("--json", v->json, "Also write the measurements as JSON")->type_name("FILE");
   return [o, v, verify] { return verify->parsed() ? run_verify(*v) : run_splats(*o); };
 }
 

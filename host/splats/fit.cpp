@@ -24,8 +24,9 @@ constexpr std::size_t kScratchBudget = std::size_t{16} << 20;
 constexpr std::uint32_t kCpuBlock = 16;
 
 std::string build_options(const Runtime& runtime, const FitOptions& options) {
-  std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DCLIP={} -DON_HULL_BIT={}u",
-                                 options.literal_lambda ? 1 : 0, options.retest_violator ? 1 : 0, options.clip ? 1 : 0, kOnHullBit);
+  std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DCLIP={} -DON_HULL_BIT={}u -DMAX_COVERED={}u -DSIZE_AT_ACCEPTED={}",
+                                 options.literal_lambda ? 1 : 0, options.retest_violator ? 1 : 0, options.clip ? 1 : 0, kOnHullBit,
+                                 options.max_covered, options.size_at_accepted ? 1 : 0);
   // The reference's std::sqrt and division are correctly rounded; ask the device for the same.
   const cl_device_fp_config config = runtime.device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>();
   if (config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) text += " -cl-fp32-correctly-rounded-divide-sqrt";
@@ -50,6 +51,8 @@ void set_rows(const std::vector<std::vector<std::uint32_t>>& sets, FitResult& re
 void validate(const FitOptions& options) {
   if (!(std::isfinite(options.eps) && options.eps > 0))
     throw Error(fmt::format("--eps must be a positive length, not {}", options.eps));
+  if (options.max_covered < 4 || options.max_covered > kMaxCoveredLimit)
+    throw Error(fmt::format("--max-covered must be in 4..{}, not {}", kMaxCoveredLimit, options.max_covered));
   if (options.color_tolerance < 0 || options.color_tolerance > 255)
     throw Error(fmt::format("--color-tol must be in 0..255, not {}", options.color_tolerance));
 }
@@ -145,7 +148,7 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
         }
       }
       pending = std::move(overflow);
-      capacity = static_cast<std::uint32_t>(std::min<std::size_t>(std::size_t{capacity} * kCapacityGrowth, n));
+      capacity = static_cast<std::uint32_t>(std::min<std::size_t>({std::size_t{capacity} * kCapacityGrowth, n, options.max_covered}));
     }
     Stopwatch read;
     queue.enqueueReadBuffer(splat_buffer, CL_TRUE, 0, n * sizeof(SplatShape), result.splats.data());

@@ -27,6 +27,8 @@
 
 namespace splatcl::splats {
 
+inline constexpr std::uint32_t kMaxCoveredLimit = 1u << 20;
+
 struct FitOptions {
   float eps = 0;                 // ε, absolute, in model units
   int color_tolerance = 255;     // φ per channel, 0..255; 255 ignores colour
@@ -37,13 +39,23 @@ struct FitOptions {
   // phase; the splat is then cut by a line perpendicular to that mean direction, halfway between the
   // farthest accepted and the nearest skipped sample along it.
   bool clip = false;
+  // Growth cap (an extension; the thesis grows without bound, digest §8 item 19): a splat stops
+  // accepting samples when Q holds this many, as if no violator had been met. It keeps growth and
+  // selection linear in the sample count on flat regions, where one splat would otherwise walk the
+  // whole plane; the surface bound and gap filling (splats/surface_fit.hpp) keep the cover whole.
+  std::uint32_t max_covered = kMaxCoveredLimit;  // the two-sided setup (pipeline_options) uses 512
+  // Size at the accepted samples (an extension for the two-sided bound): each axis ends at the
+  // farthest accepted sample (d1, λ1) instead of the thesis's size corrections, which reach the
+  // violator (d2, λ2, or beyond for colour) - a point that by definition lies more than ε off the
+  // splat's plane, so nearly every corrected splat leaves the surface at its rim.
+  bool size_at_accepted = false;
   // Growth kernel shape (design.md): Cpu = a few workers each growing blocks of consecutive splats
   // with scratch kept warm in its cache; Gpu = one work-item per splat. Auto picks by device type.
   // Both give the same splats.
   Shape shape = Shape::Auto;
 };
 
-// Throws Error for ε not positive and finite, or φ outside 0..255.
+// Throws Error for ε not positive and finite, φ outside 0..255, or max_covered outside 4..kMaxCoveredLimit.
 void validate(const FitOptions& options);
 
 // Unit axes of a sample's splat: major u, minor v, normal n.

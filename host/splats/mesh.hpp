@@ -1,7 +1,29 @@
 #pragma once
-// Polygon meshes for the splat stage, read through OpenMesh (OBJ, PLY, OFF, STL). Vertices that no
-// face uses are dropped (the Stanford bunny's scan has 1,113 of them); vertex normals come from the
-// file or, when it has none, from OpenMesh's face-normal average.
+// Polygon meshes for the splat stage: OBJ, PLY, OFF and STL files, held and cleaned by OpenMesh.
+// Vertices that no face uses are dropped (the Stanford bunny's scan has 1,113 of them); vertex
+// normals come from the file where it gives them, else from OpenMesh's face-normal average.
+//
+// What is read, counted, dropped and refused (docs/formats.md, "Mesh input"). The files are parsed
+// here (mesh_readers.cpp), not by OpenMesh's readers, which misread damaged files silently (a "nan"
+// vertex shifts the indices of every later one, `v 1.2.3 -3 1.8` reads as (1.2, 0.3, -3), a
+// truncated OFF repeats its last face, a PLY without end_header hangs).
+// - Counted in Mesh::problems and dropped, the rest of the mesh loads: vertices whose coordinates
+//   are not three finite floats (nan, inf, beyond ±3.4e38 such as 1e39, unreadable text), and the
+//   faces using them; faces with a vertex index out of range (OBJ: 0, or a negative relative index
+//   before the first vertex); faces with fewer than 3 distinct corners (a corner repeated next to
+//   itself is merged first, so `f 1 2 3 3` is a triangle).
+// - Counted and kept: zero-area faces (collinear corners; they add no samples); faces OpenMesh
+//   cannot add to its half-edge structure (a non-manifold edge or vertex, or a winding opposite to a
+//   neighbour's), which are kept detached on copies of their vertices as OpenMesh's own importer
+//   does; edges two faces use in the same direction (inconsistent orientation); closed surfaces
+//   enclosing negative volume (faces point inward).
+// - Refused with one Error line naming the file: a missing or unreadable file, an unknown format, a
+//   truncated file (an OFF or PLY with fewer records than its header declares, a binary STL whose
+//   size does not match its triangle count), a PLY header without end_header (in the first MiB) or
+//   declaring more records than the file can hold, and a mesh with no face left.
+// PLY triangle strips (element tristrips, -1 restarts a strip) are read as triangles of
+// alternating winding. Coordinates keep their float values at any scale (1e-30 or 1e30 load
+// exactly; normals are computed on a power-of-two rescaled copy so they do not under- or overflow).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -11,6 +33,26 @@
 
 namespace splatcl::splats {
 
+// What loading found wrong with a mesh, by kind (all zero / false for a clean one).
+struct MeshProblems {
+  std::size_t faces_listed = 0;          // faces (polygons, or strip triangles) the input lists
+  std::size_t non_finite_vertices = 0;   // vertices with a coordinate that is nan, inf or beyond float range
+  std::size_t unreadable_vertices = 0;   // vertex records that are not three numbers (e.g. `v 1.2.3 -3 1.8`)
+  std::size_t bad_vertex_faces = 0;      // dropped: a corner is a non-finite or unreadable vertex
+  std::size_t bad_index_faces = 0;       // dropped: a vertex (OBJ: or texture/normal) index out of range or unreadable
+  std::size_t degenerate_faces = 0;      // dropped: fewer than 3 distinct corners (or a corner repeated apart)
+  std::size_t zero_area_faces = 0;       // kept: corners collinear (or coincident), the face has zero area
+  std::size_t complex_faces = 0;         // kept detached: OpenMesh refused the face (non-manifold, or wound against a neighbour)
+  std::size_t inconsistent_edges = 0;    // undirected edges that two faces use in the same direction
+  bool inward = false;                   // the closed parts of the mesh enclose negative volume: faces point inward
+
+  std::size_t dropped_faces() const { return bad_vertex_faces + bad_index_faces + degenerate_faces; }
+  bool any() const;
+  // One line listing the non-zero kinds ("2 faces with a vertex index out of range dropped, faces
+  // point inward"); empty when there are none.
+  std::string summary() const;
+};
+
 struct Mesh {
   std::string source;                 // file name or a description of a generated mesh
   std::vector<Vec3> vertices;
@@ -18,18 +60,21 @@ struct Mesh {
   std::vector<std::uint32_t> face_offsets{0};  // face f = corners [face_offsets[f], face_offsets[f+1])
   std::vector<std::uint32_t> corners;          // vertex index per face corner
   std::vector<std::array<float, 2>> corner_texcoords;  // per face corner; empty when the file has none
+  MeshProblems problems;                               // what load_mesh / make_mesh counted (see above)
 
   std::size_t face_count() const { return face_offsets.size() - 1; }
   bool has_texcoords() const { return !corner_texcoords.empty(); }
   Box bounds() const;
 };
 
-// Reads `path`. Throws Error naming the file when it is missing, unreadable, not a mesh OpenMesh
-// understands, has no faces, or has a non-finite coordinate.
+// Reads `path`, counting and dropping bad faces into Mesh::problems (see above). Throws Error naming
+// the file when it is missing, unreadable, not one of the four formats, truncated or otherwise
+// refused, or has no face left (the message then says what was dropped).
 Mesh load_mesh(const std::string& path);
 
-// Builds a mesh from polygons (vertex index lists) through the same OpenMesh path as load_mesh, so
-// tests and generated models get the same normals and cleaning. Throws Error like load_mesh.
+// Builds a mesh from polygons (vertex index lists) through the same checks and OpenMesh path as
+// load_mesh, so tests and generated models get the same normals, cleaning and problem counts.
+// Throws Error like load_mesh when no face is left.
 Mesh make_mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<std::uint32_t>>& faces,
                const std::string& description);
 

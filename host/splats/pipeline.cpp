@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 #include <flann/flann.hpp>
 
@@ -21,29 +22,88 @@ double SplatRun::total_ms() const {
   return total;
 }
 
+namespace {
+
+bool degenerate(const SplatShape& s) { return !(s.major.w > 0 && s.minor.w > 0); }
+
+// Meshes whose coordinates are this far from 1 are processed in units of their diagonal.
+bool needs_normalising(const Box& box) {
+  const double diagonal = box.diagonal();
+  const double reach = std::max({std::fabs(box.lo.x), std::fabs(box.lo.y), std::fabs(box.lo.z), std::fabs(box.hi.x),
+                                 std::fabs(box.hi.y), std::fabs(box.hi.z)});
+  return !(diagonal >= 1e-6 && diagonal <= 1e6 && reach <= 1e6);
+}
+
+}  // namespace
+
 std::vector<SplatRecord> SplatRun::records() const {
   std::vector<SplatRecord> out;
-  out.reserve(selected.size());
-  for (const std::uint32_t j : selected) {
-    const SplatShape& s = fit.splats[j];
-    const Vec4& clip = fit.clips[j];
-    out.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j], clip.x, clip.y, clip.z});
+  out.reserve(selected.size() + gap_splats.size());
+  if (surface_bound) {
+    out = kept_splats;
+  } else {
+    for (const std::uint32_t j : selected) {
+      const SplatShape& s = fit.splats[j];
+      const Vec4& clip = fit.clips[j];
+      out.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j], clip.x, clip.y, clip.z});
+    }
+  }
+  out.insert(out.end(), gap_splats.begin(), gap_splats.end());
+  if (scale != 1 || origin.x != 0 || origin.y != 0 || origin.z != 0) {
+    for (SplatRecord& r : out) {
+      r.center = to_float(origin + scale * DVec3(r.center));
+      r.major = to_float(scale * DVec3(r.major));
+      r.minor = to_float(scale * DVec3(r.minor));
+      r.clip_offset = static_cast<float>(scale * r.clip_offset);
+    }
   }
   return out;
 }
 
-SplatRun generate_splats(const Mesh& mesh, const ColorSource& colors, const PipelineOptions& options, Runtime* runtime,
-                         const Progress& progress) {
-  validate(options.fit);
-  if (options.k == 0) throw Error("--k must be at least 1");
+SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors, const PipelineOptions& input_options,
+                         Runtime* runtime, const Progress& progress) {
+  validate(input_options.fit);
+  if (input_options.k == 0) throw Error("--k must be at least 1");
   SplatRun run;
+  // Huge or tiny coordinates: work in units of the diagonal so that squared distances, ε and the
+  // float samples keep their precision; records() maps the result back.
+  const Box input_box = input_mesh.bounds();
+  Mesh normalised_mesh;
+  ColorSource normalised_colors;
+  PipelineOptions normalised_options;
+  const bool normalise = needs_normalising(input_box);
+  if (normalise) {
+    const double diagonal = std::sqrt(std::pow(double{input_box.hi.x} - input_box.lo.x, 2) + std::pow(double{input_box.hi.y} - input_box.lo.y, 2) +
+                                      std::pow(double{input_box.hi.z} - input_box.lo.z, 2));
+    if (!(diagonal > 0 && std::isfinite(diagonal)))
+      throw Error(input_mesh.source + ": the mesh has no extent (all vertices coincide) or an extent beyond double range");
+    run.origin = 0.5 * (DVec3(input_box.lo) + DVec3(input_box.hi));
+    run.scale = diagonal;
+    normalised_mesh = input_mesh;
+    for (Vec3& v : normalised_mesh.vertices) v = to_float((1.0 / run.scale) * (DVec3(v) - run.origin));
+    normalised_colors = input_colors;
+    normalised_colors.bounds = normalised_mesh.bounds();
+    normalised_options = input_options;
+    normalised_options.fit.eps = static_cast<float>(input_options.fit.eps / run.scale);
+    if (normalised_options.sampling.spacing > 0) normalised_options.sampling.spacing /= run.scale;
+    validate(normalised_options.fit);
+  }
+  const Mesh& mesh = normalise ? normalised_mesh : input_mesh;
+  const ColorSource& colors = normalise ? normalised_colors : input_colors;
+  const PipelineOptions& options = normalise ? normalised_options : input_options;
   auto phase = [&](const std::string& name, auto&& work) {
     if (progress) progress(name);
     Stopwatch clock;
     work();
     run.phases.push_back({name, clock.elapsed_ms()});
   };
-  phase("sampling", [&] { run.samples = sample_mesh(mesh, options.sampling, colors); });
+  run.surface_bound = options.surface_bound;
+  SamplingOptions sampling = options.sampling;
+  if (sampling.mode == SampleMode::Spacing && sampling.spacing == 0) {
+    sampling.spacing = auto_spacing(options.fit.eps, mesh.bounds().diagonal());
+    sampling.coarsen = true;
+  }
+  phase("sampling", [&] { run.samples = sample_mesh(mesh, sampling, colors); });
   phase("knn", [&] { run.neighbors = find_neighbors(run.samples.positions, options.k); });
   if (runtime) {
     run.fit_backend = runtime->info().name;
@@ -60,6 +120,11 @@ SplatRun generate_splats(const Mesh& mesh, const ColorSource& colors, const Pipe
     phase("pca", [&] { frames = reference::fit_frames(run.samples, run.neighbors); });
     phase("growth+safe", [&] { run.fit = reference::grow_splats(run.samples, run.neighbors, frames, options.fit); });
   }
+  std::optional<Surface> surface;
+  if (options.surface_bound) {
+    phase("surface", [&] { surface.emplace(mesh); });
+    phase("surface bound", [&] { bound_by_surface(*surface, run.samples, run.neighbors, run.fit, options.fit.eps, run.surface_fit); });
+  }
   Rows inverse;
   phase("inverse", [&] { inverse = inverse_index(run.fit.safe, run.samples.size()); });
   phase("selection", [&] {
@@ -70,13 +135,27 @@ SplatRun generate_splats(const Mesh& mesh, const ColorSource& colors, const Pipe
     run.selected = optimise_selection(std::move(run.selected), run.fit.safe, inverse, run.neighbors.weight, run.neighbors,
                                       options.rounds, &run.optimise);
   });
+  if (options.surface_bound) {
+    phase("gap fill", [&] {
+      for (const std::uint32_t j : run.selected) run.degenerate_dropped += degenerate(run.fit.splats[j]) ? 1 : 0;
+      std::vector<SplatRecord> kept;
+      for (const std::uint32_t j : run.selected) {
+        const SplatShape& s = run.fit.splats[j];
+        const Vec4& clip = run.fit.clips[j];
+        if (!degenerate(s))
+          kept.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), run.samples.colors[j], clip.x, clip.y, clip.z});
+      }
+      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, options.fit.eps, run.surface_fit);
+      run.kept_splats = std::move(kept);
+    });
+  }
   phase("metrics", [&] {
     std::vector<std::uint8_t> chosen(run.samples.size(), 0);
     for (const std::uint32_t j : run.selected) chosen[j] = 1;
     run.before = coverage_errors(run.samples, run.fit.splats, inverse, nullptr);
     run.after = coverage_errors(run.samples, run.fit.splats, inverse, &chosen);
   });
-  if (run.after.uncovered != 0)
+  if (run.after.uncovered != 0 && !options.surface_bound)
     throw Error(fmt::format("splat selection left {} samples uncovered", run.after.uncovered));
   return run;
 }
@@ -104,7 +183,21 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
           {"literal_lambda", options.fit.literal_lambda},
           {"retest_violator", options.fit.retest_violator},
           {"clip", options.fit.clip},
+          {"size_at_accepted", options.fit.size_at_accepted},
           {"clipped_splats", clipped},
+          {"surface_bound", run.surface_bound},
+          {"max_covered", options.fit.max_covered},
+          {"sampling_note", run.samples.note},
+          {"surface_fit", {{"shrunk_splats", run.surface_fit.shrunk},
+                           {"gap_splats", run.gap_splats.size()},
+                           {"gap_rounds", run.surface_fit.gap_rounds},
+                           {"cells_checked", run.surface_fit.cells_checked},
+                           {"uncovered_cells", run.surface_fit.uncovered_cells},
+                           {"degenerate_dropped", run.degenerate_dropped},
+                           {"recertified_splats", run.surface_fit.recertified},
+                           {"certify_ms", run.surface_fit.certify_ms},
+                           {"normalised_scale", run.scale}}},
+          {"output_splats", run.output_count()},
           {"splats_greedy", run.greedy_count},
           {"splats", run.selected.size()},
           {"samples_per_splat", m > 0 ? n / m : 0.0},

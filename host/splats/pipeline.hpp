@@ -15,6 +15,7 @@
 #include "splats/sampling.hpp"
 #include "splats/selection.hpp"
 #include "splats/splat_file.hpp"
+#include "splats/surface_fit.hpp"
 
 namespace splatcl::splats {
 
@@ -23,6 +24,9 @@ struct PipelineOptions {
   unsigned k = 10;
   FitOptions fit;
   unsigned rounds = 5;  // relaxation + removal rounds
+  // The two-sided bound (splats/surface_fit.hpp): grown splats bounded by the surface, zero-size
+  // splats left out, gaps filled. Off: the thesis's method alone.
+  bool surface_bound = false;
 };
 
 struct PhaseTime {
@@ -38,11 +42,21 @@ struct SplatRun {
   std::size_t greedy_count = 0;         // splats after the greedy cover, before optimisation
   OptimiseStats optimise;
   ErrorStats before, after;             // over all splats / over the selected ones (Q̄ relation)
+  std::vector<SplatRecord> kept_splats;  // the selected splats as certified against the surface (surface_bound)
+  std::vector<SplatRecord> gap_splats;   // added where the surface was not covered (surface_bound)
+  bool surface_bound = false;
+  std::size_t degenerate_dropped = 0;   // selected splats of zero size left out of the output (surface_bound)
+  SurfaceFitStats surface_fit;
+  // Coordinates far from 1 are processed as origin + scale · x with x of diagonal 1; the samples,
+  // fit and gap splats are in those units, records() in the mesh's own.
+  DVec3 origin;
+  double scale = 1;
   std::vector<PhaseTime> phases;
   FitTimings fit_timings;
   std::string fit_backend;              // device name, or "reference"
 
   double total_ms() const;
+  std::size_t output_count() const { return surface_bound ? kept_splats.size() + gap_splats.size() : selected.size(); }
   std::vector<SplatRecord> records() const;
 };
 

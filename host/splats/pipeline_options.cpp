@@ -17,7 +17,12 @@ const std::vector<ParameterInfo>& splat_parameters() {
       {"color_field", "Sample colours without a texture: grey, soft (red to white gradient), hard (3-D checker of flat colours) or "
                       "rainbow (cells of continuous hue bands with hard edges between cells)"},
       {"texture", "Texture image applied through the mesh's texture coordinates (nearest texel)", false, true},
-      {"samples", "vertices, or grid:N (vertices plus, on every face, the grid points of spacing shortest-edge / N strictly inside it)"},
+      {"samples", "auto (vertices plus, on every face, grid points at a spacing of 0.5*sqrt(eps*diagonal), coarsened to fit "
+                  "max_samples), vertices, grid:N (the thesis: spacing shortest-edge / N) or spacing:D (absolute spacing D)"},
+      {"max_samples", "Sample budget: a sampling estimated to exceed it is refused before any work (auto coarsens instead), 1000..2147483647"},
+      {"max_covered", "Growth cap: a splat stops growing when it covers this many samples (keeps flat regions linear), 4..1048576"},
+      {"thesis_only", "Only the thesis's method: its size corrections, no surface bound on splat size, no gap filling, no growth "
+                      "cap (the two-sided bound is then not guaranteed)", true},
       {"k", "Neighbourhood size, 1..1024"},
       {"rounds", "Optimisation rounds (relaxation + removal), 0..1000"},
       {"literal_lambda", "Read lambda in the size corrections literally instead of as the axis ratio sqrt(lambda)", true},
@@ -45,6 +50,12 @@ void set_parameter(SplatParameters& p, const std::string& name, const nlohmann::
     p.k = static_cast<unsigned>(integer_parameter(name, value, 1, 1024));
   } else if (key == "samples") {
     p.samples = string_parameter(name, value);
+  } else if (key == "max_samples") {
+    p.max_samples = static_cast<std::size_t>(integer_parameter(name, value, 1000, 2147483647));
+  } else if (key == "max_covered") {
+    p.max_covered = static_cast<unsigned>(integer_parameter(name, value, 4, kMaxCoveredLimit));
+  } else if (key == "thesis_only") {
+    p.thesis_only = bool_parameter(name, value);
   } else if (key == "color_tol") {
     p.color_tol = static_cast<int>(integer_parameter(name, value, 0, 255));
   } else if (key == "color_field") {
@@ -81,6 +92,9 @@ nlohmann::json to_json(const SplatParameters& p) {
           {"eps_diag", p.eps_diag},
           {"k", p.k},
           {"samples", p.samples},
+          {"max_samples", p.max_samples},
+          {"max_covered", p.max_covered},
+          {"thesis_only", p.thesis_only},
           {"color_tol", p.color_tol},
           {"color_field", p.color_field},
           {"texture", p.texture},
@@ -101,8 +115,16 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   options.fit.literal_lambda = p.literal_lambda;
   options.fit.retest_violator = p.retest_violator;
   options.fit.clip = p.clip;
+  options.sampling.max_samples = p.max_samples;
+  options.fit.max_covered = p.thesis_only ? kMaxCoveredLimit : p.max_covered;
+  options.surface_bound = !p.thesis_only;
+  options.fit.size_at_accepted = !p.thesis_only;
   setup.diagonal = mesh.bounds().diagonal();
   options.fit.eps = static_cast<float>(p.eps > 0 ? p.eps : p.eps_diag * setup.diagonal);
+  if (!(options.fit.eps > 0 && std::isfinite(options.fit.eps)))
+    throw Error(fmt::format("{}: eps resolves to {} (eps_diag {} x bounding-box diagonal {}); the mesh has no extent or one "
+                            "beyond float range, or eps underflows: pass --eps",
+                            model, options.fit.eps, p.eps_diag, setup.diagonal));
   setup.colors.bounds = mesh.bounds();
   setup.colors.field = parse_color_field(p.color_field);
   setup.color_description = to_string(setup.colors.field);

@@ -16,7 +16,10 @@ struct SplatParameters {
   double eps = 0;                    // absolute ε in model units; 0: eps_diag × bounding-box diagonal
   double eps_diag = 0.001;
   unsigned k = 10;                   // neighbourhood size
-  std::string samples = "vertices";  // or "grid:N"
+  std::string samples = "auto";      // or "vertices", "grid:N", "spacing:D"
+  std::size_t max_samples = kDefaultMaxSamples;
+  unsigned max_covered = 512;        // growth cap (samples per splat)
+  bool thesis_only = false;          // the thesis's method alone: no surface bound, no gap filling, no growth cap
   int color_tol = 255;               // φ per channel; 255 ignores colour
   std::string color_field = "grey";  // colours without a texture
   std::string texture;               // image through the mesh's texture coordinates; empty: none

@@ -95,8 +95,8 @@ bool color_similar(Rgba8 a, Rgba8 b, int tolerance) {
          std::abs(int{a.b} - int{b.b}) <= tolerance;
 }
 
-float size_rule(float e1, float e2, Stop stop) {
-  if (stop == Stop::None || e2 < e1) return e1;
+float size_rule(float e1, float e2, Stop stop, bool at_accepted) {
+  if (at_accepted || stop == Stop::None || e2 < e1) return e1;
   return stop == Stop::Color ? e2 + (e2 - e1) : e2;
 }
 
@@ -112,114 +112,9 @@ struct Scratch {
   std::vector<std::uint32_t> next;
 };
 
-// Grows splat i; returns Q with kOnHullBit on hull points.
-std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods& nb, const Frame& f,
-                                    const FitOptions& options, std::uint32_t i, Scratch& scratch, SplatShape& out,
-                                    Vec4& clip) {
-  const std::uint32_t k = nb.k;
-  auto seen_insert = [&](std::uint32_t j) {
-    if (scratch.seen_by[j] == i + 1) return false;
-    scratch.seen_by[j] = i + 1;
-    return true;
-  };
-  const Vec3 p0 = xyz(samples.positions[i]);
-  const Rgba8 c0 = samples.colors[i];
-  const Vec3 fu = xyz(f.u), fv = xyz(f.v), fn = xyz(f.n);
-  const float two_eps = 2.0f * options.eps;
-  float hmin = 0.0f, hmax = 0.0f;
-  std::vector<std::uint32_t> q{i};
-  seen_insert(i);
-  auto& ring = scratch.ring;
-  auto& next = scratch.next;
-  ring.clear(), next.clear();
-  for (std::uint32_t r = 0; r < k; ++r) {
-    const std::uint32_t j = nb.indices[std::size_t{i} * k + r];
-    if (seen_insert(j)) ring.emplace_back(0.0f, j);
-  }
-  float extent1[2] = {0.0f, 1.0f}, extent2[2] = {-1.0f, -1.0f};
-  Stop stop[2] = {Stop::None, Stop::None};
-  float b = 0.0f;
-  float clip_x = 0.0f, clip_y = 0.0f;  // sum of the unit in-plane directions to the skipped violators
-  std::vector<std::uint32_t> rejected;
-  std::size_t pos = 0;
-  for (int ellipse = 0; ellipse < 2; ++ellipse) {
-    if (ellipse) {
-      b = options.retest_violator ? extent1[0] : size_rule(extent1[0], extent2[0], stop[0]);
-      const std::size_t from = stop[0] != Stop::None ? (options.retest_violator ? pos : pos + 1) : ring.size();
-      ring.erase(ring.begin(), ring.begin() + static_cast<std::ptrdiff_t>(from));
-      for (const std::uint32_t j : next) ring.emplace_back(0.0f, j);
-      next.clear();
-    }
-    for (;;) {
-      for (auto& [key, j] : ring) {
-        const Vec3 w = xyz(samples.positions[j]) - p0;
-        key = growth_key(ellipse != 0, dot(fu, w), dot(fv, w), b);
-      }
-      std::sort(ring.begin(), ring.end());
-      bool stopped = false;
-      for (pos = 0; pos < ring.size(); ++pos) {
-        const auto [key, j] = ring[pos];
-        if (ellipse && key < 1.0f) continue;
-        const Vec3 w = xyz(samples.positions[j]) - p0;
-        const float h = dot(fn, w);
-        const float lo = std::fmin(hmin, h), hi = std::fmax(hmax, h);
-        const Stop violation = !color_similar(samples.colors[j], c0, options.color_tolerance) ? Stop::Color
-                               : hi - lo > two_eps                                             ? Stop::Geometry
-                                                                                               : Stop::None;
-        if (violation != Stop::None) {
-          if (options.clip) {
-            const float wx = dot(fu, w), wy = dot(fv, w);
-            const float len = std::sqrt(wx * wx + wy * wy);
-            if (len > 0.0f && (rejected.empty() || wx * clip_x + wy * clip_y > 0.0f)) {
-              clip_x += wx / len, clip_y += wy / len;
-              rejected.push_back(j);
-              continue;
-            }
-          }
-          stop[ellipse] = violation, extent2[ellipse] = key, stopped = true;
-          break;
-        }
-        hmin = lo, hmax = hi;
-        q.push_back(j);
-        extent1[ellipse] = std::fmax(extent1[ellipse], key);
-        const std::uint32_t* row = nb.indices.data() + std::size_t{j} * k;
-        for (std::uint32_t r = 0; r < k; ++r)
-          if (seen_insert(row[r])) next.push_back(row[r]);
-      }
-      if (stopped || next.empty()) break;
-      ring.clear();
-      for (const std::uint32_t j : next) ring.emplace_back(0.0f, j);
-      next.clear();
-    }
-    if (!ellipse && stop[0] == Stop::None) ring.clear(), next.clear();
-  }
+}  // namespace
 
-  const float minor = size_rule(extent1[0], extent2[0], stop[0]);
-  const float ratio = options.literal_lambda
-                          ? size_rule(extent1[1], extent2[1], stop[1])
-                          : size_rule(std::sqrt(extent1[1]), extent2[1] >= 0.0f ? std::sqrt(extent2[1]) : -1.0f, stop[1]);
-  const float major = ratio * minor;
-  const float mid = 0.5f * (hmin + hmax);
-  const Vec3 c{p0.x + fn.x * mid, p0.y + fn.y * mid, p0.z + fn.z * mid};
-  out.center = {c.x, c.y, c.z, static_cast<float>(stop[0])};
-  out.normal = {fn.x, fn.y, fn.z, static_cast<float>(stop[1])};
-  out.major = {fu.x * major, fu.y * major, fu.z * major, major};
-  out.minor = {fv.x * minor, fv.y * minor, fv.z * minor, minor};
-  clip = {0.0f, 0.0f, INFINITY, 0.0f};
-  const float clip_len = std::sqrt(clip_x * clip_x + clip_y * clip_y);
-  if (!rejected.empty() && clip_len > 0.0f) {
-    const float dx = clip_x / clip_len, dy = clip_y / clip_len;
-    auto reach = [&](std::uint32_t m) {
-      const Vec3 w = xyz(samples.positions[m]) - c;
-      return dx * dot(fu, w) + dy * dot(fv, w);
-    };
-    float accepted_reach = -INFINITY, rejected_reach = INFINITY;
-    for (const std::uint32_t m : q) accepted_reach = std::fmax(accepted_reach, reach(m));
-    for (const std::uint32_t m : rejected) rejected_reach = std::fmin(rejected_reach, reach(m));
-    const float offset = rejected_reach > accepted_reach ? accepted_reach + 0.5f * (rejected_reach - accepted_reach) : accepted_reach;
-    clip = {dx, dy, offset, 0.0f};
-  }
-
+void mark_hull_points(const Samples& samples, Vec3 c, Vec3 fu, Vec3 fv, std::vector<std::uint32_t>& q) {
   const std::size_t qn = q.size();
   if (qn > 3) {
     // (x, y, local index) sorted lexicographically, as the kernel's sort_by_keys.
@@ -266,6 +161,124 @@ std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods&
       if (on_hull && local != 0) q[local] |= kOnHullBit;
     }
   }
+}
+
+namespace {
+
+// Grows splat i; returns Q with kOnHullBit on hull points.
+std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods& nb, const Frame& f,
+                                    const FitOptions& options, std::uint32_t i, Scratch& scratch, SplatShape& out,
+                                    Vec4& clip) {
+  const std::uint32_t k = nb.k;
+  auto seen_insert = [&](std::uint32_t j) {
+    if (scratch.seen_by[j] == i + 1) return false;
+    scratch.seen_by[j] = i + 1;
+    return true;
+  };
+  const Vec3 p0 = xyz(samples.positions[i]);
+  const Rgba8 c0 = samples.colors[i];
+  const Vec3 fu = xyz(f.u), fv = xyz(f.v), fn = xyz(f.n);
+  const float two_eps = 2.0f * options.eps;
+  float hmin = 0.0f, hmax = 0.0f;
+  std::vector<std::uint32_t> q{i};
+  seen_insert(i);
+  auto& ring = scratch.ring;
+  auto& next = scratch.next;
+  ring.clear(), next.clear();
+  for (std::uint32_t r = 0; r < k; ++r) {
+    const std::uint32_t j = nb.indices[std::size_t{i} * k + r];
+    if (seen_insert(j)) ring.emplace_back(0.0f, j);
+  }
+  float extent1[2] = {0.0f, 1.0f}, extent2[2] = {-1.0f, -1.0f};
+  Stop stop[2] = {Stop::None, Stop::None};
+  float b = 0.0f;
+  float clip_x = 0.0f, clip_y = 0.0f;  // sum of the unit in-plane directions to the skipped violators
+  std::vector<std::uint32_t> rejected;
+  std::size_t pos = 0;
+  bool full = false;  // Q reached options.max_covered: both phases end as if no violator was met
+  for (int ellipse = 0; ellipse < 2 && !full; ++ellipse) {
+    if (ellipse) {
+      b = options.retest_violator ? extent1[0] : size_rule(extent1[0], extent2[0], stop[0], options.size_at_accepted);
+      const std::size_t from = stop[0] != Stop::None ? (options.retest_violator ? pos : pos + 1) : ring.size();
+      ring.erase(ring.begin(), ring.begin() + static_cast<std::ptrdiff_t>(from));
+      for (const std::uint32_t j : next) ring.emplace_back(0.0f, j);
+      next.clear();
+    }
+    for (;;) {
+      for (auto& [key, j] : ring) {
+        const Vec3 w = xyz(samples.positions[j]) - p0;
+        key = growth_key(ellipse != 0, dot(fu, w), dot(fv, w), b);
+      }
+      std::sort(ring.begin(), ring.end());
+      bool stopped = false;
+      for (pos = 0; pos < ring.size(); ++pos) {
+        const auto [key, j] = ring[pos];
+        if (ellipse && key < 1.0f) continue;
+        const Vec3 w = xyz(samples.positions[j]) - p0;
+        const float h = dot(fn, w);
+        const float lo = std::fmin(hmin, h), hi = std::fmax(hmax, h);
+        const Stop violation = !color_similar(samples.colors[j], c0, options.color_tolerance) ? Stop::Color
+                               : hi - lo > two_eps                                             ? Stop::Geometry
+                                                                                               : Stop::None;
+        if (violation != Stop::None) {
+          if (options.clip) {
+            const float wx = dot(fu, w), wy = dot(fv, w);
+            const float len = std::sqrt(wx * wx + wy * wy);
+            if (len > 0.0f && (rejected.empty() || wx * clip_x + wy * clip_y > 0.0f)) {
+              clip_x += wx / len, clip_y += wy / len;
+              rejected.push_back(j);
+              continue;
+            }
+          }
+          stop[ellipse] = violation, extent2[ellipse] = key, stopped = true;
+          break;
+        }
+        if (q.size() == options.max_covered) {
+          full = true;
+          break;
+        }
+        hmin = lo, hmax = hi;
+        q.push_back(j);
+        extent1[ellipse] = std::fmax(extent1[ellipse], key);
+        const std::uint32_t* row = nb.indices.data() + std::size_t{j} * k;
+        for (std::uint32_t r = 0; r < k; ++r)
+          if (seen_insert(row[r])) next.push_back(row[r]);
+      }
+      if (stopped || full || next.empty()) break;
+      ring.clear();
+      for (const std::uint32_t j : next) ring.emplace_back(0.0f, j);
+      next.clear();
+    }
+    if (!ellipse && stop[0] == Stop::None) ring.clear(), next.clear();
+  }
+
+  const float minor = size_rule(extent1[0], extent2[0], stop[0], options.size_at_accepted);
+  const float ratio = options.literal_lambda
+                          ? size_rule(extent1[1], extent2[1], stop[1], options.size_at_accepted)
+                          : size_rule(std::sqrt(extent1[1]), extent2[1] >= 0.0f ? std::sqrt(extent2[1]) : -1.0f, stop[1], options.size_at_accepted);
+  const float major = ratio * minor;
+  const float mid = 0.5f * (hmin + hmax);
+  const Vec3 c{p0.x + fn.x * mid, p0.y + fn.y * mid, p0.z + fn.z * mid};
+  out.center = {c.x, c.y, c.z, static_cast<float>(stop[0])};
+  out.normal = {fn.x, fn.y, fn.z, static_cast<float>(stop[1])};
+  out.major = {fu.x * major, fu.y * major, fu.z * major, major};
+  out.minor = {fv.x * minor, fv.y * minor, fv.z * minor, minor};
+  clip = {0.0f, 0.0f, INFINITY, 0.0f};
+  const float clip_len = std::sqrt(clip_x * clip_x + clip_y * clip_y);
+  if (!rejected.empty() && clip_len > 0.0f) {
+    const float dx = clip_x / clip_len, dy = clip_y / clip_len;
+    auto reach = [&](std::uint32_t m) {
+      const Vec3 w = xyz(samples.positions[m]) - c;
+      return dx * dot(fu, w) + dy * dot(fv, w);
+    };
+    float accepted_reach = -INFINITY, rejected_reach = INFINITY;
+    for (const std::uint32_t m : q) accepted_reach = std::fmax(accepted_reach, reach(m));
+    for (const std::uint32_t m : rejected) rejected_reach = std::fmin(rejected_reach, reach(m));
+    const float offset = rejected_reach > accepted_reach ? accepted_reach + 0.5f * (rejected_reach - accepted_reach) : accepted_reach;
+    clip = {dx, dy, offset, 0.0f};
+  }
+
+  mark_hull_points(samples, c, fu, fv, q);
   return q;
 }
 

@@ -81,16 +81,31 @@ Rgba8 field_color(ColorField field, const Box& bounds, Vec3 p) {
   return palette[h % 8];
 }
 
-// Newell normal of a polygon (robust for any planar polygon; zero for a degenerate one).
-Vec3 polygon_normal(const Mesh& mesh, std::size_t f) {
+// Newell normal of a polygon given by corner indices (robust for any planar polygon; zero for a
+// degenerate one).
+Vec3 polygon_normal(const Mesh& mesh, const std::uint32_t* ids, std::uint32_t count) {
   Vec3 n{};
-  const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
-  for (std::uint32_t c = begin; c < end; ++c) {
-    const Vec3 a = mesh.vertices[mesh.corners[c]];
-    const Vec3 b = mesh.vertices[mesh.corners[c + 1 == end ? begin : c + 1]];
+  for (std::uint32_t c = 0; c < count; ++c) {
+    const Vec3 a = mesh.vertices[mesh.corners[ids[c]]];
+    const Vec3 b = mesh.vertices[mesh.corners[ids[c + 1 == count ? 0 : c + 1]]];
     n = n + Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
   }
   return normalized(n);
+}
+
+// Whether a polygon's corners lie in one plane (within 1e-6 of its extent): a non-planar polygon
+// is sampled as its fan triangles, the surface the checks measure against (splats/surface.hpp).
+bool planar(const Mesh& mesh, const std::uint32_t* ids, std::uint32_t count) {
+  if (count <= 3) return true;
+  const Vec3 normal = polygon_normal(mesh, ids, count);
+  const Vec3 origin = mesh.vertices[mesh.corners[ids[0]]];
+  float extent = 0, off = 0;
+  for (std::uint32_t c = 1; c < count; ++c) {
+    const Vec3 r = mesh.vertices[mesh.corners[ids[c]]] - origin;
+    extent = std::max(extent, length(r));
+    off = std::max(off, std::fabs(dot(r, normal)));
+  }
+  return off <= 1e-6f * extent;
 }
 
 float shortest_edge(const Mesh& mesh) {
@@ -121,20 +136,25 @@ struct SampleBuilder {
 // already hold, and keeping them puts long rows of near-duplicates along the edges (this reading gives
 // the thesis's 110,174 samples on the bunny at n = 0.3 within 0.3 %). Colour and normal come from the
 // fan triangle (corner 0, c, c + 1) holding the point, by barycentric interpolation.
-void sample_face(const Mesh& mesh, std::size_t f, double d, const ColorSource& colors, SampleBuilder& out,
-                 std::size_t max_samples) {
-  const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
-  const std::uint32_t count = end - begin;
+//
+// `ids` are the polygon's corner indices (into Mesh::corners); `first_edge` picks the corner that
+// starts the rectangle's x axis (the thesis's rule is corner 0; the spacing mode takes the start of
+// the longest edge, so a sliver's rectangle hugs it instead of spanning its long edge squared).
+void sample_face(const Mesh& mesh, const std::uint32_t* input_ids, std::uint32_t count, std::uint32_t first_edge, double d,
+                 const ColorSource& colors, SampleBuilder& out) {
   if (count < 3) return;
-  const Vec3 normal = polygon_normal(mesh, f);
-  const Vec3 origin = mesh.vertices[mesh.corners[begin]];
-  const Vec3 ex = normalized(mesh.vertices[mesh.corners[begin + 1]] - origin);
+  std::vector<std::uint32_t> rotated(count);
+  for (std::uint32_t c = 0; c < count; ++c) rotated[c] = input_ids[(c + first_edge) % count];
+  const std::uint32_t* ids = rotated.data();
+  const Vec3 normal = polygon_normal(mesh, ids, count);
+  const Vec3 origin = mesh.vertices[mesh.corners[ids[0]]];
+  const Vec3 ex = normalized(mesh.vertices[mesh.corners[ids[1]]] - origin);
   if (length(normal) == 0 || length(ex) == 0) return;  // degenerate face: no area to sample
   const Vec3 ey = cross(normal, ex);
   std::vector<double> xs(count), ys(count);
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
   for (std::uint32_t c = 0; c < count; ++c) {
-    const Vec3 r = mesh.vertices[mesh.corners[begin + c]] - origin;
+    const Vec3 r = mesh.vertices[mesh.corners[ids[c]]] - origin;
     xs[c] = dot(r, ex);
     ys[c] = dot(r, ey);
     x0 = std::min(x0, xs[c]), x1 = std::max(x1, xs[c]), y0 = std::min(y0, ys[c]), y1 = std::max(y1, ys[c]);
@@ -151,9 +171,6 @@ void sample_face(const Mesh& mesh, std::size_t f, double d, const ColorSource& c
     const double ex_ = xs[e] - xs[c], ey_ = ys[e] - ys[c];
     return sign * (ex_ * (y - ys[c]) - ey_ * (x - xs[c])) / std::hypot(ex_, ey_);
   };
-  const double rows = std::floor((y1 - y0) / d) + 1, columns = std::floor((x1 - x0) / d) + 1;
-  if (rows * columns + static_cast<double>(out.samples.size()) > static_cast<double>(max_samples))
-    throw Error(fmt::format("{}: grid sampling would exceed {} samples; use a smaller n", mesh.source, max_samples));
   for (double j = 0; y0 + j * d <= y1; j += 1) {
     for (double i = 0; x0 + i * d <= x1; i += 1) {
       const double x = x0 + i * d, y = y0 + j * d;
@@ -174,7 +191,7 @@ void sample_face(const Mesh& mesh, std::size_t f, double d, const ColorSource& c
           break;
         }
       }
-      const std::uint32_t i0 = begin, i1 = begin + tri, i2 = begin + tri + 1;
+      const std::uint32_t i0 = ids[0], i1 = ids[tri], i2 = ids[tri + 1];
       const Vec3 p = origin + static_cast<float>(x) * ex + static_cast<float>(y) * ey;
       const Vec3 n = normalized(static_cast<float>(w0) * mesh.normals[mesh.corners[i0]] +
                                 static_cast<float>(w1) * mesh.normals[mesh.corners[i1]] +
@@ -272,38 +289,136 @@ Rgba8 ColorSource::at(Vec3 position, const float* texcoord) const {
 SamplingOptions parse_sampling(const std::string& text) {
   SamplingOptions options;
   if (text == "vertices") return options;
-  if (text.rfind("grid:", 0) == 0) {
-    char* end = nullptr;
-    const std::string number = text.substr(5);
-    const double n = std::strtod(number.c_str(), &end);
-    if (!number.empty() && end && *end == '\0' && std::isfinite(n) && n > 0) {
-      options.mode = SampleMode::FaceGrid;
-      options.per_shortest_edge = n;
-      return options;
-    }
+  if (text == "auto") {
+    options.mode = SampleMode::Spacing;
+    return options;
   }
-  throw Error("--samples '" + text + "' is not 'vertices' or 'grid:N' with N > 0");
+  const auto number_after = [&](const char* prefix, double& out) {
+    const std::size_t length = std::char_traits<char>::length(prefix);
+    if (text.rfind(prefix, 0) != 0) return false;
+    char* end = nullptr;
+    const std::string number = text.substr(length);
+    out = std::strtod(number.c_str(), &end);
+    return !number.empty() && end && *end == '\0' && std::isfinite(out) && out > 0;
+  };
+  if (number_after("grid:", options.per_shortest_edge)) {
+    options.mode = SampleMode::FaceGrid;
+    return options;
+  }
+  if (number_after("spacing:", options.spacing)) {
+    options.mode = SampleMode::Spacing;
+    return options;
+  }
+  throw Error("--samples '" + text + "' is not 'auto', 'vertices', 'grid:N' or 'spacing:D' with N, D > 0");
 }
 
 std::string to_string(const SamplingOptions& options) {
-  return options.mode == SampleMode::Vertices ? "vertices" : fmt::format("grid:{}", options.per_shortest_edge);
+  switch (options.mode) {
+    case SampleMode::Vertices: return "vertices";
+    case SampleMode::FaceGrid: return fmt::format("grid:{}", options.per_shortest_edge);
+    default: return options.spacing > 0 ? fmt::format("spacing:{}", options.spacing) : "auto";
+  }
 }
+
+double auto_spacing(double eps, double diagonal) { return 0.5 * std::sqrt(eps * diagonal); }
+
+namespace {
+
+// The polygons a face is sampled as: itself when planar, else its fan triangles (corner 0, c, c+1).
+template <class Visit>
+void for_each_sampled_polygon(const Mesh& mesh, std::size_t f, Visit&& visit) {
+  const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+  std::vector<std::uint32_t> ids(end - begin);
+  for (std::uint32_t c = begin; c < end; ++c) ids[c - begin] = c;
+  if (planar(mesh, ids.data(), end - begin)) {
+    visit(ids.data(), end - begin);
+    return;
+  }
+  for (std::uint32_t c = 1; c + 1 < end - begin; ++c) {
+    const std::uint32_t triangle[3] = {ids[0], ids[c], ids[c + 1]};
+    visit(triangle, 3u);
+  }
+}
+
+// The corner that starts a polygon's longest edge.
+std::uint32_t longest_edge_start(const Mesh& mesh, const std::uint32_t* ids, std::uint32_t count) {
+  std::uint32_t best = 0;
+  float longest = -1;
+  for (std::uint32_t c = 0; c < count; ++c) {
+    const float l = length(mesh.vertices[mesh.corners[ids[(c + 1) % count]]] - mesh.vertices[mesh.corners[ids[c]]]);
+    if (l > longest) longest = l, best = c;
+  }
+  return best;
+}
+
+// An upper estimate of the grid points strictly inside all sampled polygons at spacing d (area / d²
+// + perimeter / d + 1 each), computed before any sample is made so a budget can refuse or coarsen.
+double grid_estimate(const Mesh& mesh, double d) {
+  double total = 0;
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    for_each_sampled_polygon(mesh, f, [&](const std::uint32_t* ids, std::uint32_t count) {
+      const Vec3 a = mesh.vertices[mesh.corners[ids[0]]];
+      double area = 0, perimeter = 0;
+      for (std::uint32_t c = 0; c < count; ++c) {
+        const Vec3 p = mesh.vertices[mesh.corners[ids[c]]], q = mesh.vertices[mesh.corners[ids[(c + 1) % count]]];
+        perimeter += length(q - p);
+        if (c >= 1 && c + 1 < count) area += 0.5 * length(cross(p - a, q - a));
+      }
+      total += area / (d * d) + perimeter / d + 1;
+    });
+  }
+  return total;
+}
+
+}  // namespace
 
 Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const ColorSource& colors) {
   SampleBuilder builder;
+  if (mesh.vertices.size() > options.max_samples)
+    throw Error(fmt::format("{}: its {} vertices alone exceed the sample budget of {} (--max-samples)", mesh.source,
+                            mesh.vertices.size(), options.max_samples));
   // A vertex's texture coordinate is that of its first face corner.
   std::vector<const float*> vertex_uv(mesh.vertices.size(), nullptr);
   if (mesh.has_texcoords())
     for (std::size_t c = mesh.corners.size(); c-- > 0;) vertex_uv[mesh.corners[c]] = mesh.corner_texcoords[c].data();
+  builder.samples.positions.reserve(mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
     builder.add(mesh.vertices[v], mesh.normals[v], colors.at(mesh.vertices[v], vertex_uv[v]));
   builder.samples.vertex_samples = mesh.vertices.size();
-  if (options.mode == SampleMode::FaceGrid) {
-    const float l_min = shortest_edge(mesh);
-    if (!std::isfinite(l_min)) throw Error(mesh.source + ": every edge has zero length; nothing to sample");
-    const double d = static_cast<double>(l_min) / options.per_shortest_edge;
+  if (options.mode != SampleMode::Vertices) {
+    double d = 0;
+    if (options.mode == SampleMode::FaceGrid) {
+      const float l_min = shortest_edge(mesh);
+      if (!std::isfinite(l_min)) throw Error(mesh.source + ": every edge has zero length; nothing to sample");
+      d = static_cast<double>(l_min) / options.per_shortest_edge;
+    } else {
+      d = options.spacing;
+      if (!(d > 0 && std::isfinite(d))) throw Error(mesh.source + ": the sample spacing is not resolved (auto needs eps)");
+    }
+    const double room = static_cast<double>(options.max_samples - mesh.vertices.size());
+    double estimate = grid_estimate(mesh, d);
+    if (estimate > room) {
+      if (!options.coarsen)
+        throw Error(fmt::format("{}: sampling '{}' at spacing {:.4g} would make about {:.0f} samples, more than the budget of {} "
+                                "(--max-samples); use a coarser sampling or raise the budget",
+                                mesh.source, to_string(options), d, estimate + static_cast<double>(mesh.vertices.size()),
+                                options.max_samples));
+      const double requested = d;
+      for (int step = 0; step < 64 && estimate > room; ++step) {
+        d *= std::max(1.05, std::sqrt(estimate / std::max(room, 1.0)));
+        estimate = grid_estimate(mesh, d);
+      }
+      builder.samples.note = fmt::format("sample spacing coarsened from {:.4g} to {:.4g} to stay within the budget of {} samples (--max-samples)",
+                                         requested, d, options.max_samples);
+    }
     builder.samples.grid_spacing = d;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) sample_face(mesh, f, d, colors, builder, options.max_samples);
+    builder.samples.positions.reserve(mesh.vertices.size() + static_cast<std::size_t>(std::min(estimate, room)));
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      for_each_sampled_polygon(mesh, f, [&](const std::uint32_t* ids, std::uint32_t count) {
+        const std::uint32_t first = options.mode == SampleMode::FaceGrid ? 0 : longest_edge_start(mesh, ids, count);
+        sample_face(mesh, ids, count, first, d, colors, builder);
+      });
+    }
   }
   drop_duplicates(builder.samples);
   if (builder.samples.size() == 0) throw Error(mesh.source + ": the mesh yields no samples");

@@ -39,17 +39,31 @@ struct ColorSource {
   Rgba8 at(Vec3 position, const float* texcoord) const;
 };
 
-enum class SampleMode { Vertices, FaceGrid };
+// Vertices: mode A. FaceGrid: mode B with the thesis's spacing d = L_min / n. Spacing (an
+// extension): the vertices plus a per-face grid of a spacing d given, or derived from ε and the
+// mesh ("auto": d = ½·√(ε · bounding-box diagonal), the scale at which a splat of tolerance ε on a
+// surface curved like the whole model spans a few samples), independent of the shortest edge, so
+// one sliver does not set the density of the whole mesh; the grid is aligned with each polygon's
+// longest edge.
+enum class SampleMode { Vertices, FaceGrid, Spacing };
+
+inline constexpr std::size_t kDefaultMaxSamples = 2'000'000;
 
 struct SamplingOptions {
   SampleMode mode = SampleMode::Vertices;
   double per_shortest_edge = 1.0;  // n: grid samples along the shortest mesh edge (FaceGrid mode)
-  std::size_t max_samples = 20'000'000;  // refuse grids that would not fit in memory
+  double spacing = 0;              // d (Spacing mode); 0 = auto, resolved by the caller with auto_spacing
+  // The sample budget: sampling whose estimated count exceeds it is refused before any sample is
+  // made, or, for the automatic spacing (coarsen), made at a coarser spacing with a note.
+  std::size_t max_samples = kDefaultMaxSamples;
+  bool coarsen = false;
 };
 
-// Parses "vertices" or "grid:N" (N > 0, fractional allowed). Throws Error otherwise.
+// Parses "auto", "vertices", "grid:N" or "spacing:D" (N, D > 0, fractional allowed). Throws Error otherwise.
 SamplingOptions parse_sampling(const std::string& text);
 std::string to_string(const SamplingOptions& options);
+// The automatic spacing of mode Spacing for a tolerance ε on a mesh of bounding-box diagonal `diagonal`.
+double auto_spacing(double eps, double diagonal);
 
 struct Samples {
   std::vector<Vec4> positions;  // xyz, w = 0
@@ -57,7 +71,8 @@ struct Samples {
   std::vector<Rgba8> colors;
   std::size_t vertex_samples = 0;      // kept samples that are mesh vertices (they come first)
   std::size_t duplicates_dropped = 0;  // samples at the exact position of an earlier sample
-  double grid_spacing = 0;             // d (FaceGrid mode)
+  double grid_spacing = 0;             // d (FaceGrid and Spacing modes)
+  std::string note;                    // what the budget changed, for the user (empty: nothing)
   std::size_t size() const { return positions.size(); }
 };
 
@@ -65,11 +80,12 @@ struct Samples {
 // extent inside every edge: boundary points belong to the vertices and the neighbouring faces.
 inline constexpr double kFaceSampleMargin = 1e-6;
 
-// Samples `mesh`: the vertices first, then (mode B) each face's grid, row by row from the lower
-// corner of its bounding rectangle in its own plane (x along its first edge), strictly inside the
-// face. Samples at exactly the same position as an earlier one are dropped (duplicate vertices;
+// Samples `mesh`: the vertices first, then (modes B and Spacing) each face's grid, row by row from
+// the lower corner of its bounding rectangle in its own plane (x along its first edge, or its longest
+// in mode Spacing), strictly inside the face; a non-planar face is sampled as its fan triangles.
+// Samples at exactly the same position as an earlier one are dropped (duplicate vertices;
 // zero-distance neighbours make d_i and the PCA degenerate). Throws Error when the mesh yields no
-// sample or too many.
+// sample, or more than the budget allows (see SamplingOptions::max_samples).
 Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const ColorSource& colors);
 
 }  // namespace splatcl::splats

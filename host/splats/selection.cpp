@@ -24,6 +24,11 @@ Rows inverse_index(const Rows& safe, std::size_t samples) {
 std::vector<std::uint32_t> greedy_cover(const Rows& safe, const Rows& inverse, const std::vector<double>& weight) {
   const std::size_t n = inverse.size();
   std::vector<std::uint8_t> covered(n, 0);
+  // A sample that no safe set holds cannot be covered (a zero-size splat under the surface bound);
+  // the cover is complete without it.
+  std::size_t left = n;
+  for (std::size_t m = 0; m < n; ++m)
+    if (inverse.row_size(m) == 0) covered[m] = 1, --left;
   // Score and count of j's uncovered safe samples, summed in Q̄ order.
   auto score = [&](std::uint32_t j, std::size_t& uncovered) {
     double sum = 0;
@@ -40,7 +45,6 @@ std::vector<std::uint32_t> greedy_cover(const Rows& safe, const Rows& inverse, c
     if (uncovered) heap.emplace(s, -static_cast<std::int64_t>(j));
   }
   std::vector<std::uint32_t> picked;
-  std::size_t left = n;
   while (left > 0 && !heap.empty()) {
     const auto [stored, negative_j] = heap.top();
     heap.pop();
@@ -56,8 +60,8 @@ std::vector<std::uint32_t> greedy_cover(const Rows& safe, const Rows& inverse, c
     for (const std::uint32_t* m = safe.begin(j); m != safe.end(j); ++m) covered[*m] = 1;
     left -= uncovered;
   }
-  // Every splat holds its own start sample, so the cover always completes.
-  if (left != 0) throw Error("greedy splat selection left samples uncovered (a safe set is missing its start point)");
+  // Every coverable sample is in some safe set, so the cover always completes.
+  if (left != 0) throw Error("greedy splat selection left coverable samples uncovered");
   return picked;
 }
 

@@ -20,7 +20,7 @@ namespace splatcl::splats {
 // V_m: for every sample, the splats whose safe set holds it, in increasing splat index.
 Rows inverse_index(const Rows& safe, std::size_t samples);
 
-// Greedy cover; returns the picked splats in pick order.
+// Greedy cover of every sample that some safe set holds; returns the picked splats in pick order.
 std::vector<std::uint32_t> greedy_cover(const Rows& safe, const Rows& inverse, const std::vector<double>& weight);
 
 struct OptimiseStats {

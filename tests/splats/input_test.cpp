@@ -99,7 +99,7 @@ TEST(Sampling, FaceGridSpacingAndCount) {
   for (const Vec4& n : samples.normals) EXPECT_NEAR(std::fabs(n.z), 1.0f, 1e-6);
   // n = 0.3 (the thesis's textured bunny): spacing larger than the edge, the corners only.
   EXPECT_EQ(sample_mesh(square, parse_sampling("grid:0.3"), ColorSource{}).size(), 4u);
-  EXPECT_THROW(sample_mesh(plane_mesh(1, 1000.0f), SamplingOptions{SampleMode::FaceGrid, 1e6, 1000}, ColorSource{}), Error);
+  EXPECT_THROW(sample_mesh(plane_mesh(1, 1000.0f), SamplingOptions{SampleMode::FaceGrid, 1e6, 0, 1000}, ColorSource{}), Error);
 }
 
 // Distance of p from the boundary of face f, positive inside (in the face's plane), and its

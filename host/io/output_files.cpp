@@ -1,0 +1,78 @@
+#include "io/output_files.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "runtime/error.hpp"
+
+namespace splatcl {
+namespace fs = std::filesystem;
+
+void check_output_file(const std::string& path, const std::string& what) {
+  if (path.empty()) return;
+  const std::string name = "cannot write " + what + " " + path + ": ";
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(name + "it is a directory");
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec)) throw Error(name + "directory " + dir.string() + " does not exist");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw Error(name + "directory " + dir.string() + " is not writable (" + std::strerror(errno) + ")");
+}
+
+void check_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
+  std::vector<std::pair<std::string, fs::path>> seen;  // option, normalised absolute path
+  for (const auto& [option, path] : outputs) {
+    if (path.empty()) continue;
+    std::error_code ec;
+    fs::path p = fs::absolute(path, ec);
+    if (!ec) p = fs::weakly_canonical(p, ec);  // absolute first: a relative name whose first part does not exist stays relative
+    if (ec) p = fs::path(path).lexically_normal();
+    for (const auto& [other, q] : seen)
+      if (q == p) throw Error(other + " and " + option + " name the same file " + path);
+    seen.emplace_back(option, p);
+  }
+}
+
+StagedOutputs::~StagedOutputs() {
+  for (std::size_t i = committed_; i < entries_.size(); ++i) {
+    std::error_code ignored;
+    fs::remove(entries_[i].staged, ignored);
+  }
+}
+
+std::string StagedOutputs::stage(const std::string& path) {
+  // The pid keeps concurrent runs writing the same target apart.
+  const std::string staged = path + ".partial" + std::to_string(::getpid()) + fs::path(path).extension().string();
+  entries_.push_back({path, staged});
+  return staged;
+}
+
+void StagedOutputs::write(const std::string& path, const std::function<void(const std::string& staged)>& write) {
+  const Entry* entry = nullptr;
+  for (const Entry& e : entries_)
+    if (e.target == path) entry = &e;
+  if (!entry) throw Error("cannot write " + path + ": it was not staged");
+  try {
+    write(entry->staged);
+  } catch (const Error& e) {
+    std::string message = e.what();
+    for (std::size_t at; (at = message.find(entry->staged)) != std::string::npos;) message.replace(at, entry->staged.size(), path);
+    throw Error(message);
+  }
+}
+
+void StagedOutputs::commit() {
+  for (; committed_ < entries_.size(); ++committed_) {
+    const Entry& e = entries_[committed_];
+    std::error_code ec;
+    if (!fs::is_regular_file(e.staged, ec)) throw Error("cannot write " + e.target + ": it was never written");
+    fs::rename(e.staged, e.target, ec);
+    if (ec) throw Error("cannot write " + e.target + ": " + ec.message());
+  }
+}
+
+}  // namespace splatcl

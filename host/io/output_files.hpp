@@ -1,0 +1,47 @@
+#pragma once
+// A command's outputs as one unit: checked before any work, written to staged names beside their
+// targets, and renamed onto them together at the end, so a failure anywhere (a late write, a
+// render, a second output) leaves no output of that run behind.
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace splatcl {
+
+// Fails before a long run, not after it: `path`, given as option `what` ("-o", "--stats"), must not
+// be a directory, and its directory must exist and be writable. Throws Error naming the option, the
+// file and the cause. An empty path (the output not asked for) passes.
+void check_output_file(const std::string& path, const std::string& what);
+
+// Throws Error when two of the given (option, path) outputs name the same file; empty paths are skipped.
+void check_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs);
+
+class StagedOutputs {
+ public:
+  StagedOutputs() = default;
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+  // Removes every staged file not yet committed.
+  ~StagedOutputs();
+
+  // The name to write `path`'s contents to: in the same directory (so the rename is atomic) with
+  // the same extension (writers that pick the format from it still do). commit() renames the staged
+  // files in the order stage() was called.
+  std::string stage(const std::string& path);
+  // Calls write(staged name) for a path given to stage(); an Error it throws is rethrown with the
+  // staged name replaced by `path`, so messages name the file the user asked for.
+  void write(const std::string& path, const std::function<void(const std::string& staged)>& write);
+  // Renames every staged file onto its target. A staged file that was not written is an error; on
+  // any failure the remaining staged files are removed and Error names the target.
+  void commit();
+
+ private:
+  struct Entry {
+    std::string target, staged;
+  };
+  std::vector<Entry> entries_;
+  std::size_t committed_ = 0;
+};
+
+}  // namespace splatcl

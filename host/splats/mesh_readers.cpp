@@ -1,0 +1,812 @@
+#include "splats/mesh_readers.hpp"
+
+// GCC reports a false -Wmaybe-uninitialized inside OpenMesh's property vectors when sanitizers are on.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <cfloat>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <unordered_map>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include "runtime/error.hpp"
+
+namespace splatcl::splats::detail {
+namespace {
+
+constexpr std::int64_t kBad = -1;                                       // an unreadable or impossible index
+constexpr std::int64_t kNone = std::numeric_limits<std::int64_t>::min();  // no index given
+
+[[noreturn]] void refuse(const std::string& path, const std::string& why) { throw Error("cannot read mesh " + path + ": " + why); }
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
+
+void split(std::string_view line, std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && is_space(line[i])) ++i;
+    const std::size_t begin = i;
+    while (i < line.size() && !is_space(line[i])) ++i;
+    if (i > begin) tokens.push_back(line.substr(begin, i - begin));
+  }
+}
+
+// Lines of a text, without their '\n' (and '\r').
+class Lines {
+ public:
+  explicit Lines(std::string_view text) : text_(text) {}
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    std::size_t end = text_.find('\n', pos_);
+    if (end == std::string_view::npos) end = text_.size();
+    line = text_.substr(pos_, end - pos_);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos_ = end + 1;
+    return true;
+  }
+  std::size_t position() const { return pos_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+};
+
+std::string_view strip_comment(std::string_view line) {
+  const std::size_t hash = line.find('#');
+  return hash == std::string_view::npos ? line : line.substr(0, hash);
+}
+
+// A coordinate as a float: false where it is not finite there (nan, inf, beyond ±3.4e38).
+bool to_float(double v, float& out) {
+  out = static_cast<float>(v);
+  return std::isfinite(out);
+}
+
+bool parse_integer(std::string_view token, std::int64_t& value) {
+  long long v = 0;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+  if (ec != std::errc() || end != token.data() + token.size()) return false;
+  value = v;
+  return true;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+std::string plural(std::uint64_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
+
+// Three coordinates from tokens[first, first + 3): counted as unreadable or non-finite into `raw`.
+void add_vertex_tokens(RawMesh& raw, const std::vector<std::string_view>& tokens, std::size_t first, bool readable) {
+  double c[3] = {0, 0, 0};
+  readable = readable && tokens.size() >= first + 3;
+  for (std::size_t i = 0; readable && i < 3; ++i) readable = parse_number(tokens[first + i], c[i]);
+  if (!readable) {
+    ++raw.problems.unreadable_vertices;
+    raw.add_vertex({}, true);
+    return;
+  }
+  Vec3 p;
+  if (!(to_float(c[0], p.x) && to_float(c[1], p.y) && to_float(c[2], p.z))) {
+    ++raw.problems.non_finite_vertices;
+    raw.add_vertex({}, true);
+    return;
+  }
+  raw.add_vertex(p, false);
+}
+
+Vec3 vec_tokens(const std::vector<std::string_view>& tokens, std::size_t first) {
+  double c[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < 3 && first + i < tokens.size(); ++i)
+    if (!parse_number(tokens[first + i], c[i])) c[i] = 0;
+  return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+}
+
+// ---------------------------------------------------------------------------------------------- OBJ
+
+// An OBJ index: 1-based, or negative counting back from the last element defined so far. Positive
+// ones are checked against the final count later (a forward reference is allowed).
+std::int64_t obj_index(std::string_view token, std::size_t so_far) {
+  std::int64_t i = 0;
+  if (!parse_integer(token, i) || i == 0) return kBad;
+  if (i > 0) return i - 1;
+  const std::int64_t back = static_cast<std::int64_t>(so_far) + i;
+  return back >= 0 ? back : kBad;
+}
+
+RawMesh read_obj(const std::string& path, std::string_view text) {
+  RawMesh raw;
+  std::vector<std::array<float, 2>> texcoords;
+  std::vector<Vec3> normals;
+  std::vector<std::int64_t> corner_t, corner_n;  // per corner: texture and normal index, kNone when not given
+  bool any_t = false, any_n = false;
+  std::size_t vertex_lines = 0, face_lines = 0;
+  std::vector<std::string_view> tokens;
+  std::string joined;  // a line continued with '\' at its end
+  Lines lines(text);
+  std::string_view line;
+  while (lines.next(line)) {
+    if (!line.empty() && line.back() == '\\') {
+      joined.append(line.substr(0, line.size() - 1)).push_back(' ');
+      continue;
+    }
+    if (!joined.empty()) {
+      joined.append(line);
+      line = joined;
+    }
+    split(strip_comment(line), tokens);
+    if (!tokens.empty()) {
+      const std::string_view key = tokens[0];
+      if (key == "v") {
+        ++vertex_lines;
+        // x y z, then an optional w or colour: every value must be a number (`v 1.2.3 -3 1.8` is not).
+        bool readable = tokens.size() >= 4;
+        double ignored = 0;
+        for (std::size_t i = 4; readable && i < tokens.size(); ++i) readable = parse_number(tokens[i], ignored);
+        add_vertex_tokens(raw, tokens, 1, readable);
+      } else if (key == "vt") {
+        const Vec3 t = vec_tokens(tokens, 1);
+        texcoords.push_back({t.x, tokens.size() > 2 ? t.y : 0.0f});
+      } else if (key == "vn") {
+        normals.push_back(vec_tokens(tokens, 1));
+      } else if (key == "f" || key == "fo") {
+        ++face_lines;
+        for (std::size_t i = 1; i < tokens.size(); ++i) {
+          const std::string_view corner = tokens[i];
+          const std::size_t slash1 = corner.find('/');
+          const std::size_t slash2 = slash1 == std::string_view::npos ? slash1 : corner.find('/', slash1 + 1);
+          raw.corners.push_back(obj_index(corner.substr(0, slash1), raw.positions.size()));
+          std::int64_t t = kNone, n = kNone;
+          if (slash1 != std::string_view::npos) {
+            const std::string_view ts = corner.substr(slash1 + 1, slash2 == std::string_view::npos ? std::string_view::npos : slash2 - slash1 - 1);
+            if (!ts.empty()) t = obj_index(ts, texcoords.size());
+            if (slash2 != std::string_view::npos) n = obj_index(corner.substr(slash2 + 1), normals.size());
+          }
+          corner_t.push_back(t);
+          corner_n.push_back(n);
+          any_t |= t != kNone;
+          any_n |= n != kNone;
+        }
+        raw.end_face();
+      }
+      // Everything else (o, g, s, l, p, usemtl, mtllib, ...) carries no surface we use.
+    }
+    joined.clear();
+  }
+  if (vertex_lines == 0 && face_lines == 0) refuse(path, "no vertex or face lines (not an OBJ file)");
+  const auto vertex_count = static_cast<std::int64_t>(raw.positions.size());
+  if (any_n) {
+    raw.normals.assign(raw.positions.size(), Vec3{});
+    raw.has_normal.assign(raw.positions.size(), 0);
+  }
+  if (any_t) raw.corner_texcoords.assign(raw.corners.size(), {0.0f, 0.0f});
+  for (std::size_t c = 0; c < raw.corners.size(); ++c) {
+    const std::int64_t v = raw.corners[c], t = corner_t[c], n = corner_n[c];
+    if (t != kNone) {
+      if (t < 0 || t >= static_cast<std::int64_t>(texcoords.size()))
+        raw.corners[c] = kBad;
+      else
+        raw.corner_texcoords[c] = texcoords[static_cast<std::size_t>(t)];
+    }
+    if (n != kNone) {
+      if (n < 0 || n >= static_cast<std::int64_t>(normals.size())) {
+        raw.corners[c] = kBad;
+      } else if (v >= 0 && v < vertex_count) {
+        raw.normals[static_cast<std::size_t>(v)] = normals[static_cast<std::size_t>(n)];
+        raw.has_normal[static_cast<std::size_t>(v)] = 1;
+      }
+    }
+  }
+  return raw;
+}
+
+// ------------------------------------------------------------------------- OpenMesh (rare variants)
+
+// OFF variants our reader leaves to OpenMesh (binary, 4D, n-dimensional): read as OpenMesh does,
+// then checked and counted like the rest.
+RawMesh read_with_openmesh(const std::string& path) {
+  using OmMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+  OmMesh om;
+  om.request_vertex_normals();
+  om.request_vertex_texcoords2D();
+  om.request_halfedge_texcoords2D();
+  OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexNormal | OpenMesh::IO::Options::FaceTexCoord |
+                                  OpenMesh::IO::Options::VertexTexCoord;
+  bool ok = false;
+  try {
+    ok = OpenMesh::IO::read_mesh(om, path, options);
+  } catch (const std::exception& e) {
+    refuse(path, e.what());
+  }
+  if (!ok) refuse(path, "OpenMesh cannot parse this OFF variant");
+  RawMesh raw;
+  const bool file_normals = options.check(OpenMesh::IO::Options::VertexNormal);
+  const bool face_texcoords = options.check(OpenMesh::IO::Options::FaceTexCoord);
+  const bool vertex_texcoords = options.check(OpenMesh::IO::Options::VertexTexCoord);
+  for (const auto v : om.vertices()) {
+    const auto& p = om.point(v);
+    const Vec3 position{p[0], p[1], p[2]};
+    if (!finite(position)) ++raw.problems.non_finite_vertices;
+    raw.add_vertex(position, !finite(position));
+    if (file_normals) {
+      const auto& n = om.normal(v);
+      raw.normals.push_back({n[0], n[1], n[2]});
+      raw.has_normal.push_back(1);
+    }
+  }
+  for (const auto f : om.faces()) {
+    for (const auto h : om.fh_range(f)) {
+      const auto v = om.to_vertex_handle(h);
+      raw.corners.push_back(v.idx());
+      if (face_texcoords || vertex_texcoords) {
+        const auto t = face_texcoords ? om.texcoord2D(h) : om.texcoord2D(v);
+        raw.corner_texcoords.push_back({t[0], t[1]});
+      }
+    }
+    raw.end_face();
+  }
+  return raw;
+}
+
+// ---------------------------------------------------------------------------------------------- OFF
+
+// Non-empty lines with their '#' comments removed, and whether any is left.
+class OffLines {
+ public:
+  explicit OffLines(std::string_view text) : lines_(text) { advance(); }
+  bool next(std::vector<std::string_view>& tokens) {
+    if (!has_next_) return false;
+    tokens = next_;
+    advance();
+    return true;
+  }
+  bool more() const { return has_next_; }
+
+ private:
+  void advance() {
+    std::string_view line;
+    has_next_ = false;
+    while (lines_.next(line)) {
+      split(strip_comment(line), next_);
+      if (!next_.empty()) {
+        has_next_ = true;
+        return;
+      }
+    }
+  }
+  Lines lines_;
+  std::vector<std::string_view> next_;
+  bool has_next_ = false;
+};
+
+RawMesh read_off(const std::string& path, std::string_view text) {
+  OffLines lines(text);
+  std::vector<std::string_view> tokens;
+  if (!lines.next(tokens)) refuse(path, "empty file (no OFF header)");
+  // [ST][C][N][4][n]OFF, optionally followed by BINARY and the counts on the same line.
+  std::string_view key = tokens[0];
+  const bool st = key.starts_with("ST");
+  if (st) key.remove_prefix(2);
+  if (key.starts_with("C")) key.remove_prefix(1);
+  const bool has_normals = key.starts_with("N");
+  if (has_normals) key.remove_prefix(1);
+  bool other_variant = false;
+  if (key.starts_with("4")) key.remove_prefix(1), other_variant = true;
+  if (key.starts_with("n")) key.remove_prefix(1), other_variant = true;
+  if (key != "OFF") refuse(path, "not an OFF file (its first word is not OFF)");
+  std::vector<std::string_view> counts(tokens.begin() + 1, tokens.end());
+  if (!counts.empty() && counts[0] == "BINARY") other_variant = true;
+  if (other_variant) return read_with_openmesh(path);
+  if (counts.empty() && !lines.next(counts)) refuse(path, "truncated OFF: no vertex and face counts after the header");
+  std::int64_t vertex_count = 0, face_count = 0;
+  if (counts.size() < 2 || !parse_integer(counts[0], vertex_count) || !parse_integer(counts[1], face_count) || vertex_count < 0 ||
+      face_count < 0)
+    refuse(path, "the OFF header has no vertex and face counts");
+  const auto nv = static_cast<std::size_t>(vertex_count), nf = static_cast<std::size_t>(face_count);
+  const auto truncated = [&](std::size_t vertices, std::size_t faces) {
+    refuse(path, fmt::format("truncated OFF: the header declares {} and {}, the file ends after {} and {}", plural(nv, "vertex", "vertices"),
+                             plural(nf, "face", "faces"), plural(vertices, "vertex", "vertices"), plural(faces, "face", "faces")));
+  };
+  RawMesh raw;
+  const std::size_t reserve_limit = text.size() / 4;  // no header count allocates beyond what the file can hold
+  raw.positions.reserve(std::min(nv, reserve_limit));
+  std::vector<std::array<float, 2>> vertex_texcoords;
+  if (has_normals) {
+    raw.normals.reserve(std::min(nv, reserve_limit));
+    raw.has_normal.reserve(std::min(nv, reserve_limit));
+  }
+  const std::size_t needed = 3 + (has_normals ? 3 : 0) + (st ? 2 : 0);
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (!lines.next(tokens)) truncated(i, 0);
+    add_vertex_tokens(raw, tokens, 0, tokens.size() >= needed);
+    if (has_normals) {
+      raw.normals.push_back(vec_tokens(tokens, 3));
+      raw.has_normal.push_back(tokens.size() >= 6 ? 1 : 0);
+    }
+    if (st) {
+      const Vec3 t = tokens.size() >= needed ? vec_tokens(tokens, tokens.size() - 2) : Vec3{};
+      vertex_texcoords.push_back({t.x, t.y});
+    }
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (!lines.next(tokens)) truncated(nv, f);
+    std::int64_t n = 0;
+    if (!parse_integer(tokens[0], n) || n < 0) {
+      raw.corners.push_back(kBad);  // an unreadable face record
+    } else if (tokens.size() < static_cast<std::size_t>(n) + 1) {
+      if (!lines.more()) truncated(nv, f);  // cut inside its last face
+      raw.corners.push_back(kBad);
+    } else {
+      for (std::size_t c = 1; c <= static_cast<std::size_t>(n); ++c) {
+        std::int64_t index = 0;
+        raw.corners.push_back(parse_integer(tokens[c], index) ? index : kBad);
+      }
+    }
+    raw.end_face();
+  }
+  if (st) {
+    raw.corner_texcoords.reserve(raw.corners.size());
+    for (const std::int64_t v : raw.corners)
+      raw.corner_texcoords.push_back(v >= 0 && v < vertex_count ? vertex_texcoords[static_cast<std::size_t>(v)] : std::array<float, 2>{});
+  }
+  return raw;
+}
+
+// ---------------------------------------------------------------------------------------------- PLY
+
+enum class PlyType : std::uint8_t { I8, U8, I16, U16, I32, U32, F32, F64 };
+
+bool ply_type(std::string_view name, PlyType& type) {
+  static const std::pair<const char*, PlyType> names[] = {
+      {"char", PlyType::I8},   {"int8", PlyType::I8},     {"uchar", PlyType::U8},   {"uint8", PlyType::U8},
+      {"short", PlyType::I16}, {"int16", PlyType::I16},   {"ushort", PlyType::U16}, {"uint16", PlyType::U16},
+      {"int", PlyType::I32},   {"int32", PlyType::I32},   {"uint", PlyType::U32},   {"uint32", PlyType::U32},
+      {"float", PlyType::F32}, {"float32", PlyType::F32}, {"double", PlyType::F64}, {"float64", PlyType::F64}};
+  for (const auto& [n, t] : names)
+    if (name == n) {
+      type = t;
+      return true;
+    }
+  return false;
+}
+
+std::size_t size_of(PlyType t) {
+  switch (t) {
+    case PlyType::I8:
+    case PlyType::U8: return 1;
+    case PlyType::I16:
+    case PlyType::U16: return 2;
+    case PlyType::I32:
+    case PlyType::U32:
+    case PlyType::F32: return 4;
+    case PlyType::F64: return 8;
+  }
+  return 1;
+}
+
+struct PlyProperty {
+  std::string name;
+  bool list = false;
+  PlyType count_type = PlyType::U8, type = PlyType::F32;
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+  int find(std::string_view n) const {
+    for (std::size_t i = 0; i < properties.size(); ++i)
+      if (properties[i].name == n) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+enum class PlyFormat { Ascii, BinaryLittle, BinaryBig };
+
+// The values after end_header, one at a time in the file's encoding.
+class PlyBody {
+ public:
+  enum Result { Ok, Malformed, End };
+  PlyBody(std::string_view body, PlyFormat format) : body_(body), format_(format) {}
+
+  Result next(PlyType type, double& value) {
+    if (format_ == PlyFormat::Ascii) {
+      while (pos_ < body_.size() && is_space(body_[pos_])) ++pos_;
+      if (pos_ >= body_.size()) return End;
+      const std::size_t begin = pos_;
+      while (pos_ < body_.size() && !is_space(body_[pos_])) ++pos_;
+      return parse_number(body_.substr(begin, pos_ - begin), value) ? Ok : Malformed;
+    }
+    const std::size_t size = size_of(type);
+    if (body_.size() - pos_ < size) return End;
+    unsigned char bytes[8];
+    std::memcpy(bytes, body_.data() + pos_, size);
+    pos_ += size;
+    if ((format_ == PlyFormat::BinaryBig) != (std::endian::native == std::endian::big)) std::reverse(bytes, bytes + size);
+    value = decode(type, bytes);
+    return Ok;
+  }
+  std::size_t remaining() const { return body_.size() - pos_; }
+  bool binary() const { return format_ != PlyFormat::Ascii; }
+
+ private:
+  static double decode(PlyType type, const unsigned char* b) {
+    switch (type) {
+      case PlyType::I8: return static_cast<std::int8_t>(b[0]);
+      case PlyType::U8: return b[0];
+      case PlyType::I16: return copy<std::int16_t>(b);
+      case PlyType::U16: return copy<std::uint16_t>(b);
+      case PlyType::I32: return copy<std::int32_t>(b);
+      case PlyType::U32: return copy<std::uint32_t>(b);
+      case PlyType::F32: return copy<float>(b);
+      case PlyType::F64: return copy<double>(b);
+    }
+    return 0;
+  }
+  template <typename T>
+  static T copy(const unsigned char* b) {
+    T v;
+    std::memcpy(&v, b, sizeof v);
+    return v;
+  }
+  std::string_view body_;
+  PlyFormat format_;
+  std::size_t pos_ = 0;
+};
+
+constexpr std::size_t kPlyHeaderLimit = std::size_t{1} << 20;  // a sane PLY header is a few hundred bytes
+
+RawMesh read_ply(const std::string& path, std::string_view text) {
+  // The header: must end with end_header within the limit (OpenMesh's reader hangs without one).
+  Lines lines(text);
+  std::string_view line;
+  if (!lines.next(line) || line.substr(0, line.find_last_not_of(" \t") + 1) != "ply") refuse(path, "not a PLY file (no 'ply' first line)");
+  std::vector<std::string> header;
+  bool ended = false;
+  while (lines.position() <= kPlyHeaderLimit && lines.next(line)) {
+    std::vector<std::string_view> tokens;
+    split(line, tokens);
+    if (tokens.size() == 1 && tokens[0] == "end_header") {
+      ended = true;
+      break;
+    }
+    header.emplace_back(line);
+  }
+  if (!ended)
+    refuse(path, text.size() > kPlyHeaderLimit ? "PLY header has no end_header in its first MiB" : "PLY header has no end_header");
+  const std::string_view body_text = text.substr(std::min(lines.position(), text.size()));
+  PlyFormat format = PlyFormat::Ascii;
+  bool has_format = false;
+  std::vector<PlyElement> elements;
+  std::vector<std::string_view> tokens;
+  for (const std::string& h : header) {
+    split(h, tokens);
+    if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info") continue;
+    if (tokens[0] == "format" && tokens.size() >= 2) {
+      has_format = true;
+      if (tokens[1] == "ascii")
+        format = PlyFormat::Ascii;
+      else if (tokens[1] == "binary_little_endian")
+        format = PlyFormat::BinaryLittle;
+      else if (tokens[1] == "binary_big_endian")
+        format = PlyFormat::BinaryBig;
+      else
+        refuse(path, fmt::format("unknown PLY format '{}'", tokens[1]));
+    } else if (tokens[0] == "element" && tokens.size() == 3) {
+      PlyElement e;
+      e.name = tokens[1];
+      const auto [end, ec] = std::from_chars(tokens[2].data(), tokens[2].data() + tokens[2].size(), e.count);
+      if (ec != std::errc() || end != tokens[2].data() + tokens[2].size())
+        refuse(path, fmt::format("PLY element {} has count '{}', not a number", e.name, tokens[2]));
+      elements.push_back(std::move(e));
+    } else if (tokens[0] == "property" && !elements.empty()) {
+      PlyProperty p;
+      bool ok = false;
+      if (tokens.size() == 5 && tokens[1] == "list") {
+        p.list = true;
+        ok = ply_type(tokens[2], p.count_type) && ply_type(tokens[3], p.type);
+        p.name = tokens[4];
+      } else if (tokens.size() == 3) {
+        ok = ply_type(tokens[1], p.type);
+        p.name = tokens[2];
+      }
+      if (!ok) refuse(path, fmt::format("PLY header line '{}' is not a property of a known type", h));
+      elements.back().properties.push_back(std::move(p));
+    } else {
+      refuse(path, fmt::format("PLY header line '{}' is not understood", h));
+    }
+  }
+  if (!has_format) refuse(path, "PLY header has no format line");
+  // Every record takes at least a byte per scalar (binary) or a value and a separator (ASCII), so a
+  // header claiming more records than that is refused before anything is allocated.
+  for (const PlyElement& e : elements) {
+    std::uint64_t least = 0;
+    for (const PlyProperty& p : e.properties) least += format == PlyFormat::Ascii ? 2 : size_of(p.list ? p.count_type : p.type);
+    least = std::max<std::uint64_t>(least, 1);
+    if (e.count > (body_text.size() + 1) / least)
+      refuse(path, fmt::format("PLY header declares {} {} records, more than the {} after end_header can hold", e.count, e.name,
+                               plural(body_text.size(), "byte", "bytes")));
+  }
+  const auto vertex_element = std::find_if(elements.begin(), elements.end(), [](const PlyElement& e) { return e.name == "vertex"; });
+  if (vertex_element == elements.end()) refuse(path, "PLY file has no vertex element");
+  if (vertex_element->count > std::numeric_limits<std::uint32_t>::max()) refuse(path, "PLY file has more than 2^32 vertices");
+
+  RawMesh raw;
+  PlyBody body(body_text, format);
+  std::vector<std::array<float, 2>> vertex_texcoords;
+  bool any_vertex_texcoords = false, any_face_texcoords = false;
+  std::vector<std::array<float, 2>> face_texcoords;  // per corner from face texcoord lists
+  std::vector<double> values;
+  std::vector<PlyBody::Result> results;
+  std::vector<double> list;
+  std::vector<std::int64_t> strip;
+  for (const PlyElement& e : elements) {
+    const bool is_vertex = &e == &*vertex_element, is_face = e.name == "face", is_strips = e.name == "tristrips";
+    int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1, u = -1, v = -1, indices = -1, texcoord = -1;
+    if (is_vertex) {
+      x = e.find("x"), y = e.find("y"), z = e.find("z"), nx = e.find("nx"), ny = e.find("ny"), nz = e.find("nz");
+      for (const auto& [su, sv] : {std::pair{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}})
+        if (u < 0 && e.find(su) >= 0 && e.find(sv) >= 0) u = e.find(su), v = e.find(sv);
+      if (x < 0 || y < 0 || z < 0) refuse(path, "PLY vertex element has no x, y and z properties");
+      raw.positions.reserve(e.count);
+      raw.bad_vertex.reserve(e.count);
+      if (nx >= 0 && ny >= 0 && nz >= 0) {
+        raw.normals.reserve(e.count);
+        raw.has_normal.assign(e.count, 1);
+      }
+      any_vertex_texcoords = u >= 0;
+    } else if (is_face || is_strips) {
+      indices = e.find("vertex_indices");
+      if (indices < 0 && is_face) indices = e.find("vertex_index");
+      if (indices >= 0 && !e.properties[static_cast<std::size_t>(indices)].list) indices = -1;
+      if (is_face) texcoord = e.find("texcoord");
+      if (texcoord >= 0 && !e.properties[static_cast<std::size_t>(texcoord)].list) texcoord = -1;
+      any_face_texcoords |= texcoord >= 0;
+    }
+    values.assign(e.properties.size(), 0.0);
+    results.assign(e.properties.size(), PlyBody::Ok);
+    for (std::uint64_t r = 0; r < e.count; ++r) {
+      const auto truncated = [&] { refuse(path, fmt::format("truncated PLY: the file ends in {} record {} of {}", e.name, r + 1, e.count)); };
+      std::size_t corners_before = raw.corners.size();
+      std::array<float, 2> no_texcoord{};
+      std::vector<std::array<float, 2>> record_texcoords;
+      for (std::size_t k = 0; k < e.properties.size(); ++k) {
+        const PlyProperty& p = e.properties[k];
+        if (!p.list) {
+          results[k] = body.next(p.type, values[k]);
+          if (results[k] == PlyBody::End) truncated();
+          continue;
+        }
+        double count = 0;
+        const PlyBody::Result counted = body.next(p.count_type, count);
+        if (counted == PlyBody::End) truncated();
+        if (counted == PlyBody::Malformed || !(count >= 0) || count != std::floor(count))
+          refuse(path, fmt::format("PLY {} record {} has a list length that is not a count", e.name, r + 1));
+        const auto n = static_cast<std::uint64_t>(count);
+        if (n > body.remaining() / (body.binary() ? size_of(p.type) : 2) + 1) truncated();
+        list.resize(n);
+        bool list_readable = true;
+        for (std::uint64_t i = 0; i < n; ++i) {
+          const PlyBody::Result got = body.next(p.type, list[i]);
+          if (got == PlyBody::End) truncated();
+          if (got == PlyBody::Malformed) list[i] = NAN, list_readable = false;
+        }
+        const auto as_index = [](double d) {
+          return std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 9e15 ? static_cast<std::int64_t>(d) : kBad;
+        };
+        if (static_cast<int>(k) == indices && is_face) {
+          for (const double d : list) raw.corners.push_back(as_index(d));
+        } else if (static_cast<int>(k) == indices && is_strips) {
+          strip.clear();
+          for (const double d : list) strip.push_back(as_index(d) == kBad && d != -1.0 ? kNone : as_index(d));
+        } else if (static_cast<int>(k) == texcoord && list_readable) {
+          for (std::uint64_t i = 0; i + 1 < n; i += 2) record_texcoords.push_back({static_cast<float>(list[i]), static_cast<float>(list[i + 1])});
+        }
+      }
+      if (is_vertex) {
+        bool readable = results[static_cast<std::size_t>(x)] == PlyBody::Ok && results[static_cast<std::size_t>(y)] == PlyBody::Ok &&
+                        results[static_cast<std::size_t>(z)] == PlyBody::Ok;
+        Vec3 p;
+        if (!readable) {
+          ++raw.problems.unreadable_vertices;
+          raw.add_vertex({}, true);
+        } else if (!(to_float(values[static_cast<std::size_t>(x)], p.x) && to_float(values[static_cast<std::size_t>(y)], p.y) &&
+                     to_float(values[static_cast<std::size_t>(z)], p.z))) {
+          ++raw.problems.non_finite_vertices;
+          raw.add_vertex({}, true);
+        } else {
+          raw.add_vertex(p, false);
+        }
+        if (!raw.has_normal.empty())
+          raw.normals.push_back({static_cast<float>(values[static_cast<std::size_t>(nx)]), static_cast<float>(values[static_cast<std::size_t>(ny)]),
+                                 static_cast<float>(values[static_cast<std::size_t>(nz)])});
+        if (u >= 0)
+          vertex_texcoords.push_back({static_cast<float>(values[static_cast<std::size_t>(u)]), static_cast<float>(values[static_cast<std::size_t>(v)])});
+      } else if (is_face && indices >= 0) {
+        const std::size_t n = raw.corners.size() - corners_before;
+        for (std::size_t i = 0; i < n; ++i) face_texcoords.push_back(record_texcoords.size() == n ? record_texcoords[i] : no_texcoord);
+        raw.end_face();
+      } else if (is_strips && indices >= 0) {
+        // A strip: triangle k of a run (after a -1 restart) has corners k, k+1, k+2, its winding
+        // swapped on odd k so that every triangle faces the same way. Triangles with a repeated
+        // corner join strips on purpose and are left out.
+        std::size_t start = 0;
+        for (std::size_t i = 0; i < strip.size(); ++i) {
+          if (strip[i] == -1) {
+            start = i + 1;
+            continue;
+          }
+          if (i < start + 2) continue;
+          std::int64_t a = strip[i - 2], b = strip[i - 1];
+          const std::int64_t c = strip[i];
+          if ((i - start) % 2 == 1) std::swap(a, b);
+          if (a != kNone && b != kNone && c != kNone && (a == b || b == c || a == c)) continue;
+          for (const std::int64_t corner : {a, b, c}) {
+            raw.corners.push_back(corner == kNone ? kBad : corner);
+            face_texcoords.push_back(no_texcoord);
+          }
+          raw.end_face();
+        }
+      }
+    }
+  }
+  if (any_face_texcoords) {
+    raw.corner_texcoords = std::move(face_texcoords);
+  } else if (any_vertex_texcoords) {
+    raw.corner_texcoords.reserve(raw.corners.size());
+    for (const std::int64_t c : raw.corners)
+      raw.corner_texcoords.push_back(c >= 0 && c < static_cast<std::int64_t>(vertex_texcoords.size()) ? vertex_texcoords[static_cast<std::size_t>(c)]
+                                                                                                       : std::array<float, 2>{});
+  }
+  return raw;
+}
+
+// ---------------------------------------------------------------------------------------------- STL
+
+// STL lists each triangle's corners by position; equal positions are one vertex (as OpenMesh's
+// reader merges them), non-finite ones each their own bad vertex.
+class StlVertices {
+ public:
+  explicit StlVertices(RawMesh& raw) : raw_(raw) {}
+  void corner(const double c[3], bool readable) {
+    Vec3 p;
+    if (!readable) {
+      ++raw_.problems.unreadable_vertices;
+    } else if (!(to_float(c[0], p.x) && to_float(c[1], p.y) && to_float(c[2], p.z))) {
+      ++raw_.problems.non_finite_vertices;
+    } else {
+      // +0 and -0 are one position.
+      const Key key{std::bit_cast<std::uint32_t>(p.x + 0.0f), std::bit_cast<std::uint32_t>(p.y + 0.0f), std::bit_cast<std::uint32_t>(p.z + 0.0f)};
+      const auto [it, added] = index_.try_emplace(key, raw_.positions.size());
+      if (added) raw_.add_vertex(p, false);
+      raw_.corners.push_back(static_cast<std::int64_t>(it->second));
+      return;
+    }
+    raw_.corners.push_back(static_cast<std::int64_t>(raw_.positions.size()));
+    raw_.add_vertex({}, true);
+  }
+
+ private:
+  struct Key {
+    std::uint32_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      return std::hash<std::uint64_t>{}((std::uint64_t{k.x} << 32 | k.y) ^ (std::uint64_t{k.z} * 0x9E3779B97F4A7C15ull));
+    }
+  };
+  RawMesh& raw_;
+  std::unordered_map<Key, std::size_t, Hash> index_;
+};
+
+RawMesh read_stl(const std::string& path, std::string_view text) {
+  RawMesh raw;
+  StlVertices vertices(raw);
+  const std::size_t first = std::min(text.find_first_not_of(" \t\r\n"), text.size());
+  const bool ascii_start = text.substr(first, 5) == "solid";
+  if (text.size() >= 84) {
+    std::uint32_t triangles = 0;
+    std::memcpy(&triangles, text.data() + 80, 4);
+    if constexpr (std::endian::native == std::endian::big) triangles = __builtin_bswap32(triangles);
+    if (84 + 50 * std::uint64_t{triangles} == text.size()) {
+      for (std::uint32_t t = 0; t < triangles; ++t) {
+        const char* record = text.data() + 84 + 50 * std::size_t{t};
+        for (int corner = 0; corner < 3; ++corner) {
+          double c[3];
+          for (int i = 0; i < 3; ++i) {
+            std::uint32_t bits = 0;
+            std::memcpy(&bits, record + 12 + 12 * corner + 4 * i, 4);
+            if constexpr (std::endian::native == std::endian::big) bits = __builtin_bswap32(bits);
+            c[i] = std::bit_cast<float>(bits);
+          }
+          vertices.corner(c, true);
+        }
+        raw.end_face();
+      }
+      return raw;
+    }
+    if (!ascii_start)
+      refuse(path, fmt::format("binary STL of {} bytes, but its header declares {} triangles ({} bytes)", text.size(), triangles,
+                               84 + 50 * std::uint64_t{triangles}));
+  }
+  if (!ascii_start) refuse(path, "not an STL file (neither 'solid' text nor a binary triangle count)");
+  std::vector<std::string_view> tokens;
+  split(text, tokens);
+  bool in_facet = false;
+  for (std::size_t i = 0; i < tokens.size(); ++i) {
+    if (tokens[i] == "facet") {
+      in_facet = true;
+    } else if (tokens[i] == "vertex" && in_facet) {
+      double c[3] = {0, 0, 0};
+      bool readable = i + 3 < tokens.size();
+      for (int k = 0; readable && k < 3; ++k) readable = parse_number(tokens[i + 1 + static_cast<std::size_t>(k)], c[k]);
+      vertices.corner(c, readable);
+      i += 3;
+    } else if (tokens[i] == "endfacet" && in_facet) {
+      in_facet = false;
+      raw.end_face();
+    }
+  }
+  if (in_facet) refuse(path, fmt::format("truncated STL: the file ends inside facet {}", raw.face_count() + 1));
+  return raw;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) refuse(path, "not readable");
+  std::string text;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) refuse(path, "not readable");
+  text.resize(static_cast<std::size_t>(size));
+  in.seekg(0, std::ios::beg);
+  in.read(text.data(), size);
+  if (!in) refuse(path, "read failed");
+  return text;
+}
+
+}  // namespace
+
+bool parse_number(std::string_view token, double& value) {
+  if (token.size() > 1 && token[0] == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);
+  if (token.empty()) return false;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  if (end != token.data() + token.size()) return false;
+  if (ec == std::errc::result_out_of_range) {
+    // Beyond double range: strtod's ±HUGE_VAL (inf) or 0 for what is too small.
+    const std::string copy(token);
+    value = std::strtod(copy.c_str(), nullptr);
+    return true;
+  }
+  return ec == std::errc();
+}
+
+RawMesh read_mesh_file(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) refuse(path, "no such file");
+  const std::string ext = lower_extension(path);
+  if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl") refuse(path, "not an OBJ, PLY, OFF or STL file (by its extension)");
+  const std::string text = read_file(path);
+  if (ext == ".obj") return read_obj(path, text);
+  if (ext == ".off") return read_off(path, text);
+  if (ext == ".ply") return read_ply(path, text);
+  return read_stl(path, text);
+}
+
+}  // namespace splatcl::splats::detail

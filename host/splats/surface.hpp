@@ -1,0 +1,146 @@
+#pragma once
+// The mesh surface as the truth that splats are checked against: its triangles (each polygon
+// fan-triangulated from its first corner, so a non-planar polygon is the triangles its corners
+// span, not a plane), exact point-to-surface distances in double through a box tree, and
+// area-uniform random points for independent checks.
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "math/dvec3.hpp"
+#include "splats/mesh.hpp"
+
+namespace splatcl::splats {
+
+// An axis-aligned box tree over items given by their boxes (median split on the longest axis,
+// leaves of at most 4 items). Queries visit the items of every leaf whose box lies within a radius
+// of a point (so every item whose own box does, and some more), nearest leaves first; the visitor
+// may shrink the radius (nearest-item searches) or stop the walk.
+class BoxTree {
+ public:
+  struct Box {
+    DVec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    void add(DVec3 p);
+    void add(const Box& b);
+    // Euclidean distance from p to the box (0 inside), and its square.
+    double distance(DVec3 p) const { return std::sqrt(distance2(p)); }
+    double distance2(DVec3 p) const {
+      const double dx = p.x < lo.x ? lo.x - p.x : p.x > hi.x ? p.x - hi.x : 0.0;
+      const double dy = p.y < lo.y ? lo.y - p.y : p.y > hi.y ? p.y - hi.y : 0.0;
+      const double dz = p.z < lo.z ? lo.z - p.z : p.z > hi.z ? p.z - hi.z : 0.0;
+      return dx * dx + dy * dy + dz * dz;
+    }
+  };
+
+  BoxTree() = default;
+  explicit BoxTree(const std::vector<Box>& boxes);
+
+  // visit(item, radius) -> bool: called for each item of each leaf within `radius` of p (leaves in
+  // near-first order); it may lower `radius`; returning true ends the walk.
+  template <class Visit>
+  void visit(DVec3 p, double& radius, Visit&& visit) const {
+    if (nodes_.empty() || !(radius >= 0)) return;
+    struct Entry {
+      std::uint32_t node;
+      double distance2;
+    };
+    Entry stack[128];
+    int top = 0;
+    const double root2 = nodes_[0].box.distance2(p);
+    if (root2 > radius * radius) return;
+    stack[top++] = {0, root2};
+    while (top > 0) {
+      const Entry entry = stack[--top];
+      if (entry.distance2 > radius * radius) continue;  // the radius shrank since it was pushed
+      const Node& node = nodes_[entry.node];
+      if (node.count > 0) {
+        for (std::uint32_t r = node.first; r < node.first + node.count; ++r)
+          if (visit(items_[r], radius)) return;
+        continue;
+      }
+      const std::uint32_t a = node.first, b = node.first + 1;
+      const double da = nodes_[a].box.distance2(p), db = nodes_[b].box.distance2(p);
+      const double limit = radius * radius;
+      // The nearer child is popped first.
+      if (da <= db) {
+        if (db <= limit) stack[top++] = {b, db};
+        if (da <= limit) stack[top++] = {a, da};
+      } else {
+        if (da <= limit) stack[top++] = {a, da};
+        if (db <= limit) stack[top++] = {b, db};
+      }
+    }
+  }
+
+  std::size_t size() const { return items_.size(); }
+
+ private:
+  struct Node {
+    Box box;
+    std::uint32_t first = 0, count = 0;  // leaf: items_[first, first + count); inner: children first, first + 1
+  };
+  void build(std::uint32_t index, const std::vector<Box>& boxes, std::uint32_t begin, std::uint32_t end, int depth);
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> items_;
+};
+
+struct SurfaceTriangle {
+  DVec3 a, b, c;
+  DVec3 normal;  // unit, by the corners' winding
+  double area = 0;
+  std::uint32_t face = 0;              // mesh face it belongs to
+  std::uint32_t corners[3] = {0, 0, 0};  // mesh corner indices (into Mesh::corners) of a, b, c
+};
+
+// The closest point of triangle t to p (Ericson, Real-Time Collision Detection §5.1.5, in double).
+DVec3 closest_point(const SurfaceTriangle& t, DVec3 p);
+
+// The fan triangles of every face, without those of zero or non-finite area.
+std::vector<SurfaceTriangle> surface_triangles(const Mesh& mesh);
+
+class Surface {
+ public:
+  explicit Surface(const Mesh& mesh);
+
+  const std::vector<SurfaceTriangle>& triangles() const { return triangles_; }
+  double area() const { return area_; }
+
+  struct Nearest {
+    double distance = INFINITY;
+    std::uint32_t triangle = UINT32_MAX;  // UINT32_MAX when nothing lies within the limit
+  };
+  // The nearest triangle to p among those within `limit`.
+  Nearest nearest(DVec3 p, double limit = INFINITY) const;
+  // Whether some triangle lies within `radius` of p (stops at the first one found). `hint`, when
+  // given, holds the triangle that answered the previous query of a run of nearby points: it is
+  // tried first and updated.
+  bool within(DVec3 p, double radius, std::uint32_t* hint = nullptr) const;
+
+  struct Point {
+    DVec3 position, normal;
+    std::uint32_t triangle = 0;
+  };
+  // `count` points uniformly distributed over the surface area, from `seed` (the same points on
+  // every platform: a SplitMix64 stream, no standard-library distributions).
+  std::vector<Point> uniform_points(std::size_t count, std::uint64_t seed) const;
+
+ private:
+  std::vector<SurfaceTriangle> triangles_;
+  std::vector<double> cumulative_area_;
+  double area_ = 0;
+  BoxTree tree_;
+};
+
+// SplitMix64: a small, portable, seedable stream of 64-bit values and uniform doubles in [0, 1).
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+};
+
+}  // namespace splatcl::splats

@@ -1,0 +1,540 @@
+#include "splats/surface_fit.hpp"
+
+#include <algorithm>
+#include <tuple>
+#include <unordered_map>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <numbers>
+
+#include "runtime/profiling.hpp"
+#include "splats/parallel.hpp"
+#include "splats/reference.hpp"
+
+namespace splatcl::splats {
+namespace {
+
+// The checks run on the splats as floats will store them; this much of ε is kept in reserve for
+// the rounding of the written values.
+constexpr double kFloatReserve = 1e-4;
+constexpr double kBetweenPointsReserve = 0.1;
+constexpr double kCreaseAngle = 20.0 * std::numbers::pi / 180.0;
+// Squares a certification may visit before the splat counts as failing (and is made smaller).
+constexpr std::size_t kCertifyBudget = 8192;
+// Coverage cells are refined down to this fraction of ε; below it, a cell that no one splat holds
+// whole is checked at its corners, edge midpoints and centre.
+constexpr double kFinestCell = 1.0 / 16.0;
+constexpr std::size_t kMaxGapRounds = 6;
+
+// In-plane coordinates of p relative to e, and its height above the plane.
+struct Local {
+  double x, y, h;
+};
+Local local(const Ellipse& e, DVec3 p) {
+  const DVec3 w = p - e.center;
+  return {dot(w, e.u), dot(w, e.v), dot(w, e.normal)};
+}
+
+bool inside(const Ellipse& e, double x, double y) {
+  if (!(e.a > 0 && e.b > 0)) return false;
+  if (!(x * x / (e.a * e.a) + y * y / (e.b * e.b) <= 1.0)) return false;
+  return !std::isfinite(e.clip_offset) || x * e.clip_x + y * e.clip_y <= e.clip_offset;
+}
+
+// Whether e covers p on a surface triangle with normal `surface_normal`: facing the same way, the
+// projection inside the (clipped) ellipse, within ε in height.
+bool covers(const Ellipse& e, DVec3 p, DVec3 surface_normal, double eps) {
+  if (!(dot(e.normal, surface_normal) > 0)) return false;
+  const Local l = local(e, p);
+  return std::fabs(l.h) <= eps && inside(e, l.x, l.y);
+}
+
+BoxTree::Box box_of(const Ellipse& e, double eps) {
+  const auto half = [&](double u, double v, double n) { return std::sqrt(e.a * e.a * u * u + e.b * e.b * v * v) + eps * std::fabs(n) + eps; };
+  const DVec3 h{half(e.u.x, e.v.x, e.normal.x), half(e.u.y, e.v.y, e.normal.y), half(e.u.z, e.v.z, e.normal.z)};
+  BoxTree::Box box;
+  box.add(e.center - h);
+  box.add(e.center + h);
+  return box;
+}
+
+SplatRecord record_of(const Ellipse& e, Rgba8 color) {
+  SplatRecord r;
+  r.center = to_float(e.center);
+  r.normal = to_float(e.normal);
+  r.major = to_float(e.a * e.u);
+  r.minor = to_float(e.b * e.v);
+  r.color = color;
+  r.clip_x = static_cast<float>(e.clip_x), r.clip_y = static_cast<float>(e.clip_y);
+  r.clip_offset = static_cast<float>(e.clip_offset);
+  return r;
+}
+
+}  // namespace
+
+Ellipse ellipse_of(const SplatRecord& s) {
+  Ellipse e;
+  e.center = DVec3(s.center);
+  e.normal = normalized(DVec3(s.normal));
+  e.a = length(DVec3(s.major)), e.b = length(DVec3(s.minor));
+  e.u = e.a > 0 ? normalized(DVec3(s.major)) : any_perpendicular(e.normal);
+  e.v = e.b > 0 ? normalized(DVec3(s.minor)) : normalized(cross(e.normal, e.u));
+  e.clip_x = s.clip_x, e.clip_y = s.clip_y, e.clip_offset = s.clip_offset;
+  return e;
+}
+
+Ellipse ellipse_of(const SplatShape& shape, const Vec4& clip, const Frame& frame) {
+  Ellipse e;
+  e.center = DVec3(xyz(shape.center));
+  e.normal = DVec3(xyz(frame.n));
+  e.u = DVec3(xyz(frame.u)), e.v = DVec3(xyz(frame.v));
+  e.a = shape.major.w, e.b = shape.minor.w;
+  e.clip_x = clip.x, e.clip_y = clip.y, e.clip_offset = clip.z;
+  return e;
+}
+
+void ellipse_test_points(const Ellipse& e, double eps, std::vector<DVec3>& out) {
+  out.clear();
+  const bool clipped = std::isfinite(e.clip_offset);
+  const auto add = [&](double x, double y) {
+    if (clipped && x * e.clip_x + y * e.clip_y > e.clip_offset) return;
+    out.push_back(e.center + x * e.u + y * e.v);
+  };
+  constexpr double kTau = 2 * std::numbers::pi;
+  // The rim first: where a splat too large leaves the surface.
+  const double perimeter = std::numbers::pi * (3 * (e.a + e.b) - std::sqrt((3 * e.a + e.b) * (e.a + 3 * e.b)));
+  const int rim = static_cast<int>(std::clamp(std::ceil(perimeter / (2 * eps)), 24.0, 128.0));
+  // Every other rim point first: a failing splat usually fails there, and the walk stops early.
+  for (int start : {0, 1})
+    for (int k = start; k < rim; k += 2) add(e.a * std::cos(kTau * k / rim), e.b * std::sin(kTau * k / rim));
+  if (clipped) {
+    // The chord x·c + y·s = offset inside the ellipse.
+    const double px = e.clip_offset * e.clip_x, py = e.clip_offset * e.clip_y, dx = -e.clip_y, dy = e.clip_x;
+    const double qa = dx * dx / (e.a * e.a) + dy * dy / (e.b * e.b), qb = 2 * (px * dx / (e.a * e.a) + py * dy / (e.b * e.b)),
+                 qc = px * px / (e.a * e.a) + py * py / (e.b * e.b) - 1;
+    const double disc = qb * qb - 4 * qa * qc;
+    if (qa > 0 && disc > 0) {
+      const double t0 = (-qb - std::sqrt(disc)) / (2 * qa), t1 = (-qb + std::sqrt(disc)) / (2 * qa);
+      for (int k = 0; k <= 8; ++k) {
+        const double t = t0 + (t1 - t0) * k / 8;
+        out.push_back(e.center + (px + t * dx) * e.u + (py + t * dy) * e.v);
+      }
+    }
+  }
+  for (const auto& [rho, count] : {std::pair{0.5, 8}})
+    for (int k = 0; k < count; ++k) add(rho * e.a * std::cos(kTau * (k + 0.5) / count), rho * e.b * std::sin(kTau * (k + 0.5) / count));
+  add(0, 0);
+}
+
+bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch) {
+  ellipse_test_points(e, eps, scratch);
+  // The points are a sample of the ellipse: between them the distance can rise by a little more
+  // (it is 1-Lipschitz), so they must keep this much below ε.
+  const double limit = eps * (1 - kBetweenPointsReserve);
+  std::uint32_t hint = UINT32_MAX;
+  for (const DVec3& p : scratch)
+    if (!surface.within(p, limit, &hint)) return false;
+  return true;
+}
+
+// Whether p's projection along the triangle's normal lies in the triangle (edges included).
+bool projects_into(const SurfaceTriangle& t, DVec3 p) {
+  const auto side = [&](DVec3 a, DVec3 b) { return dot(cross(b - a, p - a), t.normal); };
+  return side(t.a, t.b) >= 0 && side(t.b, t.c) >= 0 && side(t.c, t.a) >= 0;
+}
+
+bool certified_within_surface(const Surface& surface, const Ellipse& e, double eps) {
+  if (!(e.a > 0 && e.b > 0)) return true;
+  // Rectangles of the ellipse's parameter domain [-1, 1]², split across their longer side in
+  // space; one maps to a parallelogram of circumradius r around its centre q, and the distance to
+  // the surface is 1-Lipschitz, so D(q) + r <= ε certifies the whole rectangle.
+  struct Rect {
+    double s, t, hs, ht;
+  };
+  const double finest = eps / 16;
+  const bool clipped = std::isfinite(e.clip_offset);
+  const double cx = e.a * e.clip_x, cy = e.b * e.clip_y;  // the clip's linear form in (s, t)
+  std::vector<Rect> stack{{0, 0, 1, 1}};
+  std::uint32_t hint = UINT32_MAX;
+  std::size_t visited = 0;
+  while (!stack.empty()) {
+    const Rect q = stack.back();
+    stack.pop_back();
+    if (++visited > kCertifyBudget) return false;
+    // Rectangles wholly outside the unit disk or beyond the clip line hold no point of the splat.
+    const double ns = std::max(0.0, std::fabs(q.s) - q.hs), nt = std::max(0.0, std::fabs(q.t) - q.ht);
+    if (ns * ns + nt * nt > 1) continue;
+    if (clipped && cx * q.s + cy * q.t - (q.hs * std::fabs(cx) + q.ht * std::fabs(cy)) > e.clip_offset) continue;
+    const double radius = std::sqrt(e.a * e.a * q.hs * q.hs + e.b * e.b * q.ht * q.ht);
+    const bool centre_inside = q.s * q.s + q.t * q.t <= 1 && (!clipped || cx * q.s + cy * q.t <= e.clip_offset);
+    const DVec3 centre = e.center + (e.a * q.s) * e.u + (e.b * q.t) * e.v;
+    if (centre_inside && radius < eps && surface.within(centre, eps - radius, &hint)) continue;  // the whole rectangle
+    if (surface.within(centre, eps, &hint)) {
+      // A rectangle over one triangle: the distance to the triangle's plane is affine, so if its
+      // four corners project into a triangle within ε of its plane, all of it is within ε.
+      const SurfaceTriangle& tri = surface.triangles()[hint];
+      bool over = true;
+      for (const double ds : {-q.hs, q.hs})
+        for (const double dt : {-q.ht, q.ht}) {
+          if (!over) break;
+          const DVec3 corner = centre + (e.a * ds) * e.u + (e.b * dt) * e.v;
+          over = std::fabs(dot(corner - tri.a, tri.normal)) <= eps && projects_into(tri, corner);
+        }
+      if (over) continue;
+    } else if (centre_inside) {
+      return false;  // a point of the splat farther than ε
+    }
+    if (radius <= finest) {
+      if (centre_inside) return false;
+      // The rectangle's part inside the disk lies within 2r of the centre's nearest disk point.
+      const double norm = std::sqrt(q.s * q.s + q.t * q.t);
+      const DVec3 p = e.center + (e.a * q.s / norm) * e.u + (e.b * q.t / norm) * e.v;
+      if (!surface.within(p, eps - 2 * radius, &hint)) return false;
+      continue;
+    }
+    if (e.a * q.hs >= e.b * q.ht) {
+      stack.push_back({q.s - q.hs / 2, q.t, q.hs / 2, q.ht});
+      stack.push_back({q.s + q.hs / 2, q.t, q.hs / 2, q.ht});
+    } else {
+      stack.push_back({q.s, q.t - q.ht / 2, q.hs, q.ht / 2});
+      stack.push_back({q.s, q.t + q.ht / 2, q.hs, q.ht / 2});
+    }
+  }
+  return true;
+}
+
+bool shrink_until_certified(const Surface& surface, Ellipse& e, double eps) {
+  for (int step = 0; step < 24; ++step) {
+    if (certified_within_surface(surface, e, eps)) return true;
+    e.a *= 0.85, e.b *= 0.85;
+  }
+  e.a = e.b = 0;
+  return false;
+}
+
+void bound_by_surface(const Surface& surface, const Samples& samples, const Neighborhoods& neighbors, FitResult& fit,
+                      float eps_float, SurfaceFitStats& stats) {
+  Stopwatch clock;
+  const double eps = eps_float * (1 - kFloatReserve);
+  const std::size_t n = fit.splats.size();
+  std::vector<std::uint8_t> shrunk(n, 0);
+  std::vector<std::vector<DVec3>> scratch(worker_count(n, 32));
+  parallel_for(n, 32, [&](std::size_t i, std::size_t worker) {
+    SplatShape& shape = fit.splats[i];
+    Ellipse e = ellipse_of(shape, fit.clips[i], fit.frames[i]);
+    if (!(e.a > 0 && e.b > 0)) {
+      shrunk[i] = 1;  // zero size: its sets are emptied below
+      return;
+    }
+    const double a0 = e.a, b0 = e.b;
+    const auto test = [&](double s, double t) {  // both axes at scale s, then the major extended by t
+      e.b = s * b0, e.a = s * a0 + t * (a0 - s * a0);
+      return within_surface(surface, e, eps, scratch[worker]);
+    };
+    // A first guess from the samples: the scale at which the nearest same-facing neighbour of the
+    // covered samples that lies more than ε off the splat's plane projects onto its rim.
+    double guess = 1;
+    for (const std::uint32_t* m = fit.covered.begin(i); m != fit.covered.end(i); ++m) {
+      for (const std::uint32_t* q = neighbors.row(*m); q != neighbors.row(*m) + neighbors.k; ++q) {
+        const Local l = local(e, DVec3(xyz(samples.positions[*q])));
+        if (std::fabs(l.h) <= eps || dot(DVec3(xyz(samples.normals[*q])), e.normal) <= 0) continue;
+        guess = std::min(guess, std::sqrt(l.x * l.x / (a0 * a0) + l.y * l.y / (b0 * b0)));
+      }
+    }
+    // The guess first (the whole splat when the samples suggest nothing), then halving.
+    guess = std::max(guess, 1.0 / 16);
+    double lo = 0, hi = 1;
+    if (test(guess, 0)) {
+      if (guess == 1) return;
+      lo = guess;
+    } else {
+      hi = guess;
+    }
+    for (int step = 0; step < (lo > 0 ? 2 : 4); ++step) {
+      const double s = 0.5 * (lo + hi);
+      (test(s, 0) ? lo : hi) = s;
+    }
+    // Below every tested scale: halve on (a splat at a mesh boundary or a spike may pass only
+    // tiny); one that passes at no scale is left with zero size and gives way to gap filling.
+    while (lo == 0 && hi > 1.0 / 4096) {
+      hi *= 0.5;
+      if (test(hi, 0)) lo = hi;
+    }
+    double extend = 0;  // as much of the major axis back as still passes
+    if (a0 > b0 * 1.25 && lo < 1 && test(lo, 0.5)) extend = 0.5;
+    const float fb = static_cast<float>(lo * b0), fa = static_cast<float>(lo * a0 + extend * (a0 - lo * a0));
+    const Vec3 u = xyz(fit.frames[i].u), v = xyz(fit.frames[i].v);
+    shape.major = {u.x * fa, u.y * fa, u.z * fa, fa};
+    shape.minor = {v.x * fb, v.y * fb, v.z * fb, fb};
+    shrunk[i] = 1;
+  });
+  // A shrunk splat covers the samples still inside it, and its safe set is those without their
+  // new convex hull (the growth's rule, digest §3.8).
+  std::vector<std::vector<std::uint32_t>> sets(n);
+  parallel_for(n, 64, [&](std::size_t i, std::size_t) {
+    std::vector<std::uint32_t>& set = sets[i];
+    const std::uint32_t* safe = fit.safe.begin(i);
+    if (!shrunk[i]) {
+      // The hull bits back from the two rows (both in acceptance order).
+      for (const std::uint32_t* m = fit.covered.begin(i); m != fit.covered.end(i); ++m) {
+        const bool is_safe = safe != fit.safe.end(i) && *safe == *m;
+        set.push_back(is_safe ? *m : (*m | kOnHullBit));
+        if (is_safe) ++safe;
+      }
+      return;
+    }
+    const Ellipse e = ellipse_of(fit.splats[i], fit.clips[i], fit.frames[i]);
+    if (!(e.a > 0 && e.b > 0)) return;  // zero size: it covers no sample, and gap filling covers its surface
+    for (const std::uint32_t* m = fit.covered.begin(i); m != fit.covered.end(i); ++m) {
+      const Local l = local(e, DVec3(xyz(samples.positions[*m])));
+      if (*m == i || inside(e, l.x, l.y)) set.push_back(*m);
+    }
+    reference::mark_hull_points(samples, xyz(fit.splats[i].center), xyz(fit.frames[i].u), xyz(fit.frames[i].v), set);
+  });
+  set_rows(sets, fit);
+  stats.shrunk += static_cast<std::size_t>(std::count(shrunk.begin(), shrunk.end(), 1));
+  stats.bound_ms += clock.elapsed_ms();
+}
+
+namespace {
+
+struct Gap {
+  DVec3 point;
+  std::uint32_t triangle;
+};
+
+// The gaps of every triangle's cells, refined down to kFinestCell · ε, in triangle order.
+std::vector<Gap> find_gaps(const Surface& surface, const std::vector<Ellipse>& splats, const BoxTree& tree, double eps,
+                           std::size_t& cells_checked, const std::vector<std::uint32_t>* only) {
+  const auto& triangles = surface.triangles();
+  const std::size_t count = only ? only->size() : triangles.size();
+  std::vector<std::vector<Gap>> per_triangle(count);
+  std::vector<std::size_t> cells(worker_count(count, 64), 0);
+  const double finest = kFinestCell * eps;
+  parallel_for(count, 64, [&](std::size_t r, std::size_t worker) {
+    const std::uint32_t t = only ? (*only)[r] : static_cast<std::uint32_t>(r);
+    const SurfaceTriangle& tri = triangles[t];
+    struct Cell {
+      DVec3 p0, p1, p2;
+    };
+    std::vector<Cell> stack{{tri.a, tri.b, tri.c}};
+    while (!stack.empty()) {
+      const Cell c = stack.back();
+      stack.pop_back();
+      ++cells[worker];
+      // What one splat covers (its elliptic cylinder within the ±ε slab, on the kept side of its
+      // clip line, facing the triangle's way) is convex, and so is the cell: a splat that covers
+      // the three corners covers the whole cell.
+      bool covered = false;
+      double query = 0;
+      tree.visit(c.p0, query, [&](std::uint32_t j, double&) {
+        const Ellipse& e = splats[j];
+        return covered = covers(e, c.p0, tri.normal, eps) && covers(e, c.p1, tri.normal, eps) && covers(e, c.p2, tri.normal, eps);
+      });
+      if (covered) continue;
+      const auto covered_point = [&](DVec3 p) {
+        bool hit = false;
+        double zero = 0;
+        tree.visit(p, zero, [&](std::uint32_t j, double&) { return hit = covers(splats[j], p, tri.normal, eps); });
+        return hit;
+      };
+      const DVec3 g = (1.0 / 3.0) * (c.p0 + c.p1 + c.p2);
+      // An uncovered centre is a gap at once: the splat made there takes most of the cell, and the
+      // next round checks what is left.
+      if (!covered_point(g)) {
+        per_triangle[r].push_back({g, t});
+        continue;
+      }
+      const DVec3 m01 = 0.5 * (c.p0 + c.p1), m12 = 0.5 * (c.p1 + c.p2), m20 = 0.5 * (c.p2 + c.p0);
+      const double radius = std::max({length(c.p0 - g), length(c.p1 - g), length(c.p2 - g)});
+      if (radius <= finest) {
+        // Covered only by several splats together at this scale: its corners and edge midpoints
+        // must be covered too.
+        for (const DVec3 p : {c.p0, c.p1, c.p2, m01, m12, m20}) {
+          if (covered_point(p)) continue;
+          per_triangle[r].push_back({p, t});
+          break;
+        }
+        continue;
+      }
+      stack.push_back({m01, m12, m20});
+      stack.push_back({m20, m12, c.p2});
+      stack.push_back({m01, c.p1, m12});
+      stack.push_back({c.p0, m01, m20});
+    }
+  });
+  for (const std::size_t c : cells) cells_checked += c;
+  std::vector<Gap> gaps;
+  for (auto& list : per_triangle) gaps.insert(gaps.end(), list.begin(), list.end());
+  return gaps;
+}
+
+// An ellipse in the triangle's plane centred on the gap, as large as the surface bound allows (up
+// to `largest`): the largest passing circle, then, of four orientations of the major axis, the one
+// that passes at the greatest length (along a crease or a boundary, the surface allows a long thin
+// splat where a circle stays small).
+Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double largest, std::vector<DVec3>& scratch) {
+  const SurfaceTriangle& t = surface.triangles()[gap.triangle];
+  Ellipse e;
+  e.center = gap.point;
+  e.normal = t.normal;
+  const DVec3 edges[3] = {t.b - t.a, t.c - t.b, t.a - t.c};
+  const DVec3 longest = *std::max_element(edges, edges + 3, [](DVec3 p, DVec3 q) { return dot(p, p) < dot(q, q); });
+  DVec3 x = normalized(longest - dot(longest, e.normal) * e.normal);
+  if (!(length(x) > 0)) x = any_perpendicular(e.normal);
+  const DVec3 y = cross(e.normal, x);
+  e.u = x, e.v = y;
+  const auto test = [&](double a, double b) {
+    e.a = a, e.b = b;
+    return within_surface(surface, e, eps, scratch);
+  };
+  // The largest passing value in (lo, hi] of a monotone test, by doubling then bisection.
+  const auto largest_passing = [&](double lo, double start, const auto& passes) {
+    double hi = start;
+    while (hi < largest && passes(hi)) lo = hi, hi *= 2;
+    if (hi >= largest && lo > 0 && passes(largest)) return largest;
+    for (int step = 0; step < 5 && hi > lo * 1.05; ++step) {
+      const double r = 0.5 * (lo + hi);
+      (passes(r) ? lo : hi) = r;
+    }
+    return lo;
+  };
+  e.u = x, e.v = y;
+  double radius = largest_passing(0.0, 2 * eps, [&](double r) { return test(r, r); });
+  for (double r = eps / 32; !(radius > 0) && r > eps / 4096; r *= 0.5)
+    if (test(r, r)) radius = r;
+  if (!(radius > 0)) radius = eps / 4096;  // the centre itself lies on the surface
+  double best_a = radius;
+  DVec3 best_u = x;
+  for (int k = 0; k < 4; ++k) {
+    const double angle = std::numbers::pi * k / 4;
+    e.u = std::cos(angle) * x + std::sin(angle) * y;
+    e.v = cross(e.normal, e.u);
+    const double a = largest_passing(radius, 2 * radius, [&](double a_) { return test(a_, radius); });
+    if (a > best_a * 1.05) best_a = a, best_u = e.u;
+  }
+  e.u = best_u, e.v = cross(e.normal, best_u);
+  e.a = best_a, e.b = radius;
+  return e;
+}
+
+Rgba8 color_at(const Mesh& mesh, const ColorSource& colors, const SurfaceTriangle& t, DVec3 p) {
+  if (!mesh.has_texcoords()) return colors.at(to_float(p), nullptr);
+  // Barycentric weights of p in t.
+  const DVec3 e1 = t.b - t.a, e2 = t.c - t.a, w = p - t.a;
+  const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), dw1 = dot(w, e1), dw2 = dot(w, e2);
+  const double den = d11 * d22 - d12 * d12;
+  const double s = den != 0 ? (d22 * dw1 - d12 * dw2) / den : 0, r = den != 0 ? (d11 * dw2 - d12 * dw1) / den : 0;
+  float uv[2];
+  for (int k = 0; k < 2; ++k)
+    uv[k] = static_cast<float>((1 - s - r) * mesh.corner_texcoords[t.corners[0]][k] + s * mesh.corner_texcoords[t.corners[1]][k] +
+                               r * mesh.corner_texcoords[t.corners[2]][k]);
+  return colors.at(to_float(p), uv);
+}
+
+// The edges where the surface is not smooth: boundary and non-manifold edges, and creases whose
+// faces' normals differ by more than kCreaseAngle.
+BoxTree feature_edges(const Mesh& mesh, const Surface& surface) {
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> edges;
+  const auto& triangles = surface.triangles();
+  for (std::uint32_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t a = mesh.corners[triangles[t].corners[k]], b = mesh.corners[triangles[t].corners[(k + 1) % 3]];
+      if (a > b) std::swap(a, b);
+      edges[(a << 32) | b].push_back(t);
+    }
+  const double cos_crease = std::cos(kCreaseAngle);
+  std::vector<BoxTree::Box> boxes;
+  for (const auto& [key, faces] : edges) {
+    bool feature = faces.size() != 2;
+    if (!feature) feature = dot(triangles[faces[0]].normal, triangles[faces[1]].normal) < cos_crease;
+    if (!feature) continue;
+    BoxTree::Box& box = boxes.emplace_back();
+    box.add(DVec3(mesh.vertices[key >> 32]));
+    box.add(DVec3(mesh.vertices[key & 0xffffffffu]));
+  }
+  // Sorted so that the tree does not depend on the hash map's order.
+  std::sort(boxes.begin(), boxes.end(), [](const BoxTree::Box& p, const BoxTree::Box& q) {
+    return std::tie(p.lo.x, p.lo.y, p.lo.z, p.hi.x, p.hi.y, p.hi.z) < std::tie(q.lo.x, q.lo.y, q.lo.z, q.hi.x, q.hi.y, q.hi.z);
+  });
+  return BoxTree(boxes);
+}
+
+}  // namespace
+
+std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
+                                   std::vector<SplatRecord>& selected, float eps_float, SurfaceFitStats& stats) {
+  Stopwatch clock;
+  const double eps = eps_float * (1 - kFloatReserve);
+  // The selected splats certified first (the bound's sampled test can miss a narrow excursion).
+  std::vector<Ellipse> certified(selected.size());
+  std::vector<std::uint8_t> changed(selected.size(), 0);
+  Stopwatch certify_clock;
+  const BoxTree features = feature_edges(mesh, surface);
+  parallel_for(selected.size(), 16, [&](std::size_t j, std::size_t) {
+    certified[j] = ellipse_of(selected[j]);
+    const double a = certified[j].a;
+    // Over smooth surface the test points' reserve holds between them; near a boundary or a crease
+    // the distance can rise between them, so there the whole splat is certified.
+    double reach = std::max(certified[j].a, certified[j].b) + eps;
+    bool near_feature = false;
+    features.visit(certified[j].center, reach, [&](std::uint32_t, double&) { return near_feature = true; });
+    if (near_feature) shrink_until_certified(surface, certified[j], eps);
+    changed[j] = certified[j].a != a;
+  });
+  stats.certify_ms += certify_clock.elapsed_ms();
+  std::vector<Ellipse> splats;
+  splats.reserve(selected.size());
+  std::vector<SplatRecord> kept;
+  for (std::size_t j = 0; j < selected.size(); ++j) {
+    stats.recertified += changed[j];
+    if (!(certified[j].a > 0)) continue;
+    splats.push_back(certified[j]);
+    kept.push_back(changed[j] ? record_of(certified[j], selected[j].color) : selected[j]);
+  }
+  selected = std::move(kept);
+  Box bounds = mesh.bounds();
+  const double largest = 0.25 * bounds.diagonal();
+  std::vector<SplatRecord> added;
+  std::vector<std::uint32_t> recheck;  // triangles that had gaps: the later rounds check only them
+  for (std::size_t round = 0; round < kMaxGapRounds; ++round) {
+    std::vector<BoxTree::Box> boxes(splats.size());
+    for (std::size_t j = 0; j < splats.size(); ++j) boxes[j] = box_of(splats[j], eps);
+    const BoxTree tree(boxes);
+    const std::vector<Gap> gaps = find_gaps(surface, splats, tree, eps, stats.cells_checked, round ? &recheck : nullptr);
+    stats.uncovered_cells = gaps.size();
+    if (gaps.empty()) break;
+    ++stats.gap_rounds;
+    recheck.clear();
+    for (const Gap& g : gaps)
+      if (recheck.empty() || recheck.back() != g.triangle) recheck.push_back(g.triangle);
+    if (round + 1 == kMaxGapRounds) break;
+    // Gaps in order; a gap that a splat added before it in this round covers needs none.
+    std::vector<BoxTree::Box> points(gaps.size());
+    for (std::size_t r = 0; r < gaps.size(); ++r) points[r].add(gaps[r].point);
+    const BoxTree gap_tree(points);
+    std::vector<std::uint8_t> done(gaps.size(), 0);
+    const auto mark_covered = [&](const Ellipse& e) {
+      double reach = std::max(e.a, e.b) + eps;
+      gap_tree.visit(e.center, reach, [&](std::uint32_t q, double&) {
+        if (!done[q] && covers(e, gaps[q].point, surface.triangles()[gaps[q].triangle].normal, eps)) done[q] = 1;
+        return false;
+      });
+    };
+    std::vector<DVec3> scratch;
+    for (std::size_t r = 0; r < gaps.size(); ++r) {
+      if (done[r]) continue;
+      done[r] = 1;  // without a fitting splat, the next round reports it if nothing else covers it
+      Ellipse e = gap_splat(surface, gaps[r], eps, largest, scratch);
+      if (!shrink_until_certified(surface, e, eps)) continue;
+      mark_covered(e);
+      splats.push_back(e);
+      added.push_back(record_of(e, color_at(mesh, colors, surface.triangles()[gaps[r].triangle], e.center)));
+    }
+  }
+  stats.gap_splats += added.size();
+  stats.cover_ms += clock.elapsed_ms();
+  return added;
+}
+
+}  // namespace splatcl::splats

@@ -1,0 +1,77 @@
+#pragma once
+// Extensions of the thesis's method that make its splats keep the two-sided bound on any mesh
+// (docs/results/splats.md, "The two-sided bound"):
+//  - bound by the surface: a grown splat whose ellipse leaves the mesh surface by more than ε is
+//    shrunk (its major axis towards its minor first, then both), and the samples no longer inside
+//    it leave its covered and safe sets, before selection;
+//  - gap filling: after selection, the surface is checked cell by cell (each triangle subdivided
+//    where needed): a cell is covered when one splat covers its three corners (what a splat covers
+//    is convex, so it then covers the whole cell); below ε/16 a cell covered only by several splats
+//    together is checked at its corners, edge midpoints and centre. At each uncovered point a splat
+//    is added (an ellipse in the triangle's plane, as large as the surface bound allows, oriented
+//    along the direction that allows the longest one), until nothing is left uncovered.
+// The thesis's growth bounds a splat only by the heights of the samples it meets; the size
+// corrections and the ellipse phase extrapolate beyond them, and selection guarantees coverage only
+// at the samples. Both extensions measure against the mesh itself (splats/surface.hpp).
+#include <cstdint>
+#include <vector>
+
+#include "math/dvec3.hpp"
+#include "splats/fit.hpp"
+#include "splats/neighbors.hpp"
+#include "splats/sampling.hpp"
+#include "splats/splat_file.hpp"
+#include "splats/surface.hpp"
+
+namespace splatcl::splats {
+
+// A splat as the checks see it: unit axes, semi-axis lengths, the clip line (offset +inf: none).
+struct Ellipse {
+  DVec3 center, normal, u, v;
+  double a = 0, b = 0;
+  double clip_x = 0, clip_y = 0, clip_offset = INFINITY;
+};
+Ellipse ellipse_of(const SplatRecord& splat);
+// A grown splat, its axes from its frame (so a splat of zero size still has directions).
+Ellipse ellipse_of(const SplatShape& shape, const Vec4& clip, const Frame& frame);
+
+// The points the surface bound is tested at: the centre, an inner ring and the rim (spaced at
+// most ε apart, 24..128 points), the clip chord when clipped; points cut off by the clip are left out.
+void ellipse_test_points(const Ellipse& e, double eps, std::vector<DVec3>& out);
+
+// Whether every test point of `e` lies within `eps` of the surface.
+bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch);
+
+// Whether every point of `e` lies within `eps` of the surface, by a subdivision of the ellipse
+// whose cells are certified by the distance at their centre plus their radius (the distance is
+// 1-Lipschitz), down to ε/16; false also when the subdivision outgrows its budget.
+bool certified_within_surface(const Surface& surface, const Ellipse& e, double eps);
+
+// Makes `e` smaller until certified_within_surface holds (both axes by 0.85 at a time); false when
+// even a tiny splat fails (e then has zero size).
+bool shrink_until_certified(const Surface& surface, Ellipse& e, double eps);
+
+struct SurfaceFitStats {
+  std::size_t shrunk = 0;         // grown splats the surface bound made smaller
+  std::size_t recertified = 0;    // selected splats made smaller again by the final certification
+  std::size_t gap_splats = 0;     // splats added where the surface was not covered
+  std::size_t gap_rounds = 0;     // check-and-fill rounds
+  std::size_t cells_checked = 0;  // surface cells tested for coverage
+  std::size_t uncovered_cells = 0;  // cells still uncovered after the last round (0 unless a round limit was hit)
+  double bound_ms = 0, cover_ms = 0, certify_ms = 0;  // certify_ms: the selected splats' part of cover_ms
+};
+
+// Shrinks the splats of `fit` that leave the surface by more than ε and drops the samples outside
+// the shrunk ellipses from their covered and safe sets (the start point always stays).
+// `neighbors` give a first guess of the scale (the nearest off-plane neighbour of the covered samples).
+void bound_by_surface(const Surface& surface, const Samples& samples, const Neighborhoods& neighbors, FitResult& fit,
+                      float eps, SurfaceFitStats& stats);
+
+// Certifies `selected` against the surface (shrinking, or dropping, the splats that fail), then
+// returns the splats to add so that every point of the surface lies within ε of a splat that
+// contains its projection and faces its way. Colours come from `colors` at the gap (through the
+// mesh's texture coordinates when it has them).
+std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
+                                   std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats);
+
+}  // namespace splatcl::splats

@@ -1,0 +1,306 @@
+// The 3DGS export (splats/gaussian_file.hpp), read back by a minimal binary-PLY parser written here
+// from the PLY format alone, knowing nothing of splatcl's writer: header lines, the property list,
+// then the floats. Each Gaussian is checked against its splat: position, normal, σ per axis, unit
+// quaternion whose rotation maps x, y, z onto the splat's u, ±v, n, colour and opacity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "splats/gaussian_file.hpp"
+#include "splats/pipeline.hpp"
+#include "splats_test_support.hpp"
+
+namespace splatcl::splats {
+namespace {
+
+// ---- An independent binary little-endian PLY reader (float properties of one element) ----
+
+struct Ply {
+  std::string format;
+  std::string element;
+  std::size_t count = 0;
+  std::vector<std::string> types, names;
+  std::vector<float> values;  // count × names.size()
+  float at(std::size_t row, const std::string& name) const {
+    for (std::size_t p = 0; p < names.size(); ++p)
+      if (names[p] == name) return values[row * names.size() + p];
+    ADD_FAILURE() << "no property " << name;
+    return NAN;
+  }
+};
+
+Ply read_ply(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  EXPECT_TRUE(in) << path;
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Ply ply;
+  std::size_t pos = 0;
+  auto next_line = [&] {
+    const std::size_t end = data.find('\n', pos);
+    if (end == std::string::npos) throw std::runtime_error("header not terminated");
+    std::string line = data.substr(pos, end - pos);
+    pos = end + 1;
+    return line;
+  };
+  if (next_line() != "ply") throw std::runtime_error("no ply magic");
+  for (std::string line; (line = next_line()) != "end_header";) {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "format") {
+      std::string version;
+      words >> ply.format >> version;
+      if (version != "1.0") throw std::runtime_error("format version " + version);
+    } else if (keyword == "element") {
+      if (!ply.element.empty()) throw std::runtime_error("more than one element");
+      words >> ply.element >> ply.count;
+    } else if (keyword == "property") {
+      std::string type, name;
+      words >> type >> name;
+      ply.types.push_back(type);
+      ply.names.push_back(name);
+    } else if (keyword != "comment" && keyword != "obj_info") {
+      throw std::runtime_error("unknown header line: " + line);
+    }
+  }
+  for (const std::string& type : ply.types)
+    if (type != "float" && type != "float32") throw std::runtime_error("property type " + type);
+  const std::size_t floats = ply.count * ply.names.size();
+  if (data.size() - pos != floats * 4) throw std::runtime_error("body is " + std::to_string(data.size() - pos) + " bytes");
+  ply.values.resize(floats);
+  for (std::size_t i = 0; i < floats; ++i) {
+    const auto* b = reinterpret_cast<const unsigned char*>(data.data() + pos + 4 * i);
+    const std::uint32_t bits = std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8 | std::uint32_t{b[2]} << 16 | std::uint32_t{b[3]} << 24;
+    std::memcpy(&ply.values[i], &bits, 4);
+  }
+  return ply;
+}
+
+// ---- Helpers in double ----
+
+struct V {
+  double x, y, z;
+};
+V v(Vec3 a) { return {a.x, a.y, a.z}; }
+double dot3(V a, V b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+V cross3(V a, V b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+V unit(V a) {
+  const double l = std::sqrt(dot3(a, a));
+  return {a.x / l, a.y / l, a.z / l};
+}
+Vec3 f3(V a) { return {static_cast<float>(a.x), static_cast<float>(a.y), static_cast<float>(a.z)}; }
+double distance3(V a, V b) { return std::sqrt(dot3({a.x - b.x, a.y - b.y, a.z - b.z}, {a.x - b.x, a.y - b.y, a.z - b.z})); }
+
+// p' = p + 2w (q × p) + 2 q × (q × p), q = (w, x, y, z) a unit quaternion.
+V rotate(const double q[4], V p) {
+  const V r{q[1], q[2], q[3]};
+  const V t = cross3(r, p);
+  const V t2 = cross3(r, t);
+  return {p.x + 2 * q[0] * t.x + 2 * t2.x, p.y + 2 * q[0] * t.y + 2 * t2.y, p.z + 2 * q[0] * t.z + 2 * t2.z};
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("splatcl-gaussian-" + name)).string();
+}
+
+const std::vector<std::string> kExpectedNames = {"x",       "y",       "z",       "nx",      "ny",      "nz",
+                                                 "f_dc_0",  "f_dc_1",  "f_dc_2",  "opacity", "scale_0", "scale_1",
+                                                 "scale_2", "rot_0",   "rot_1",   "rot_2",   "rot_3"};
+
+// Every property of row i against splat s.
+void check_gaussian(const Ply& ply, std::size_t i, const SplatRecord& s) {
+  SCOPED_TRACE("splat " + std::to_string(i));
+  EXPECT_EQ(ply.at(i, "x"), s.center.x);
+  EXPECT_EQ(ply.at(i, "y"), s.center.y);
+  EXPECT_EQ(ply.at(i, "z"), s.center.z);
+  const V n = unit(v(s.normal)), u = unit(v(s.major)), minor = unit(v(s.minor));
+  const V file_n{ply.at(i, "nx"), ply.at(i, "ny"), ply.at(i, "nz")};
+  EXPECT_LT(distance3(file_n, n), 1e-6);
+
+  // σ_u = major / 2, σ_v = minor / 2, σ_n = 10⁻³ σ_v.
+  const double major_len = std::sqrt(dot3(v(s.major), v(s.major))), minor_len = std::sqrt(dot3(v(s.minor), v(s.minor)));
+  const double s0 = std::exp(double{ply.at(i, "scale_0")}), s1 = std::exp(double{ply.at(i, "scale_1")}),
+               s2 = std::exp(double{ply.at(i, "scale_2")});
+  // Relative 1e-5: a float ln σ is exact to |ln σ| · 2⁻²⁴ (σ_n ≈ 1e-9 here: 1.2e-6).
+  EXPECT_NEAR(s0, major_len / 2, 1e-5 * major_len / 2);
+  EXPECT_NEAR(s1, minor_len / 2, 1e-5 * minor_len / 2);
+  EXPECT_NEAR(s2, 1e-3 * minor_len / 2, 1e-5 * 1e-3 * minor_len / 2);
+  EXPECT_GT(s2, 0.0);
+
+  double q[4] = {ply.at(i, "rot_0"), ply.at(i, "rot_1"), ply.at(i, "rot_2"), ply.at(i, "rot_3")};
+  EXPECT_NEAR(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-6);
+  EXPECT_GE(q[0], 0.0);
+  const V rx = rotate(q, {1, 0, 0}), ry = rotate(q, {0, 1, 0}), rz = rotate(q, {0, 0, 1});
+  EXPECT_LT(distance3(rx, u), 1e-5) << "x ↦ u";
+  EXPECT_LT(distance3(rz, n), 1e-5) << "z ↦ n";
+  // y ↦ ±v: (u, v, n) may be left-handed (the fit's orientation test), a rotation cannot be, and
+  // the Gaussian is the same either way; the file's y axis is n × u.
+  EXPECT_LT(distance3(ry, cross3(n, u)), 1e-5) << "y ↦ n × u";
+  EXPECT_LT(std::fabs(std::fabs(dot3(ry, minor)) - 1.0), 1e-5) << "y ↦ ±v";
+
+  // Colour: rgb = 0.5 + C0 f_dc, as viewers decode it.
+  const double C0 = 0.28209479177387814;
+  const std::uint8_t rgb[3] = {s.color.r, s.color.g, s.color.b};
+  for (int c = 0; c < 3; ++c) {
+    const double decoded = 255.0 * (0.5 + C0 * ply.at(i, "f_dc_" + std::to_string(c)));
+    EXPECT_NEAR(decoded, rgb[c], 1.0 / 255.0) << "channel " << c;
+  }
+  // Opacity: sigmoid(stored) = α = 0.99.
+  EXPECT_NEAR(1.0 / (1.0 + std::exp(-double{ply.at(i, "opacity")})), 0.99, 1e-6);
+}
+
+void write_and_check(const std::vector<SplatRecord>& splats, const std::string& name) {
+  const std::string path = temp_path(name);
+  write_gaussian_file(path, splats);
+  const Ply ply = read_ply(path);
+  EXPECT_EQ(ply.format, "binary_little_endian");
+  EXPECT_EQ(ply.element, "vertex");
+  EXPECT_EQ(ply.names, kExpectedNames);
+  ASSERT_EQ(ply.count, splats.size());
+  for (std::size_t i = 0; i < splats.size(); ++i) check_gaussian(ply, i, splats[i]);
+  std::filesystem::remove(path);
+}
+
+// A splat with unit axes u, v (v ⟂ u), normal n, semi-axes a ≥ b.
+SplatRecord splat(V center, V u, V vv, V n, double a, double b, Rgba8 color = {}) {
+  SplatRecord s;
+  s.center = f3(center);
+  s.normal = f3(n);
+  s.major = f3({u.x * a, u.y * a, u.z * a});
+  s.minor = f3({vv.x * b, vv.y * b, vv.z * b});
+  s.color = color;
+  return s;
+}
+
+// The frame of the rotation by `angle` about the unit `axis` (Rodrigues), optionally left-handed.
+SplatRecord rotated_splat(V axis, double angle, bool left_handed, double a = 0.5, double b = 0.25) {
+  auto rot = [&](V p) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    const V k = cross3(axis, p);
+    const double d = dot3(axis, p);
+    return V{p.x * c + k.x * s + axis.x * d * (1 - c), p.y * c + k.y * s + axis.y * d * (1 - c), p.z * c + k.z * s + axis.z * d * (1 - c)};
+  };
+  V vv = rot({0, 1, 0});
+  if (left_handed) vv = {-vv.x, -vv.y, -vv.z};
+  return splat({1, 2, 3}, rot({1, 0, 0}), vv, rot({0, 0, 1}), a, b, {10, 200, 77, 255});
+}
+
+TEST(GaussianFile, PropertiesInTheDeFactoOrder) { EXPECT_EQ(gaussian_properties(), kExpectedNames); }
+
+TEST(GaussianFile, RandomFramesReadBackByAnIndependentParser) {
+  std::mt19937 rng(20240611);
+  std::normal_distribution<double> gauss;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::vector<SplatRecord> splats;
+  for (int i = 0; i < 2000; ++i) {
+    const V n = unit({gauss(rng), gauss(rng), gauss(rng)});
+    const V u = unit(cross3(n, {gauss(rng), gauss(rng), gauss(rng)}));
+    V vv = cross3(n, u);
+    if (i % 2) vv = {-vv.x, -vv.y, -vv.z};  // left-handed, as the orientation test leaves half the frames
+    const double a = std::exp(std::log(1e-4) + uniform(rng) * std::log(1e5)), b = a * (0.05 + 0.95 * uniform(rng));
+    splats.push_back(splat({10 * gauss(rng), 10 * gauss(rng), 10 * gauss(rng)}, u, vv, n, a, b,
+                           {static_cast<std::uint8_t>(byte(rng)), static_cast<std::uint8_t>(byte(rng)),
+                            static_cast<std::uint8_t>(byte(rng)), 255}));
+  }
+  write_and_check(splats, "random.ply");
+}
+
+TEST(GaussianFile, ZeroSplats) {
+  const std::string path = temp_path("empty.ply");
+  EXPECT_EQ(write_gaussian_file(path, {}), 0u);
+  const Ply ply = read_ply(path);
+  EXPECT_EQ(ply.count, 0u);
+  EXPECT_EQ(ply.names, kExpectedNames);
+  EXPECT_TRUE(ply.values.empty());
+  std::filesystem::remove(path);
+}
+
+TEST(GaussianFile, AxisAlignedFramesAndHalfTurns) {
+  // u = x exactly (identity, and its left-handed twin), and the three half turns about x, y, z
+  // (w = 0 exactly), where a trace-only conversion would divide by zero.
+  std::vector<SplatRecord> splats = {
+      splat({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 1, 1),    splat({0, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 0, 1}, 2, 1),
+      splat({0, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 0, -1}, 1, 0.5), splat({0, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, 0, -1}, 1, 0.5),
+      splat({0, 0, 0}, {-1, 0, 0}, {0, -1, 0}, {0, 0, 1}, 1, 0.5), splat({0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 3, 0.1),
+      splat({0, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}, 3, 0.1)};
+  write_and_check(splats, "axes.ply");
+  const Gaussian identity = to_gaussian(splats[0]);
+  EXPECT_EQ(identity.rotation[0], 1.0f);
+  EXPECT_EQ(identity.rotation[1], 0.0f);
+  EXPECT_EQ(identity.rotation[2], 0.0f);
+  EXPECT_EQ(identity.rotation[3], 0.0f);
+  const Gaussian half_x = to_gaussian(splats[2]);
+  EXPECT_EQ(half_x.rotation[0], 0.0f);
+  EXPECT_EQ(std::fabs(half_x.rotation[1]), 1.0f);
+}
+
+TEST(GaussianFile, RotationsNearAHalfTurn) {
+  // w = cos(angle / 2) near 0: angles within 1e-7 … 1e-2 of π about random axes, both handednesses.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> gauss;
+  std::vector<SplatRecord> splats;
+  for (const double gap : {0.0, 1e-7, 1e-5, 1e-3, 1e-2})
+    for (int i = 0; i < 20; ++i)
+      splats.push_back(rotated_splat(unit({gauss(rng), gauss(rng), gauss(rng)}), std::numbers::pi - (i % 2 ? gap : -gap), i % 4 >= 2));
+  write_and_check(splats, "half-turns.ply");
+}
+
+TEST(GaussianFile, ClippedSplatsAreCountedAndWrittenWhole) {
+  std::vector<SplatRecord> splats = {rotated_splat(unit({1, 2, 3}), 0.3, false), rotated_splat(unit({3, 2, 1}), 1.3, true),
+                                     rotated_splat(unit({0, 1, 0}), 2.0, false)};
+  splats[1].clip_x = 1, splats[1].clip_y = 0, splats[1].clip_offset = 0.1f;
+  splats[2].clip_x = 0, splats[2].clip_y = -1, splats[2].clip_offset = 0.0f;
+  const std::string path = temp_path("clipped.ply");
+  EXPECT_EQ(write_gaussian_file(path, splats), 2u);
+  const Ply ply = read_ply(path);
+  ASSERT_EQ(ply.count, 3u);
+  for (std::size_t i = 0; i < 3; ++i) check_gaussian(ply, i, splats[i]);
+  std::filesystem::remove(path);
+}
+
+TEST(GaussianFile, DegenerateSplatsHaveFiniteScales) {
+  // Zero minor axis, zero major axis, zero normal: every value finite, the quaternion a unit one.
+  std::vector<SplatRecord> splats(3);
+  splats[0] = splat({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 1, 0);
+  splats[1] = splat({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0, 0);
+  splats[2] = splat({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, 1, 1);
+  for (const SplatRecord& s : splats) {
+    const Gaussian g = to_gaussian(s);
+    for (const float x : g.scale) EXPECT_TRUE(std::isfinite(x));
+    for (const float x : g.normal) EXPECT_TRUE(std::isfinite(x));
+    double len = 0;
+    for (const float x : g.rotation) {
+      EXPECT_TRUE(std::isfinite(x));
+      len += double{x} * x;
+    }
+    EXPECT_NEAR(len, 1.0, 1e-6);
+  }
+}
+
+TEST(GaussianFile, SplatsOfARealMesh) {
+  // The fit's own frames (half of them left-handed after the orientation test), through the native reference.
+  const Mesh mesh = testing::sphere_mesh(16, 32);
+  PipelineOptions options;
+  options.fit.eps = 0.01f;
+  options.fit.color_tolerance = 255;
+  const SplatRun run = generate_splats(mesh, ColorSource{}, options, nullptr);
+  const std::vector<SplatRecord> records = run.records();
+  ASSERT_GT(records.size(), 10u);
+  std::size_t left_handed = 0;
+  for (const SplatRecord& s : records) left_handed += dot3(cross3(v(s.major), v(s.minor)), v(s.normal)) < 0;
+  EXPECT_GT(left_handed, 0u);
+  write_and_check(records, "sphere.ply");
+}
+
+}  // namespace
+}  // namespace splatcl::splats

@@ -1,0 +1,361 @@
+// Mesh hygiene on input: what load_mesh and make_mesh count, drop, keep and refuse (splats/mesh.hpp).
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <future>
+#include <thread>
+
+#include "runtime/error.hpp"
+#include "splats_test_support.hpp"
+
+namespace splatcl::splats {
+namespace {
+
+using namespace testing;
+
+std::string temp_file(const std::string& name, const std::string& contents) {
+  const auto path = std::filesystem::temp_directory_path() / ("splatcl-hygiene-" + name);
+  std::ofstream(path, std::ios::binary) << contents;
+  return path.string();
+}
+
+// The Error load_mesh throws for `path`: one line naming the file and containing `text`.
+void expect_refused(const std::string& path, const std::string& text) {
+  try {
+    load_mesh(path);
+    ADD_FAILURE() << path << ": no error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find(text), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
+  }
+}
+
+// Corner positions of face f.
+std::vector<Vec3> face_positions(const Mesh& mesh, std::size_t f) {
+  std::vector<Vec3> out;
+  for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) out.push_back(mesh.vertices[mesh.corners[c]]);
+  return out;
+}
+
+// Whether face f has the corners `expected`, in this cyclic order (from any start).
+bool face_is(const Mesh& mesh, std::size_t f, const std::vector<Vec3>& expected) {
+  const std::vector<Vec3> p = face_positions(mesh, f);
+  if (p.size() != expected.size()) return false;
+  for (std::size_t r = 0; r < p.size(); ++r) {
+    bool same = true;
+    for (std::size_t i = 0; i < p.size(); ++i) same = same && p[(i + r) % p.size()] == expected[i];
+    if (same) return true;
+  }
+  return false;
+}
+
+Vec3 face_normal(const Mesh& mesh, std::size_t f) {
+  const std::vector<Vec3> p = face_positions(mesh, f);
+  Vec3 n{};
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) n = n + cross(p[i] - p[0], p[i + 1] - p[0]);
+  return n;
+}
+
+// Every count zero except those named.
+void expect_only(const MeshProblems& p, std::size_t non_finite, std::size_t unreadable, std::size_t bad_vertex_faces,
+                 std::size_t bad_index_faces, std::size_t degenerate = 0, std::size_t zero_area = 0) {
+  EXPECT_EQ(p.non_finite_vertices, non_finite);
+  EXPECT_EQ(p.unreadable_vertices, unreadable);
+  EXPECT_EQ(p.bad_vertex_faces, bad_vertex_faces);
+  EXPECT_EQ(p.bad_index_faces, bad_index_faces);
+  EXPECT_EQ(p.degenerate_faces, degenerate);
+  EXPECT_EQ(p.zero_area_faces, zero_area);
+  EXPECT_EQ(p.complex_faces, 0u);
+  EXPECT_EQ(p.inconsistent_edges, 0u);
+  EXPECT_FALSE(p.inward);
+}
+
+const char* const kQuadVertices = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+TEST(MeshHygiene, ObjIndexOutOfRangeDropsThatFaceOnly) {
+  const Mesh mesh = load_mesh(temp_file("range.obj", std::string(kQuadVertices) + "f 1 2 3\nf 1 3 9\nf 0 1 2\nf 1 3 x\n"));
+  EXPECT_EQ(mesh.face_count(), 1u);
+  EXPECT_EQ(mesh.vertices.size(), 3u);
+  EXPECT_EQ(mesh.problems.faces_listed, 4u);
+  expect_only(mesh.problems, 0, 0, 0, 3);
+  EXPECT_TRUE(mesh.problems.any());
+  EXPECT_EQ(mesh.problems.summary(), "3 faces with an index out of range dropped");
+}
+
+TEST(MeshHygiene, ObjNegativeIndicesCountBackFromTheLastVertexSoFar) {
+  // -1 is the last vertex defined before the face line; -5 after four vertices is before the first.
+  const Mesh mesh = load_mesh(temp_file("relative.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf -3 -2 -1\nv 0 1 0\nf -4 -2 -1\nf -1 -2 -5\n"));
+  ASSERT_EQ(mesh.face_count(), 2u);
+  expect_only(mesh.problems, 0, 0, 0, 1);
+  EXPECT_TRUE(face_is(mesh, 1, {{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}));
+}
+
+TEST(MeshHygiene, ObjVertexThatIsNotThreeNumbersIsNotMisread) {
+  // OpenMesh's reader takes `v 1.2.3 -3 1.8` as (1.2, 0.3, -3).
+  const Mesh mesh = load_mesh(temp_file("dots.obj", std::string(kQuadVertices) + "v 1.2.3 -3 1.8\nv 2 2\nf 1 2 3\nf 1 3 4\nf 2 5 3\nf 1 6 2\n"));
+  EXPECT_EQ(mesh.face_count(), 2u);
+  EXPECT_EQ(mesh.vertices.size(), 4u);
+  expect_only(mesh.problems, 0, 2, 2, 0);
+  for (const Vec3& p : mesh.vertices) EXPECT_TRUE(p.x == 0 || p.x == 1) << p.x;
+}
+
+TEST(MeshHygiene, ObjNonFiniteVertexDropsItsFacesAndShiftsNoIndex) {
+  // OpenMesh's reader drops the nan vertex and shifts every later index by one.
+  const Mesh mesh = load_mesh(temp_file("nan.obj", "v 0 0 0\nv nan 1 0\nv 1 0 0\nv 0 1 0\nv 1e39 0 0\nv 1 1 inf\n"
+                                                   "f 1 3 4\nf 1 2 3\nf 3 5 4\nf 3 6 4\n"));
+  ASSERT_EQ(mesh.face_count(), 1u);
+  expect_only(mesh.problems, 3, 0, 3, 0);
+  EXPECT_TRUE(face_is(mesh, 0, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+  EXPECT_NE(mesh.problems.summary().find("3 vertices with a non-finite coordinate"), std::string::npos) << mesh.problems.summary();
+  // Every face on a bad vertex: an error saying why.
+  expect_refused(temp_file("all-nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n"), "no faces left: its one face was dropped (1 vertex with a non-finite");
+}
+
+TEST(MeshHygiene, FarFromOneCoordinatesLoadExactly) {
+  for (const float scale : {1e-30f, 1e-20f, 1e20f, 1e30f, 3e38f}) {
+    const std::string text = fmt::format("v 0 0 0\nv {:.9g} 0 0\nv 0 {:.9g} 0\nv 0 0 {:.9g}\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n", scale, scale, scale);
+    const Mesh mesh = load_mesh(temp_file("far.obj", text));
+    ASSERT_EQ(mesh.face_count(), 4u) << scale;
+    EXPECT_FALSE(mesh.problems.any()) << scale << ": " << mesh.problems.summary();
+    for (const Vec3& p : mesh.vertices) {
+      EXPECT_TRUE(p.x == 0 || p.x == scale) << scale;
+      EXPECT_TRUE(finite(p));
+    }
+    for (const Vec3& n : mesh.normals) EXPECT_NEAR(length(n), 1.0f, 1e-5f) << scale;
+  }
+}
+
+TEST(MeshHygiene, OffTruncatedIsRefused) {
+  const std::string whole = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+  EXPECT_EQ(load_mesh(temp_file("whole.off", whole)).face_count(), 2u);
+  // OpenMesh reads the first as two faces (its last face repeated) and the second as four points at one place.
+  expect_refused(temp_file("cut-face.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n"),
+                 "truncated OFF: the header declares 4 vertices and 2 faces, the file ends after 4 vertices and 1 face");
+  expect_refused(temp_file("cut-vertex.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n"), "the file ends after 3 vertices and 0 faces");
+  expect_refused(temp_file("cut-inside.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2"), "truncated OFF");
+  expect_refused(temp_file("huge.off", "OFF\n1000000000000 1 0\n0 0 0\n"), "truncated OFF");
+  // A bad record in the middle is counted, not refused; a nan vertex shifts nothing.
+  const Mesh mesh = load_mesh(temp_file("bad.off", "OFF\n5 3 0\n0 0 0\nnan 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 2 3\n3 0 1 2\n3 0 3 7\n"));
+  ASSERT_EQ(mesh.face_count(), 1u);
+  expect_only(mesh.problems, 1, 0, 1, 1);
+  EXPECT_TRUE(face_is(mesh, 0, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}));
+}
+
+std::string ply_header(const std::string& format, int vertices, const std::string& faces) {
+  return fmt::format("ply\nformat {} 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n{}end_header\n", format, vertices, faces);
+}
+
+TEST(MeshHygiene, PlyWithoutEndHeaderIsRefusedAtOnce) {
+  const std::string small = temp_file("no-end.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n0\n1\n2\n");
+  std::string big = "ply\nformat binary_little_endian 1.0\n";
+  while (big.size() < (3u << 20)) big += "comment a header that never ends\n";
+  const std::string large = temp_file("no-end-large.ply", big);
+  // OpenMesh's reader never returns on these: guard the test with a deadline.
+  const auto start = std::chrono::steady_clock::now();
+  std::packaged_task<void()> task([small, large] {
+    expect_refused(small, "PLY header has no end_header");
+    expect_refused(large, "PLY header has no end_header in its first MiB");
+  });
+  std::future<void> done = task.get_future();
+  std::thread(std::move(task)).detach();
+  ASSERT_EQ(done.wait_for(std::chrono::seconds(5)), std::future_status::ready) << "load_mesh hangs on a PLY without end_header";
+  done.get();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+}
+
+TEST(MeshHygiene, PlyHeaderCountsBeyondTheFileAreRefused) {
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  expect_refused(temp_file("faces.ply", ply_header("ascii", 3, "element face 1000000000000\nproperty list uchar int vertex_indices\n") + body),
+                 "PLY header declares 1000000000000 face records, more than the 26 bytes after end_header can hold");
+  expect_refused(temp_file("vertices.ply", ply_header("binary_little_endian", 2000000000, "") + std::string(36, '\0')),
+                 "PLY header declares 2000000000 vertex records");
+  // Fewer records than declared, but within what the size allows: truncated.
+  expect_refused(temp_file("short.ply", ply_header("ascii", 3, "element face 2\nproperty list uchar int vertex_indices\n") + body),
+                 "truncated PLY: the file ends in face record 2 of 2");
+  std::string binary = ply_header("binary_little_endian", 3, "");
+  const float xyz[8] = {0, 0, 0, 1, 0, 0, 0, 1};
+  binary.append(reinterpret_cast<const char*>(xyz), sizeof xyz);  // 8 floats of 9
+  expect_refused(temp_file("short-binary.ply", binary), "PLY header declares 3 vertex records");
+}
+
+TEST(MeshHygiene, PlyNonFiniteVertexDropsItsFaceOnly) {
+  // OpenMesh's reader turns every vertex of this file into (0, 0, 0).
+  const Mesh mesh = load_mesh(temp_file("nan.ply", ply_header("ascii", 5, "element face 2\nproperty list uchar int vertex_indices\n") +
+                                                        "0 0 0\nnan 0 0\n1 0 0\n0 1 0\n1 1 1e39\n3 0 2 3\n3 0 1 2\n"));
+  ASSERT_EQ(mesh.face_count(), 1u);
+  expect_only(mesh.problems, 2, 0, 1, 0);
+  EXPECT_TRUE(face_is(mesh, 0, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+}
+
+// Two rows of four vertices in z = 0 (a strip zig-zagging along x), and two above the first column.
+const char* const kStripVertices = "0 0 0\n0 1 0\n1 0 0\n1 1 0\n2 0 0\n2 1 0\n3 0 0\n3 1 0\n0 2 0\n1 2 0\n";
+void expect_strip_triangles(const Mesh& mesh) {
+  ASSERT_EQ(mesh.face_count(), 8u);
+  EXPECT_FALSE(mesh.problems.any()) << mesh.problems.summary();
+  EXPECT_EQ(mesh.problems.faces_listed, 8u);
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    ASSERT_EQ(mesh.face_offsets[f + 1] - mesh.face_offsets[f], 3u);
+    // The first triangle (0, 1, 2) winds clockwise seen from +z; alternation keeps every one so.
+    EXPECT_EQ(face_normal(mesh, f).z, -1.0f) << "triangle " << f;
+  }
+  EXPECT_TRUE(face_is(mesh, 0, {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}}));
+  EXPECT_TRUE(face_is(mesh, 1, {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}}));  // (2 1 3): the second triangle swapped
+  EXPECT_TRUE(face_is(mesh, 6, {{0, 1, 0}, {0, 2, 0}, {1, 1, 0}}));  // (1 8 3): after the restart, unswapped
+}
+
+TEST(MeshHygiene, PlyTriangleStripsAreReadWithAlternatingWinding) {
+  // Strip 1: 0 1 2 3 4 5 6 7 (6 triangles); -1 restarts; strip 2: 1 8 3 9 (2 triangles).
+  const std::string strips = "element tristrips 1\nproperty list int int vertex_indices\n";
+  expect_strip_triangles(load_mesh(temp_file("strips.ply", ply_header("ascii", 10, strips) + kStripVertices + "13 0 1 2 3 4 5 6 7 -1 1 8 3 9\n")));
+  // The same in binary little-endian, the list length a uchar.
+  std::string binary = ply_header("binary_little_endian", 10, "element tristrips 1\nproperty list uchar int vertex_indices\n");
+  const float v[30] = {0, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 2, 0, 0, 2, 1, 0, 3, 0, 0, 3, 1, 0, 0, 2, 0, 1, 2, 0};
+  binary.append(reinterpret_cast<const char*>(v), sizeof v);
+  const std::int32_t list[13] = {0, 1, 2, 3, 4, 5, 6, 7, -1, 1, 8, 3, 9};
+  binary.push_back(13);
+  binary.append(reinterpret_cast<const char*>(list), sizeof list);
+  expect_strip_triangles(load_mesh(temp_file("strips-binary.ply", binary)));
+}
+
+TEST(MeshHygiene, PlyStripJoinsThroughRepeatedIndicesAddNoFace) {
+  // 0 1 2 3 | 3 4 (a join of two degenerate triangles) ... as one strip 0 1 2 3 3 4 4 5 6 7.
+  // Triangles: (0 1 2) (2 1 3) (2 3 3)x (3 3 4)x (3 4 4)x (4 4 5)x (4 5 6) (6 5 7): 4 faces, all
+  // wound alike because the joins keep the parity.
+  const Mesh mesh = load_mesh(temp_file("strip-join.ply", ply_header("ascii", 10, "element tristrips 1\nproperty list int int vertex_indices\n") +
+                                                              kStripVertices + "10 0 1 2 3 3 4 4 5 6 7\n"));
+  ASSERT_EQ(mesh.face_count(), 4u);
+  EXPECT_FALSE(mesh.problems.any()) << mesh.problems.summary();
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) EXPECT_EQ(face_normal(mesh, f).z, -1.0f) << "triangle " << f;
+}
+
+TEST(MeshHygiene, StlNonFiniteVertexAndTruncatedBinary) {
+  const std::string facet = "facet normal 0 0 1\nouter loop\nvertex {}\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  const Mesh mesh = load_mesh(temp_file("nan.stl", "solid t\n" + fmt::format(fmt::runtime(facet), "0 0 0") + fmt::format(fmt::runtime(facet), "nan 0 0") +
+                                                       fmt::format(fmt::runtime(facet), "1.2.3 0 0") + "endsolid t\n"));
+  EXPECT_EQ(mesh.face_count(), 1u);
+  expect_only(mesh.problems, 1, 1, 2, 0);
+  std::string binary(80, ' ');
+  const std::uint32_t triangles = 2;
+  binary.append(reinterpret_cast<const char*>(&triangles), 4);
+  binary.append(50, '\0');
+  expect_refused(temp_file("short.stl", binary), "binary STL of 134 bytes, but its header declares 2 triangles (184 bytes)");
+  expect_refused(temp_file("cut.stl", "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"), "truncated STL");
+}
+
+TEST(MeshHygiene, InconsistentOrientationIsCountedAndTheFacesKept) {
+  // Two triangles sharing the edge 1-2, both using it from 1 to 2.
+  const Mesh flipped = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 2, 3}}, "flipped");
+  EXPECT_EQ(flipped.face_count(), 2u);
+  EXPECT_EQ(flipped.problems.inconsistent_edges, 1u);
+  EXPECT_EQ(flipped.problems.complex_faces, 1u);  // OpenMesh cannot link it: kept on copies of its vertices
+  EXPECT_EQ(flipped.problems.dropped_faces(), 0u);
+  EXPECT_FALSE(flipped.problems.inward);
+  // A cube with one face turned: all four of its edges, and OpenMesh detaches the face.
+  const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const Mesh cube = make_mesh(v, {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 3, 7, 4}}, "turned");
+  EXPECT_EQ(cube.face_count(), 6u);
+  EXPECT_EQ(cube.problems.inconsistent_edges, 4u);
+  EXPECT_EQ(cube.problems.complex_faces, 1u);
+  EXPECT_FALSE(cube.problems.inward) << "not a consistently closed surface";
+  EXPECT_NE(cube.problems.summary().find("4 edges with inconsistent orientation"), std::string::npos) << cube.problems.summary();
+  // The same through a file.
+  const Mesh file = load_mesh(temp_file("flipped.obj", std::string(kQuadVertices) + "f 1 2 4\nf 2 4 3\n"));
+  EXPECT_EQ(file.problems.inconsistent_edges, 1u);
+  EXPECT_EQ(file.face_count(), 2u);
+}
+
+TEST(MeshHygiene, InsideOutClosedMeshIsWarned) {
+  const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  std::vector<std::vector<std::uint32_t>> outward{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  EXPECT_FALSE(make_mesh(v, outward, "cube").problems.any()) << make_mesh(v, outward, "cube").problems.summary();
+  EXPECT_FALSE(cube_mesh().problems.any());
+  EXPECT_FALSE(sphere_mesh(12, 16).problems.any()) << sphere_mesh(12, 16).problems.summary();
+  auto inward = outward;
+  for (auto& f : inward) std::reverse(f.begin(), f.end());
+  const Mesh inside_out = make_mesh(v, inward, "inside-out cube");
+  EXPECT_TRUE(inside_out.problems.inward);
+  EXPECT_EQ(inside_out.problems.inconsistent_edges, 0u);
+  EXPECT_EQ(inside_out.problems.summary(), "faces point inward (the closed surface encloses negative volume)");
+  // Far from the origin and at any scale, the same.
+  std::vector<Vec3> far = v;
+  for (Vec3& p : far) p = 1e30f * p + Vec3{3e30f, -2e30f, 1e30f};
+  EXPECT_TRUE(make_mesh(far, inward, "far inside-out cube").problems.inward);
+  EXPECT_FALSE(make_mesh(far, outward, "far cube").problems.inward);
+  // Open, the volume means nothing: no warning.
+  inward.pop_back();
+  EXPECT_FALSE(make_mesh(v, inward, "open inside-out cube").problems.inward);
+  // An open part beside a closed inside-out one: the closed part is judged.
+  auto both = outward;
+  for (auto& f : both) std::reverse(f.begin(), f.end());
+  std::vector<Vec3> with_plane = v;
+  for (const Vec3 p : {Vec3{5, 0, 0}, Vec3{6, 0, 0}, Vec3{6, 1, 0}}) with_plane.push_back(p);
+  both.push_back({8, 9, 10});
+  EXPECT_TRUE(make_mesh(with_plane, both, "cube and triangle").problems.inward);
+  // A hollow shell (an inner cube facing into the cavity) encloses positive volume: no warning.
+  std::vector<Vec3> hollow = v;
+  auto shell = outward;
+  for (const Vec3& p : v) hollow.push_back(0.5f * p + Vec3{0.25f, 0.25f, 0.25f});
+  for (auto f : outward) {
+    std::reverse(f.begin(), f.end());
+    for (auto& i : f) i += 8;
+    shell.push_back(f);
+  }
+  EXPECT_FALSE(make_mesh(hollow, shell, "hollow cube").problems.any());
+  // Through a file: the inside-out cube as OBJ.
+  const Mesh file = load_mesh(temp_file("inside-out.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                                          "f 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 7 8 4 3\nf 6 7 3 2\nf 4 8 5 1\n"));
+  EXPECT_TRUE(file.problems.inward);
+}
+
+TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
+  const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {5, 5, 5}, {NAN, 0, 0}};
+  const Mesh mesh = make_mesh(v,
+                              {{0, 1, 2},        // good
+                               {0, 1, 1},        // two distinct corners: dropped
+                               {0, 1},           // two corners: dropped
+                               {0, 1, 0, 2},     // a corner repeated apart: dropped
+                               {1, 3, 4, 4, 1},  // repeats next to each other (cyclically) merged: the triangle 1 3 4
+                               {3, 1, 0},        // collinear: zero area, kept
+                               {0, 2, 7},        // out of range: dropped
+                               {0, 5, 2}},       // non-finite vertex: dropped
+                              "degenerate");
+  EXPECT_EQ(mesh.face_count(), 3u);
+  expect_only(mesh.problems, 1, 0, 1, 1, 3, 1);
+  EXPECT_EQ(mesh.problems.faces_listed, 8u);
+  EXPECT_EQ(mesh.problems.dropped_faces(), 5u);
+  EXPECT_EQ(face_positions(mesh, 1).size(), 3u);
+  EXPECT_EQ(mesh.problems.summary(),
+            "1 vertex with a non-finite coordinate (nan, inf or beyond float range), 1 face using such vertices dropped, 1 face with an "
+            "index out of range dropped, 3 degenerate faces (fewer than 3 distinct corners) dropped, 1 zero-area face");
+  // Nothing usable left: one line saying why.
+  try {
+    make_mesh({{0, 0, 0}, {1, 0, 0}}, {{0, 1, 1}, {0, 1, 2}}, "hopeless");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(),
+                 "hopeless: the mesh has no faces left: all 2 faces were dropped (1 face with an index out of range dropped, 1 degenerate "
+                 "face (fewer than 3 distinct corners) dropped)");
+  }
+}
+
+TEST(MeshHygiene, SharedModelsAreClean) {
+  for (const char* name : {"stanford-bunny.obj", "spot.obj", "fandisk.obj"}) {
+    const std::string path = model_path(name);
+    if (path.empty()) GTEST_SKIP() << "shared models not found at " << SPLATCL_MODELS_DIR;
+    const Mesh mesh = load_mesh(path);
+    EXPECT_FALSE(mesh.problems.any()) << name << ": " << mesh.problems.summary();
+  }
+  const std::string ogre = model_path("ogre.obj");
+  if (!ogre.empty()) {
+    EXPECT_EQ(load_mesh(ogre).problems.summary(), "4 zero-area faces");
+  }
+}
+
+}  // namespace
+}  // namespace splatcl::splats

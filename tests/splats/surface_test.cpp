@@ -1,0 +1,131 @@
+// The surface the splats are checked against: exact point-to-triangle distances and the box tree
+// against brute force, and area-uniform points.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "splats/surface.hpp"
+#include "splats_test_support.hpp"
+
+namespace splatcl::splats {
+namespace {
+
+// Distance from p to triangle t by brute force: the plane projection when it falls inside, else
+// the nearest of the three edges sampled densely and their exact segment distances.
+double brute_distance(const SurfaceTriangle& t, DVec3 p) {
+  const auto segment = [&](DVec3 a, DVec3 b) {
+    const DVec3 ab = b - a;
+    const double s = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
+    return length(a + s * ab - p);
+  };
+  double best = std::min({segment(t.a, t.b), segment(t.b, t.c), segment(t.c, t.a)});
+  const DVec3 n = t.normal;
+  const DVec3 q = p - dot(p - t.a, n) * n;
+  const auto side = [&](DVec3 a, DVec3 b) { return dot(cross(b - a, q - a), n); };
+  if (side(t.a, t.b) >= 0 && side(t.b, t.c) >= 0 && side(t.c, t.a) >= 0) best = std::min(best, std::fabs(dot(p - t.a, n)));
+  return best;
+}
+
+TEST(Surface, ClosestPointMatchesBruteForce) {
+  SplitMix64 random{7};
+  const auto coordinate = [&] { return 2.0 * random.uniform() - 1.0; };
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Mesh mesh = make_mesh({{static_cast<float>(coordinate()), static_cast<float>(coordinate()), static_cast<float>(coordinate())},
+                                 {static_cast<float>(coordinate()), static_cast<float>(coordinate()), static_cast<float>(coordinate())},
+                                 {static_cast<float>(coordinate()), static_cast<float>(coordinate()), static_cast<float>(coordinate())}},
+                                {{0, 1, 2}}, "triangle");
+    const auto triangles = surface_triangles(mesh);
+    ASSERT_EQ(triangles.size(), 1u);
+    const DVec3 p{3 * coordinate(), 3 * coordinate(), 3 * coordinate()};
+    EXPECT_NEAR(length(closest_point(triangles[0], p) - p), brute_distance(triangles[0], p), 1e-9) << trial;
+  }
+}
+
+TEST(Surface, NearestAndWithinMatchBruteForceOverAMesh) {
+  const Mesh mesh = testing::sphere_mesh(12, 24);
+  const Surface surface(mesh);
+  ASSERT_GT(surface.triangles().size(), 400u);
+  SplitMix64 random{11};
+  for (int trial = 0; trial < 500; ++trial) {
+    const DVec3 p{2.4 * random.uniform() - 1.2, 2.4 * random.uniform() - 1.2, 2.4 * random.uniform() - 1.2};
+    double best = INFINITY;
+    for (const SurfaceTriangle& t : surface.triangles()) best = std::min(best, brute_distance(t, p));
+    const Surface::Nearest nearest = surface.nearest(p);
+    EXPECT_NEAR(nearest.distance, best, 1e-9);
+    ASSERT_LT(nearest.triangle, surface.triangles().size());
+    EXPECT_NEAR(length(closest_point(surface.triangles()[nearest.triangle], p) - p), best, 1e-9);
+    EXPECT_TRUE(surface.within(p, best + 1e-9));
+    EXPECT_FALSE(surface.within(p, best * 0.999 - 1e-12));
+    EXPECT_EQ(surface.nearest(p, best * 0.999 - 1e-12).triangle, UINT32_MAX);
+  }
+}
+
+TEST(Surface, NonPlanarQuadIsItsTwoTriangles) {
+  // A quad with one corner lifted: the surface passes through all four corners.
+  const Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5f}, {0, 1, 0}}, {{0, 1, 2, 3}}, "bent quad");
+  const Surface surface(mesh);
+  ASSERT_EQ(surface.triangles().size(), 2u);
+  EXPECT_NEAR(surface.nearest({1, 1, 0.5}).distance, 0.0, 1e-12);
+  EXPECT_NEAR(surface.nearest({0.5, 0.5, 0.25}).distance, 0.0, 1e-7);  // on the diagonal corner 0 - corner 2
+}
+
+TEST(Surface, UniformPointsAreOnTheSurfaceSpreadByArea) {
+  // Two unit squares side by side, one split into 100 small quads and one into a single quad: by
+  // area each gets half of the points whatever its triangle count.
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  const Mesh fine = testing::plane_mesh(10);
+  vertices = fine.vertices;
+  for (std::size_t f = 0; f < fine.face_count(); ++f)
+    faces.emplace_back(fine.corners.begin() + fine.face_offsets[f], fine.corners.begin() + fine.face_offsets[f + 1]);
+  const std::uint32_t base = static_cast<std::uint32_t>(vertices.size());
+  for (const Vec3 v : {Vec3{1.5f, 0, 0}, Vec3{2.5f, 0, 0}, Vec3{2.5f, 1, 0}, Vec3{1.5f, 1, 0}}) vertices.push_back(v);
+  faces.push_back({base, base + 1, base + 2, base + 3});
+  const Surface surface(make_mesh(vertices, faces, "two squares"));
+  EXPECT_NEAR(surface.area(), 2.0, 1e-6);
+  const auto points = surface.uniform_points(20000, 3);
+  ASSERT_EQ(points.size(), 20000u);
+  std::size_t right = 0;
+  for (const auto& p : points) {
+    EXPECT_NEAR(p.position.z, 0.0, 1e-12);
+    EXPECT_NEAR(std::fabs(p.normal.z), 1.0, 1e-12);
+    right += p.position.x > 1.25 ? 1 : 0;
+  }
+  EXPECT_NEAR(static_cast<double>(right) / 20000.0, 0.5, 0.02);
+  const auto again = surface.uniform_points(20000, 3);
+  EXPECT_EQ(again.back().position.x, points.back().position.x);  // seeded: the same points
+}
+
+TEST(BoxTree, VisitsEveryBoxWithinTheRadius) {
+  SplitMix64 random{5};
+  std::vector<BoxTree::Box> boxes(1000);
+  for (auto& b : boxes) {
+    const DVec3 c{random.uniform(), random.uniform(), random.uniform()};
+    const DVec3 h{0.05 * random.uniform(), 0.05 * random.uniform(), 0.05 * random.uniform()};
+    b.add(c - h), b.add(c + h);
+  }
+  const BoxTree tree(boxes);
+  for (int trial = 0; trial < 100; ++trial) {
+    const DVec3 p{random.uniform(), random.uniform(), random.uniform()};
+    double radius = 0.1 * random.uniform();
+    std::vector<std::uint32_t> seen;
+    tree.visit(p, radius, [&](std::uint32_t item, double&) { return seen.push_back(item), false; });
+    std::sort(seen.begin(), seen.end());
+    EXPECT_EQ(std::adjacent_find(seen.begin(), seen.end()), seen.end());  // each at most once
+    std::size_t within = 0;
+    for (std::uint32_t i = 0; i < boxes.size(); ++i) {
+      if (boxes[i].distance(p) > radius) continue;
+      ++within;
+      EXPECT_TRUE(std::binary_search(seen.begin(), seen.end(), i)) << i;
+    }
+    // Whole leaves of at most 4 are visited, not the whole tree.
+    EXPECT_LE(seen.size(), 8 * within + 32);
+  }
+  double radius = 1;
+  std::size_t visits = 0;
+  BoxTree{}.visit({0, 0, 0}, radius, [&](std::uint32_t, double&) { return ++visits, false; });
+  EXPECT_EQ(visits, 0u);
+}
+
+}  // namespace
+}  // namespace splatcl::splats
