@@ -44,6 +44,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   assets.mesh = make_object_mesh(object.mesh, scene.directory);
   // Colour sources enter the key only when used, so grey objects keep their cache entries.
   std::string splat_parameters = fmt::format("splats v1 sampling={} eps_diagonal={:.9g}", q.sampling, q.eps_diagonal);
+  if (q.splat_bound != "thesis") splat_parameters += " bound=" + q.splat_bound;
   std::string texture_path;
   if (object.splat_colors) {
     if (!object.texture.empty()) {
@@ -82,6 +83,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     splats::SplatParameters params;
     params.samples = q.sampling;
     params.eps_diag = q.eps_diagonal;
+    params.thesis_only = q.splat_bound == "thesis";
     if (object.splat_colors) {
       params.color_tol = static_cast<int>(object.color_tolerance);
       if (!texture_path.empty())

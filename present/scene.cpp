@@ -250,6 +250,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     const json& q = r.object(j, "quality");
     Quality& Q = scene.quality;
     Q.sampling = r.text(q, "sampling", Q.sampling);
+    Q.splat_bound = r.text(q, "splat_bound", Q.splat_bound, {"thesis", "two-sided"});
     Q.eps_diagonal = r.positive(q, "eps_diagonal", Q.eps_diagonal);
     Q.csm_maps = r.count(q, "csm_maps", Q.csm_maps, 16, 65536);
     Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);

@@ -84,6 +84,10 @@ struct GeneratedLights {
 
 struct Quality {
   std::string sampling = "grid:1.5";  // splat generation sampling (splatcl splats --samples)
+  // "thesis": the thesis's splat method alone (splatcl splats --thesis-only); "two-sided": the
+  // default of splatcl splats, splats within ε of the mesh and the mesh covered (more splats,
+  // faceted where ε is below the mesh's faceting).
+  std::string splat_bound = "thesis";
   float eps_diagonal = 0.00025f;       // splat ε as a fraction of the mesh's bounding-box diagonal
   std::uint32_t csm_maps = 1024, csm_resolution = 64;
   std::uint32_t ao_samples = 16;

@@ -1,13 +1,16 @@
 // splatcl bench splats: the splat stage phase by phase (sampling, kNN, fit = PCA frames + growth +
 // safe points, growth alone from the same frames, selection, optimisation, metrics, output) and end
 // to end, the fit phases on the session's OpenCL device beside the native reference, on
-// stanford-bunny at ε = 0.0003 and ogre at ε = 0.001 × its bounding-box diagonal.
+// stanford-bunny at ε = 0.0003 and ogre at ε = 0.001 × its bounding-box diagonal; and end to end in
+// the two-sided variant (`splatcl splats`'s default) on both and on a generated flat 100×100-vertex
+// grid at ε = 0.001 × its diagonal.
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,6 +19,7 @@
 
 #include "bench/suites.hpp"
 #include "splats/pipeline.hpp"
+#include "splats/pipeline_options.hpp"
 #include "splats/reference.hpp"
 
 namespace splatcl::bench {
@@ -25,12 +29,15 @@ namespace spl = splatcl::splats;
 
 struct BenchModel {
   const char* name;
-  const char* file;
+  const char* file;     // nullptr: generated (the flat grid)
   double eps;           // absolute; 0: eps_diagonal × the bounding-box diagonal
   double eps_diagonal;
 };
 
 constexpr BenchModel kModels[] = {{"stanford-bunny", "stanford-bunny.obj", 0.0003, 0}, {"ogre", "ogre.obj", 0, 0.001}};
+// 100×100 vertices, 99×99 quads over the unit square: no shared model needed.
+constexpr BenchModel kFlatGrid{"flat-grid-100", nullptr, 0, 0.001};
+constexpr std::size_t kFlatGridSide = 100;
 
 std::filesystem::path model_path(const BenchModel& model) { return std::filesystem::path(splats_models_dir()) / model.file; }
 
@@ -79,6 +86,117 @@ std::size_t vertex_stride(const Session& session) {
   return scale >= 1 ? 1 : static_cast<std::size_t>(std::max(1.0, std::round(1 / scale)));
 }
 
+// The flat grid under size scaling: side × side vertices with side = 100 · √scale (at least 2), so the
+// vertex count follows the scale; ε stays 0.001 × the unit square's diagonal.
+std::size_t flat_grid_side(const Session& session) {
+  const double scale = session.options().scale;
+  if (scale >= 1) return kFlatGridSide;
+  return std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(kFlatGridSide * std::sqrt(scale))));
+}
+
+// side × side vertices over the unit square at z = 0, (side − 1)² quads facing +z.
+spl::Mesh flat_grid(std::size_t side) {
+  std::vector<Vec3> vertices;
+  vertices.reserve(side * side);
+  // i / (side − 1) rounded once to float: what an OBJ written with these coordinates reads back as.
+  auto at = [&](std::size_t i) { return static_cast<float>(static_cast<double>(i) / static_cast<double>(side - 1)); };
+  for (std::size_t j = 0; j < side; ++j)
+    for (std::size_t i = 0; i < side; ++i) vertices.push_back({at(i), at(j), 0});
+  std::vector<std::vector<std::uint32_t>> faces;
+  faces.reserve((side - 1) * (side - 1));
+  for (std::size_t j = 0; j + 1 < side; ++j)
+    for (std::size_t i = 0; i + 1 < side; ++i) {
+      const auto a = static_cast<std::uint32_t>(j * side + i), s = static_cast<std::uint32_t>(side);
+      faces.push_back({a, a + 1, a + 1 + s, a + s});
+    }
+  return spl::make_mesh(vertices, faces, fmt::format("flat grid {}x{}", side, side));
+}
+
+// ε to 4 significant digits, so the case label reads 0.0003 and not the float's double expansion.
+Json problem_of(const BenchModel& model, float eps) { return Json{{"model", model.name}, {"eps", std::stod(fmt::format("{:.4g}", eps))}}; }
+
+// The two-sided end-to-end rows must write the same splats, bit for bit, field by field (memcmp, so
+// that -0 and NaN count as differences too; the struct itself may have padding).
+void expect_same_splats(const std::string& what, const std::vector<spl::SplatRecord>& actual,
+                        const std::vector<spl::SplatRecord>& expected) {
+  if (actual.size() != expected.size())
+    throw Error(fmt::format("bench {}: {} splats written, the reference {}", what, actual.size(), expected.size()));
+  for (std::size_t i = 0; i < actual.size(); ++i) {
+    const spl::SplatRecord &a = actual[i], &e = expected[i];
+    const bool same = std::memcmp(&a.center, &e.center, sizeof a.center) == 0 && std::memcmp(&a.normal, &e.normal, sizeof a.normal) == 0 &&
+                      std::memcmp(&a.major, &e.major, sizeof a.major) == 0 && std::memcmp(&a.minor, &e.minor, sizeof a.minor) == 0 &&
+                      std::memcmp(&a.color, &e.color, sizeof a.color) == 0 && std::memcmp(&a.clip_x, &e.clip_x, sizeof a.clip_x) == 0 &&
+                      std::memcmp(&a.clip_y, &e.clip_y, sizeof a.clip_y) == 0 &&
+                      std::memcmp(&a.clip_offset, &e.clip_offset, sizeof a.clip_offset) == 0;
+    if (!same) throw Error("bench " + what + ": splat " + std::to_string(i) + " differs from the reference's");
+  }
+}
+
+// End to end as `splatcl splats MODEL -o OUT --no-check` runs it by default: the two-sided variant
+// (splats::splat_setup from a default SplatParameters with the model's ε), load (`load`: read or
+// generate the mesh), every phase, write the PLY; the end-of-run surface check (what --no-check
+// skips) is not timed. The device fit, then the reference's, which must write the same splats. Each
+// record's size is its run's sample count (sampling "auto": the vertices plus face points where they
+// are sparser than the auto spacing, so not the thesis rows' count); its "run" object holds the last
+// timed run's counts, phase times (as `--stats`'s "phase_ms") and peak RSS per 1000 samples.
+void measure_two_sided(Session& session, const BenchModel& model, const std::string& source, const std::function<spl::Mesh()>& load,
+                       const ScratchFile& scratch) {
+  spl::SplatParameters params;
+  if (model.eps > 0)
+    params.eps = model.eps;
+  else
+    params.eps_diag = model.eps_diagonal;
+  const spl::SplatSetup setup = spl::splat_setup(params, load(), source);
+  const Json problem = problem_of(model, setup.options.fit.eps);
+  struct Outcome {
+    std::vector<spl::SplatRecord> records;
+    std::uint64_t samples = 0;
+    Json run = Json::object();
+  };
+  auto end_to_end = [&](Runtime* fit_runtime, Outcome& out) {
+    Stopwatch load_clock;
+    const spl::Mesh mesh = load();
+    const double load_ms = load_clock.elapsed_ms();
+    spl::SplatRun run = spl::generate_splats(mesh, setup.colors, setup.options, fit_runtime);
+    run.phases.insert(run.phases.begin(), {"load", load_ms});
+    out.records = run.records();
+    Stopwatch write_clock;
+    spl::write_splat_file(scratch.path(), out.records, spl::splat_file_info(setup, run, source));
+    run.phases.push_back({"write", write_clock.elapsed_ms()});
+    Json phase_ms = Json::object();
+    for (const spl::PhaseTime& p : run.phases) phase_ms[p.phase] = p.ms;
+    out.samples = run.samples.size();
+    out.run = Json{{"samples", out.samples},
+                   {"vertices", mesh.vertices.size()},
+                   {"output_splats", run.output_count()},
+                   {"selected_splats", run.selected.size()},
+                   {"gap_splats", run.gap_splats.size()},
+                   {"shrunk_splats", run.surface_fit.shrunk},
+                   {"phase_ms", std::move(phase_ms)}};
+  };
+  // What only the run knows: the sample count (size and throughput) and the run's figures.
+  auto complete = [&](const Outcome& out) {
+    Record& record = session.last_record();
+    record.size = out.samples;
+    record.size_unit = "samples";
+    if (out.samples > 0 && record.median_ms > 0) {
+      record.throughput = static_cast<double>(out.samples) / (record.median_ms * 1e-3);
+      record.throughput_unit = "samples/s";
+    }
+    Json run = out.run;
+    if (record.peak_rss_mb && out.samples > 0) run["peak_rss_mb_per_1000_samples"] = *record.peak_rss_mb * 1000.0 / static_cast<double>(out.samples);
+    record.extra["run"] = std::move(run);
+  };
+  const char* name = "end-to-end-two-sided";
+  Outcome device, reference;
+  const Case device_case{name, kImplOpenCL, true, 0, "samples", problem};
+  session.measure(device_case, {}, [&] { end_to_end(&session.runtime(), device); });
+  complete(device);
+  session.measure(reference_case(name, 0, "samples", problem), {}, [&] { end_to_end(nullptr, reference); });
+  complete(reference);
+  expect_same_splats(describe(device_case), device.records, reference.records);
+}
+
 spl::Mesh every_nth_vertex(spl::Mesh mesh, std::size_t stride) {
   if (stride <= 1) return mesh;
   spl::Mesh kept;
@@ -90,7 +208,7 @@ spl::Mesh every_nth_vertex(spl::Mesh mesh, std::size_t stride) {
   return kept;
 }
 
-void run_model(Session& session, const BenchModel& model, const ScratchFile& scratch) {
+void run_thesis_cases(Session& session, const BenchModel& model, const ScratchFile& scratch) {
   const std::string path = model_path(model).string();
   const spl::Mesh whole = spl::load_mesh(path);
   const std::size_t stride = vertex_stride(session);
@@ -101,8 +219,7 @@ void run_model(Session& session, const BenchModel& model, const ScratchFile& scr
   spl::ColorSource colors;
   colors.bounds = whole.bounds();
   const spl::SplatFileInfo info{path, spl::to_string(options.sampling), options.fit.eps, options.k, 255, "grey", false};
-  // ε to 4 significant digits, so the case label reads 0.0003 and not the float's double expansion.
-  const Json problem{{"model", model.name}, {"eps", std::stod(fmt::format("{:.4g}", options.fit.eps))}};
+  const Json problem = problem_of(model, options.fit.eps);
   Runtime& runtime = session.runtime();
 
   spl::Samples samples = spl::sample_mesh(mesh, options.sampling, colors);
@@ -171,6 +288,25 @@ void run_model(Session& session, const BenchModel& model, const ScratchFile& scr
   expect_same_output(describe(host_case("end-to-end")) + " selection", reference_selection, selected);
 }
 
+// A model's rows: the thesis's phase by phase and end to end, then the two-sided end to end (once the
+// thesis rows' data is freed). Size scaling keeps a point set of every stride-th vertex, which has no
+// surface to bound by: the two-sided rows are left out below the standard size.
+void run_model(Session& session, const BenchModel& model, const ScratchFile& scratch) {
+  run_thesis_cases(session, model, scratch);
+  if (vertex_stride(session) > 1) return;
+  const std::string path = model_path(model).string();
+  measure_two_sided(session, model, path, [&] { return spl::load_mesh(path); }, scratch);
+}
+
+// The flat grid, two-sided end to end only. The thesis's rows are left out: without a growth cap every
+// splat on a plane grows over the whole grid (`splatcl splats GRID --thesis-only --samples vertices`:
+// 42 s and 1.4 GiB for one run, docs/results/splats.md, "Cost of the two-sided bound").
+void run_flat_grid(Session& session, const ScratchFile& scratch) {
+  const std::size_t side = flat_grid_side(session);
+  measure_two_sided(session, kFlatGrid, fmt::format("{} (generated, {}x{} vertices)", kFlatGrid.name, side, side),
+                    [&] { return flat_grid(side); }, scratch);
+}
+
 }  // namespace
 
 std::string& splats_models_dir() {
@@ -181,11 +317,12 @@ std::string& splats_models_dir() {
 void run_splats_suite(Session& session) {
   check_models();
   const ScratchFile scratch;
-  // --quick: the bunny only.
+  // --quick: the bunny and the flat grid (a few seconds more), not ogre.
   for (const BenchModel& model : kModels) {
     run_model(session, model, scratch);
     if (session.options().quick) break;
   }
+  run_flat_grid(session, scratch);
 }
 
 }  // namespace splatcl::bench

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/parameter_options.hpp"
@@ -31,6 +32,7 @@ struct SplatsOptions {
   std::string format = "splatcl";  // of -o: "splatcl" (splat PLY) or "3dgs" (3D Gaussian Splatting PLY)
   bool reference = false;
   bool strict = false;  // mesh problems (mesh.hpp: MeshProblems) are an error, not a warning
+  bool no_check = false;  // skip the end-of-run surface check
   std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();  // the build parameters given
 };
 
@@ -38,6 +40,20 @@ struct VerifyOptions {
   std::string model, splats, json;
   std::string eps, points, ellipse_points, seed;  // as given ("" when not); parsed and validated by run_verify
 };
+
+// Which bounds a failed check broke, for one error line.
+std::string describe_failure(const SurfaceCheckReport& r) {
+  std::string broken;
+  const auto add = [&](const std::string& part) { broken += (broken.empty() ? "" : "; ") + part; };
+  if (r.uncovered_points > 0)
+    add(fmt::format("surface not covered within eps ({:.3g}% of the area uncovered, largest hole {:.3g} eps across)",
+                    100 * r.uncovered_fraction, r.largest_hole_diameter / r.eps));
+  if (r.splats_beyond > 0)
+    add(fmt::format("{} splat{} the surface by more than eps (up to {:.3g} eps)", r.splats_beyond, r.splats_beyond == 1 ? " leaves" : "s leave",
+                    r.max_distance_eps()));
+  if (r.degenerate > 0) add(fmt::format("{} degenerate splat{}", r.degenerate, r.degenerate == 1 ? "" : "s"));
+  return broken;
+}
 
 int run_splats(const SplatsOptions& o) {
   if (o.model.empty()) throw Error("splats: a MODEL is required (see splatcl splats --help)");
@@ -72,6 +88,22 @@ int run_splats(const SplatsOptions& o) {
   if (!o.reference) runtime = Runtime::create(o.device.device);
   SplatRun run = generate_splats(mesh, colors, options, runtime.get(), [&](const std::string& phase) { progress.show(phase); });
   run.phases.insert(run.phases.begin(), {"load", load_ms});
+  const std::vector<SplatRecord> records = run.records();
+  // The same check as `splatcl splats verify`, on the splats as they will be written.
+  std::optional<SurfaceCheckReport> check;
+  if (!o.no_check) {
+    Stopwatch check_clock;
+    SurfaceCheckOptions check_options;
+    check_options.eps = options.fit.eps;
+    check = check_surface(mesh, records, check_options, [&](const std::string& phase, double fraction) {
+      progress.show(fmt::format("checking: {} {:.0f}%", phase, 100 * fraction));
+    });
+    run.phases.push_back({"check", check_clock.elapsed_ms()});
+    if (!check->ok() && run.surface_bound)
+      throw Error(fmt::format("{}: the splats break the two-sided bound at eps {:.6g} ({}); nothing written (--no-check writes "
+                              "them unchecked)",
+                              o.model, options.fit.eps, describe_failure(*check)));
+  }
   // Commit order: the secondary outputs first, -o last.
   StagedOutputs outputs;
   if (!o.stats.empty()) outputs.stage(o.stats);
@@ -79,7 +111,6 @@ int run_splats(const SplatsOptions& o) {
   outputs.stage(o.output);
   progress.show("writing " + o.output);
   Stopwatch write_clock;
-  const std::vector<SplatRecord> records = run.records();
   std::size_t unclipped = 0;
   outputs.write(o.output, [&](const std::string& path) {
     if (o.format == "3dgs")
@@ -88,7 +119,8 @@ int run_splats(const SplatsOptions& o) {
       write_splat_file(path, records, splat_file_info(setup, run, o.model));
   });
   run.phases.push_back({"write", write_clock.elapsed_ms()});
-  const nlohmann::json stats = splat_statistics(run, setup, o.model, o.output);
+  nlohmann::json stats = splat_statistics(run, setup, o.model, o.output);
+  if (check) stats["surface_check"] = to_json(*check);
   if (!o.stats.empty()) outputs.write(o.stats, [&](const std::string& path) { write_file_atomically(path, stats.dump(2) + "\n"); });
   if (!o.render.empty()) {
     progress.show("rendering " + o.render);
@@ -123,6 +155,12 @@ int run_splats(const SplatsOptions& o) {
   for (const auto& p : run.phases) timing += fmt::format(" {} {:.0f} ms,", p.phase, p.ms);
   timing.pop_back();
   fmt::print("{}; total {:.2f} s (fit on {})\n", timing, run.total_ms() / 1000.0, run.fit_backend);
+  if (check)
+    fmt::print("check      {}: {:.3g}% of the surface uncovered, splats up to {:.3g} eps from it, {} beyond eps ({} surface points, "
+               "{} splat points)\n",
+               check->ok() ? "two-sided bound holds" : "two-sided bound BROKEN (the thesis's method alone does not keep it)",
+               100 * check->uncovered_fraction, check->max_distance_eps(), check->splats_beyond, check->surface_points,
+               check->splat_points);
   fmt::print("wrote      {}{}{}\n", o.output, o.stats.empty() ? "" : ", " + o.stats, o.render.empty() ? "" : ", " + o.render);
   return 0;
 }
@@ -205,17 +243,7 @@ int run_verify(const VerifyOptions& o) {
              r.splats, r.splat_points, r.max_distance, r.max_distance_eps(), r.worst_splat, 100 * r.area_beyond_fraction, r.splats_beyond);
   fmt::print("shape      largest major semi-axis {:.4g} = {:.4g} of the diagonal; {} flipped, {} degenerate\n", r.largest_major,
              r.largest_major_diagonal(), r.flipped, r.degenerate);
-  if (!r.ok()) {
-    std::string broken;
-    const auto add = [&](const std::string& part) { broken += (broken.empty() ? "" : "; ") + part; };
-    if (r.uncovered_points > 0)
-      add(fmt::format("surface not covered within eps ({:.3g}% of the area uncovered, largest hole {:.3g} eps across)",
-                      100 * r.uncovered_fraction, r.largest_hole_diameter / eps));
-    if (r.splats_beyond > 0)
-      add(fmt::format("{} splats leave the surface by more than eps (up to {:.3g} eps)", r.splats_beyond, r.max_distance_eps()));
-    if (r.degenerate > 0) add(fmt::format("{} degenerate splats", r.degenerate));
-    throw Error(fmt::format("{}: fails the two-sided bound at eps {:.6g} against {}: {}", o.splats, eps, o.model, broken));
-  }
+  if (!r.ok()) throw Error(fmt::format("{}: fails the two-sided bound at eps {:.6g} against {}: {}", o.splats, eps, o.model, describe_failure(r)));
   fmt::print("ok\n");
   return 0;
 }
@@ -240,6 +268,9 @@ Action register_splats(CLI::App& app) {
   sub->add_flag("--strict", o->strict,
                 "Refuse a model with problems (faces dropped for a non-finite vertex, an index out of range or fewer than 3 "
                 "corners; zero-area or non-manifold faces; inconsistent orientation; faces pointing inward) instead of warning");
+  sub->add_flag("--no-check", o->no_check,
+                "Skip the end-of-run check of the two-sided bound against the mesh surface (the check of splatcl splats verify; "
+                "without this flag a run whose splats break it exits 1 and writes nothing; with --thesis-only it only reports)");
   // The build parameters: the same list, names and meaning as `splatcl batch` manifest keys.
   add_parameter_options(*sub, splat_parameters(), to_json(SplatParameters{}), o->given);
 

@@ -9,7 +9,7 @@
 options_of() { "$splatcl" "$@" --help | grep -oE '^ +(-[a-z], ?)?--[a-z0-9-]+' | grep -oE -- '--[a-z0-9-]+' | sort -u; }
 batch_options=$(options_of batch)
 # Every build option of each command is a batch option (and so a manifest key) ...
-for option in $(options_of splats | grep -vxE -- '--(help|output|stats|render|reference|device)'); do
+for option in $(options_of splats | grep -vxE -- '--(help|output|stats|render|reference|device|format|strict|no-check)'); do
   grep -qx -- "$option" <<< "$batch_options" || fail "splats option $option is not a batch parameter"
 done
 for option in $(options_of csm build | grep -vxE -- '--(help|output|mode|pixel-order|coherence|reference|device)'); do

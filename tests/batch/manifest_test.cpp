@@ -56,7 +56,7 @@ TEST(Manifest, ParametersLayerBuiltinDefaultsCommandLineModel) {
   EXPECT_EQ(b.csm.res, 16u);              // command line beats the manifest default
   EXPECT_EQ(b.splats.k, 8u);
   EXPECT_DOUBLE_EQ(b.splats.eps_diag, 0.002);
-  EXPECT_EQ(b.splats.samples, "vertices");  // built-in
+  EXPECT_EQ(b.splats.samples, "auto");  // built-in
   EXPECT_EQ(b.csm.order, "zigzag-h");
   EXPECT_TRUE(a.splats.clip);
   EXPECT_FALSE(b.splats.clip);
