@@ -145,7 +145,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
         if (!degenerate(s))
           kept.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), run.samples.colors[j], clip.x, clip.y, clip.z});
       }
-      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, options.fit.eps, run.surface_fit);
+      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, options.fit.eps, options.certify_everywhere, run.surface_fit);
       run.kept_splats = std::move(kept);
     });
   }
@@ -186,6 +186,7 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
           {"size_at_accepted", options.fit.size_at_accepted},
           {"clipped_splats", clipped},
           {"surface_bound", run.surface_bound},
+          {"certify_everywhere", options.certify_everywhere},
           {"max_covered", options.fit.max_covered},
           {"sampling_note", run.samples.note},
           {"surface_fit", {{"shrunk_splats", run.surface_fit.shrunk},

@@ -463,7 +463,8 @@ BoxTree feature_edges(const Mesh& mesh, const Surface& surface) {
 }  // namespace
 
 std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
-                                   std::vector<SplatRecord>& selected, float eps_float, SurfaceFitStats& stats) {
+                                   std::vector<SplatRecord>& selected, float eps_float, bool certify_everywhere,
+                                   SurfaceFitStats& stats) {
   Stopwatch clock;
   const double eps = eps_float * (1 - kFloatReserve);
   // The selected splats certified first (the bound's sampled test can miss a narrow excursion).
@@ -479,7 +480,7 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
     double reach = std::max(certified[j].a, certified[j].b) + eps;
     bool near_feature = false;
     features.visit(certified[j].center, reach, [&](std::uint32_t, double&) { return near_feature = true; });
-    if (near_feature) shrink_until_certified(surface, certified[j], eps);
+    if (near_feature || certify_everywhere) shrink_until_certified(surface, certified[j], eps);
     changed[j] = certified[j].a != a;
   });
   stats.certify_ms += certify_clock.elapsed_ms();

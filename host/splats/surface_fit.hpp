@@ -67,11 +67,13 @@ struct SurfaceFitStats {
 void bound_by_surface(const Surface& surface, const Samples& samples, const Neighborhoods& neighbors, FitResult& fit,
                       float eps, SurfaceFitStats& stats);
 
-// Certifies `selected` against the surface (shrinking, or dropping, the splats that fail), then
+// Certifies `selected` against the surface (shrinking, or dropping, the splats that fail; only
+// those near a boundary or a crease unless `certify_everywhere`), then
 // returns the splats to add so that every point of the surface lies within ε of a splat that
 // contains its projection and faces its way. Colours come from `colors` at the gap (through the
 // mesh's texture coordinates when it has them).
 std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
-                                   std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats);
+                                   std::vector<SplatRecord>& selected, float eps, bool certify_everywhere,
+                                   SurfaceFitStats& stats);
 
 }  // namespace splatcl::splats
