@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "splats/pipeline_options.hpp"
+#include "runtime/error.hpp"
+#include "splats/surface.hpp"
 #include "splats/surface_check.hpp"
 #include "splats_test_support.hpp"
 
@@ -129,6 +131,61 @@ TEST(TwoSidedBound, HugeAndTinyCoordinates) {
                 0.1 * static_cast<double>(reference.splats.size()))
         << scale;
   }
+}
+
+// The sample budget: the automatic spacing coarsens to fit it and says so; an explicit spacing and
+// the thesis's grid are refused before any sample is made; vertices alone beyond it are refused.
+TEST(Sampling, BudgetCoarsensAutoAndRefusesTheRest) {
+  const Mesh plane = plane_mesh(4);  // 25 vertices, area 1
+  SamplingOptions automatic = parse_sampling("auto");
+  automatic.spacing = 0.001;  // about a million grid points
+  automatic.coarsen = true;
+  automatic.max_samples = 5000;
+  const Samples coarse = sample_mesh(plane, automatic, ColorSource{});
+  EXPECT_LE(coarse.size(), 5000u);
+  EXPECT_GT(coarse.size(), 1000u);  // coarsened, not collapsed
+  EXPECT_GT(coarse.grid_spacing, 0.001);
+  EXPECT_NE(coarse.note.find("coarsened"), std::string::npos) << coarse.note;
+  SamplingOptions explicit_spacing = parse_sampling("spacing:0.001");
+  explicit_spacing.max_samples = 5000;
+  EXPECT_THROW(sample_mesh(plane, explicit_spacing, ColorSource{}), Error);
+  SamplingOptions grid = parse_sampling("grid:1000");
+  grid.max_samples = 5000;
+  EXPECT_THROW(sample_mesh(plane, grid, ColorSource{}), Error);
+  SamplingOptions vertices = parse_sampling("vertices");
+  vertices.max_samples = 10;
+  EXPECT_THROW(sample_mesh(plane, vertices, ColorSource{}), Error);
+  for (const char* bad : {"spacing:", "spacing:0", "spacing:-1", "auto:1"}) EXPECT_THROW(parse_sampling(bad), Error) << bad;
+}
+
+// A non-planar polygon is sampled on its fan triangles: every sample lies on the surface.
+TEST(Sampling, NonPlanarPolygonsAreSampledOnTheirTriangles) {
+  const Mesh mesh = non_planar_quads_mesh(4, 0.3f);
+  SamplingOptions options = parse_sampling("spacing:0.02");
+  const Samples samples = sample_mesh(mesh, options, ColorSource{});
+  ASSERT_GT(samples.size(), 1000u);
+  const Surface surface(mesh);
+  double worst = 0;
+  for (const Vec4& p : samples.positions) worst = std::max(worst, surface.nearest(DVec3(xyz(p))).distance);
+  EXPECT_LT(worst, 1e-6);
+}
+
+// The growth cap keeps a flat region linear: no splat covers more than max_covered samples, and
+// the plane is still covered.
+TEST(TwoSidedBound, GrowthCapBoundsEverySplat) {
+  const Mesh mesh = plane_mesh(40);  // 1,681 vertices
+  SplatParameters params;
+  params.samples = "vertices";
+  params.max_covered = 64;
+  const SplatSetup setup = splat_setup(params, mesh, mesh.source);
+  const SplatRun run = generate_splats(mesh, setup.colors, setup.options, &runtime());
+  std::size_t largest = 0;
+  for (std::size_t j = 0; j < run.fit.covered.size(); ++j) largest = std::max(largest, run.fit.covered.row_size(j));
+  EXPECT_LE(largest, 64u);
+  SurfaceCheckOptions check;
+  check.eps = setup.options.fit.eps;
+  check.surface_points = 50'000;
+  EXPECT_TRUE(check_surface(mesh, run.records(), check).ok());
 }
 
 // The shared models at two ε (Release only: under the sanitizers this would take many minutes).
