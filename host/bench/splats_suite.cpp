@@ -300,7 +300,7 @@ void run_model(Session& session, const BenchModel& model, const ScratchFile& scr
 
 // The flat grid, two-sided end to end only. The thesis's rows are left out: without a growth cap every
 // splat on a plane grows over the whole grid (`splatcl splats GRID --thesis-only --samples vertices`:
-// 42 s and 1.4 GiB for one run, docs/results/splats.md, "Cost of the two-sided bound").
+// 15–43 s and 1.4 GiB for one run on 2 cores, docs/results/splats.md, "Cost of the two-sided bound").
 void run_flat_grid(Session& session, const ScratchFile& scratch) {
   const std::size_t side = flat_grid_side(session);
   measure_two_sided(session, kFlatGrid, fmt::format("{} (generated, {}x{} vertices)", kFlatGrid.name, side, side),
@@ -317,7 +317,7 @@ std::string& splats_models_dir() {
 void run_splats_suite(Session& session) {
   check_models();
   const ScratchFile scratch;
-  // --quick: the bunny and the flat grid (a few seconds more), not ogre.
+  // --quick: the bunny and the flat grid (≈ 10 s more on 2 cores), not ogre.
   for (const BenchModel& model : kModels) {
     run_model(session, model, scratch);
     if (session.options().quick) break;

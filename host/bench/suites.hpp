@@ -32,7 +32,9 @@ void run_primitives_suite(Session& session);
 void run_cluster_suite(Session& session);
 
 // The splat stage phase by phase and end to end (fit on the device beside the native reference) on
-// stanford-bunny (ε = 0.0003) and ogre (ε = 0.001 × diagonal) from splats_models_dir(), which
+// stanford-bunny (ε = 0.0003) and ogre (ε = 0.001 × diagonal) from splats_models_dir(), and the
+// default two-sided variant end to end on both and on a generated flat 100×100 grid; the models come
+// from splats_models_dir(), which
 // `--models` sets (default: the shared models next to the repository). Size scaling keeps every
 // 1/scale-th vertex of each model (ε stays that of the whole model), so every phase sees that share of
 // the samples.

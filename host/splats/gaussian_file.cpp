@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "io/atomic_file.hpp"
+#include "io/binary.hpp"
 #include "math/dvec3.hpp"
 
 namespace splatcl::splats {
@@ -18,13 +19,6 @@ bool normalize(DVec3& a) {
   if (!(len > 1e-30) || !std::isfinite(len)) return false;
   a = (1.0 / len) * a;
   return true;
-}
-
-template <class T>
-void put(std::string& out, T value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  out.append(bytes, sizeof(T));
 }
 
 }  // namespace
@@ -110,12 +104,12 @@ std::size_t write_gaussian_file(const std::string& path, const std::vector<Splat
   for (const SplatRecord& s : splats) {
     if (std::isfinite(s.clip_offset)) ++clipped;
     const Gaussian g = to_gaussian(s);
-    for (const float v : g.position) put(out, v);
-    for (const float v : g.normal) put(out, v);
-    for (const float v : g.f_dc) put(out, v);
-    put(out, g.opacity);
-    for (const float v : g.scale) put(out, v);
-    for (const float v : g.rotation) put(out, v);
+    for (const float v : g.position) append_bytes(out, v);
+    for (const float v : g.normal) append_bytes(out, v);
+    for (const float v : g.f_dc) append_bytes(out, v);
+    append_bytes(out, g.opacity);
+    for (const float v : g.scale) append_bytes(out, v);
+    for (const float v : g.rotation) append_bytes(out, v);
   }
   write_file_atomically(path, out);
   return clipped;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/binary.hpp"
 #include "io/checksum.hpp"
 #include "runtime/error.hpp"
 
@@ -36,13 +37,6 @@ std::string unescape(const std::string& text) {
   return out;
 }
 
-template <class T>
-void put(std::string& out, T value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  out.append(bytes, sizeof(T));
-}
-
 }  // namespace
 
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info) {
@@ -50,10 +44,10 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
   for (const SplatRecord& s : splats) {
     const float values[] = {s.center.x, s.center.y, s.center.z, s.normal.x, s.normal.y, s.normal.z, s.major.x,
                             s.major.y,  s.major.z,  s.minor.x,  s.minor.y,  s.minor.z,  length(s.major), length(s.minor)};
-    for (int p = 0; p < 6; ++p) put(body, values[p]);
-    put(body, s.color.r), put(body, s.color.g), put(body, s.color.b);
-    for (int p = 6; p < 14; ++p) put(body, values[p]);
-    if (info.clipped) put(body, s.clip_x), put(body, s.clip_y), put(body, s.clip_offset);
+    for (int p = 0; p < 6; ++p) append_bytes(body, values[p]);
+    append_bytes(body, s.color.r), append_bytes(body, s.color.g), append_bytes(body, s.color.b);
+    for (int p = 6; p < 14; ++p) append_bytes(body, values[p]);
+    if (info.clipped) append_bytes(body, s.clip_x), append_bytes(body, s.clip_y), append_bytes(body, s.clip_offset);
   }
   std::string header = "ply\nformat binary_little_endian 1.0\n";
   header += fmt::format("comment splatcl_version {}\n", kSplatFileVersion);
