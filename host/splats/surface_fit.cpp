@@ -1,11 +1,9 @@
 #include "splats/surface_fit.hpp"
 
 #include <algorithm>
+#include <numbers>
 #include <tuple>
 #include <unordered_map>
-#include <cstdlib>
-#include <fmt/format.h>
-#include <numbers>
 
 #include "runtime/profiling.hpp"
 #include "splats/parallel.hpp"

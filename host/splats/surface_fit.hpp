@@ -1,9 +1,12 @@
 #pragma once
 // Extensions of the thesis's method that make its splats keep the two-sided bound on any mesh
 // (docs/results/splats.md, "The two-sided bound"):
-//  - bound by the surface: a grown splat whose ellipse leaves the mesh surface by more than ε is
-//    shrunk (its major axis towards its minor first, then both), and the samples no longer inside
-//    it leave its covered and safe sets, before selection;
+//  - bound by the surface: before selection, a grown splat whose test points leave the mesh surface
+//    by more than 0.9 ε is scaled down (then its major axis extended back as far as it passes),
+//    and its covered and safe sets are recomputed from the samples still inside it;
+//  - certification: after selection, the splats near a boundary or a crease (or all of them) are
+//    certified by subdividing the ellipse (the distance to the surface is 1-Lipschitz) and made
+//    smaller until they pass;
 //  - gap filling: after selection, the surface is checked cell by cell (each triangle subdivided
 //    where needed): a cell is covered when one splat covers its three corners (what a splat covers
 //    is convex, so it then covers the whole cell); below ε/16 a cell covered only by several splats
@@ -12,7 +15,7 @@
 //    along the direction that allows the longest one), until nothing is left uncovered.
 // The thesis's growth bounds a splat only by the heights of the samples it meets; the size
 // corrections and the ellipse phase extrapolate beyond them, and selection guarantees coverage only
-// at the samples. Both extensions measure against the mesh itself (splats/surface.hpp).
+// at the samples. The extensions measure against the mesh itself (splats/surface.hpp).
 #include <cstdint>
 #include <vector>
 
