@@ -13,12 +13,14 @@
 #include <fstream>
 #include <memory>
 
+#include "present/assets.hpp"
 #include "present/context.hpp"
 #include "present/lod.hpp"
 #include "present/presenter.hpp"
 #include "present/scene.hpp"
 #include "runtime/error.hpp"
 #include "runtime/runtime.hpp"
+#include "splats/surface_check.hpp"
 
 namespace splatcl::present {
 namespace {
@@ -357,6 +359,27 @@ TEST_F(PresenterTest, IncrementalSplatLightingEqualsFullRecomputation) {
     }
     EXPECT_GE(partial_updates, 2u);  // the incremental path skipped receivers on most updates
   }
+}
+
+// quality.splat_bound picks the splat method: the thesis's (default, the shipped scene's look) or
+// the two-sided variant of splatcl splats, whose splats keep the bound against the object's mesh
+// (checked on the surface) and live under their own cache key.
+TEST_F(PresenterTest, SplatBoundChoosesTheSplatMethod) {
+  EXPECT_EQ(default_scene().quality.splat_bound, "thesis");
+  EXPECT_THROW(parse_scene("{\"objects\": [], \"quality\": {\"splat_bound\": \"yes\"}}", "s.json", "."), Error);
+  Scene scene = default_scene();
+  const auto box = std::find_if(scene.objects.begin(), scene.objects.end(), [](const ObjectSpec& o) { return o.name == "box"; });
+  ASSERT_NE(box, scene.objects.end());
+  scene.quality.eps_diagonal = 0.004f;  // a coarse ε keeps the test short
+  const ObjectAssets thesis = load_object_assets(*box, scene, SPLATCL_TEST_CACHE, *runtime_);
+  scene.quality.splat_bound = "two-sided";
+  const ObjectAssets bounded = load_object_assets(*box, scene, SPLATCL_TEST_CACHE, *runtime_);
+  EXPECT_NE(thesis.key, bounded.key);
+  splats::SurfaceCheckOptions check;
+  check.eps = scene.quality.eps_diagonal * bounded.mesh.bounds().diagonal();
+  check.surface_points = 50'000;
+  EXPECT_TRUE(splats::check_surface(bounded.mesh, bounded.splats, check).ok());
+  EXPECT_FALSE(splats::check_surface(thesis.mesh, thesis.splats, check).ok());
 }
 
 TEST(PresenterScene, SpecularIsOffByDefaultAndValidated) {
