@@ -26,6 +26,13 @@ namespace {
 
 bool degenerate(const SplatShape& s) { return !(s.major.w > 0 && s.minor.w > 0); }
 
+// Grown splat j as written: its shape, clip line and start sample's colour.
+SplatRecord grown_record(const FitResult& fit, const Samples& samples, std::uint32_t j) {
+  const SplatShape& s = fit.splats[j];
+  const Vec4& clip = fit.clips[j];
+  return {xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j], clip.x, clip.y, clip.z};
+}
+
 // Meshes whose coordinates are this far from 1 are processed in units of their diagonal.
 bool needs_normalising(const Box& box) {
   const double diagonal = box.diagonal();
@@ -38,15 +45,11 @@ bool needs_normalising(const Box& box) {
 
 std::vector<SplatRecord> SplatRun::records() const {
   std::vector<SplatRecord> out;
-  out.reserve(selected.size() + gap_splats.size());
   if (surface_bound) {
     out = kept_splats;
   } else {
-    for (const std::uint32_t j : selected) {
-      const SplatShape& s = fit.splats[j];
-      const Vec4& clip = fit.clips[j];
-      out.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j], clip.x, clip.y, clip.z});
-    }
+    out.reserve(selected.size());
+    for (const std::uint32_t j : selected) out.push_back(grown_record(fit, samples, j));
   }
   out.insert(out.end(), gap_splats.begin(), gap_splats.end());
   if (scale != 1 || origin.x != 0 || origin.y != 0 || origin.z != 0) {
@@ -137,13 +140,12 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   });
   if (options.surface_bound) {
     phase("gap fill", [&] {
-      for (const std::uint32_t j : run.selected) run.degenerate_dropped += degenerate(run.fit.splats[j]) ? 1 : 0;
       std::vector<SplatRecord> kept;
       for (const std::uint32_t j : run.selected) {
-        const SplatShape& s = run.fit.splats[j];
-        const Vec4& clip = run.fit.clips[j];
-        if (!degenerate(s))
-          kept.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), run.samples.colors[j], clip.x, clip.y, clip.z});
+        if (degenerate(run.fit.splats[j]))
+          ++run.degenerate_dropped;
+        else
+          kept.push_back(grown_record(run.fit, run.samples, j));
       }
       run.gap_splats = fill_gaps(*surface, mesh, colors, kept, options.fit.eps, options.certify_everywhere, run.surface_fit);
       run.kept_splats = std::move(kept);

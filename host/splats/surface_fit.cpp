@@ -397,7 +397,6 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
     }
     return lo;
   };
-  e.u = x, e.v = y;
   double radius = largest_passing(0.0, 2 * eps, [&](double r) { return test(r, r); });
   for (double r = eps / 32; !(radius > 0) && r > eps / 4096; r *= 0.5)
     if (test(r, r)) radius = r;
@@ -492,8 +491,7 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
     kept.push_back(changed[j] ? record_of(certified[j], selected[j].color) : selected[j]);
   }
   selected = std::move(kept);
-  Box bounds = mesh.bounds();
-  const double largest = 0.25 * bounds.diagonal();
+  const double largest = 0.25 * mesh.bounds().diagonal();
   std::vector<SplatRecord> added;
   std::vector<std::uint32_t> recheck;  // triangles that had gaps: the later rounds check only them
   for (std::size_t round = 0; round < kMaxGapRounds; ++round) {
