@@ -199,6 +199,7 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
                            {"degenerate_dropped", run.degenerate_dropped},
                            {"recertified_splats", run.surface_fit.recertified},
                            {"certify_ms", run.surface_fit.certify_ms},
+                           {"gap_search_ms", run.surface_fit.gap_search_ms},
                            {"normalised_scale", run.scale}}},
           {"output_splats", run.output_count()},
           {"splats_greedy", run.greedy_count},

@@ -19,8 +19,10 @@ BoxTree::BoxTree(const std::vector<Box>& boxes) {
   if (boxes.empty()) return;
   items_.resize(boxes.size());
   std::iota(items_.begin(), items_.end(), 0u);
+  leaf_of_.resize(boxes.size());
   nodes_.reserve(boxes.size() / 2 + 2);
   nodes_.emplace_back();
+  parents_.push_back(0);
   build(0, boxes, 0, static_cast<std::uint32_t>(boxes.size()), 0);
 }
 
@@ -37,6 +39,7 @@ void BoxTree::build(std::uint32_t index, const std::vector<Box>& boxes, std::uin
   if (end - begin <= 4 || depth >= 60 || !(std::max({extent.x, extent.y, extent.z}) > 0)) {
     nodes_[index].first = begin;
     nodes_[index].count = end - begin;
+    for (std::uint32_t r = begin; r < end; ++r) leaf_of_[items_[r]] = index;
     return;
   }
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
@@ -54,8 +57,16 @@ void BoxTree::build(std::uint32_t index, const std::vector<Box>& boxes, std::uin
   nodes_[index].count = 0;
   nodes_.emplace_back();
   nodes_.emplace_back();
+  parents_.push_back(index);
+  parents_.push_back(index);
   build(children, boxes, begin, middle, depth + 1);
   build(children + 1, boxes, middle, end, depth + 1);
+}
+
+std::uint32_t BoxTree::ancestor(std::uint32_t item, int levels) const {
+  std::uint32_t node = leaf_of_[item];
+  for (int k = 0; k < levels && node != 0; ++k) node = parents_[node];
+  return node;
 }
 
 DVec3 closest_point(const SurfaceTriangle& t, DVec3 p) {
@@ -110,31 +121,69 @@ Surface::Surface(const Mesh& mesh) : triangles_(surface_triangles(mesh)) {
   tree_ = BoxTree(boxes);
 }
 
-Surface::Nearest Surface::nearest(DVec3 p, double limit) const {
+namespace {
+// How far above the answer's leaf a Recent's region lies: 2^4 leaves of up to 4 triangles.
+constexpr int kRegionLevels = 4;
+}  // namespace
+
+Surface::Nearest Surface::nearest(DVec3 p, double limit, Recent* recent) const {
   Nearest best;
   double radius = limit;
-  tree_.visit(p, radius, [&](std::uint32_t t, double& r) {
+  const auto consider = [&](std::uint32_t t, double& r) {
     const double d = length(closest_point(triangles_[t], p) - p);
     if (d <= r && (d < best.distance || (d == best.distance && t < best.triangle))) {
       best = {d, t};
       r = d;
     }
     return false;
-  });
+  };
+  if (recent) {
+    // The recent triangles and the region bound the radius, so the walk from the root prunes
+    // nearly everything.
+    for (const std::uint32_t t : recent->triangles)
+      if (t < triangles_.size()) consider(t, radius);
+    if (recent->region != 0) tree_.visit(p, radius, consider, recent->region);
+  }
+  tree_.visit(p, radius, consider);
+  if (recent && best.triangle != UINT32_MAX) {
+    recent->remember(best.triangle);
+    recent->region = tree_.ancestor(best.triangle, kRegionLevels);
+  }
   return best;
 }
 
-bool Surface::within(DVec3 p, double radius, std::uint32_t* hint) const {
-  const auto near = [&](std::uint32_t t) { return length(closest_point(triangles_[t], p) - p) <= radius; };
-  if (hint && *hint < triangles_.size() && near(*hint)) return true;
-  bool found = false;
-  double r = radius;
-  tree_.visit(p, r, [&](std::uint32_t t, double&) {
-    found = near(t);
-    if (found && hint) *hint = t;
-    return found;
-  });
-  return found;
+void Surface::Recent::remember(std::uint32_t t) {
+  int k = 0;
+  while (k + 1 < kSize && triangles[k] != t) ++k;
+  for (; k > 0; --k) triangles[k] = triangles[k - 1];
+  triangles[0] = t;
+}
+
+bool Surface::within(DVec3 p, double radius, Recent* recent) const {
+  const auto near = [&](std::uint32_t t) {
+    const SurfaceTriangle& tri = triangles_[t];
+    if (std::fabs(dot(p - tri.a, tri.normal)) > radius) return false;  // the plane is nearer than the triangle
+    const DVec3 d = closest_point(tri, p) - p;
+    return dot(d, d) <= radius * radius;
+  };
+  std::uint32_t answer = UINT32_MAX;
+  const auto search = [&](std::uint32_t start) {
+    double r = radius;
+    tree_.visit(p, r, [&](std::uint32_t t, double&) { return near(t) && (answer = t, true); }, start);
+    return answer != UINT32_MAX;
+  };
+  if (!recent) return search(0);
+  for (const std::uint32_t t : recent->triangles) {
+    if (t >= triangles_.size()) break;
+    if (!near(t)) continue;
+    recent->remember(t);
+    return true;
+  }
+  // The region first: a query near the last one is mostly answered there, a few levels down.
+  if (!(recent->region != 0 && search(recent->region)) && !search(0)) return false;
+  recent->remember(answer);
+  recent->region = tree_.ancestor(answer, kRegionLevels);
+  return true;
 }
 
 std::vector<Surface::Point> Surface::uniform_points(std::size_t count, std::uint64_t seed) const {

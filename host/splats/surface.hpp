@@ -36,9 +36,10 @@ class BoxTree {
   explicit BoxTree(const std::vector<Box>& boxes);
 
   // visit(item, radius) -> bool: called for each item of each leaf within `radius` of p (leaves in
-  // near-first order); it may lower `radius`; returning true ends the walk.
+  // near-first order) below node `start` (0: the root, the whole tree); it may lower `radius`;
+  // returning true ends the walk.
   template <class Visit>
-  void visit(DVec3 p, double& radius, Visit&& visit) const {
+  void visit(DVec3 p, double& radius, Visit&& visit, std::uint32_t start = 0) const {
     if (nodes_.empty() || !(radius >= 0)) return;
     struct Entry {
       std::uint32_t node;
@@ -46,9 +47,9 @@ class BoxTree {
     };
     Entry stack[128];
     int top = 0;
-    const double root2 = nodes_[0].box.distance2(p);
+    const double root2 = nodes_[start].box.distance2(p);
     if (root2 > radius * radius) return;
-    stack[top++] = {0, root2};
+    stack[top++] = {start, root2};
     while (top > 0) {
       const Entry entry = stack[--top];
       if (entry.distance2 > radius * radius) continue;  // the radius shrank since it was pushed
@@ -73,6 +74,9 @@ class BoxTree {
   }
 
   std::size_t size() const { return items_.size(); }
+  // The node `levels` above the leaf that holds `item` (the root at most): a region around the
+  // item that a run of nearby queries can search before the whole tree.
+  std::uint32_t ancestor(std::uint32_t item, int levels) const;
 
  private:
   struct Node {
@@ -81,7 +85,9 @@ class BoxTree {
   };
   void build(std::uint32_t index, const std::vector<Box>& boxes, std::uint32_t begin, std::uint32_t end, int depth);
   std::vector<Node> nodes_;
+  std::vector<std::uint32_t> parents_;  // per node (the root's is itself)
   std::vector<std::uint32_t> items_;
+  std::vector<std::uint32_t> leaf_of_;  // per item
 };
 
 struct SurfaceTriangle {
@@ -109,12 +115,21 @@ class Surface {
     double distance = INFINITY;
     std::uint32_t triangle = UINT32_MAX;  // UINT32_MAX when nothing lies within the limit
   };
-  // The nearest triangle to p among those within `limit`.
-  Nearest nearest(DVec3 p, double limit = INFINITY) const;
-  // Whether some triangle lies within `radius` of p (stops at the first one found). `hint`, when
-  // given, holds the triangle that answered the previous query of a run of nearby points: it is
-  // tried first and updated.
-  bool within(DVec3 p, double radius, std::uint32_t* hint = nullptr) const;
+  struct Recent;
+  // The nearest triangle to p among those within `limit` (ties to the lowest index). `recent`, as
+  // for within(), only speeds the search up.
+  Nearest nearest(DVec3 p, double limit = INFINITY, Recent* recent = nullptr) const;
+  // The triangles that answered the last queries of a run of nearby points, most recent first,
+  // and the tree region around the last one.
+  struct Recent {
+    static constexpr int kSize = 4;
+    std::uint32_t triangles[kSize] = {UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX};
+    std::uint32_t region = 0;  // a tree node; 0, the root, until a query answers
+    void remember(std::uint32_t t);
+  };
+  // Whether some triangle lies within `radius` of p (stops at the first one found). `recent`, when
+  // given, is tried first (its triangles, then its region of the tree) and updated.
+  bool within(DVec3 p, double radius, Recent* recent = nullptr) const;
 
   struct Point {
     DVec3 position, normal;

@@ -145,8 +145,9 @@ SplatResult measure_splat(const Ellipse& e, std::size_t index, const SurfaceChec
   double far = -1;
   std::size_t interior_beyond = 0, rim_best = SIZE_MAX;
   double rim_max = -1;
+  Surface::Recent recent;
   const auto measure = [&](DVec3 p) {
-    const Surface::Nearest nearest = surface.nearest(p, limit);
+    const Surface::Nearest nearest = surface.nearest(p, limit, &recent);
     ++r.points;
     if (nearest.triangle == UINT32_MAX) {
       r.past_limit = r.beyond = true;

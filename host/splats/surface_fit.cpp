@@ -23,6 +23,10 @@ constexpr std::size_t kCertifyBudget = 8192;
 // whole is checked at its corners, edge midpoints and centre.
 constexpr double kFinestCell = 1.0 / 16.0;
 constexpr std::size_t kMaxGapRounds = 6;
+// Gap splats are made in parallel ahead of the walk that places them, from this far ahead, for
+// gaps this many mean gap-splat sizes apart.
+constexpr std::size_t kGapLookahead = 4096;
+constexpr double kGapSpread = 4;
 
 // In-plane coordinates of p relative to e, and its height above the plane.
 struct Local {
@@ -102,9 +106,8 @@ void ellipse_test_points(const Ellipse& e, double eps, std::vector<DVec3>& out) 
   // The rim first: where a splat too large leaves the surface.
   const double perimeter = std::numbers::pi * (3 * (e.a + e.b) - std::sqrt((3 * e.a + e.b) * (e.a + 3 * e.b)));
   const int rim = static_cast<int>(std::clamp(std::ceil(perimeter / (2 * eps)), 24.0, 128.0));
-  // Every other rim point first: a failing splat usually fails there, and the walk stops early.
-  for (int start : {0, 1})
-    for (int k = start; k < rim; k += 2) add(e.a * std::cos(kTau * k / rim), e.b * std::sin(kTau * k / rim));
+  // In order round the rim: consecutive points mostly lie near the same triangles.
+  for (int k = 0; k < rim; ++k) add(e.a * std::cos(kTau * k / rim), e.b * std::sin(kTau * k / rim));
   if (clipped) {
     // The chord x·c + y·s = offset inside the ellipse.
     const double px = e.clip_offset * e.clip_x, py = e.clip_offset * e.clip_y, dx = -e.clip_y, dy = e.clip_x;
@@ -129,31 +132,37 @@ bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::v
   // The points are a sample of the ellipse: between them the distance can rise by a little more
   // (it is 1-Lipschitz), so they must keep this much below ε.
   const double limit = eps * (1 - kBetweenPointsReserve);
-  std::uint32_t hint = UINT32_MAX;
+  Surface::Recent recent;
   for (const DVec3& p : scratch)
-    if (!surface.within(p, limit, &hint)) return false;
+    if (!surface.within(p, limit, &recent)) return false;
   return true;
 }
 
-// Whether p's projection along the triangle's normal lies in the triangle (edges included).
-bool projects_into(const SurfaceTriangle& t, DVec3 p) {
-  const auto side = [&](DVec3 a, DVec3 b) { return dot(cross(b - a, p - a), t.normal); };
-  return side(t.a, t.b) >= 0 && side(t.b, t.c) >= 0 && side(t.c, t.a) >= 0;
+// Whether every corner of the parallelogram centre ± hu ± hv lies within ε of triangle t: the
+// distance to a triangle is convex, so then all of the parallelogram does.
+bool parallelogram_within(const SurfaceTriangle& t, DVec3 centre, DVec3 hu, DVec3 hv, double eps) {
+  for (const DVec3 corner : {centre - hu - hv, centre - hu + hv, centre + hu - hv, centre + hu + hv}) {
+    const DVec3 d = closest_point(t, corner) - corner;
+    if (!(dot(d, d) <= eps * eps)) return false;
+  }
+  return true;
 }
 
 bool certified_within_surface(const Surface& surface, const Ellipse& e, double eps) {
   if (!(e.a > 0 && e.b > 0)) return true;
   // Rectangles of the ellipse's parameter domain [-1, 1]², split across their longer side in
-  // space; one maps to a parallelogram of circumradius r around its centre q, and the distance to
-  // the surface is 1-Lipschitz, so D(q) + r <= ε certifies the whole rectangle.
+  // space; one maps to a parallelogram of circumradius r around its centre q. The distance to the
+  // surface is 1-Lipschitz, so D(q) + r <= ε certifies the whole rectangle; so does one triangle
+  // within ε of all four corners (the distance to one triangle is convex).
   struct Rect {
     double s, t, hs, ht;
   };
   const double finest = eps / 16;
   const bool clipped = std::isfinite(e.clip_offset);
   const double cx = e.a * e.clip_x, cy = e.b * e.clip_y;  // the clip's linear form in (s, t)
+  const auto& triangles = surface.triangles();
   std::vector<Rect> stack{{0, 0, 1, 1}};
-  std::uint32_t hint = UINT32_MAX;
+  Surface::Recent recent;  // [0]: the last answer, mostly the triangle under the last rectangle
   std::size_t visited = 0;
   while (!stack.empty()) {
     const Rect q = stack.back();
@@ -166,19 +175,19 @@ bool certified_within_surface(const Surface& surface, const Ellipse& e, double e
     const double radius = std::sqrt(e.a * e.a * q.hs * q.hs + e.b * e.b * q.ht * q.ht);
     const bool centre_inside = q.s * q.s + q.t * q.t <= 1 && (!clipped || cx * q.s + cy * q.t <= e.clip_offset);
     const DVec3 centre = e.center + (e.a * q.s) * e.u + (e.b * q.t) * e.v;
-    if (centre_inside && radius < eps && surface.within(centre, eps - radius, &hint)) continue;  // the whole rectangle
-    if (surface.within(centre, eps, &hint)) {
-      // A rectangle over one triangle: the distance to the triangle's plane is affine, so if its
-      // four corners project into a triangle within ε of its plane, all of it is within ε.
-      const SurfaceTriangle& tri = surface.triangles()[hint];
-      bool over = true;
-      for (const double ds : {-q.hs, q.hs})
-        for (const double dt : {-q.ht, q.ht}) {
-          if (!over) break;
-          const DVec3 corner = centre + (e.a * ds) * e.u + (e.b * dt) * e.v;
-          over = std::fabs(dot(corner - tri.a, tri.normal)) <= eps && projects_into(tri, corner);
-        }
-      if (over) continue;
+    const DVec3 hu = (e.a * q.hs) * e.u, hv = (e.b * q.ht) * e.v;
+    // The last answer first (neighbouring rectangles mostly lie over the same triangle), then the
+    // nearest triangle.
+    const std::uint32_t last = recent.triangles[0];
+    if (last != UINT32_MAX) {
+      const SurfaceTriangle& tri = triangles[last];
+      if (centre_inside && length(closest_point(tri, centre) - centre) + radius <= eps) continue;
+      if (parallelogram_within(tri, centre, hu, hv, eps)) continue;
+    }
+    const Surface::Nearest nearest = surface.nearest(centre, eps, &recent);
+    if (nearest.triangle != UINT32_MAX) {
+      if (centre_inside && nearest.distance + radius <= eps) continue;
+      if (nearest.triangle != last && parallelogram_within(triangles[nearest.triangle], centre, hu, hv, eps)) continue;
     } else if (centre_inside) {
       return false;  // a point of the splat farther than ε
     }
@@ -187,7 +196,7 @@ bool certified_within_surface(const Surface& surface, const Ellipse& e, double e
       // The rectangle's part inside the disk lies within 2r of the centre's nearest disk point.
       const double norm = std::sqrt(q.s * q.s + q.t * q.t);
       const DVec3 p = e.center + (e.a * q.s / norm) * e.u + (e.b * q.t / norm) * e.v;
-      if (!surface.within(p, eps - 2 * radius, &hint)) return false;
+      if (!surface.within(p, eps - 2 * radius, &recent)) return false;
       continue;
     }
     if (e.a * q.hs >= e.b * q.ht) {
@@ -498,7 +507,9 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
     std::vector<BoxTree::Box> boxes(splats.size());
     for (std::size_t j = 0; j < splats.size(); ++j) boxes[j] = box_of(splats[j], eps);
     const BoxTree tree(boxes);
+    Stopwatch search_clock;
     const std::vector<Gap> gaps = find_gaps(surface, splats, tree, eps, stats.cells_checked, round ? &recheck : nullptr);
+    stats.gap_search_ms += search_clock.elapsed_ms();
     stats.uncovered_cells = gaps.size();
     if (gaps.empty()) break;
     ++stats.gap_rounds;
@@ -518,12 +529,40 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
         return false;
       });
     };
-    std::vector<DVec3> scratch;
+    // A gap's splat depends on the gap alone, so splats are made ahead of the walk in order, in
+    // parallel, for the gap at hand and the next open gaps spread apart from it and each other
+    // (by kGapSpread mean sizes of the gap splats so far): the same splats as one at a time, and
+    // little thrown away (a splat made for a gap that is covered by the time the walk gets there).
+    std::vector<std::uint32_t> slot(gaps.size(), UINT32_MAX);
+    std::vector<Ellipse> made;
+    std::vector<std::uint8_t> fits;
+    std::vector<std::vector<DVec3>> scratch(worker_count(SIZE_MAX, 1));  // one gap per thread
+    std::vector<std::size_t> batch;
+    double size_sum = 0;
+    std::size_t size_count = 0;
     for (std::size_t r = 0; r < gaps.size(); ++r) {
       if (done[r]) continue;
       done[r] = 1;  // without a fitting splat, the next round reports it if nothing else covers it
-      Ellipse e = gap_splat(surface, gaps[r], eps, largest, scratch);
-      if (!shrink_until_certified(surface, e, eps)) continue;
+      if (slot[r] == UINT32_MAX) {
+        const double spread = size_count > 0 ? kGapSpread * size_sum / static_cast<double>(size_count) : 8 * eps;
+        batch.assign(1, r);
+        for (std::size_t q = r + 1; q < gaps.size() && q < r + kGapLookahead && batch.size() < scratch.size(); ++q) {
+          if (done[q] || slot[q] != UINT32_MAX) continue;
+          if (std::all_of(batch.begin(), batch.end(), [&](std::size_t b) { return length(gaps[q].point - gaps[b].point) > spread; }))
+            batch.push_back(q);
+        }
+        const std::size_t base = made.size();
+        made.resize(base + batch.size());
+        fits.resize(base + batch.size());
+        for (std::size_t i = 0; i < batch.size(); ++i) slot[batch[i]] = static_cast<std::uint32_t>(base + i);
+        parallel_for(batch.size(), 1, [&](std::size_t i, std::size_t worker) {
+          made[base + i] = gap_splat(surface, gaps[batch[i]], eps, largest, scratch[worker]);
+          fits[base + i] = shrink_until_certified(surface, made[base + i], eps);
+        });
+      }
+      if (!fits[slot[r]]) continue;
+      const Ellipse& e = made[slot[r]];
+      size_sum += std::max(e.a, e.b), ++size_count;
       mark_covered(e);
       splats.push_back(e);
       added.push_back(record_of(e, color_at(mesh, colors, surface.triangles()[gaps[r].triangle], e.center)));

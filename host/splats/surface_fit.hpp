@@ -61,7 +61,9 @@ struct SurfaceFitStats {
   std::size_t gap_rounds = 0;     // check-and-fill rounds
   std::size_t cells_checked = 0;  // surface cells tested for coverage
   std::size_t uncovered_cells = 0;  // cells still uncovered after the last round (0 unless a round limit was hit)
-  double bound_ms = 0, cover_ms = 0, certify_ms = 0;  // certify_ms: the selected splats' part of cover_ms
+  // certify_ms and gap_search_ms: the parts of cover_ms spent certifying the selected splats and
+  // looking for gaps (the rest places gap splats)
+  double bound_ms = 0, cover_ms = 0, certify_ms = 0, gap_search_ms = 0;
 };
 
 // Shrinks the splats of `fit` that leave the surface by more than ε and drops the samples outside

@@ -60,6 +60,54 @@ TEST(Surface, NearestAndWithinMatchBruteForceOverAMesh) {
   }
 }
 
+TEST(Surface, RecentAnswersOnlySpeedQueriesUp) {
+  // Walks of nearby points (as the splat checks make them) with jumps between walks: with a Recent
+  // the answers are those without one, for within and for nearest (the same triangle on ties).
+  const Mesh mesh = testing::sphere_mesh(24, 48);
+  const Surface surface(mesh);
+  SplitMix64 random{5};
+  Surface::Recent recent;
+  DVec3 p{0, 0, 1};
+  std::size_t inside = 0, outside = 0;
+  for (int step = 0; step < 4000; ++step) {
+    if (step % 200 == 0) recent = {};
+    const double jump = step % 50 == 0 ? 1.0 : 0.02;
+    p = p + DVec3{jump * (random.uniform() - 0.5), jump * (random.uniform() - 0.5), jump * (random.uniform() - 0.5)};
+    p = (0.9 + 0.2 * random.uniform()) * normalized(p);
+    const double radius = 0.03 * random.uniform();
+    const bool plain = surface.within(p, radius);
+    ASSERT_EQ(surface.within(p, radius, &recent), plain) << step;
+    (plain ? inside : outside) += 1;
+    const double limit = step % 3 == 0 ? INFINITY : 0.05;
+    const Surface::Nearest expected = surface.nearest(p, limit), got = surface.nearest(p, limit, &recent);
+    ASSERT_EQ(got.triangle, expected.triangle) << step;
+    ASSERT_EQ(got.distance, expected.distance) << step;
+  }
+  EXPECT_GT(inside, 500u);
+  EXPECT_GT(outside, 500u);
+}
+
+TEST(Surface, TreeRegionsHoldTheirItems) {
+  // ancestor(item, k) is a node whose subtree visit reaches the item; k = 0 is its leaf and a
+  // large k the root (the whole tree).
+  std::vector<BoxTree::Box> boxes(1000);
+  SplitMix64 random{9};
+  for (auto& box : boxes) {
+    const DVec3 c{random.uniform(), random.uniform(), random.uniform()};
+    box.add(c), box.add(c + DVec3{0.01, 0.01, 0.01});
+  }
+  const BoxTree tree(boxes);
+  EXPECT_EQ(tree.ancestor(17, 100), 0u);
+  for (std::uint32_t item = 0; item < boxes.size(); item += 37)
+    for (const int levels : {0, 1, 3, 6}) {
+      const DVec3 p = 0.5 * (boxes[item].lo + boxes[item].hi);
+      bool reached = false;
+      double radius = 0;
+      tree.visit(p, radius, [&](std::uint32_t j, double&) { return reached = j == item; }, tree.ancestor(item, levels));
+      EXPECT_TRUE(reached) << item << " " << levels;
+    }
+}
+
 TEST(Surface, NonPlanarQuadIsItsTwoTriangles) {
   // A quad with one corner lifted: the surface passes through all four corners.
   const Mesh mesh = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5f}, {0, 1, 0}}, {{0, 1, 2, 3}}, "bent quad");
