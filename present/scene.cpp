@@ -12,6 +12,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "io/json_keys.hpp"
+#include "io/text_file.hpp"
 #include "runtime/embedded.hpp"
 #include "runtime/error.hpp"
 
@@ -82,10 +84,16 @@ struct Reader {
     if (!j[field].is_object()) fail(field, "must be an object");
     return j[field];
   }
+  // Every key of the object `j` (the scene part `where`) must be one of `known`: a typo such as
+  // "colour" or "positon" is an error naming it, not a silent default.
+  void known_keys(const json& j, const std::string& where, std::initializer_list<const char*> known) const {
+    if (const auto key = unknown_key(j, known)) fail(*key, fmt::format("is not a key of {} (known: {})", where, key_list(known)));
+  }
 };
 
-Light read_light(const Reader& r, const json& j) {
+Light read_light(const Reader& r, const json& j, const std::string& where) {
   if (!j.is_object()) r.fail("lights", "entries must be objects");
+  r.known_keys(j, where, {"position", "radius", "color", "size"});
   Light light;
   light.position = r.vec3(j, "position", light.position);
   light.radius = r.positive(j, "radius", light.radius);
@@ -102,6 +110,7 @@ MeshSpec read_mesh(const Reader& r, const json& j) {
     return spec;
   }
   if (!j.is_object()) r.fail("mesh", "must be a file name or an object");
+  r.known_keys(j, "mesh", {"procedural", "radius", "tube", "size", "segments", "rings"});
   spec.procedural = r.text(j, "procedural", "", {"sphere", "torus", "box"});
   if (spec.procedural.empty()) r.fail("mesh", "needs \"procedural\": sphere, torus or box (or give a file name)");
   spec.radius = r.positive(j, "radius", spec.radius);
@@ -115,6 +124,9 @@ MeshSpec read_mesh(const Reader& r, const json& j) {
 
 ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
   if (!j.is_object()) r.fail("objects", "entries must be objects");
+  r.known_keys(j, fmt::format("objects[{}]", index),
+               {"name", "mesh", "color", "color_field", "texture", "color_tolerance", "position", "rotation_degrees", "scale", "occluder",
+                "animation"});
   ObjectSpec o;
   o.name = r.text(j, "name", fmt::format("object {}", index));
   if (!j.contains("mesh")) r.fail("mesh", fmt::format("is missing in {}", o.name));
@@ -135,9 +147,11 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
   o.occluder = r.flag(j, "occluder", o.occluder);
   if (j.contains("animation")) {
     const json& a = r.object(j, "animation");
+    r.known_keys(a, "animation", {"spin_degrees_per_second", "orbit"});
     o.animation.spin_degrees_per_second = r.vec3(a, "spin_degrees_per_second", o.animation.spin_degrees_per_second);
     if (a.contains("orbit")) {
       const json& orbit = r.object(a, "orbit");
+      r.known_keys(orbit, "animation.orbit", {"center", "radius", "degrees_per_second", "phase_degrees"});
       o.animation.orbit_center = r.vec3(orbit, "center", o.animation.orbit_center);
       o.animation.orbit_radius = r.positive(orbit, "radius", 1.0f);
       o.animation.orbit_degrees_per_second = r.number(orbit, "degrees_per_second", 30.0f);
@@ -191,6 +205,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   }
   if (!j.is_object()) throw Error(source + ": the scene must be a JSON object");
   const Reader r{source};
+  r.known_keys(j, "the scene", {"objects", "floor", "lights", "key_lights", "camera", "sky", "quality", "time"});
   Scene scene;
   scene.source = source;
   scene.directory = directory;
@@ -201,6 +216,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
       scene.floor.enabled = j["floor"].get<bool>();
     } else {
       const json& f = r.object(j, "floor");
+      r.known_keys(f, "floor", {"y", "size", "color", "splats_per_side"});
       scene.floor.y = r.number(f, "y", scene.floor.y);
       scene.floor.size = r.positive(f, "size", scene.floor.size);
       scene.floor.color = r.vec3(f, "color", scene.floor.color);
@@ -210,10 +226,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   if (j.contains("lights")) {
     const json& l = j["lights"];
     if (l.is_array()) {
-      for (const json& e : l) scene.lights.push_back(read_light(r, e));
+      if (l.size() > kMaxLights) r.fail("lights", fmt::format("lists {} lights, more than the limit of {}", l.size(), kMaxLights));
+      for (std::size_t i = 0; i < l.size(); ++i) scene.lights.push_back(read_light(r, l[i], fmt::format("lights[{}]", i)));
     } else if (l.is_object()) {
+      r.known_keys(l, "lights", {"count", "radius", "height", "extent", "intensity", "seed"});
       GeneratedLights& g = scene.generated;
-      g.count = r.count(l, "count", g.count, 0, 1u << 20);
+      g.count = r.count(l, "count", g.count, 0, kMaxLights);
       const auto radius = r.range(l, "radius", {g.radius_min, g.radius_max});
       const auto height = r.range(l, "height", {g.height_min, g.height_max});
       if (!(radius[0] > 0)) r.fail("radius", "must be positive");
@@ -227,7 +245,8 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   }
   if (j.contains("key_lights")) {
     if (!j["key_lights"].is_array()) r.fail("key_lights", "must be an array");
-    for (const json& e : j["key_lights"]) scene.key_lights.push_back(read_light(r, e));
+    for (std::size_t i = 0; i < j["key_lights"].size(); ++i)
+      scene.key_lights.push_back(read_light(r, j["key_lights"][i], fmt::format("key_lights[{}]", i)));
   }
   if (j.contains("camera")) {
     try {
@@ -242,12 +261,17 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   }
   if (j.contains("sky")) {
     const json& s = r.object(j, "sky");
+    r.known_keys(s, "sky", {"zenith", "horizon", "ground"});
     scene.sky.zenith = r.vec3(s, "zenith", scene.sky.zenith);
     scene.sky.horizon = r.vec3(s, "horizon", scene.sky.horizon);
     scene.sky.ground = r.vec3(s, "ground", scene.sky.ground);
   }
   if (j.contains("quality")) {
     const json& q = r.object(j, "quality");
+    r.known_keys(q, "quality",
+                 {"sampling", "splat_bound", "eps_diagonal", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "splat_scale", "depth_offset",
+                  "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "lod_error",
+                  "lod_leaf", "specular", "shininess"});
     Quality& Q = scene.quality;
     Q.sampling = r.text(q, "sampling", Q.sampling);
     Q.splat_bound = r.text(q, "splat_bound", Q.splat_bound, {"thesis", "two-sided"});
@@ -281,12 +305,8 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
 }
 
 Scene load_scene(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read scene " + path);
-  std::stringstream text;
-  text << in.rdbuf();
   const auto directory = std::filesystem::path(path).parent_path().string();
-  return parse_scene(text.str(), path, directory);
+  return parse_scene(read_text_file(path, "scene"), path, directory);
 }
 
 const char* default_scene_name() { return "default scene (data/presenter-scene.json)"; }
@@ -414,18 +434,19 @@ void apply_overrides(Scene& scene, const Overrides& o) {
   pick(o.shading, "--shading", {"clustered", "tiled", "brute"}, scene.quality.shading);
   pick(o.mode, "--mode", {"splats", "points"}, scene.quality.mode);
   pick(o.shadows, "--shadows", {"splat", "pixel", "off"}, scene.quality.shadows);
-  if (!std::isnan(o.lod)) {
-    if (!(o.lod >= 0 && o.lod <= 1000)) throw Error(fmt::format("--lod {} is not a pixel error in [0, 1000]", o.lod));
-    scene.quality.lod_error = static_cast<float>(o.lod);
+  if (o.lod) {
+    if (!(*o.lod >= 0 && *o.lod <= 1000)) throw Error(fmt::format("--lod {} is not a pixel error in [0, 1000]", *o.lod));
+    scene.quality.lod_error = static_cast<float>(*o.lod);
   }
-  if (!std::isnan(o.specular)) {
-    if (!(o.specular >= 0 && o.specular <= 100))
-      throw Error(fmt::format("--specular {} is not a highlight strength in [0, 100]", o.specular));
-    scene.quality.specular = static_cast<float>(o.specular);
+  if (o.specular) {
+    if (!(*o.specular >= 0 && *o.specular <= 100))
+      throw Error(fmt::format("--specular {} is not a highlight strength in [0, 100]", *o.specular));
+    scene.quality.specular = static_cast<float>(*o.specular);
   }
-  if (o.lights >= 0) {
-    if (o.lights > (1 << 20)) throw Error(fmt::format("--lights {} is above the limit of {}", o.lights, 1 << 20));
-    set_generated_light_count(scene, static_cast<std::uint32_t>(o.lights));
+  if (o.lights) {
+    if (*o.lights < 0 || *o.lights > kMaxLights)
+      throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.lights, kMaxLights));
+    set_generated_light_count(scene, static_cast<std::uint32_t>(*o.lights));
   }
 }
 

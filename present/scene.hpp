@@ -4,6 +4,7 @@
 // an ambient sky and quality settings. The JSON schema is documented in docs/presenter.md.
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -73,6 +74,9 @@ struct Light {
 
 // Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
 // bright hues from a seeded generator.
+// The most point lights a scene may have (listed, generated, --lights): the cluster stage's limit.
+using cluster::kMaxLights;
+
 struct GeneratedLights {
   std::uint32_t count = 0;
   float radius_min = 0.8f, radius_max = 2.5f;
@@ -159,9 +163,10 @@ namespace splatcl::present {
 // names the option for a value outside its set.
 struct Overrides {
   std::string shading, mode, shadows;
-  long long lights = -1;  // generated light count; < 0 keeps the scene's
-  double lod = std::numeric_limits<double>::quiet_NaN();  // LOD error threshold in pixels; NaN keeps the scene's
-  double specular = std::numeric_limits<double>::quiet_NaN();  // Blinn-Phong strength, 0 = off; NaN keeps the scene's
+  // Unset keeps the scene's value; a given value out of range (negative, NaN) is an error.
+  std::optional<long long> lights;  // generated light count
+  std::optional<double> lod;        // LOD error threshold in pixels
+  std::optional<double> specular;   // Blinn-Phong strength, 0 = off
 };
 void apply_overrides(Scene& scene, const Overrides& overrides);
 

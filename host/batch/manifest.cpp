@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "io/checksum.hpp"
+#include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::batch {
@@ -61,16 +62,6 @@ void apply_overrides(ModelParams& params, const nlohmann::json& overrides, const
       throw Error(where + ": " + e.what());
     }
   }
-}
-
-std::string read_text(const std::string& path, const char* what) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw Error(fmt::format("cannot read {} {}: it is a directory", what, path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(fmt::format("cannot read {} {}: {}", what, path, std::strerror(errno)));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 std::string resolve(const std::string& folder, const std::string& path) {
@@ -301,7 +292,7 @@ std::vector<ModelEntry> load_manifest(const std::string& path, const nlohmann::j
   const std::string extension = lower(fs::path(path).extension().string());
   if (extension != ".json" && extension != ".csv")
     throw Error(fmt::format("cannot tell the manifest format of {}: name it .json or .csv (or pass a directory of meshes)", path));
-  const std::string text = read_text(path, "manifest");
+  const std::string text = read_text_file(path, "manifest");
   const std::string folder = fs::path(path).parent_path().string();
   return extension == ".json" ? parse_json_manifest(text, path, folder, overrides, base)
                               : parse_csv_manifest(text, path, folder, overrides, base);

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -21,6 +23,8 @@
 #include "csm/csm_file.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checksum.hpp"
+#include "io/file_lock.hpp"
+#include "io/output_files.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
@@ -290,13 +294,12 @@ class Worker {
 };
 
 // A write killed mid-way leaves NAME.tmpPID beside NAME (io/atomic_file.hpp); remove those of this
-// run's models before starting. Each model belongs to exactly one shard, so no other shard's
-// temporaries are touched.
+// run's models before starting. Each model belongs to exactly one shard, and a second run over the
+// same models is refused by their locks (lock_models), so no running writer's temporaries are touched.
 void remove_stale_temporaries(const std::vector<ModelEntry>& models, const fs::path& dir) {
   std::set<std::string> names;
   for (const auto& m : models)
-    for (const std::string& name : {record_name(m.id), splats_name(m.id), m.id + ".splats.json", csm_name(m.id), m.id + ".csm.json"})
-      names.insert((dir / name).lexically_normal().string());
+    for (const std::string& name : output_names(m.id)) names.insert((dir / name).lexically_normal().string());
   std::error_code ec;
   std::vector<fs::path> stale;
   for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
@@ -335,13 +338,60 @@ nlohmann::json to_json(const ModelResult& r) {
 std::string record_name(const std::string& id) { return id + ".batch.json"; }
 std::string splats_name(const std::string& id) { return id + ".splats.ply"; }
 std::string csm_name(const std::string& id) { return id + ".csm"; }
+std::vector<std::string> output_names(const std::string& id) {
+  return {record_name(id), splats_name(id), id + ".splats.json", csm_name(id), id + ".csm.json"};
+}
+
+void check_run_paths(const std::string& input, bool input_is_directory, const std::string& output_dir, const std::string& summary,
+                     const std::vector<ModelEntry>& all_models) {
+  const fs::path in = comparable_path(input), out = comparable_path(output_dir), sum = comparable_path(summary);
+  if (input_is_directory) {
+    if (in == out) throw Error("batch: the output directory " + output_dir + " is the input directory: outputs would be read as meshes by later runs");
+    if (path_within(out, in))
+      throw Error("batch: the output directory " + output_dir + " is inside the input directory " + input + ": choose one outside it");
+    if (path_within(in, out))
+      throw Error("batch: the output directory " + output_dir + " contains the input directory " + input + ": choose one outside it");
+  } else if (sum == in) {
+    throw Error("batch: --summary " + summary + " is the manifest " + input);
+  }
+  std::map<fs::path, const ModelEntry*> inputs;
+  for (const auto& m : all_models) inputs.emplace(comparable_path(m.input), &m);
+  if (const auto it = inputs.find(sum); it != inputs.end())
+    throw Error("batch: --summary " + summary + " is the input of model '" + it->second->id + "' (" + it->second->origin + ")");
+  for (const auto& m : all_models)
+    for (const std::string& name : output_names(m.id)) {
+      const fs::path target = comparable_path((fs::path(output_dir) / name).string());
+      if (target == sum) throw Error("batch: --summary " + summary + " is the output " + name + " of model '" + m.id + "'");
+      if (!input_is_directory && target == in) throw Error("batch: the output " + name + " of model '" + m.id + "' is the manifest " + input);
+      if (const auto it = inputs.find(target); it != inputs.end())
+        throw Error("batch: the output " + name + " of model '" + m.id + "' is the input of model '" + it->second->id + "' (" + it->second->input + ")");
+    }
+}
+
+void prepare_output_directory(const std::string& output_dir) {
+  std::error_code ec;
+  fs::create_directories(output_dir, ec);
+  if (ec || !fs::is_directory(output_dir)) throw Error("cannot create output directory " + output_dir + (ec ? ": " + ec.message() : ""));
+  check_writable_directory(output_dir, "output directory " + output_dir);
+}
+
+std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir) {
+  auto locks = std::make_unique<KeyLocks>((fs::path(output_dir) / ".splatcl-batch.lock").string());
+  for (const auto& m : models) {
+    const pid_t holder = locks->try_lock(m.id);
+    if (holder != 0)
+      throw Error(fmt::format("batch: model '{}' in {} is being built by another batch run{}; run one batch per model and output "
+                              "directory at a time (lock {})",
+                              m.id, output_dir, holder > 0 ? fmt::format(" (pid {})", holder) : "", locks->path()));
+  }
+  if (const char* hold = std::getenv(kHoldLocksVariable)) std::this_thread::sleep_for(std::chrono::milliseconds(std::atol(hold)));
+  return locks;
+}
 
 std::vector<ModelResult> run_batch(const std::vector<ModelEntry>& models, const RunOptions& options, const BatchProgress& progress,
                                    const ModelFinished& finished_model) {
   if (options.output_dir.empty()) throw Error("batch: an output directory is required");
-  std::error_code ec;
-  fs::create_directories(options.output_dir, ec);
-  if (ec || !fs::is_directory(options.output_dir)) throw Error("cannot create output directory " + options.output_dir + (ec ? ": " + ec.message() : ""));
+  prepare_output_directory(options.output_dir);
   if (const char* hook = std::getenv(kKillAfterWritesVariable)) kill_after_writes = std::atol(hook);
   remove_stale_temporaries(models, options.output_dir);
 

@@ -9,12 +9,17 @@
 // build) is recorded with its reason and the others go on.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "batch/manifest.hpp"
+
+namespace splatcl {
+class KeyLocks;
+}
 
 namespace splatcl::batch {
 
@@ -65,13 +70,34 @@ using ModelFinished = std::function<void(const ModelResult&)>;
 std::vector<ModelResult> run_batch(const std::vector<ModelEntry>& models, const RunOptions& options, const BatchProgress& progress = {},
                                    const ModelFinished& finished = {});
 
+// Refuses, before any work, a run whose outputs would overwrite what it reads or each other. Throws
+// Error naming the paths when: the output directory is, lies inside or contains the input directory
+// (`input_is_directory`), or contains the manifest among a model's outputs; the summary is the
+// manifest, a model's input or one of any model's outputs; a model's output is another model's input.
+void check_run_paths(const std::string& input, bool input_is_directory, const std::string& output_dir, const std::string& summary,
+                     const std::vector<ModelEntry>& all_models);
+
+// Creates the output directory when missing and checks that files can be written in it, so a run
+// into a read-only or full directory fails before it computes anything. Throws Error naming it.
+void prepare_output_directory(const std::string& output_dir);
+
+// Two runs must not build the same model in one output directory at once: they would replace each
+// other's files and records. A run holds the lock of each of its models (in OUTDIR/.splatcl-batch.lock)
+// until its summary is written; a second run over any of them is refused with one line naming the
+// model and the other run's pid. Shards of one run hold disjoint models and run side by side.
+std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir);
+
 // Output file names of a model, relative to the output directory.
 std::string record_name(const std::string& id);  // ID.batch.json
 std::string splats_name(const std::string& id);  // ID.splats.ply (+ ID.splats.json)
 std::string csm_name(const std::string& id);     // ID.csm (+ ID.csm.json)
+std::vector<std::string> output_names(const std::string& id);  // all of them, the record first
 
 // Test hook: when the environment variable SPLATCL_BATCH_KILL_AFTER_WRITES=N is set, the process
 // kills itself with SIGKILL right after its N-th completed file write, to test resumption.
 inline constexpr const char* kKillAfterWritesVariable = "SPLATCL_BATCH_KILL_AFTER_WRITES";
+// Test hook: SPLATCL_BATCH_HOLD_LOCKS_MS=N makes lock_models wait N ms after taking the locks, so a
+// test can start a second run while the first one holds them.
+inline constexpr const char* kHoldLocksVariable = "SPLATCL_BATCH_HOLD_LOCKS_MS";
 
 }  // namespace splatcl::batch

@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::batch {
@@ -68,11 +69,10 @@ std::string summary_name(const Shard& shard) {
 }
 
 nlohmann::json read_summary(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(fmt::format("cannot read summary {}: {}", path, std::strerror(errno)));
+  const std::string text = read_text_file(path, "summary");
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(in);
+    doc = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception&) {
     throw Error(path + ": not valid JSON (not a complete splatcl batch summary)");
   }

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::bench {
@@ -188,12 +189,9 @@ Results results_from_csv(const std::string& text) {
 void write_csv(const std::string& path, const Results& results) { write_file_atomically(path, to_csv(results)); }
 
 Results read_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read " + path + ": no such file or not readable");
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = read_text_file(path, "results");
   try {
-    return results_from_csv(text.str());
+    return results_from_csv(text);
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }

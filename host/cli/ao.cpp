@@ -3,12 +3,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/model_input.hpp"
 #include "cli/progress.hpp"
+#include "csm/ao.hpp"
 #include "csm/ao_receivers.hpp"
+#include "io/output_files.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 
@@ -34,8 +38,12 @@ int run_ao(const AoCommand& c) {
                             c.occluders.size()));
   ReceiverAoOptions options = c.options;
   options.pattern_set = parse_pattern_set(c.pattern);
-  if (options.samples == 0 || options.patterns == 0) throw Error("ao: --samples and --patterns must be positive");
-  if (!std::isfinite(options.bias)) throw Error("ao: --bias must be finite");
+  if (options.samples == 0 || options.samples > kMaxSamples)
+    throw Error(fmt::format("ao: --samples {} is not a direction count in 1..{}", options.samples, kMaxSamples));
+  if (options.patterns == 0 || options.patterns > kMaxPatterns)
+    throw Error(fmt::format("ao: --patterns {} is not a pattern count in 1..{}", options.patterns, kMaxPatterns));
+  if (!std::isfinite(options.bias)) throw Error(fmt::format("ao: --bias {} must be finite", options.bias));
+  check_output_file(c.output, "-o");
   std::vector<Instance> instances;
   for (std::size_t k = 0; k < c.transforms.size(); ++k) instances.push_back({0, parse_placement(c.transforms[k])});
   instances.resize(c.occluders.size());
@@ -51,8 +59,7 @@ int run_ao(const AoCommand& c) {
     }
     instances[k].occluder = it->second;
   }
-  progress.show("loading " + c.receiver);
-  const splats::Mesh receiver = splats::load_mesh(c.receiver);
+  const splats::Mesh receiver = load_model(c.receiver, progress);
   std::vector<const Csm*> views;
   for (const auto& csm : csms) views.push_back(csm.get());
   const VisibilityScene scene(views, instances);

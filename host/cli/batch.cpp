@@ -15,6 +15,8 @@
 #include "cli/parameter_options.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
+#include "io/file_lock.hpp"
+#include "io/output_files.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
@@ -84,13 +86,20 @@ int run_batch_command(const BatchCommand& c) {
   if (c.output.empty() && !c.list) throw Error("batch: an output directory is required (-o OUTDIR)");
   const nlohmann::json overrides = overrides_of(c);
   std::error_code ec;
-  const std::vector<ModelEntry> all =
-      fs::is_directory(c.input, ec) ? scan_directory(c.input, c.output, overrides) : load_manifest(c.input, overrides);
+  const bool input_is_directory = fs::is_directory(c.input, ec);
+  const std::vector<ModelEntry> all = input_is_directory ? scan_directory(c.input, c.output, overrides) : load_manifest(c.input, overrides);
   const std::vector<ModelEntry> models = select_shard(all, shard);
   if (c.list) {
     for (const auto& m : models) fmt::print("{}\t{}\n", m.id, m.input);
     return 0;
   }
+  const std::string summary_path = c.summary.empty() ? (fs::path(c.output) / summary_name(shard)).string() : c.summary;
+  // Before any work: nothing the run writes may replace what it reads, every output must be
+  // writable, and no other run may be building these models here (held until the summary is written).
+  check_run_paths(c.input, input_is_directory, c.output, summary_path, all);
+  prepare_output_directory(c.output);
+  check_output_file(summary_path, "--summary");
+  const auto locks = lock_models(models, c.output);
 
   RunInfo info;
   info.input = c.input;
@@ -101,7 +110,6 @@ int run_batch_command(const BatchCommand& c) {
   info.jobs = c.jobs;
   info.device = c.reference ? "reference" : choose_device(c.device.device).name;  // fails early without a device
   info.started = utc_now();
-  const std::string summary_path = c.summary.empty() ? (fs::path(c.output) / summary_name(shard)).string() : c.summary;
 
   RunOptions options;
   options.output_dir = c.output;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -16,6 +17,8 @@
 #include "cluster/test_scene.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
+#include "io/output_files.hpp"
+#include "io/text_file.hpp"
 #include "runtime/embedded.hpp"
 #include "runtime/error.hpp"
 
@@ -35,25 +38,27 @@ struct ClusterOptions {
   std::string shape = "auto";
   bool normal_bits = false;
   bool window_depth = false;
-  long long light_count = -1;
+  std::optional<long long> light_count;
 };
 
+// Frame and tile sides: each in 1..kMaxSide, the frame at most kMaxPixels (8K UHD fits), refused
+// before anything is allocated (docs/reliability.md).
+constexpr long long kMaxSide = 16384;
+constexpr long long kMaxPixels = 1ll << 25;
+
 std::pair<std::uint32_t, std::uint32_t> parse_dimensions(const std::string& text, const char* what) {
-  unsigned a = 0, b = 0;
+  long long a = 0, b = 0;
   char x = 0;
   std::istringstream in(text);
-  if (!(in >> a >> x >> b) || (x != 'x' && x != 'X') || !in.eof() || a == 0 || b == 0)
-    throw Error(fmt::format("{} '{}' is not WIDTHxHEIGHT with positive numbers", what, text));
-  return {a, b};
+  if (!(in >> a >> x >> b) || (x != 'x' && x != 'X') || !in.eof() || a < 1 || b < 1 || a > kMaxSide || b > kMaxSide)
+    throw Error(fmt::format("{} '{}' is not WIDTHxHEIGHT with sides in 1..{}", what, text, kMaxSide));
+  if (a * b > kMaxPixels) throw Error(fmt::format("{} '{}' has {} pixels, more than the limit of {}", what, text, a * b, kMaxPixels));
+  return {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)};
 }
 
 Scene load_scene(const std::string& path) {
   if (path.empty()) return parse_scene(embedded_data().at("default-scene.json"), "default scene (data/default-scene.json)");
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read scene " + path + ": no such file or not readable");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), path);
+  return parse_scene(read_text_file(path, "scene"), path);
 }
 
 // Random colour per cluster index, so neighbouring clusters are told apart in the image.
@@ -74,12 +79,21 @@ int run_cluster(const ClusterOptions& o) {
   const Compaction compaction = parse_compaction(o.compaction);
   const Assignment assignment = parse_assignment(o.assignment);
   Scene scene = load_scene(o.scene_path);
-  if (o.light_count >= 0) {
+  if (o.light_count) {
+    if (*o.light_count < 0 || *o.light_count > kMaxLights)
+      throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.light_count, kMaxLights));
     auto* random = std::get_if<RandomLights>(&scene.lights);
     if (!random) throw Error("--lights applies to scenes with generated lights; this scene lists its lights explicitly");
-    random->count = static_cast<std::uint32_t>(o.light_count);
+    random->count = static_cast<std::uint32_t>(*o.light_count);
   }
-  if (!o.output_dir.empty()) std::filesystem::create_directories(o.output_dir);
+  // The four outputs writable before any work; staged and committed together at the end.
+  const std::vector<std::string> output_names = {"lights-per-cluster.png", "clusters.png", "shaded.png", "summary.json"};
+  if (!o.output_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.output_dir, ec);
+    if (ec) throw Error("cannot create -o directory " + o.output_dir + ": " + ec.message());
+    for (const auto& name : output_names) check_output_file((std::filesystem::path(o.output_dir) / name).string(), "-o");
+  }
 
   auto runtime = Runtime::create(o.device.device);
   const ClusterConfig config = cluster_config(scene.camera, width, height, tile_w, tile_h, o.normal_bits);
@@ -166,12 +180,17 @@ int run_cluster(const ClusterOptions& o) {
       std::copy(color.begin(), color.end(), heat.begin() + static_cast<std::ptrdiff_t>(3 * p));
     }
     const int w = static_cast<int>(width), h = static_cast<int>(height);
-    write_image_rgb((dir / "lights-per-cluster.png").string(), w, h, heat);
-    write_image_rgb((dir / "clusters.png").string(), w, h, cluster_image(clusters));
+    StagedOutputs outputs;
+    for (const auto& name : output_names) outputs.stage((dir / name).string());
+    const auto image = [&](const std::string& name, const std::vector<float>& rgb) {
+      outputs.write((dir / name).string(), [&](const std::string& path) { write_image_rgb(path, w, h, rgb); });
+    };
+    image("lights-per-cluster.png", heat);
+    image("clusters.png", cluster_image(clusters));
     // Many lights overlap: Reinhard tone mapping c / (1 + c) keeps the picture out of saturation.
     std::vector<float> tone_mapped(shaded.size());
     std::transform(shaded.begin(), shaded.end(), tone_mapped.begin(), [](float c) { return c / (1.0f + c); });
-    write_image_rgb((dir / "shaded.png").string(), w, h, tone_mapped);
+    image("shaded.png", tone_mapped);
     nlohmann::json summary = {
         {"scene", o.scene_path.empty() ? "data/default-scene.json" : o.scene_path},
         {"device", runtime->info().name},
@@ -182,7 +201,8 @@ int run_cluster(const ClusterOptions& o) {
         {"light_list_entries", pipeline.light_index_count()}, {"max_lights_per_cluster", max_per_cluster},
         {"shading_max_difference_vs_brute_force", max_difference}};
     for (const auto& [name, ms] : stage_ms) summary["stage_ms"][name] = ms;
-    write_file_atomically((dir / "summary.json").string(), summary.dump(2) + "\n");
+    outputs.write((dir / "summary.json").string(), [&](const std::string& path) { write_file_atomically(path, summary.dump(2) + "\n"); });
+    outputs.commit();
     fmt::print("wrote      {}/{{lights-per-cluster.png, clusters.png, shaded.png, summary.json}}\n", o.output_dir);
   }
   if (max_difference != 0.0f) throw Error(fmt::format("clustered shading differs from brute-force shading by {:g}", max_difference));

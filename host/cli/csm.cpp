@@ -13,6 +13,7 @@
 #include "bench/measure.hpp"
 #include "cli/commands.hpp"
 #include "cli/parameter_options.hpp"
+#include "cli/model_input.hpp"
 #include "cli/progress.hpp"
 #include "csm/analysis.hpp"
 #include "csm/build.hpp"
@@ -21,6 +22,7 @@
 #include "csm/quality.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
+#include "io/output_files.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cli {
@@ -127,8 +129,7 @@ int run_mode(const BuildCommand& c, CompressionMode mode) {
   mode_options.mode = mode;
   mode_options.pixel_curve = parse_pixel_curve(c.pixel_order);
   ProgressLine progress("csm");
-  progress.show("loading " + c.model);
-  const splats::Mesh mesh = splats::load_mesh(c.model);
+  const splats::Mesh mesh = load_model(c.model, progress);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   const ModeResult r = compress_in_mode(mesh, options, mode_options, runtime.get(), map_progress(progress, "captured and compressed"));
@@ -156,13 +157,18 @@ int run_mode(const BuildCommand& c, CompressionMode mode) {
 int run_build(const BuildCommand& c) {
   if (c.model.empty()) throw Error("csm build: a MODEL is required (see splatcl csm build --help)");
   const CompressionMode mode = parse_compression_mode(c.mode);
+  (void)parse_pixel_curve(c.pixel_order);  // a bad --pixel-order is an error whatever the mode
   if (mode != CompressionMode::PerPixel) return run_mode(c, mode);
   if (c.output.empty()) throw Error("csm build: an output file is required (-o OUT.csm)");
   const BuildOptions options = build_options(c);
   const Encoding encoding = parse_encoding(parameters(c).encoding);
+  // Both outputs writable before any work (a killed earlier run's temporaries of them are removed);
+  // both staged and committed together, so a failure leaves neither.
+  check_output_file(c.output, "-o");
+  check_output_file(c.coherence, "--coherence");
+  check_distinct_outputs({{"-o", c.output}, {"--coherence", c.coherence}});
   ProgressLine progress("csm");
-  progress.show("loading " + c.model);
-  const splats::Mesh mesh = splats::load_mesh(c.model);
+  const splats::Mesh mesh = load_model(c.model, progress);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   const BuildResult result = build_csm(mesh, options, runtime.get(), map_progress(progress, "captured and compressed"));
@@ -170,8 +176,12 @@ int run_build(const BuildCommand& c) {
   Stopwatch write_clock;
   const std::string plain = encode_csm(result.csm, Encoding::Plain);
   const std::string compact = encode_csm(result.csm, Encoding::Compact, &result.segments);
-  write_file_atomically(c.output, encoding == Encoding::Plain ? plain : compact);
-  if (!c.coherence.empty()) write_coherence_map(c.coherence, result.csm);
+  StagedOutputs outputs;
+  if (!c.coherence.empty()) outputs.stage(c.coherence);
+  outputs.stage(c.output);
+  outputs.write(c.output, [&](const std::string& path) { write_file_atomically(path, encoding == Encoding::Plain ? plain : compact); });
+  if (!c.coherence.empty()) outputs.write(c.coherence, [&](const std::string& path) { write_coherence_map(path, result.csm); });
+  outputs.commit();
   const double write_ms = write_clock.elapsed_ms();
   progress.clear();
   print_parameters(result.csm.info);
@@ -186,6 +196,7 @@ int run_build(const BuildCommand& c) {
 }
 
 int run_info(const InfoCommand& c) {
+  check_output_file(c.coherence, "--coherence");
   Encoding encoding = Encoding::Plain;
   std::size_t bytes = 0;
   const Csm csm = read_csm(c.file, &encoding, &bytes);
@@ -210,8 +221,7 @@ int run_analyze(const AnalyzeCommand& c) {
   if (c.kmeans.empty() && !c.wavelet) throw Error("csm analyze: choose --kmeans K (repeatable) and/or --wavelet");
   const BuildOptions options = build_options(c.build);
   ProgressLine progress("csm");
-  progress.show("loading " + c.build.model);
-  const splats::Mesh mesh = splats::load_mesh(c.build.model);
+  const splats::Mesh mesh = load_model(c.build.model, progress);
   std::shared_ptr<Runtime> runtime;
   if (!c.build.reference) runtime = Runtime::create(c.build.device.device);
   CsmInfo info;
@@ -258,7 +268,7 @@ int run_verify(const VerifyCommand& c) {
   fmt::print("file       {}: valid ({} encoding, {} segments, {} maps of {}x{})\n", c.file, to_string(encoding), csm.segments(),
              csm.info.maps, csm.info.resolution, csm.info.resolution);
   if (c.model.empty()) return 0;
-  const splats::Mesh mesh = splats::load_mesh(c.model);
+  const splats::Mesh mesh = load_model(c.model, progress);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   const CaptureMethod method = c.capture.empty() ? csm.info.capture : parse_capture_method(c.capture);
@@ -277,9 +287,9 @@ int run_quality(const QualityCommand& c) {
   if (c.build.model.empty()) throw Error("csm quality: a MODEL is required (see splatcl csm quality --help)");
   QualityOptions options = c.options;
   options.filter = parse_filter(c.filter);
+  validate(options);  // before the model is loaded or anything allocated
   ProgressLine progress("csm");
-  progress.show("loading " + c.build.model);
-  const splats::Mesh mesh = splats::load_mesh(c.build.model);
+  const splats::Mesh mesh = load_model(c.build.model, progress);
   std::shared_ptr<Runtime> runtime;
   if (!c.build.reference) runtime = Runtime::create(c.build.device.device);
   Csm csm;

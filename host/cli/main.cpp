@@ -1,10 +1,12 @@
 // splatcl: one program, subcommands. Every failure is one line on stderr and a non-zero exit.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/model_input.hpp"
 #include "runtime/error.hpp"
 #include "runtime/runtime.hpp"
 
@@ -12,7 +14,8 @@ namespace splatcl::cli {
 
 void add_device_option(CLI::App& app, DeviceOptions& options) {
   app.add_option("--device", options.device,
-                 "OpenCL device: index, type (cpu, gpu) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU");
+                 "OpenCL device: index, type (cpu, gpu) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU")
+      ->check([](const std::string& value) { return value.empty() ? std::string("empty: give an index, a type (cpu, gpu) or a name substring") : std::string(); });
 }
 
 }  // namespace splatcl::cli
@@ -36,31 +39,45 @@ int main(int argc, char** argv) {
   add(splatcl::cli::register_batch);
   add(splatcl::cli::register_render);
   add(splatcl::cli::register_view);
-  // CLI11 reports an unknown command word as "A subcommand is required"; name it instead.
-  if (argc > 1 && argv[1][0] != '-') {
+  // CLI11 reports an unknown command word as "A subcommand is required"; name it instead, at the
+  // top level and in a command whose own subcommand is required (csm build|info|...).
+  const auto unknown_word = [](const CLI::App& parent, const char* word, const std::string& what) {
     std::string known;
-    bool found = false;
-    for (const CLI::App* sub : app.get_subcommands({})) {
-      found = found || sub->get_name() == argv[1];
+    for (const CLI::App* sub : parent.get_subcommands({})) {
+      if (sub->get_name() == word) return false;
       known += (known.empty() ? "" : ", ") + sub->get_name();
     }
-    if (!found) {
-      std::fprintf(stderr, "splatcl: unknown command '%s' (commands: %s)\n", argv[1], known.c_str());
+    std::fprintf(stderr, "splatcl: unknown %s '%s' (%s: %s)\n", what.c_str(), word, what == "command" ? "commands" : "known", known.c_str());
+    return true;
+  };
+  if (argc > 1 && argv[1][0] != '-') {
+    if (unknown_word(app, argv[1], "command")) return 1;
+    const CLI::App* chosen = app.get_subcommand(argv[1]);
+    if (chosen->get_require_subcommand_min() > 0 && argc > 2 && argv[2][0] != '-' &&
+        unknown_word(*chosen, argv[2], std::string(argv[1]) + " command"))
       return 1;
-    }
   }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // --help and --version exit 0; a bad command line is an error like any other: status 1
-    // (runtime/error.hpp), not CLI11's own codes (105-127).
-    return app.exit(e) == 0 ? 0 : 1;
+    // --help and --version exit 0; a bad command line is an error like any other: one line and
+    // status 1 (runtime/error.hpp), not CLI11's two lines and its own codes (105-127).
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "splatcl: %s (see --help)\n", e.what());
+    return 1;
   }
   try {
     for (auto& [sub, action] : actions)
-      if (sub->parsed()) return action();
+      if (sub->parsed()) {
+        const int status = action();
+        splatcl::cli::print_model_warnings();  // after the work, so a failing command prints one line only
+        return status;
+      }
   } catch (const splatcl::Error& e) {
     std::fprintf(stderr, "splatcl: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "splatcl: out of memory: the input or the options ask for more memory than this machine has\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "splatcl: %s\n", e.what());

@@ -2,8 +2,10 @@
 // the last one as PNG/EXR and prints per-stage timings and frames per second.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
@@ -11,6 +13,7 @@
 #include "cli/scene_options.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
+#include "io/output_files.hpp"
 #include "present/context.hpp"
 #include "present/presenter.hpp"
 #include "runtime/error.hpp"
@@ -26,7 +29,8 @@ struct RenderOptions {
   bool pixel_ao = false;
   bool wall_passes = false;
   bool serial_lighting = false;
-  double time = -1, dt = 1.0 / 30.0;
+  std::optional<double> time;  // unset: the scene's "time"
+  double dt = 1.0 / 30.0;
 };
 
 int run_render(const RenderOptions& o) {
@@ -37,10 +41,13 @@ int run_render(const RenderOptions& o) {
     const auto dot = o.output.rfind('.');
     const std::string ext = dot == std::string::npos ? "" : o.output.substr(dot);
     if (ext != ".png" && ext != ".exr") throw Error("-o " + o.output + ": the image must be .png or .exr");
-    const auto parent = std::filesystem::path(o.output).parent_path();
-    if (!parent.empty() && !std::filesystem::is_directory(parent))
-      throw Error("cannot write " + o.output + ": directory " + parent.string() + " does not exist");
   }
+  // Outputs writable before any work; staged and committed together at the end.
+  check_output_file(o.output, "-o");
+  check_output_file(o.json, "--json");
+  check_distinct_outputs({{"-o", o.output}, {"--json", o.json}});
+  if (!(std::isfinite(o.dt) && o.dt >= 0)) throw Error(fmt::format("--dt {} is not a time step in seconds (finite, not negative)", o.dt));
+  if (o.time && !std::isfinite(*o.time)) throw Error(fmt::format("--time {} is not a scene time in seconds (finite)", *o.time));
   const present::Scene scene = o.scene.load();
   auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::offscreen();
@@ -58,7 +65,7 @@ int run_render(const RenderOptions& o) {
   presenter.overlap_lighting = !o.serial_lighting;
   const double setup_ms = setup.elapsed_ms();
 
-  const double start = o.time >= 0 ? o.time : scene.time;
+  const double start = o.time ? *o.time : scene.time;
   std::map<std::string, std::pair<double, unsigned>> sums;  // per stage: total ms, frames seen
   std::vector<std::string> order;
   double frame_total = 0;
@@ -102,9 +109,12 @@ int run_render(const RenderOptions& o) {
   }
   const double frame_ms = frame_total / measured;
   fmt::print("frame      {:.2f} ms = {:.1f} fps\n", frame_ms, 1000.0 / frame_ms);
+  StagedOutputs outputs;
+  if (!o.json.empty()) outputs.stage(o.json);
   if (!o.output.empty()) {
-    write_image_rgb(o.output, width, height, exr ? presenter.read_hdr_rgb() : presenter.read_display_rgb());
-    fmt::print("image      {}\n", o.output);
+    outputs.stage(o.output);
+    const std::vector<float> rgb = exr ? presenter.read_hdr_rgb() : presenter.read_display_rgb();
+    outputs.write(o.output, [&](const std::string& path) { write_image_rgb(path, width, height, rgb); });
   }
   if (!o.json.empty()) {
     const nlohmann::json summary = {{"scene", scene.source},         {"width", width},
@@ -116,8 +126,10 @@ int run_render(const RenderOptions& o) {
                                     {"frame_ms", frame_ms},          {"fps", 1000.0 / frame_ms},
                                     {"stages_ms", stages},           {"device", runtime->info().name},
                                     {"renderer", context->renderer()}};
-    write_file_atomically(o.json, summary.dump(2) + "\n");
+    outputs.write(o.json, [&](const std::string& path) { write_file_atomically(path, summary.dump(2) + "\n"); });
   }
+  outputs.commit();
+  if (!o.output.empty()) fmt::print("image      {}\n", o.output);
   return 0;
 }
 

@@ -11,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/parameter_options.hpp"
+#include "cli/model_input.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
 #include "io/output_files.hpp"
@@ -70,15 +71,9 @@ int run_splats(const SplatsOptions& o) {
   for (const auto& [option, value] : *o.given) set_parameter(params, option, value);
   validate(params);
   ProgressLine progress("splats");
-  progress.show("loading " + o.model);
   Stopwatch load_clock;
-  const Mesh mesh = load_mesh(o.model);
+  const Mesh mesh = load_model(o.model, progress, o.strict);
   const double load_ms = load_clock.elapsed_ms();
-  if (mesh.problems.any()) {
-    if (o.strict) throw Error(fmt::format("{}: {} (--strict)", o.model, mesh.problems.summary()));
-    progress.clear();
-    fmt::print(stderr, "splatcl: warning: {}: {}\n", o.model, mesh.problems.summary());
-  }
   const SplatSetup setup = splat_setup(params, mesh, o.model);
   const PipelineOptions& options = setup.options;
   const ColorSource& colors = setup.colors;
@@ -231,8 +226,7 @@ int run_verify(const VerifyOptions& o) {
   const SplatFile file = read_splat_file(o.splats);
   if (o.eps.empty()) check.eps = file.info.eps;
   if (!(check.eps > 0) || !std::isfinite(check.eps)) throw Error(o.splats + " records no eps; pass --eps");
-  progress.show("loading " + o.model);
-  const Mesh mesh = load_mesh(o.model);
+  const Mesh mesh = load_model(o.model, progress);
   const SurfaceCheckReport r = check_surface(mesh, file.splats, check, [&](const std::string& phase, double fraction) {
     progress.show(fmt::format("{} {:.0f}%", phase, 100 * fraction));
   });

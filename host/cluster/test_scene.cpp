@@ -6,6 +6,7 @@
 #include <numbers>
 #include <thread>
 
+#include "io/json_keys.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cluster {
@@ -109,6 +110,11 @@ float number(const nlohmann::json& value, const std::string& path) {
 Vec3 vec(const nlohmann::json& value, const std::string& path) {
   if (!value.is_array() || value.size() != 3) throw Error("scene: " + path + " must be an array of 3 numbers");
   return {number(value[0], path + "[0]"), number(value[1], path + "[1]"), number(value[2], path + "[2]")};
+}
+
+// Every key of `object` (at `path`) must be one of `known`: a typo is an error naming it, not a silent default.
+void known_keys(const nlohmann::json& object, const std::string& path, std::initializer_list<const char*> known) {
+  if (const auto key = unknown_key(object, known)) throw Error("scene: unknown key '" + *key + "' in " + path + " (known: " + key_list(known) + ")");
 }
 
 float number_or(const nlohmann::json& object, const char* name, float fallback, const std::string& path) {
@@ -300,9 +306,12 @@ void to_json(nlohmann::json& json, const Scene& scene) {
 
 void from_json(const nlohmann::json& json, Scene& scene) {
   if (!json.is_object()) throw Error("scene: the top level must be an object");
+  known_keys(json, "the scene", {"floor", "objects", "camera", "lights"});
   Scene result;
-  if (json.contains("floor") && !json["floor"].is_null())
+  if (json.contains("floor") && !json["floor"].is_null()) {
+    known_keys(json["floor"], "floor", {"y"});
     result.floor_y = number(field(json["floor"], "y", "floor"), "floor.y");
+  }
 
   if (json.contains("objects")) {
     const auto& objects = json["objects"];
@@ -312,11 +321,13 @@ void from_json(const nlohmann::json& json, Scene& scene) {
       const auto& type = field(objects[i], "type", path);
       const std::string name = type.is_string() ? type.get<std::string>() : "";
       if (name == "sphere") {
+        known_keys(objects[i], path, {"type", "center", "radius"});
         Sphere sphere{vec(field(objects[i], "center", path), path + ".center"),
                       number(field(objects[i], "radius", path), path + ".radius")};
         if (!(sphere.radius > 0)) throw Error("scene: " + path + ".radius must be positive");
         result.objects.push_back(sphere);
       } else if (name == "box") {
+        known_keys(objects[i], path, {"type", "min", "max"});
         Box box{vec(field(objects[i], "min", path), path + ".min"), vec(field(objects[i], "max", path), path + ".max")};
         if (!(box.min.x <= box.max.x && box.min.y <= box.max.y && box.min.z <= box.max.z))
           throw Error("scene: " + path + ".min must not exceed .max");
@@ -328,6 +339,7 @@ void from_json(const nlohmann::json& json, Scene& scene) {
   }
 
   const auto& camera = field(json, "camera", "the scene");
+  known_keys(camera, "camera", {"eye", "target", "up", "fov_y_degrees", "near", "far"});
   Camera& c = result.camera;
   c.eye = vec(field(camera, "eye", "camera"), "camera.eye");
   c.target = vec(field(camera, "target", "camera"), "camera.target");
@@ -344,9 +356,12 @@ void from_json(const nlohmann::json& json, Scene& scene) {
   if (json.contains("lights")) {
     const auto& lights = json["lights"];
     if (lights.is_array()) {
+      if (lights.size() > kMaxLights)
+        throw Error("scene: lights lists " + std::to_string(lights.size()) + " lights, more than the limit of " + std::to_string(kMaxLights));
       std::vector<SceneLight> list;
       for (std::size_t i = 0; i < lights.size(); ++i) {
         const std::string path = "lights[" + std::to_string(i) + "]";
+        known_keys(lights[i], path, {"position", "radius", "color"});
         SceneLight light;
         light.position = vec(field(lights[i], "position", path), path + ".position");
         light.radius = number(field(lights[i], "radius", path), path + ".radius");
@@ -356,9 +371,12 @@ void from_json(const nlohmann::json& json, Scene& scene) {
       }
       result.lights = std::move(list);
     } else if (lights.is_object()) {
+      known_keys(lights, "lights", {"count", "radius", "seed"});
       RandomLights random;
       const auto& count = field(lights, "count", "lights");
       if (!count.is_number_unsigned()) throw Error("scene: lights.count must be a non-negative integer");
+      if (count.get<std::uint64_t>() > kMaxLights)
+        throw Error("scene: lights.count " + std::to_string(count.get<std::uint64_t>()) + " is above the limit of " + std::to_string(kMaxLights));
       random.count = count.get<std::uint32_t>();
       if (lights.contains("radius")) {
         const auto& radius = lights["radius"];

@@ -54,6 +54,10 @@ struct Box {
 };
 using SceneObject = std::variant<Sphere, Box>;
 
+// The most point lights a scene may have (a random count, a list, or --lights): more is refused
+// with one line before anything is allocated (docs/reliability.md). The presenter shares it.
+inline constexpr std::uint32_t kMaxLights = 1u << 20;
+
 // Lights placed at random around the visible geometry of the rendered frame (view space).
 struct RandomLights {
   std::uint32_t count = 0;

@@ -26,6 +26,9 @@ const char* to_string(PatternSet value);
 PatternSet parse_pattern_set(const std::string& text);
 
 inline constexpr std::uint32_t kDefaultPatterns = 256, kDefaultSamples = 36;
+// Stated limits (docs/reliability.md): directions per pattern and patterns per set, so the pattern
+// table (patterns x samples x 16 bytes) stays under 256 MiB; more is refused before allocating.
+inline constexpr std::uint32_t kMaxSamples = 4096, kMaxPatterns = 4096;
 
 // patterns × samples directions on the +y hemisphere with density cosθ/π (Shirley's map, digest
 // Eq. 5.9), xyz with w = 0, pattern-major. Deterministic for a seed. Throws Error for zero sizes or a

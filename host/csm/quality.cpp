@@ -1,5 +1,7 @@
 #include "csm/quality.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -10,6 +12,15 @@
 #include "splats/parallel.hpp"
 
 namespace splatcl::csm {
+
+void validate(const QualityOptions& o) {
+  if (o.views == 0 || o.views > kMaxQualityViews) throw Error(fmt::format("--views {} is not a view count in 1..{}", o.views, kMaxQualityViews));
+  if (o.image == 0 || o.image > kMaxQualityImage) throw Error(fmt::format("--image {} is not an image side in 1..{}", o.image, kMaxQualityImage));
+  if (!(o.fov_degrees > 0 && o.fov_degrees < 180)) throw Error(fmt::format("--fov {} is not a field of view in (0, 180) degrees", o.fov_degrees));
+  if (!(o.light_max > 1.05f && std::isfinite(o.light_max)))
+    throw Error(fmt::format("--light-max {} is not a light distance above 1.05 sphere radii", o.light_max));
+  if (!std::isfinite(o.bias)) throw Error(fmt::format("--bias {} must be finite", o.bias));
+}
 namespace {
 
 float uniform01(std::mt19937& rng) { return static_cast<float>(rng() >> 8) * (1.0f / 16777216.0f); }
@@ -63,7 +74,7 @@ QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const Qu
   const CsmInfo& info = csm.info;
   for (std::size_t k = 0; k < 16; ++k)
     if (info.object_transform[k] != kIdentity[k]) throw Error("csm quality needs a CSM built from the model as loaded (identity object transform)");
-  if (options.views == 0 || options.image == 0) throw Error("csm quality needs at least one view and one pixel");
+  validate(options);
   const Vec3 c = info.sphere.centre;
   const float r = info.sphere.radius;
   const Bvh bvh = build_bvh(mesh_triangles(mesh, c));

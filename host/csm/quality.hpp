@@ -20,6 +20,9 @@
 
 namespace splatcl::csm {
 
+// Stated limits (docs/reliability.md), refused before anything is allocated.
+inline constexpr std::uint32_t kMaxQualityViews = 4096, kMaxQualityImage = 4096;
+
 struct QualityOptions {
   std::uint32_t views = 16, image = 256;
   float fov_degrees = 90;  // pinhole camera on the sphere looking at its centre
@@ -28,6 +31,11 @@ struct QualityOptions {
   Filter filter = Filter::None;  // with PCF a pixel is lit when at least half its taps are
   float bias = 0;
 };
+
+// Throws Error naming the option (--views, --image, --fov, --light-max, --bias) of the first value
+// out of range: counts above the limits or zero, a field of view outside (0, 180) degrees, a light
+// not beyond the sphere, a non-finite bias.
+void validate(const QualityOptions& options);
 
 struct QualityReport {
   std::uint64_t pixels = 0, object_pixels = 0, wrong = 0, exact_shadowed = 0;

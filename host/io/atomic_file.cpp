@@ -1,11 +1,15 @@
 #include "io/atomic_file.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <string_view>
+#include <vector>
 
 #include "runtime/error.hpp"
 
@@ -32,6 +36,31 @@ void write_atomically(const std::string& path, const std::function<void(const st
     fs::remove(temp, ignored);
     throw Error("cannot write " + path + ": " + e.what());
   }
+}
+
+void remove_dead_temporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string name = target.filename().string();
+  if (name.empty()) return;
+  std::error_code ec;
+  std::vector<fs::path> dead;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    if (entry.size() <= name.size() || entry.compare(0, name.size(), name) != 0) continue;
+    std::string_view rest = std::string_view(entry).substr(name.size());
+    if (rest.starts_with(".tmp")) rest.remove_prefix(4);
+    else if (rest.starts_with(".partial")) rest.remove_prefix(8);
+    else continue;
+    const std::size_t digits = std::min(rest.find_first_not_of("0123456789"), rest.size());
+    if (digits == 0 || digits > 9) continue;
+    const std::string_view after = rest.substr(digits);
+    if (!after.empty() && after != target.extension().string()) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(std::string(rest.substr(0, digits))));
+    if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH) dead.push_back(it->path());
+  }
+  for (const auto& p : dead) fs::remove(p, ec);
 }
 
 void write_file_atomically(const std::string& path, std::string_view contents) {

@@ -11,6 +11,11 @@ namespace splatcl {
 // and splatcl::Error names `path`.
 void write_atomically(const std::string& path, const std::function<void(const std::string& temp_path)>& write);
 
+// Removes the temporaries of `path` that a killed run left behind: PATH.tmpPID (write_atomically)
+// and PATH.partialPID.EXT (io/output_files.hpp) whose process PID no longer exists on this machine.
+// A live process's temporaries are kept. Commands call it (through check_output_file) before work.
+void remove_dead_temporaries(const std::string& path);
+
 // Writes `contents` to `path` atomically.
 void write_file_atomically(const std::string& path, std::string_view contents);
 

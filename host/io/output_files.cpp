@@ -1,15 +1,32 @@
 #include "io/output_files.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 
+#include "io/atomic_file.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl {
 namespace fs = std::filesystem;
+
+void check_writable_directory(const std::string& dir, const std::string& what) {
+  const std::string probe = (fs::path(dir) / (".splatcl-write-test" + std::to_string(::getpid()))).string();
+  const auto fail = [&](int error) {
+    ::unlink(probe.c_str());
+    throw Error("cannot write " + what + ": directory " + dir + " is not writable (" + std::strerror(error) + ")");
+  };
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail(errno);
+  const char byte = 0;
+  const bool written = ::write(fd, &byte, 1) == 1;
+  const int write_error = errno;
+  if (::close(fd) != 0 || !written) fail(written ? errno : write_error);
+  ::unlink(probe.c_str());
+}
 
 void check_output_file(const std::string& path, const std::string& what) {
   if (path.empty()) return;
@@ -19,18 +36,32 @@ void check_output_file(const std::string& path, const std::string& what) {
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec)) throw Error(name + "directory " + dir.string() + " does not exist");
-  if (::access(dir.c_str(), W_OK | X_OK) != 0)
-    throw Error(name + "directory " + dir.string() + " is not writable (" + std::strerror(errno) + ")");
+  check_writable_directory(dir.string(), what + " " + path);
+  remove_dead_temporaries(path);
+}
+
+fs::path comparable_path(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::absolute(path, ec);
+  if (!ec) p = fs::weakly_canonical(p, ec);  // absolute first: a relative name whose first part does not exist stays relative
+  if (ec) p = fs::path(path).lexically_normal();
+  return p;
+}
+
+bool path_within(const fs::path& inner, const fs::path& outer) {
+  auto i = inner.begin();
+  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+    if (o->empty() && std::next(o) == outer.end()) break;  // a trailing separator
+    if (i == inner.end() || *i != *o) return false;
+  }
+  return true;
 }
 
 void check_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
   std::vector<std::pair<std::string, fs::path>> seen;  // option, normalised absolute path
   for (const auto& [option, path] : outputs) {
     if (path.empty()) continue;
-    std::error_code ec;
-    fs::path p = fs::absolute(path, ec);
-    if (!ec) p = fs::weakly_canonical(p, ec);  // absolute first: a relative name whose first part does not exist stays relative
-    if (ec) p = fs::path(path).lexically_normal();
+    const fs::path p = comparable_path(path);
     for (const auto& [other, q] : seen)
       if (q == p) throw Error(other + " and " + option + " name the same file " + path);
     seen.emplace_back(option, p);

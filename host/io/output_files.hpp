@@ -2,6 +2,7 @@
 // A command's outputs as one unit: checked before any work, written to staged names beside their
 // targets, and renamed onto them together at the end, so a failure anywhere (a late write, a
 // render, a second output) leaves no output of that run behind.
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <utility>
@@ -10,9 +11,21 @@
 namespace splatcl {
 
 // Fails before a long run, not after it: `path`, given as option `what` ("-o", "--stats"), must not
-// be a directory, and its directory must exist and be writable. Throws Error naming the option, the
-// file and the cause. An empty path (the output not asked for) passes.
+// be a directory, and its directory must exist and be writable (a probe file is written and
+// removed, so a read-only or full file system is caught too, whoever runs it). Throws Error naming
+// the option, the file and the cause. An empty path (the output not asked for) passes. Temporaries
+// of `path` left by a killed earlier run are removed (io/atomic_file.hpp).
 void check_output_file(const std::string& path, const std::string& what);
+
+// Throws Error "cannot write WHAT DIR: directory DIR is not writable (CAUSE)" unless a file can be
+// created, written and removed in the existing directory `dir`.
+void check_writable_directory(const std::string& dir, const std::string& what);
+
+// The form two paths are compared in: absolute, with symbolic links and "." / ".." resolved as
+// far as the path exists.
+std::filesystem::path comparable_path(const std::string& path);
+// Whether `inner` (a comparable_path) is `outer` or lies below it.
+bool path_within(const std::filesystem::path& inner, const std::filesystem::path& outer);
 
 // Throws Error when two of the given (option, path) outputs name the same file; empty paths are skipped.
 void check_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs);

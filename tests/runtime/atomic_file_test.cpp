@@ -1,10 +1,23 @@
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <random>
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/file_lock.hpp"
+#include "io/image.hpp"
+#include "io/json_keys.hpp"
+#include "io/output_files.hpp"
+#include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl {
@@ -54,6 +67,173 @@ TEST(AtomicFile, MissingDirectoryIsAClearError) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-splatcl-dir"), std::string::npos);
   }
+}
+
+// Outputs on hostile file systems (issue 13): a full disk, killed writers, concurrent runs.
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// A disk that fills up after `bytes`: RLIMIT_FSIZE with SIGXFSZ ignored makes every write past it
+// fail with EFBIG, as ENOSPC would. Restored on destruction.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    ::getrlimit(RLIMIT_FSIZE, &saved_);
+    previous_ = ::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = saved_;
+    limit.rlim_cur = bytes;
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &saved_);
+    ::signal(SIGXFSZ, previous_);
+  }
+
+ private:
+  rlimit saved_{};
+  void (*previous_)(int) = nullptr;
+};
+
+std::vector<float> noise(int w, int h) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0, 1);
+  std::vector<float> rgb(static_cast<std::size_t>(w) * h * 3);
+  for (float& v : rgb) v = unit(rng);
+  return rgb;
+}
+
+// Issue 13 item 2: OpenImageIO's PNG writer reports success on a full disk; the image lands
+// truncated under its name. Every image format goes through write_file_atomically now.
+TEST(ImageOutput, FullDiskIsAWriteFailureWithNothingAtTheTarget) {
+  const auto dir = fresh_dir("splatcl_io_full_disk");
+  for (const char* name : {"frame.png", "frame.exr"}) {
+    const std::string path = (dir / name).string();
+    std::string message;
+    {
+      const FileSizeLimit full(4096);  // the 64x64 noise image needs several times that
+      message = error_of([&] { write_image_rgb(path, 64, 64, noise(64, 64)); });
+    }
+    EXPECT_EQ(message, "cannot write " + path + ": write failed (disk full?)") << name;
+    EXPECT_FALSE(fs::exists(path)) << name;
+    EXPECT_TRUE(fs::is_empty(dir)) << "a temporary was left behind for " << name;
+  }
+  // The same image with room to spare is complete and readable.
+  const std::string path = (dir / "frame.png").string();
+  write_image_rgb(path, 64, 64, noise(64, 64));
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().width, 64);
+  std::vector<unsigned char> pixels(64 * 64 * 3);
+  EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
+}
+
+TEST(ImageOutput, AnEarlierImageSurvivesAFailedWrite) {
+  const auto dir = fresh_dir("splatcl_io_keep_old");
+  const std::string path = (dir / "frame.png").string();
+  write_file_atomically(path, "earlier");
+  {
+    const FileSizeLimit full(4096);
+    EXPECT_NE(error_of([&] { write_image_rgb(path, 64, 64, noise(64, 64)); }), "(no error)");
+  }
+  std::ifstream in(path);
+  std::string text;
+  in >> text;
+  EXPECT_EQ(text, "earlier");
+}
+
+// Issue 13 item 7: a killed writer leaves PATH.tmpPID; the next command writing PATH removes those
+// of processes that no longer exist and keeps a live process's.
+TEST(AtomicFile, TemporariesOfDeadProcessesAreRemovedLiveOnesKept) {
+  const auto dir = fresh_dir("splatcl_io_dead_temporaries");
+  const std::string path = (dir / "model.csm").string();
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);  // its pid now belongs to no process
+  const std::string dead = path + ".tmp" + std::to_string(child);
+  const std::string dead_staged = path + ".partial" + std::to_string(child) + ".csm";
+  const std::string live = path + ".tmp" + std::to_string(::getpid());
+  const std::string other = (dir / "model.csm.json.tmp1").string();  // another file's: not ours to remove
+  for (const auto& p : {dead, dead_staged, live, other}) std::ofstream(p) << "partial";
+  remove_dead_temporaries(path);
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_FALSE(fs::exists(dead_staged));
+  EXPECT_TRUE(fs::exists(live));
+  EXPECT_TRUE(fs::exists(other));
+}
+
+// Issue 13 item 8: outputs are checked by writing, so a full file system fails before the work.
+TEST(OutputFiles, AFullFileSystemFailsTheCheckBeforeAnyWork) {
+  const auto dir = fresh_dir("splatcl_io_probe");
+  const std::string path = (dir / "out.ply").string();
+  EXPECT_NO_THROW(check_output_file(path, "-o"));
+  std::string message;
+  {
+    const FileSizeLimit full(0);
+    message = error_of([&] { check_output_file(path, "-o"); });
+  }
+  EXPECT_EQ(message, "cannot write -o " + path + ": directory " + dir.string() + " is not writable (File too large)");
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+TEST(OutputFiles, PathsWithinADirectory) {
+  EXPECT_TRUE(path_within(comparable_path("/a/b/c"), comparable_path("/a/b")));
+  EXPECT_TRUE(path_within(comparable_path("/a/b"), comparable_path("/a/b/")));
+  EXPECT_TRUE(path_within(comparable_path("/a/b/../b"), comparable_path("/a/b")));
+  EXPECT_FALSE(path_within(comparable_path("/a/bc"), comparable_path("/a/b")));
+  EXPECT_FALSE(path_within(comparable_path("/a"), comparable_path("/a/b")));
+}
+
+// Issue 13 item 7: a key locked by one process is refused to another, which is told its pid; the
+// lock goes when the holder ends, however it ends.
+TEST(KeyLocks, ASecondProcessIsRefusedUntilTheFirstEnds) {
+  const auto dir = fresh_dir("splatcl_io_locks");
+  const std::string path = (dir / ".lock").string();
+  int ready[2], done[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  ASSERT_EQ(::pipe(done), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    KeyLocks locks(path);
+    char c = locks.try_lock("bunny") == 0 ? 'y' : 'n';
+    (void)!::write(ready[1], &c, 1);
+    (void)!::read(done[0], &c, 1);
+    ::_exit(0);
+  }
+  char c = 0;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  ASSERT_EQ(c, 'y');
+  {
+    KeyLocks locks(path);
+    EXPECT_EQ(locks.try_lock("bunny"), child);
+    EXPECT_EQ(locks.try_lock("dragon"), 0);  // other keys are free
+  }
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  KeyLocks locks(path);
+  EXPECT_EQ(locks.try_lock("bunny"), 0);
+}
+
+TEST(JsonKeys, TheFirstUnknownKeyIsNamed) {
+  const auto j = nlohmann::json::parse(R"({"position": [0, 0, 0], "colour": [1, 0, 0]})");
+  EXPECT_EQ(unknown_key(j, {"position", "color"}), "colour");
+  EXPECT_EQ(unknown_key(j, {"position", "colour"}), std::nullopt);
+  EXPECT_EQ(key_list({"a", "b"}), "a, b");
+}
+
+// Issue 13 item 9: a directory is reported as a directory, not as a missing file or bad JSON.
+TEST(TextFile, ADirectoryOrAMissingFileIsNamedAsSuch) {
+  const auto dir = fresh_dir("splatcl_io_text");
+  EXPECT_EQ(error_of([&] { read_text_file(dir.string(), "scene"); }), "cannot read scene " + dir.string() + ": it is a directory");
+  const std::string missing = (dir / "missing.json").string();
+  EXPECT_EQ(error_of([&] { read_text_file(missing, "scene"); }), "cannot read scene " + missing + ": No such file or directory");
 }
 
 }  // namespace

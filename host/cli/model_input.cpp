@@ -1,0 +1,36 @@
+#include "cli/model_input.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <vector>
+
+#include "runtime/error.hpp"
+
+namespace splatcl::cli {
+namespace {
+
+std::vector<std::string>& pending_warnings() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+
+}  // namespace
+
+splats::Mesh load_model(const std::string& path, ProgressLine& progress, bool strict) {
+  progress.show("loading " + path);
+  splats::Mesh mesh = splats::load_mesh(path);
+  if (mesh.problems.any()) {
+    if (strict) throw Error(fmt::format("{}: {} (--strict)", path, mesh.problems.summary()));
+    pending_warnings().push_back(fmt::format("splatcl: warning: {}: {}", path, mesh.problems.summary()));
+  }
+  return mesh;
+}
+
+void print_model_warnings() {
+  std::fflush(stdout);
+  for (const auto& line : pending_warnings()) std::fprintf(stderr, "%s\n", line.c_str());
+  pending_warnings().clear();
+}
+
+}  // namespace splatcl::cli

@@ -1,0 +1,70 @@
+# Hostile input, full disks and concurrent runs (issue 13; promises in docs/reliability.md).
+# Included at the end of tests/CMakeLists.txt: EXPECT_ERROR, SPLATS_CUBE and PRESENT_CACHE are set.
+set(HOSTILE_DIR ${CMAKE_CURRENT_BINARY_DIR}/hostile)
+file(MAKE_DIRECTORY ${HOSTILE_DIR})
+
+# Outputs: every image writer on a full disk, batch outputs that would replace inputs, an unwritable
+# output directory, two batch runs at once, a killed csm build's temporary (tests/cli/hostile_outputs_test.sh).
+foreach(mode full-disk-coherence full-disk-coherence-build full-disk-splats-render full-disk-cluster full-disk-render
+             batch-summary-is-manifest batch-summary-is-output batch-output-is-input batch-output-inside-input
+             batch-output-contains-input batch-unwritable batch-concurrent csm-leftover)
+  add_test(NAME hostile.${mode} COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/hostile_outputs_test.sh ${mode} $<TARGET_FILE:splatcl>
+           ${HOSTILE_DIR}/${mode} ${EXPECT_ERROR})
+  set_tests_properties(hostile.${mode} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120)
+endforeach()
+set_tests_properties(hostile.full-disk-render PROPERTIES FIXTURES_REQUIRED present_cache)
+
+# Stated limits: one line before anything is allocated (each ran for a minute into std::bad_alloc).
+function(hostile_error name pattern)
+  add_test(NAME hostile.${name} COMMAND ${EXPECT_ERROR} "${pattern}" $<TARGET_FILE:splatcl> ${ARGN})
+  set_tests_properties(hostile.${name} PROPERTIES TIMEOUT 20)
+endfunction()
+hostile_error(limit_cluster_lights "--lights 1000000000 is not a light count in \\[0, 1048576\\]$" cluster --lights 1000000000)
+hostile_error(limit_cluster_lights_negative "--lights -1 is not a light count" cluster --lights -1)
+hostile_error(limit_cluster_size "--size '100000x100000' is not WIDTHxHEIGHT with sides in 1..16384$" cluster --size 100000x100000)
+hostile_error(limit_cluster_size_negative "--size '-5x5' is not WIDTHxHEIGHT with sides in 1..16384$" cluster --size -5x5)
+hostile_error(limit_cluster_pixels "--size '16384x16384' has 268435456 pixels, more than the limit of 33554432$" cluster --size 16384x16384)
+file(WRITE ${HOSTILE_DIR}/billion-lights.json "{\"camera\": {\"eye\": [0, 4, 12], \"target\": [0, 0, 0]}, \"lights\": {\"count\": 1000000000}}")
+hostile_error(limit_scene_lights "billion-lights.json: scene: lights.count 1000000000 is above the limit of 1048576$"
+              cluster ${HOSTILE_DIR}/billion-lights.json)
+hostile_error(limit_render_lights "--lights -5 is not a light count in \\[0, 1048576\\]$" render --lights -5)
+hostile_error(limit_ao_samples "ao: --samples 100000000 is not a direction count in 1..4096$"
+              ao ${SPLATS_CUBE} --occluder missing.csm -o ${HOSTILE_DIR}/ao.ply --samples 100000000)
+hostile_error(limit_quality_image "--image 100000 is not an image side in 1..4096$" csm quality ${SPLATS_CUBE} --image 100000)
+
+# Option values that were ignored or accepted: negative, NaN, empty, out of range, unknown words.
+hostile_error(option_render_lod_nan "--lod nan is not a pixel error in \\[0, 1000\\]$" render --lod nan)
+hostile_error(option_render_dt_nan "--dt nan is not a time step in seconds" render --dt nan)
+# (through sh: CMake drops an empty argument)
+add_test(NAME hostile.option_empty_device COMMAND ${EXPECT_ERROR} "--device: empty: give an index, a type \\(cpu, gpu\\) or a name substring"
+         sh -c "\"$<TARGET_FILE:splatcl>\" devices --device ''")
+hostile_error(option_pixel_order "unknown pixel order 'x'" csm build ${SPLATS_CUBE} -o ${HOSTILE_DIR}/x.csm --pixel-order x)
+foreach(fov 0 360 -5)
+  hostile_error(option_quality_fov_${fov} "--fov ${fov} is not a field of view in \\(0, 180\\) degrees$" csm quality ${SPLATS_CUBE} --fov ${fov})
+endforeach()
+hostile_error(option_quality_bias_nan "--bias nan must be finite$" csm quality ${SPLATS_CUBE} --bias nan)
+hostile_error(option_unconvertible "^splatcl: Could not convert: --samples = -5 \\(see --help\\)$" ao ${SPLATS_CUBE} --samples -5)
+hostile_error(option_unknown_subcommand "unknown csm command 'frobnicate' \\(known: build, info, verify, quality, analyze\\)$" csm frobnicate)
+
+# Unknown keys in scenes: a typo is an error naming the file and the key, not a silent default.
+file(WRITE ${HOSTILE_DIR}/cluster-typo.json
+     "{\"camera\": {\"eye\": [0, 4, 12], \"target\": [0, 0, 0]}, \"lights\": [{\"position\": [0, 1, 0], \"radius\": 2, \"colour\": [1, 0, 0]}]}")
+hostile_error(scene_cluster_unknown_key "cluster-typo.json: scene: unknown key 'colour' in lights\\[0\\] \\(known: position, radius, color\\)$"
+              cluster ${HOSTILE_DIR}/cluster-typo.json)
+file(WRITE ${HOSTILE_DIR}/present-typo.json "{\"objects\": [{\"mesh\": {\"procedural\": \"box\"}, \"positon\": [0, 1, 0]}]}")
+hostile_error(scene_present_unknown_key "present-typo.json: 'positon' is not a key of objects\\[0\\] \\(known: name, mesh, color, "
+              render ${HOSTILE_DIR}/present-typo.json)
+file(WRITE ${HOSTILE_DIR}/present-quality-typo.json "{\"objects\": [], \"quality\": {\"shadow\": \"off\"}}")
+hostile_error(scene_present_unknown_quality_key "present-quality-typo.json: 'shadow' is not a key of quality"
+              render ${HOSTILE_DIR}/present-quality-typo.json)
+
+# Messages naming the real cause: a directory is a directory, not "no such file" or bad JSON.
+hostile_error(message_cluster_scene_directory "cannot read scene ${HOSTILE_DIR}: it is a directory$" cluster ${HOSTILE_DIR})
+hostile_error(message_render_scene_directory "cannot read scene ${HOSTILE_DIR}: it is a directory$" render ${HOSTILE_DIR})
+
+# Faces dropped while reading (an index out of range) are one warning line in every command, not silent.
+file(WRITE ${HOSTILE_DIR}/bad-index.obj "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 2 99\n")
+add_test(NAME hostile.mesh_warning_csm_build COMMAND splatcl csm build ${HOSTILE_DIR}/bad-index.obj -o ${HOSTILE_DIR}/bad-index.csm
+         --maps 16 --res 8 --reference)
+set_tests_properties(hostile.mesh_warning_csm_build PROPERTIES
+                     PASS_REGULAR_EXPRESSION "splatcl: warning: [^\n]*bad-index.obj: 1 face with an index out of range dropped")

@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# hostile_outputs_test.sh MODE SPLATCL WORKDIR EXPECT_ERROR: outputs under hostile conditions
+# (issue 13 items 2, 3, 7, 8). Each mode reproduces one failure and asserts the exit status, the one
+# error line and what is (not) on disk afterwards.
+#   full-disk-*: a file system that fills up under each PNG writer: RLIMIT_FSIZE with SIGXFSZ
+#     ignored (writes past the limit fail with EFBIG, as they would with ENOSPC), or a small tmpfs;
+#   batch-*: batch runs whose outputs would replace their inputs, an unwritable output directory,
+#     and two runs on one output directory at once;
+#   csm-leftover: a killed `csm build` left F.csm.tmpPID; the next run removes it.
+set -u
+mode=$1 splatcl=$2 work=$3 expect_error=$4
+fail() { echo "FAIL: $*"; exit 1; }
+rm -rf "$work" && mkdir -p "$work"
+cube=$work/cube.obj
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nf 1 5 8 4\n' >"$cube"
+no_leftovers() {  # DIR: no temporary or staged file of any output left behind
+  local left
+  left=$(find "$1" -name '*.tmp[0-9]*' -o -name '*.partial[0-9]*' -o -name '.splatcl-write-test*')
+  [ -z "$left" ] || fail "temporaries left behind: $left"
+}
+full_disk() {  # KIB PATTERN COMMAND...: fails with one "write failed" line when files may not exceed KIB KiB
+  local kib=$1 pattern=$2; shift 2
+  (trap '' XFSZ; ulimit -f "$kib"; "$expect_error" "$pattern" "$@") || fail "the write on a full disk did not fail as expected"
+}
+
+# A real full disk: a KIB KiB tmpfs at $work/full in a private mount namespace (root only; skipped
+# otherwise). PoCL writes files of its own on every run and dies under RLIMIT_FSIZE, so the OpenCL
+# commands need this. What is left on it is checked inside the namespace, before it goes.
+full_tmpfs_empty() {  # KIB PATTERN COMMAND...: fails unless the command fails so and leaves nothing on the disk
+  local kib=$1 pattern=$2; shift 2
+  mkdir -p "$work/full"
+  unshare -m true 2>/dev/null || { echo "no private mount namespace (needs root): skipped"; exit 77; }
+  unshare -m sh -c 'mount -t tmpfs -o size="$0"k tmpfs "$1" && dir=$1 && shift && "$@" && left=$(find "$dir" -mindepth 1 -type f) && [ -z "$left" ] || { echo "left on the full disk: $left"; exit 1; }' \
+    "$kib" "$work/full" "$expect_error" "$pattern" "$@" || fail "the write on a full disk did not fail as expected, or left files"
+}
+
+case $mode in
+  full-disk-coherence)  # the coherence PNG of a 128x128 map is several KiB; the .csm exists already
+    "$splatcl" csm build "$cube" -o "$work/cube.csm" --maps 64 --res 128 --reference >/dev/null || fail "csm build failed"
+    full_disk 1 "cannot write $work/coherence.png: write failed \\(disk full\\?\\)$" \
+      "$splatcl" csm info "$work/cube.csm" --coherence "$work/coherence.png"
+    [ -e "$work/coherence.png" ] && fail "a coherence image was left at the target" ;;
+  full-disk-coherence-build)  # csm build -o and --coherence are one unit: neither is left
+    full_disk 1 "cannot write .*: write failed \\(disk full\\?\\)$" \
+      "$splatcl" csm build "$cube" -o "$work/cube.csm" --maps 64 --res 128 --reference --coherence "$work/coherence.png"
+    [ -e "$work/coherence.png" ] || [ -e "$work/cube.csm" ] && fail "an output was left at the target" ;;
+  full-disk-splats-render)  # the PLY (about 22 KiB) fits under 64 KiB, the rendered PNG (about 100 KiB) does not
+    full_disk 64 "cannot write $work/render.png: write failed \\(disk full\\?\\)$" \
+      "$splatcl" splats "$cube" --samples grid:4 --reference -o "$work/out.ply" --render "$work/render.png"
+    [ -e "$work/render.png" ] || [ -e "$work/out.ply" ] && fail "an output was left at the target" ;;
+  full-disk-cluster)  # a real full disk (8 KiB): the four outputs of a 320x180 frame need about 48 KiB
+    full_tmpfs_empty 8 "cannot write $work/full/cl/.*: write failed \\(disk full\\?\\)$" "$splatcl" cluster --size 320x180 -o "$work/full/cl" ;;
+  full-disk-render)  # a real full disk (8 KiB); a 160x120 frame is about 16 KiB; the asset cache was filled beforehand
+    "$splatcl" render --size 160x120 --cache "$work/cache" >/dev/null || fail "the warm-up render failed"
+    full_tmpfs_empty 8 "cannot write $work/full/frame.png: write failed \\(disk full\\?\\)$" \
+      "$splatcl" render --size 160x120 --cache "$work/cache" -o "$work/full/frame.png" --json "$work/full/frame.json" ;;
+
+  batch-summary-is-manifest)
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    cp "$work/set.csv" "$work/set.csv.orig"
+    "$expect_error" "batch: --summary $work/set.csv is the manifest $work/set.csv$" \
+      "$splatcl" batch "$work/set.csv" -o "$work/out" --summary "$work/set.csv" || fail "not refused"
+    cmp -s "$work/set.csv" "$work/set.csv.orig" || fail "the manifest was changed" ;;
+  batch-summary-is-output)
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    "$expect_error" "batch: --summary $work/out/cube.splats.ply is the output cube.splats.ply of model 'cube'$" \
+      "$splatcl" batch "$work/set.csv" -o "$work/out" --summary "$work/out/cube.splats.ply" || fail "not refused"
+    [ -e "$work/out/cube.splats.ply" ] && fail "the model was built although the run was refused" ;;
+  batch-output-is-input | batch-output-inside-input | batch-output-contains-input)
+    mkdir -p "$work/in/sub"
+    cp "$cube" "$work/in/sub/cube.obj"
+    case $mode in
+      batch-output-is-input) input=$work/in/sub out=$work/in/sub/. pattern="is the input directory" ;;
+      batch-output-inside-input) input=$work/in out=$work/in/sub/out pattern="is inside the input directory $work/in:" ;;
+      *) input=$work/in/sub out=$work/in pattern="contains the input directory $work/in/sub:" ;;
+    esac
+    "$expect_error" "batch: the output directory $out $pattern" "$splatcl" batch "$input" -o "$out" || fail "not refused"
+    [ -z "$(find "$work/in" -name '*.splats.*' -o -name '*.csm*' -o -name 'summary*')" ] || fail "outputs were written into the input" ;;
+  batch-unwritable)  # refused before any model is computed, whoever runs it (root ignores permissions)
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    mkdir -p "$work/locked"
+    chmod 555 "$work/locked"
+    as_user=()
+    if [ "$(id -u)" -eq 0 ]; then
+      command -v setpriv >/dev/null || { echo "setpriv missing: cannot drop root"; exit 77; }
+      chmod 755 "$work" && chmod o+rx "$(dirname "$splatcl")" "$splatcl" 2>/dev/null
+      as_user=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+      "${as_user[@]}" test -x "$splatcl" || { echo "the unprivileged user cannot run $splatcl: skipped"; exit 77; }
+    fi
+    out=$("${as_user[@]}" "$expect_error" "cannot write output directory $work/locked: directory $work/locked is not writable \\(Permission denied\\)$" \
+      "$splatcl" batch "$work/set.csv" -o "$work/locked" --reference) || fail "not refused: $out"
+    chmod 755 "$work/locked"
+    [ -z "$(ls -A "$work/locked")" ] || fail "something was written: $(ls -A "$work/locked")" ;;
+  batch-concurrent)  # the first run holds its model locks for 3 s; a second run on the same models is refused
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    SPLATCL_BATCH_HOLD_LOCKS_MS=3000 "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 \
+      >"$work/first.log" 2>&1 &
+    first=$!
+    for _ in $(seq 100); do [ -e "$work/out/.splatcl-batch.lock" ] && break; sleep 0.05; done
+    sleep 0.5
+    "$expect_error" "batch: model 'cube' in $work/out is being built by another batch run \\(pid $first\\); run one batch per model and output directory at a time" \
+      "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 || fail "the second run was not refused"
+    wait "$first" || fail "the first run failed: $(cat "$work/first.log")"
+    grep -q '^ok      cube' "$work/first.log" || fail "the first run did not build the model: $(cat "$work/first.log")"
+    # Once it is done, the same run goes through and reuses its outputs.
+    "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 >"$work/third.log" || fail "a later run failed"
+    grep -q '^reused  cube' "$work/third.log" || fail "a later run did not reuse: $(cat "$work/third.log")" ;;
+
+  csm-leftover)  # what a SIGKILL during the write leaves: F.csm.tmpPID of a process that is gone
+    sh -c 'exit 0' & dead=$!
+    wait "$dead"
+    echo partial >"$work/cube.csm.tmp$dead"
+    "$splatcl" csm build "$cube" -o "$work/cube.csm" --maps 64 --res 16 --reference >/dev/null || fail "csm build failed"
+    [ -e "$work/cube.csm.tmp$dead" ] && fail "the dead run's temporary is still there"
+    "$splatcl" csm verify "$work/cube.csm" >/dev/null || fail "the rebuilt file does not verify" ;;
+  *) fail "unknown mode $mode" ;;
+esac
+no_leftovers "$work"
+echo "ok: $mode"
