@@ -93,7 +93,7 @@ Scaling parse_scaling(const std::string& text) {
 }
 
 std::vector<DeviceInfo> bench_devices(const std::vector<std::string>& selectors) {
-  if (selectors.empty()) return list_devices();
+  if (selectors.empty()) return default_devices();  // simulators only when named
   std::vector<DeviceInfo> chosen;
   for (const auto& selector : selectors) {
     DeviceInfo info = choose_device(selector);

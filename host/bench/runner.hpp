@@ -15,7 +15,7 @@ Scaling parse_scaling(const std::string& text);  // "none", "size", "threads"; t
 
 struct RunOptions {
   SessionOptions session;            // sizes, runs, --quick; device and json_path are ignored
-  std::vector<std::string> devices;  // selectors as for choose_device; empty = every device present
+  std::vector<std::string> devices;  // selectors as for choose_device; empty = every device present but simulators
   Scaling scaling = Scaling::None;
   // Size scaling: every suite at scales 2^-(steps-1), ..., 1/2, 1 of their standard sizes.
   int size_steps = 4;
@@ -25,7 +25,7 @@ struct RunOptions {
   std::vector<std::string> arguments;
 };
 
-// The devices the selectors name, each once, in order; every device when there is no selector.
+// The devices the selectors name, each once, in order; every device but simulators (Oclgrind) when there is no selector.
 std::vector<DeviceInfo> bench_devices(const std::vector<std::string>& selectors);
 
 // This process's command-line arguments (after the program name), from /proc/self/cmdline.

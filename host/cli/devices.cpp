@@ -20,7 +20,7 @@ Action register_devices(CLI::App& app) {
       fmt::print("      {}, {}, max work-group {}, preferred work-group multiple {}\n", d.version, d.opencl_c_version,
                  d.max_work_group_size, d.preferred_work_group_multiple);
     }
-    fmt::print("* = chosen ({})\n", options->device.empty() ? "default: $SPLATCL_DEVICE, else GPU, else CPU" : "--device " + options->device);
+    fmt::print("* = chosen ({})\n", options->device.empty() ? "default: $SPLATCL_DEVICE, else GPU, else PoCL, else CPU; simulators only when named" : "--device " + options->device);
     return 0;
   };
 }

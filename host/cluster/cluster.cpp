@@ -49,6 +49,8 @@ std::vector<std::uint32_t> bvh_level_sizes(std::uint32_t leaf_count) {
   return sizes;
 }
 
+std::uint32_t sort_padded(std::uint32_t tile_pixels) { return std::max<std::uint32_t>(2, std::bit_ceil(tile_pixels)); }
+
 std::string cluster_build_options(const Runtime& runtime, const ClusterLayout& layout, Shape shape,
                                   std::size_t sort_group) {
   const ClusterConfig& c = layout.config;
@@ -57,10 +59,8 @@ std::string cluster_build_options(const Runtime& runtime, const ClusterLayout& l
                         " -DMAX_BITMASK_LOW_BITS=" + std::to_string(kMaxBitmaskLowBits) +
                         " -DMAX_SORT_TILE_PIXELS=" + std::to_string(kMaxSortTilePixels);
   const std::uint32_t tile_pixels = c.tile_width * c.tile_height;
-  if (shape == Shape::Gpu && tile_pixels <= kMaxSortTilePixels) {
-    const std::uint32_t sort_n = std::max<std::uint32_t>(2, std::bit_ceil(tile_pixels));
-    options += " -DSORT_N=" + std::to_string(sort_n) + " -DSORT_GROUP=" + std::to_string(sort_group);
-  }
+  if (shape == Shape::Gpu && tile_pixels <= max_sort_tile_pixels(runtime.info(), shape))
+    options += " -DSORT_N=" + std::to_string(sort_padded(tile_pixels)) + " -DSORT_GROUP=" + std::to_string(sort_group);
   // The window-depth conversion divides; keys must match the host reference bit for bit.
   if (runtime.device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)
     options += " -cl-fp32-correctly-rounded-divide-sqrt";
@@ -68,6 +68,23 @@ std::string cluster_build_options(const Runtime& runtime, const ClusterLayout& l
 }
 
 }  // namespace
+
+std::size_t tile_sort_group(const DeviceInfo& device, std::uint32_t tile_pixels) {
+  const std::size_t device_limit = std::bit_floor(std::max<std::size_t>(1, device.max_work_group_size));
+  return std::min({kGpuSortGroupMax, std::size_t{sort_padded(tile_pixels)} / 2, device_limit});
+}
+
+std::size_t tile_sort_local_bytes(const DeviceInfo& device, std::uint32_t tile_pixels) {
+  return (2 * std::size_t{sort_padded(tile_pixels)} + tile_sort_group(device, tile_pixels)) * sizeof(std::uint32_t);
+}
+
+std::uint32_t max_sort_tile_pixels(const DeviceInfo& device, Shape shape) {
+  if (shape == Shape::Auto) shape = device.type == "cpu" ? Shape::Cpu : Shape::Gpu;  // as Runtime::resolve
+  if (shape != Shape::Gpu) return kMaxSortTilePixels;
+  std::uint32_t pixels = kMaxSortTilePixels;
+  while (pixels > 2 && tile_sort_local_bytes(device, pixels) > device.local_mem_bytes) pixels /= 2;
+  return tile_sort_local_bytes(device, pixels) <= device.local_mem_bytes ? pixels : 0;
+}
 
 const char* to_string(Compaction compaction) {
   switch (compaction) {
@@ -98,8 +115,7 @@ ClusterPipeline::ClusterPipeline(Runtime& runtime, const ClusterConfig& config, 
       scanner_(runtime, shape_),
       pair_sorter_(runtime, primitives::KeyType::U32, true, shape_) {
   const std::uint32_t tile_pixels = config.tile_width * config.tile_height;
-  const std::size_t sort_n = std::max<std::size_t>(2, std::bit_ceil(tile_pixels));
-  tile_sort_group_ = shape_ == Shape::Gpu ? std::min(kGpuSortGroupMax, sort_n / 2) : 1;
+  tile_sort_group_ = shape_ == Shape::Gpu ? tile_sort_group(runtime.info(), tile_pixels) : 1;
   const std::string options = cluster_build_options(runtime, layout_, shape_, tile_sort_group_);
   const std::string light_options = "-DBVH_MAX_LEVELS=" + std::to_string(kBvhMaxLevels) +
                                     " -DBVH_STACK=" + std::to_string(kBvhStack) +
@@ -113,7 +129,7 @@ ClusterPipeline::ClusterPipeline(Runtime& runtime, const ClusterConfig& config, 
   tile_mask_kernel_ = runtime.kernel(kClusterKernels, "cluster_tile_mask", options);
   tile_mask_write_kernel_ = runtime.kernel(kClusterKernels, "cluster_tile_mask_write", options);
   bounds_kernel_ = runtime.kernel(kClusterKernels, "cluster_bounds", options);
-  if (tile_pixels <= kMaxSortTilePixels)
+  if (tile_pixels <= max_sort_tile_pixels(runtime.info(), shape_))
     tile_sort_kernel_ = runtime.kernel(
         kClusterKernels, shape_ == Shape::Gpu ? "cluster_tile_sort_gpu" : "cluster_tile_sort_cpu", options);
   brute_count_kernel_ = runtime.kernel(kLightKernels, "assign_brute_count", light_options);
@@ -310,18 +326,15 @@ void ClusterPipeline::compact_tiles(Compaction compaction, Profiler* profiler) {
   }
 
   if (!tile_sort_kernel_())
-    throw Error("tile-sort compaction supports tiles of at most " + std::to_string(kMaxSortTilePixels) +
-                " pixels; tile " + std::to_string(c.tile_width) + "x" + std::to_string(c.tile_height) + " is larger");
+    throw Error("tile-sort compaction (" + std::string(to_string(shape_)) + " shape) supports tiles of at most " +
+                std::to_string(max_sort_tile_pixels(runtime_.info(), shape_)) + " pixels on '" + runtime_.info().name +
+                "' (" + std::to_string(runtime_.info().local_mem_bytes / 1024) + " KiB local memory); tile " +
+                std::to_string(c.tile_width) + "x" + std::to_string(c.tile_height) + " is larger");
   if (!staging_())
     staging_ = runtime_.buffer(CL_MEM_READ_WRITE,
                                std::size_t{tiles} * c.tile_width * c.tile_height * sizeof(std::uint32_t),
                                "per-tile cluster keys");
   if (shape_ == Shape::Gpu) {
-    const std::size_t local_bytes =
-        (2 * std::max<std::size_t>(2, std::bit_ceil(c.tile_width * c.tile_height)) + tile_sort_group_) * 4;
-    if (local_bytes > runtime_.info().local_mem_bytes || tile_sort_group_ > runtime_.info().max_work_group_size)
-      throw Error("tile-sort (gpu shape) of " + std::to_string(c.tile_width) + "x" + std::to_string(c.tile_height) +
-                  " tiles does not fit the local memory or work-group size of '" + runtime_.info().name + "'");
     set_args(tile_sort_kernel_, keys_, pixel_cluster_, staging_, tile_counts_, c.width, c.height, layout_.tiles_x);
     enqueue_1d(queue, tile_sort_kernel_, std::size_t{tiles} * tile_sort_group_, tile_sort_group_, profiler,
                "cluster-tile-sort");

@@ -26,7 +26,8 @@ enum class Compaction {
   GlobalSort,
   // The thesis's per-tile sort, then a scan of the tile counts and a scatter. CPU shape: one
   // work-item per tile, serial counting/radix sort; GPU shape: one work-group per tile, bitonic
-  // sort in local memory and a work-group scan. Tiles of at most kMaxSortTilePixels.
+  // sort in local memory and a work-group scan. Tiles of at most max_sort_tile_pixels(): the GPU
+  // shape's local memory grows with the tile and must fit the device's.
   TileSort,
   // Per tile, a bit mask over the (slice, normal) values; popcounts rank them, no sort. Mask and
   // count kernel, scan of the tile counts, write kernel. At most kMaxBitmaskLowBits low key bits.
@@ -53,6 +54,17 @@ const char* to_string(Assignment assignment);
 // "global-sort", "tile-sort", "bitmask"; "brute", "bvh". Throws Error for anything else.
 Compaction parse_compaction(const std::string& text);
 Assignment parse_assignment(const std::string& text);
+
+// Work-group size of the GPU-shaped tile sort for tiles of `tile_pixels`: half the padded tile, at
+// most 256 and at most the device's work-group limit (a power of two: the sort splits evenly).
+std::size_t tile_sort_group(const DeviceInfo& device, std::uint32_t tile_pixels);
+// Local memory of the GPU-shaped tile sort: a (key, pixel) pair per padded tile pixel and a scan slot
+// per work-item.
+std::size_t tile_sort_local_bytes(const DeviceInfo& device, std::uint32_t tile_pixels);
+// Largest tile (pixels) the tile-sort compaction accepts in `shape` on `device`: kMaxSortTilePixels,
+// or for the GPU shape the largest power of two whose local memory fits the device (64×64 tiles need
+// 33,792 B: 32 KiB devices sort up to 2048 pixels).
+std::uint32_t max_sort_tile_pixels(const DeviceInfo& device, Shape shape);
 
 class ClusterPipeline {
  public:

@@ -1,6 +1,7 @@
 #include "runtime/profiling.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "runtime/runtime.hpp"
 
@@ -32,6 +33,35 @@ std::vector<std::pair<std::string, double>> Profiler::per_label_ms() const {
   return result;
 }
 
+namespace {
+
+// Rethrows a failed launch as Error; when the work-group did not fit, the message says what the
+// kernel allows on this device (CL_KERNEL_WORK_GROUP_SIZE, local memory) against what was asked.
+[[noreturn]] void rethrow_launch_error(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t group_items,
+                                       const char* label) {
+  std::string what = std::string("launching kernel ") + label;
+  try {
+    throw;
+  } catch (const cl::Error& e) {
+    if (e.err() == CL_INVALID_WORK_GROUP_SIZE || e.err() == CL_OUT_OF_RESOURCES || e.err() == CL_INVALID_WORK_ITEM_SIZE) {
+      try {
+        const cl::Device device = queue.getInfo<CL_QUEUE_DEVICE>();
+        what += " with " + std::to_string(group_items) + " work-items per group (the kernel allows " +
+                std::to_string(kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device)) + " and uses " +
+                std::to_string(kernel.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(device)) + " B of the device's " +
+                std::to_string(device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>()) + " B local memory on '" +
+                device.getInfo<CL_DEVICE_NAME>().c_str() + "')";
+      } catch (const cl::Error&) {
+        // the limits could not be read: the plain message below still names the kernel
+      }
+    }
+  } catch (...) {
+  }
+  rethrow_as_error(what);
+}
+
+}  // namespace
+
 cl::Event enqueue_1d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t global, std::size_t local,
                      Profiler* profiler, const char* label) {
   cl::Event event;
@@ -43,7 +73,7 @@ cl::Event enqueue_1d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t gl
       queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &event);
     }
   } catch (...) {
-    rethrow_as_error(std::string("launching kernel ") + label);
+    rethrow_launch_error(queue, kernel, local, label);
   }
   if (profiler) profiler->add(label, event);
   return event;
@@ -58,7 +88,7 @@ cl::Event enqueue_2d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t wi
                                cl::NDRange(round_up(width, group_width), round_up(height, group_height)),
                                cl::NDRange(group_width, group_height), nullptr, &event);
   } catch (...) {
-    rethrow_as_error(std::string("launching kernel ") + label);
+    rethrow_launch_error(queue, kernel, group_width * group_height, label);
   }
   if (profiler) profiler->add(label, event);
   return event;

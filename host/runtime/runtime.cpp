@@ -16,6 +16,13 @@ std::string lower(std::string text) {
   return text;
 }
 
+// A device that claims more than one of CPU, GPU and accelerator is a simulator of them all
+// (Oclgrind: ACCELERATOR|GPU|CPU); so is any device of a known simulator platform.
+bool is_simulator(cl_device_type type, const std::string& platform) {
+  const cl_device_type kinds = type & (CL_DEVICE_TYPE_CPU | CL_DEVICE_TYPE_GPU | CL_DEVICE_TYPE_ACCELERATOR);
+  return (kinds & (kinds - 1)) != 0 || lower(platform).find("oclgrind") != std::string::npos;
+}
+
 std::string device_type_name(cl_device_type type) {
   if (type & CL_DEVICE_TYPE_GPU) return "gpu";
   if (type & CL_DEVICE_TYPE_CPU) return "cpu";
@@ -109,7 +116,8 @@ std::vector<DeviceInfo> list_devices() {
       info.index = result.size();
       info.platform = trim(platform.getInfo<CL_PLATFORM_NAME>());
       info.name = trim(device.getInfo<CL_DEVICE_NAME>());
-      info.type = device_type_name(device.getInfo<CL_DEVICE_TYPE>());
+      const cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
+      info.type = is_simulator(type, info.platform) ? "simulator" : device_type_name(type);
       info.version = trim(device.getInfo<CL_DEVICE_VERSION>());
       info.opencl_c_version = trim(device.getInfo<CL_DEVICE_OPENCL_C_VERSION>());
       info.compute_units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
@@ -126,18 +134,30 @@ std::vector<DeviceInfo> list_devices() {
   return result;
 }
 
+std::vector<DeviceInfo> default_devices() {
+  std::vector<DeviceInfo> devices = list_devices();
+  std::erase_if(devices, [](const DeviceInfo& d) { return d.type == "simulator"; });
+  if (devices.empty())
+    throw Error("only simulator OpenCL devices found (Oclgrind checks kernels, slowly): name one with --device or $" +
+                std::string(kDeviceEnvVar));
+  return devices;
+}
+
 DeviceInfo choose_device(const std::string& selector_in) {
   std::string selector = selector_in;
   if (selector.empty()) {
     if (const char* env = std::getenv(kDeviceEnvVar)) selector = env;
   }
-  auto devices = list_devices();
   if (selector.empty()) {
-    for (const char* type : {"gpu", "cpu"})
-      for (const auto& d : devices)
-        if (d.type == type) return d;
-    return devices.front();
+    const auto devices = default_devices();
+    const auto first = [&](auto&& accept) { return std::find_if(devices.begin(), devices.end(), accept); };
+    auto it = first([](const DeviceInfo& d) { return d.type == "gpu"; });
+    if (it == devices.end())  // the CPU kernels are tuned on PoCL: it stays the default beside other CPU runtimes
+      it = first([](const DeviceInfo& d) { return d.type == "cpu" && lower(d.platform).find("portable computing") != std::string::npos; });
+    if (it == devices.end()) it = first([](const DeviceInfo& d) { return d.type == "cpu"; });
+    return it == devices.end() ? devices.front() : *it;
   }
+  const auto devices = list_devices();
   const std::string wanted = lower(selector);
   if (std::all_of(wanted.begin(), wanted.end(), [](unsigned char c) { return std::isdigit(c); })) {
     const auto index = std::stoul(wanted);

@@ -20,7 +20,10 @@ struct DeviceInfo {
   std::size_t index = 0;  // position in the flat list over all platforms
   std::string platform;
   std::string name;
-  std::string type;  // "cpu", "gpu", "accelerator", "other"
+  // "cpu", "gpu", "accelerator", "other", or "simulator": a device that checks kernels rather than
+  // runs them fast (Oclgrind, which reports itself as ACCELERATOR|GPU|CPU). Simulators are never a
+  // default: only a selector that names one (index, "simulator" or name) chooses it.
+  std::string type;
   std::string version;
   std::string opencl_c_version;
   unsigned compute_units = 0;
@@ -35,8 +38,14 @@ struct DeviceInfo {
 // Every device of every platform. Throws Error when there is no platform or no device.
 std::vector<DeviceInfo> list_devices();
 
-// Chooses a device: selector is an index ("0"), a type ("cpu", "gpu") or a case-insensitive name
-// substring. Empty selector: $SPLATCL_DEVICE, else the first GPU, else the first CPU, else device 0.
+// The devices a run over "every device" uses (bench without --device): all but simulators.
+// Throws Error when there are none.
+std::vector<DeviceInfo> default_devices();
+
+// Chooses a device: selector is an index ("0"), a type ("cpu", "gpu", "simulator") or a
+// case-insensitive substring of the device or platform name. Empty selector: $SPLATCL_DEVICE, else
+// the first GPU, else the first PoCL CPU device, else the first CPU, else the first device that is
+// not a simulator.
 DeviceInfo choose_device(const std::string& selector = "");
 
 // Kernel shape: CPU-shaped (one work-item per contiguous chunk, no barriers) or GPU-shaped

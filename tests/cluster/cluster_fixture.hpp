@@ -8,16 +8,14 @@
 #include <set>
 #include <vector>
 
+#include "runtime/test_runtime.hpp"
 #include "cluster/cluster.hpp"
 #include "cluster/reference.hpp"
 #include "cluster/test_scene.hpp"
 
 namespace splatcl::cluster::testing {
 
-inline Runtime& test_runtime() {
-  static std::shared_ptr<Runtime> runtime = Runtime::create();
-  return *runtime;
-}
+inline Runtime& test_runtime() { return splatcl::testing::shared_runtime(); }
 
 // A ray-cast random scene with its lights, ready for the pipeline.
 struct Frame {

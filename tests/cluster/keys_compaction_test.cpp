@@ -1,8 +1,11 @@
 // Cluster keys and the three compaction variants on the device against the native reference.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <random>
+#include <string>
 
 #include "cluster_fixture.hpp"
 #include "runtime/error.hpp"
@@ -18,12 +21,13 @@ constexpr Compaction kCompactions[] = {Compaction::GlobalSort, Compaction::TileS
 
 // Runs keys and every compaction variant in both shapes; everything must equal the reference.
 void expect_all_variants_match_reference(const ClusterConfig& config, const std::vector<float>& depth,
-                                         DepthFormat format, const std::vector<Vec3>* normals = nullptr) {
+                                         DepthFormat format, const std::vector<Vec3>* normals = nullptr,
+                                         std::initializer_list<Shape> shapes = {Shape::Cpu, Shape::Gpu}) {
   const auto layout = ClusterLayout::make(config);
   const auto keys = reference_keys(layout, depth, format, normals);
   const auto expected = reference_compact(keys);
   expect_compaction_invariants(keys, expected);
-  for (Shape shape : {Shape::Cpu, Shape::Gpu}) {
+  for (Shape shape : shapes) {
     ClusterPipeline pipeline(test_runtime(), config, shape);
     pipeline.upload_depth(depth, format);
     if (normals) pipeline.upload_normals(*normals);
@@ -126,9 +130,38 @@ TEST(ClusterKeys, AllPixelsOneDepthGiveOneClusterPerTile) {
   EXPECT_EQ(pipeline.compact(Compaction::TileBitmask), pipeline.layout().tile_count);
 }
 
+// The largest tile each shape sorts on this device (64×64 where local memory allows: PoCL, Intel;
+// 64×32 on Oclgrind's 32 KiB) matches the reference; the next larger tile is a clear error.
 TEST(ClusterKeys, LargestSortableTile) {
-  const auto frame = make_frame(18, 150, 100, 64, 64);
-  expect_all_variants_match_reference(frame.config, frame.depth.view_z, DepthFormat::ViewZ);
+  const DeviceInfo& device = test_runtime().info();
+  for (Shape shape : {Shape::Cpu, Shape::Gpu}) {
+    const std::uint32_t pixels = max_sort_tile_pixels(device, shape);
+    SCOPED_TRACE(std::string("shape ") + to_string(shape) + ", largest sortable tile " + std::to_string(pixels));
+    ASSERT_GE(pixels, 256u) << "a device with " << device.local_mem_bytes << " B local memory sorts 16x16 tiles";
+    if (shape == Shape::Gpu) EXPECT_LE(tile_sort_local_bytes(device, pixels), device.local_mem_bytes);
+    const std::uint32_t tile_w = std::min<std::uint32_t>(64, pixels), tile_h = pixels / tile_w;
+    const auto frame = make_frame(18, 150, 100, tile_w, tile_h);
+    expect_all_variants_match_reference(frame.config, frame.depth.view_z, DepthFormat::ViewZ, nullptr, {shape});
+    if (pixels < kMaxSortTilePixels) {
+      const auto larger = make_frame(18, 150, 100, tile_w, tile_h * 2);
+      ClusterPipeline pipeline(test_runtime(), larger.config, shape);
+      pipeline.upload_depth(larger.depth.view_z, DepthFormat::ViewZ);
+      pipeline.compute_keys();
+      EXPECT_THROW(pipeline.compact(Compaction::TileSort), Error);
+    }
+  }
+  EXPECT_EQ(max_sort_tile_pixels(device, Shape::Cpu), kMaxSortTilePixels);
+  DeviceInfo gpu_32k = device;  // the limits of Oclgrind and of GPUs with 32 or 48 KiB
+  gpu_32k.local_mem_bytes = 32 * 1024;
+  gpu_32k.max_work_group_size = 256;
+  EXPECT_EQ(max_sort_tile_pixels(gpu_32k, Shape::Gpu), 2048u);
+  DeviceInfo gpu_48k = gpu_32k;
+  gpu_48k.local_mem_bytes = 48 * 1024;
+  EXPECT_EQ(max_sort_tile_pixels(gpu_48k, Shape::Gpu), 4096u);
+  EXPECT_EQ(tile_sort_local_bytes(gpu_48k, 4096), 33792u);
+  DeviceInfo small_groups = gpu_48k;  // 64 work-items per group: 64×64 tiles sort 64 pairs per item
+  small_groups.max_work_group_size = 64;
+  EXPECT_EQ(tile_sort_group(small_groups, 4096), 64u);
 }
 
 TEST(ClusterKeys, VariantLimitsAreClearErrors) {

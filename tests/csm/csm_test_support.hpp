@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
 #include "splats/mesh.hpp"
 
@@ -16,10 +17,7 @@ namespace splatcl::csm::testing {
 using splats::Mesh;
 using splats::Vec3;
 
-inline Runtime& runtime() {
-  static const std::shared_ptr<Runtime> instance = Runtime::create();
-  return *instance;
-}
+inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
 
 inline std::string model_path(const std::string& name) {
   const std::string path = std::string(SPLATCL_MODELS_DIR) + "/" + name;

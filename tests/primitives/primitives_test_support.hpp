@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "runtime/test_runtime.hpp"
 #include "primitives/primitives.hpp"
 
 namespace splatcl {
@@ -39,14 +40,12 @@ inline Shape shape_of(Impl impl) { return impl == Impl::Gpu ? Shape::Gpu : Shape
 
 inline constexpr Impl kImpls[] = {Impl::Cpu, Impl::Gpu, Impl::Reference};
 
-// Empty, single, smaller than a work-group, not a multiple of any block, and large enough for
-// several chunks, several blocks and two recursion levels.
-inline constexpr std::size_t kSizes[] = {0, 1, 7, 1023, (std::size_t{1} << 20) + 3};
+// Empty, single, smaller than a work-group, not a multiple of any block, three GPU blocks of 1024
+// with a partial last one (small enough for Oclgrind), and large enough for several CPU chunks,
+// many blocks and two recursion levels.
+inline constexpr std::size_t kSizes[] = {0, 1, 7, 1023, 3001, (std::size_t{1} << 20) + 3};
 
-inline Runtime& runtime() {
-  static const std::shared_ptr<Runtime> instance = Runtime::create();
-  return *instance;
-}
+inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
 
 // n values uniformly drawn from [0, mask] (mask of the form 2^k - 1), fixed seed.
 template <class T>

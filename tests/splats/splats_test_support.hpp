@@ -11,15 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
 #include "splats/mesh.hpp"
 
 namespace splatcl::splats::testing {
 
-inline Runtime& runtime() {
-  static const std::shared_ptr<Runtime> instance = Runtime::create();
-  return *instance;
-}
+inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
 
 // A shared model from ../shared/data/models, or "" when that folder is not beside the checkout.
 inline std::string model_path(const std::string& name) {
