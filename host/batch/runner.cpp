@@ -29,6 +29,7 @@
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
 #include "splats/pipeline_options.hpp"
+#include "splats/splat_file.hpp"
 
 namespace splatcl::batch {
 namespace {
@@ -126,8 +127,10 @@ std::optional<OutputResult> reusable(const std::optional<nlohmann::json>& record
 
 // An output's parameters checksum: of its parameters, with a texture image named by the checksum of
 // its bytes rather than its path, as the mesh is (editing the image in place rebuilds the splats;
-// moving the whole tree does not).
-std::string params_checksum(nlohmann::json params) {
+// moving the whole tree does not), and of the splat file's format version (a newer splatcl rebuilds
+// splat files its readers refuse rather than reusing them).
+std::string params_checksum(const std::string& kind, nlohmann::json params) {
+  if (kind == "splats") params["splat_file_version"] = splats::kSplatFileVersion;
   const auto texture = params.find("texture");
   if (texture != params.end() && texture->is_string() && !texture->get<std::string>().empty()) {
     const std::string path = texture->get<std::string>();
@@ -209,7 +212,7 @@ class Worker {
     };
     std::vector<Pending> pending;
     auto consider = [&](const std::string& kind, const nlohmann::json& params) {
-      const std::string checksum = params_checksum(params);
+      const std::string checksum = params_checksum(kind, params);
       if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum)) r.outputs.push_back(std::move(*reused));
       else pending.push_back({kind, params, checksum});
     };

@@ -198,13 +198,6 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   info.order = static_cast<Order>(enums[1]);
   info.pole = static_cast<PoleAxis>(enums[2]);
   info.single_hit = static_cast<SingleHit>(enums[3]);
-  try {
-    const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
-    if (grid.rows() != rows || grid.cols() != cols) throw fail(fmt::format("grid {}x{} does not match {} maps", rows, cols, info.maps));
-  } catch (const Error& e) {
-    if (std::string(e.what()).rfind(name, 0) == 0) throw;
-    throw fail(e.what());
-  }
   const auto capture = get<std::uint32_t>(bytes, kCaptureOffset);
   if (capture > 1) throw fail(fmt::format("unknown capture method {}", capture));
   info.capture = static_cast<CaptureMethod>(capture);
@@ -219,6 +212,25 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
     info.object_transform[k] = get<float>(bytes, 108 + 4 * k);
     if (!std::isfinite(info.object_transform[k])) throw fail("non-finite object transform");
   }
+  // The object transform is an invertible affine map (row-major, last row 0 0 0 1): a singular one
+  // would send every query to one point and make AO silently 1.
+  const auto& t = info.object_transform;
+  if (t[12] != 0 || t[13] != 0 || t[14] != 0 || t[15] != 1) throw fail("the object transform is not affine (its last row is not 0 0 0 1)");
+  {
+    const double det = double{t[0]} * (double{t[5]} * t[10] - double{t[6]} * t[9]) - double{t[1]} * (double{t[4]} * t[10] - double{t[6]} * t[8]) +
+                       double{t[2]} * (double{t[4]} * t[9] - double{t[5]} * t[8]);
+    double rows_norm = 1;
+    for (int r = 0; r < 3; ++r) rows_norm *= std::sqrt(double{t[4 * r]} * t[4 * r] + double{t[4 * r + 1]} * t[4 * r + 1] + double{t[4 * r + 2]} * t[4 * r + 2]);
+    if (!(std::abs(det) > 1e-6 * rows_norm)) throw fail(fmt::format("the object transform is singular (determinant {:g})", det));
+  }
+  // The pole frame is stored for other readers; it must be the frame of the stored pole axis.
+  const auto frame = pole_frame(info.pole);
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const float stored = get<float>(bytes, 72 + 12 * k + 4 * c);
+      const float expected = c == 0 ? frame[k].x : c == 1 ? frame[k].y : frame[k].z;
+      if (!(stored == expected)) throw fail(fmt::format("the pole frame does not match pole axis {} (zero, NaN or edited)", to_string(info.pole)));
+    }
   const char* source = bytes.data() + kSourceOffset;
   info.source.assign(source, strnlen(source, kSourceBytes));
   const auto segments = get<std::uint64_t>(bytes, 172);
@@ -235,6 +247,14 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   std::uint64_t hash = fnv1a64({copy.data(), copy.size()});
   hash = fnv1a64({bytes.data() + kCsmHeaderBytes, payload}, hash);
   if (hash != get<std::uint64_t>(bytes, kChecksumOffset)) throw fail("checksum mismatch (the file is corrupted)");
+  // The grid is sized from the map count only now: a crafted count allocates nothing before the checksum.
+  try {
+    const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
+    if (grid.rows() != rows || grid.cols() != cols) throw fail(fmt::format("grid {}x{} does not match {} maps", rows, cols, info.maps));
+  } catch (const Error& e) {
+    if (std::string(e.what()).rfind(name, 0) == 0) throw;
+    throw fail(e.what());
+  }
 
   const std::size_t at = kCsmHeaderBytes;
   if (encoding == Encoding::Plain) {

@@ -2,14 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+#include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
-#include <sstream>
+#include <string_view>
 
 #include "io/atomic_file.hpp"
 #include "io/binary.hpp"
 #include "io/checksum.hpp"
+#include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::splats {
@@ -37,6 +38,41 @@ std::string unescape(const std::string& text) {
   return out;
 }
 
+// The property lines of a splat file, clipped or not.
+std::string property_lines(bool clipped) {
+  std::string lines;
+  for (int p = 0; p < 6; ++p) lines += fmt::format("property float {}\n", kProperties[p]);
+  lines += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  for (int p = 6; p < 14; ++p) lines += fmt::format("property float {}\n", kProperties[p]);
+  if (clipped)
+    for (const char* name : kClipProperties) lines += fmt::format("property float {}\n", name);
+  return lines;
+}
+
+// The whole header as written; `checksum` is 16 hex digits.
+std::string header_text(const SplatFileInfo& info, std::size_t count, const std::string& checksum) {
+  std::string header = "ply\nformat binary_little_endian 1.0\n";
+  header += fmt::format("comment splatcl_version {}\n", kSplatFileVersion);
+  header += fmt::format("comment splatcl_model {}\n", escape(info.model));
+  header += fmt::format("comment splatcl_sampling {}\n", info.sampling);
+  header += fmt::format("comment splatcl_eps {:.9g}\n", info.eps);
+  header += fmt::format("comment splatcl_k {}\n", info.k);
+  header += fmt::format("comment splatcl_color_tolerance {}\n", info.color_tolerance);
+  header += fmt::format("comment splatcl_color_source {}\n", escape(info.color_source));
+  header += "comment splatcl_checksum " + checksum + "\n";
+  header += fmt::format("element vertex {}\n", count);
+  header += property_lines(info.clipped);
+  header += "end_header\n";
+  return header;
+}
+
+constexpr const char* kZeroChecksum = "0000000000000000";
+
+// FNV-1a 64 of the whole file with the checksum's 16 hex digits read as zeros: header and body.
+std::uint64_t file_checksum(std::string_view header_with_zeros, std::string_view body) {
+  return fnv1a64(body, fnv1a64(header_with_zeros));
+}
+
 }  // namespace
 
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info) {
@@ -49,87 +85,113 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
     for (int p = 6; p < 14; ++p) append_bytes(body, values[p]);
     if (info.clipped) append_bytes(body, s.clip_x), append_bytes(body, s.clip_y), append_bytes(body, s.clip_offset);
   }
-  std::string header = "ply\nformat binary_little_endian 1.0\n";
-  header += fmt::format("comment splatcl_version {}\n", kSplatFileVersion);
-  header += fmt::format("comment splatcl_model {}\n", escape(info.model));
-  header += fmt::format("comment splatcl_sampling {}\n", info.sampling);
-  header += fmt::format("comment splatcl_eps {:.9g}\n", info.eps);
-  header += fmt::format("comment splatcl_k {}\n", info.k);
-  header += fmt::format("comment splatcl_color_tolerance {}\n", info.color_tolerance);
-  header += fmt::format("comment splatcl_color_source {}\n", escape(info.color_source));
-  header += "comment splatcl_checksum " + checksum_hex(fnv1a64(body)) + "\n";
-  header += fmt::format("element vertex {}\n", splats.size());
-  for (int p = 0; p < 6; ++p) header += fmt::format("property float {}\n", kProperties[p]);
-  header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-  for (int p = 6; p < 14; ++p) header += fmt::format("property float {}\n", kProperties[p]);
-  if (info.clipped)
-    for (const char* name : kClipProperties) header += fmt::format("property float {}\n", name);
-  header += "end_header\n";
-  write_file_atomically(path, header + body);
+  const std::string zeros = header_text(info, splats.size(), kZeroChecksum);
+  write_file_atomically(path, header_text(info, splats.size(), checksum_hex(file_checksum(zeros, body))) + body);
 }
 
 SplatFile read_splat_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read splat file " + path + ": no such file or not readable");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string data = read_text_file(path, "splat file");
   const auto fail = [&](const std::string& why) { return Error("splat file " + path + ": " + why); };
   const std::size_t end = data.find("end_header\n");
   if (data.rfind("ply\n", 0) != 0 || end == std::string::npos) throw fail("not a PLY file");
-  std::istringstream header(data.substr(0, end));
-  SplatFile file;
-  std::string line, checksum;
-  int version = 0;
-  std::size_t count = 0;
-  bool have_count = false;
-  std::vector<std::string> properties;
-  while (std::getline(header, line)) {
-    std::istringstream words(line);
-    std::string word, key, value;
-    words >> word;
-    if (word == "format" && line != "format binary_little_endian 1.0") throw fail("not binary little-endian");
-    if (word == "element") {
-      words >> key >> count;
-      if (key != "vertex" || !words) throw fail("unexpected element '" + line + "'");
-      have_count = true;
-    }
-    if (word == "property") {
-      std::string type;
-      words >> type >> key;
-      properties.push_back(key);
-    }
-    if (word != "comment") continue;
-    words >> key >> value;
-    if (key == "splatcl_version") version = std::atoi(value.c_str());
-    if (key == "splatcl_model") file.info.model = unescape(value);
-    if (key == "splatcl_sampling") file.info.sampling = value;
-    if (key == "splatcl_eps") file.info.eps = std::strtof(value.c_str(), nullptr);
-    if (key == "splatcl_k") file.info.k = static_cast<unsigned>(std::atoi(value.c_str()));
-    if (key == "splatcl_color_tolerance") file.info.color_tolerance = std::atoi(value.c_str());
-    if (key == "splatcl_color_source") file.info.color_source = unescape(value);
-    if (key == "splatcl_checksum") checksum = value;
+  std::vector<std::string> lines;
+  for (std::size_t at = 0; at < end + 11;) {
+    const std::size_t eol = data.find('\n', at);
+    lines.push_back(data.substr(at, eol - at));
+    at = eol + 1;
   }
-  if (version != kSplatFileVersion) throw fail(fmt::format("not a splatcl splat file of version {}", kSplatFileVersion));
-  if (!have_count) throw fail("no vertex element");
-  file.info.clipped = properties.size() == 20;
-  if (properties.size() != 17 && properties.size() != 20) throw fail("unexpected property list");
+  // Every line is checked against what write_splat_file writes, in order: the format, the version,
+  // the parameters, the checksum, the count, each property's type and name, end_header.
+  std::size_t line = 1;
+  const auto next = [&]() -> const std::string& {
+    if (line >= lines.size()) throw fail("header ends early");
+    return lines[line++];
+  };
+  const auto comment = [&](const char* key) {
+    const std::string& text = next();
+    const std::string prefix = std::string("comment ") + key + " ";
+    if (text.rfind(prefix, 0) != 0 || text.find(' ', prefix.size()) != std::string::npos)
+      throw fail(fmt::format("header line {} is '{}', not 'comment {} VALUE'", line, text, key));
+    return text.substr(prefix.size());
+  };
+  const auto number = [&](const char* key, auto& value) {
+    const std::string text = comment(key);
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || ptr != text.data() + text.size()) throw fail(fmt::format("{} '{}' is not a number", key, text));
+  };
+  if (next() != "format binary_little_endian 1.0") throw fail("not binary little-endian PLY 1.0");
+  {
+    const std::string text = comment("splatcl_version");
+    if (text != std::to_string(kSplatFileVersion))
+      throw fail(fmt::format("not a splatcl splat file of version {} (it has version {}; rebuild it with splatcl splats)", kSplatFileVersion, text));
+  }
+  SplatFile file;
+  file.info.model = unescape(comment("splatcl_model"));
+  file.info.sampling = comment("splatcl_sampling");
+  number("splatcl_eps", file.info.eps);
+  long long k = 0;
+  number("splatcl_k", k);
+  number("splatcl_color_tolerance", file.info.color_tolerance);
+  file.info.color_source = unescape(comment("splatcl_color_source"));
+  const std::size_t checksum_line = line;
+  const std::string checksum = comment("splatcl_checksum");
+  if (!(std::isfinite(file.info.eps) && file.info.eps > 0)) throw fail(fmt::format("eps {} is not positive", file.info.eps));
+  if (k < 1 || k > 1024) throw fail(fmt::format("k {} is not in 1..1024", k));
+  file.info.k = static_cast<unsigned>(k);
+  if (file.info.color_tolerance < 0 || file.info.color_tolerance > 255)
+    throw fail(fmt::format("colour tolerance {} is not in 0..255", file.info.color_tolerance));
+  std::size_t count = 0;
+  {
+    const std::string& text = next();
+    const std::string prefix = "element vertex ";
+    const bool element = text.rfind(prefix, 0) == 0;
+    const char* digits = text.data() + (element ? prefix.size() : 0);
+    const auto [ptr, ec] = std::from_chars(digits, text.data() + text.size(), count);
+    if (!element || ec != std::errc() || ptr != text.data() + text.size())
+      throw fail(fmt::format("header line {} is '{}', not 'element vertex COUNT'", line, text));
+  }
+  std::string properties;
+  for (; line + 1 < lines.size(); ++line) properties += lines[line] + "\n";
+  file.info.clipped = properties == property_lines(true);
+  if (!file.info.clipped && properties != property_lines(false))
+    throw fail("the properties are not those of a splat file (x y z nx ny nz red green blue ux uy uz vx vy vz major minor [clip_x clip_y clip_offset], all float but the uchar colours)");
   const std::size_t record = 14 * sizeof(float) + 3 + (file.info.clipped ? 3 * sizeof(float) : 0);
-  const std::string body = data.substr(end + 11);
-  if (body.size() != count * record)
+  const std::string_view body = std::string_view(data).substr(end + 11);
+  if (count > body.size() / record || body.size() != count * record)
     throw fail(fmt::format("truncated or oversized: {} bytes for {} splats of {} bytes", body.size(), count, record));
-  if (checksum != checksum_hex(fnv1a64(body))) throw fail("checksum mismatch (corrupted)");
+  std::string header = data.substr(0, end + 11);
+  std::size_t checksum_at = 0;
+  for (std::size_t l = 0; l < checksum_line; ++l) checksum_at += lines[l].size() + 1;
+  checksum_at += std::string("comment splatcl_checksum ").size();
+  if (checksum.size() != 16) throw fail("checksum '" + checksum + "' is not 16 hex digits");
+  header.replace(checksum_at, 16, kZeroChecksum);
+  if (checksum != checksum_hex(file_checksum(header, body))) throw fail("checksum mismatch (corrupted header or body)");
   file.splats.resize(count);
   const char* p = body.data();
   auto take = [&p](auto& value) {
     std::memcpy(&value, p, sizeof(value));
     p += sizeof(value);
   };
-  for (SplatRecord& s : file.splats) {
+  const auto finite3 = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  for (std::size_t i = 0; i < count; ++i) {
+    SplatRecord& s = file.splats[i];
     float lengths[2];
     take(s.center.x), take(s.center.y), take(s.center.z), take(s.normal.x), take(s.normal.y), take(s.normal.z);
     take(s.color.r), take(s.color.g), take(s.color.b);
     take(s.major.x), take(s.major.y), take(s.major.z), take(s.minor.x), take(s.minor.y), take(s.minor.z);
     take(lengths[0]), take(lengths[1]);
     if (file.info.clipped) take(s.clip_x), take(s.clip_y), take(s.clip_offset);
+    const auto bad = [&](const std::string& why) { return fail(fmt::format("splat {}: {}", i, why)); };
+    if (!finite3(s.center)) throw bad("non-finite centre");
+    if (!finite3(s.normal) || std::abs(length(s.normal) - 1.0f) > 1e-2f) throw bad("the normal is not a finite unit vector");
+    if (!finite3(s.major) || !finite3(s.minor)) throw bad("non-finite semi-axis");
+    for (int a = 0; a < 2; ++a) {
+      const float expected = length(a == 0 ? s.major : s.minor);
+      if (!(lengths[a] >= 0) || !std::isfinite(lengths[a]) || std::abs(lengths[a] - expected) > 1e-4f * expected + 1e-30f)
+        throw bad(fmt::format("{} axis length {} is not the length {} of its vector", a == 0 ? "major" : "minor", lengths[a], expected));
+    }
+    if (file.info.clipped && (!std::isfinite(s.clip_x) || !std::isfinite(s.clip_y) || std::isnan(s.clip_offset) || s.clip_offset == -INFINITY))
+      throw bad("bad clip line");
   }
   return file;
 }

@@ -4,7 +4,10 @@
 // vx vy vz (minor) with their lengths major and minor. Clipped splats add clip_x clip_y (unit
 // direction in the (u, v) frame) and clip_offset (distance of the clip line from the centre along
 // it; no clip when clip_offset is +inf). Header comments carry the format version, the generating
-// parameters (for `splatcl splats verify`) and an FNV-1a checksum of the body, all validated on read.
+// parameters (for `splatcl splats verify`) and an FNV-1a checksum of the whole file. The reader
+// checks every header line against what the writer writes (property types, names and order
+// included), the checksum, and each splat: finite centre, unit normal, finite semi-axes whose
+// stored lengths are their lengths, a valid clip line.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,8 +32,9 @@ struct SplatFileInfo {
   bool clipped = false;
 };
 
-// Version 2: the checksum is standard FNV-1a 64 (io/checksum.hpp); version 1 used a mistyped offset basis.
-inline constexpr int kSplatFileVersion = 2;
+// Version 3: the checksum (FNV-1a 64, io/checksum.hpp) covers the header too, its own 16 digits
+// read as zeros; version 2 covered the body only, version 1 used a mistyped offset basis.
+inline constexpr int kSplatFileVersion = 3;
 
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info);
 
@@ -38,7 +42,8 @@ struct SplatFile {
   SplatFileInfo info;
   std::vector<SplatRecord> splats;
 };
-// Throws Error naming the file for anything that is not a complete, uncorrupted splat file.
+// Throws Error naming the file (and the splat) for anything that is not a complete, uncorrupted
+// splat file of the current version.
 SplatFile read_splat_file(const std::string& path);
 
 }  // namespace splatcl::splats

@@ -68,3 +68,38 @@ add_test(NAME hostile.mesh_warning_csm_build COMMAND splatcl csm build ${HOSTILE
          --maps 16 --res 8 --reference)
 set_tests_properties(hostile.mesh_warning_csm_build PROPERTIES
                      PASS_REGULAR_EXPRESSION "splatcl: warning: [^\n]*bad-index.obj: 1 face with an index out of range dropped")
+
+# Splat PLY headers and records, .csm pole frames and object transforms (item 6): crafted files with
+# a valid checksum (tests/cli/make_hostile_files.cpp) and header bit flips are refused with one line
+# naming the file and the fault.
+add_executable(splatcl_make_hostile_files ${CMAKE_CURRENT_SOURCE_DIR}/cli/make_hostile_files.cpp)
+target_include_directories(splatcl_make_hostile_files PRIVATE ${CMAKE_SOURCE_DIR}/host)
+target_link_libraries(splatcl_make_hostile_files PRIVATE splatcl_csm)
+add_test(NAME hostile.csm_good COMMAND splatcl csm build ${SPLATS_CUBE} -o ${HOSTILE_DIR}/hostile-good.csm --maps 16 --res 8 --reference)
+set_tests_properties(hostile.csm_good PROPERTIES FIXTURES_SETUP hostile_csm)
+add_test(NAME hostile.make_files COMMAND splatcl_make_hostile_files ${HOSTILE_DIR} ${HOSTILE_DIR}/hostile-good.csm)
+set_tests_properties(hostile.make_files PROPERTIES FIXTURES_SETUP hostile_splats FIXTURES_REQUIRED hostile_csm)
+set(HOSTILE_PLANE ${HOSTILE_DIR}/verify-plane.obj)
+file(WRITE ${HOSTILE_PLANE} "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
+add_test(NAME hostile.splats_good COMMAND splatcl splats verify ${HOSTILE_PLANE} ${HOSTILE_DIR}/hostile-good.ply --points 1000)
+set_tests_properties(hostile.splats_good PROPERTIES FIXTURES_REQUIRED hostile_splats)
+set(properties_message "the properties are not those of a splat file")
+foreach(case "double-x|${properties_message}" "swapped-xy|${properties_message}" "floqt|${properties_message}"
+             "negative-k|k -3 is not in 1..1024" "nan-normal|splat 0: the normal is not a finite unit vector"
+             "nan-axis|splat 0: non-finite semi-axis" "negative-axis|splat 0: major axis length -0.4 is not the length 0.145 of its vector"
+             "eps-flip|checksum mismatch \\(corrupted header or body\\)")
+  string(REPLACE "|" ";" parts "${case}")
+  list(GET parts 0 name)
+  list(GET parts 1 pattern)
+  hostile_error(splats_${name} "splat file .*hostile-${name}.ply: ${pattern}" splats verify ${HOSTILE_PLANE} ${HOSTILE_DIR}/hostile-${name}.ply)
+  set_tests_properties(hostile.splats_${name} PROPERTIES FIXTURES_REQUIRED hostile_splats)
+endforeach()
+foreach(case "zero-pole-frame|the pole frame does not match pole axis y" "nan-pole-frame|the pole frame does not match pole axis y"
+             "singular-transform|the object transform is singular \\(determinant 0\\)"
+             "projective-transform|the object transform is not affine")
+  string(REPLACE "|" ";" parts "${case}")
+  list(GET parts 0 name)
+  list(GET parts 1 pattern)
+  hostile_error(csm_${name} "hostile-${name}.csm: ${pattern}" csm verify ${HOSTILE_DIR}/hostile-${name}.csm)
+  set_tests_properties(hostile.csm_${name} PROPERTIES FIXTURES_REQUIRED hostile_splats)
+endforeach()
