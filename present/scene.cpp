@@ -12,6 +12,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "csm/build.hpp"
+#include "csm/sphere_grid.hpp"
 #include "io/json_keys.hpp"
 #include "io/text_file.hpp"
 #include "runtime/embedded.hpp"
@@ -277,6 +279,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.splat_bound = r.text(q, "splat_bound", Q.splat_bound, {"thesis", "two-sided"});
     Q.eps_diagonal = r.positive(q, "eps_diagonal", Q.eps_diagonal);
     Q.csm_maps = r.count(q, "csm_maps", Q.csm_maps, 16, 65536);
+    try {
+      const csm::BuildOptions grid_of;  // the presenter's maps use the build's default distribution and order
+      (void)csm::SphereGrid(grid_of.distribution, grid_of.order, grid_of.pole, Q.csm_maps);
+    } catch (const Error&) {
+      r.fail("csm_maps", fmt::format("{} is not a perfect square (the maps lie on a uniform G x G grid, e.g. 1024 or 4096)", Q.csm_maps));
+    }
     Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);
     Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
     Q.ao_bias = r.number(q, "ao_bias", Q.ao_bias);

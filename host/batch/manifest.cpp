@@ -147,6 +147,21 @@ void apply_parameter(ModelParams& params, const std::string& name, const nlohman
   }
 }
 
+namespace {
+
+// A JSON manifest spells a boolean parameter true or false: the strings "yes", "no", "1" that a CSV
+// cell or a command-line option may hold are refused there, as a typo would be.
+void apply_json_parameter(ModelParams& params, const std::string& name, const nlohmann::json& value, const std::string& folder) {
+  const std::string key = parameter_key(name);
+  for (const auto* list : {&splats::splat_parameters(), &csm::csm_parameters()})
+    for (const ParameterInfo& p : *list)
+      if (p.flag && key == p.key && !value.is_boolean())
+        throw Error(fmt::format("'{}' must be true or false, got {}", name, shown_value(value)));
+  apply_parameter(params, name, value, folder);
+}
+
+}  // namespace
+
 void validate(const ModelParams& params) {
   if (params.want_splats) splats::validate(params.splats);
   if (params.want_csm) csm::validate(params.csm);
@@ -187,7 +202,7 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
     if (!d.is_object()) throw Error(name + ": \"defaults\" must be an object");
     for (const auto& [key, value] : d.items()) {
       try {
-        apply_parameter(defaults, key, value, folder);
+        apply_json_parameter(defaults, key, value, folder);
       } catch (const Error& e) {
         throw Error(fmt::format("{}: defaults: {}", name, e.what()));
       }
@@ -218,7 +233,7 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
       for (const auto& [key, value] : item.items()) {
         if (key == "path" || key == "id") continue;
         try {
-          apply_parameter(entry.params, key, value, folder);
+          apply_json_parameter(entry.params, key, value, folder);
         } catch (const Error& e) {
           throw Error(fmt::format("{}: {}", entry.where(), e.what()));
         }
@@ -237,7 +252,8 @@ std::vector<ModelEntry> parse_csv_manifest(const std::string& text, const std::s
   apply_overrides(defaults, overrides, "command line");
   std::vector<std::string> header;
   std::vector<ModelEntry> models;
-  std::stringstream lines(text);
+  // A UTF-8 byte order mark (spreadsheets write one) is not part of the first column's name.
+  std::stringstream lines(text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text);
   std::size_t number = 0;
   for (std::string line; std::getline(lines, line);) {
     ++number;

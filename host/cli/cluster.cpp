@@ -83,7 +83,7 @@ int run_cluster(const ClusterOptions& o) {
     if (*o.light_count < 0 || *o.light_count > kMaxLights)
       throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.light_count, kMaxLights));
     auto* random = std::get_if<RandomLights>(&scene.lights);
-    if (!random) throw Error("--lights applies to scenes with generated lights; this scene lists its lights explicitly");
+    if (!random) throw Error("--lights applies to scenes with generated lights; " + o.scene_path + " lists its lights explicitly");
     random->count = static_cast<std::uint32_t>(*o.light_count);
   }
   // The four outputs writable before any work; staged and committed together at the end.

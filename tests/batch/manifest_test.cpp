@@ -193,7 +193,7 @@ TEST(Manifest, ParametersAreTheStagesOwnWithTheirOptionSpellings) {
   EXPECT_EQ(parameter_keys(), expected);
   // A key may be written as the option is (eps-diag, --single-hit), in manifests and CSV headers.
   const auto models = json(R"({"models": [{"path": "a.obj", "eps-diag": 0.004, "--single-hit": "exact", "capture": "raycast",
-                                           "literal_lambda": true, "retest-violator": "yes", "batch": 8}]})");
+                                           "literal_lambda": true, "retest-violator": true, "batch": 8}]})");
   const ModelParams& p = models.at(0).params;
   EXPECT_DOUBLE_EQ(p.splats.eps_diag, 0.004);
   EXPECT_EQ(p.csm.single_hit, "exact");
@@ -202,6 +202,9 @@ TEST(Manifest, ParametersAreTheStagesOwnWithTheirOptionSpellings) {
   EXPECT_TRUE(p.splats.retest_violator);
   EXPECT_EQ(p.csm.batch, 8u);
   EXPECT_EQ(csv("path,eps-diag,color-tol\na.obj,0.01,9\n").at(0).params.splats.color_tol, 9);
+  // A JSON manifest spells booleans true and false; "yes" is for CSV cells and options (issue 13 item 4).
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "clip": "yes"}]})"); }), "m.json: models[0] (b): 'clip' must be true or false, got 'yes'");
+  EXPECT_TRUE(csv("path,clip\na.obj,yes\n").at(0).params.splats.clip);
   EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "capture": "photo"}]})"); }).rfind("m.json: models[0] (b): 'capture': ", 0), 0u);
   // Every parameter is in a run's record, so each one takes part in the resume checksum.
   for (const ParameterInfo& info : splats::splat_parameters()) EXPECT_TRUE(splats::to_json(p.splats).contains(info.key)) << info.key;

@@ -103,3 +103,20 @@ foreach(case "zero-pole-frame|the pole frame does not match pole axis y" "nan-po
   hostile_error(csm_${name} "hostile-${name}.csm: ${pattern}" csm verify ${HOSTILE_DIR}/hostile-${name}.csm)
   set_tests_properties(hostile.csm_${name} PROPERTIES FIXTURES_REQUIRED hostile_splats)
 endforeach()
+
+# Batch manifests: a JSON boolean spelled as a string is refused; a CSV with a UTF-8 byte order mark reads.
+file(WRITE ${HOSTILE_DIR}/clip-yes.json "{\"models\": [{\"path\": \"${SPLATS_CUBE}\", \"clip\": \"yes\"}]}")
+hostile_error(manifest_json_boolean_string "clip-yes.json: models\\[0\\] \\(splats-cube\\): 'clip' must be true or false, got 'yes'$"
+              batch ${HOSTILE_DIR}/clip-yes.json -o ${HOSTILE_DIR}/clip-yes-out)
+string(ASCII 239 187 191 utf8_bom)
+file(WRITE ${HOSTILE_DIR}/bom.csv "${utf8_bom}path\n${SPLATS_CUBE}\n")
+add_test(NAME hostile.manifest_csv_bom COMMAND splatcl batch ${HOSTILE_DIR}/bom.csv --list)
+set_tests_properties(hostile.manifest_csv_bom PROPERTIES PASS_REGULAR_EXPRESSION "^splats-cube\t")
+
+# Scene problems are worded as the scene's, naming its file, not as a command-line flag.
+file(WRITE ${HOSTILE_DIR}/present-maps.json "{\"objects\": [{\"mesh\": {\"procedural\": \"box\"}}], \"quality\": {\"csm_maps\": 1000}}")
+hostile_error(message_scene_csm_maps "present-maps.json: 'csm_maps' 1000 is not a perfect square" render ${HOSTILE_DIR}/present-maps.json)
+hostile_error(message_cluster_lights_listed "--lights applies to scenes with generated lights; .*cluster-typo-free.json lists its lights explicitly$"
+              cluster ${HOSTILE_DIR}/cluster-typo-free.json --lights 5)
+file(WRITE ${HOSTILE_DIR}/cluster-typo-free.json
+     "{\"camera\": {\"eye\": [0, 4, 12], \"target\": [0, 0, 0]}, \"lights\": [{\"position\": [0, 1, 0], \"radius\": 2}]}")
