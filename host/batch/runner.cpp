@@ -155,7 +155,8 @@ nlohmann::json record_json(const ModelResult& r) {
     outputs[o.kind] = {{"params", o.params}, {"params_checksum", o.params_checksum}, {"files", files_json(o.files)}};
   return {{"format", "splatcl-batch-record"}, {"version", 1},          {"id", r.id},
           {"input", r.input},                 {"input_checksum", r.input_checksum}, {"input_bytes", r.input_bytes},
-          {"status", r.ok ? "ok" : "failed"}, {"reason", r.reason},    {"outputs", outputs}};
+          {"status", r.ok ? "ok" : "failed"}, {"reason", r.reason},    {"warning", r.warning},
+          {"outputs", outputs}};
 }
 
 class Worker {
@@ -218,10 +219,16 @@ class Worker {
     };
     if (entry.params.want_splats) consider("splats", splats::to_json(entry.params.splats));
     if (entry.params.want_csm) consider("csm", csm::to_json(entry.params.csm));
+    // What loading found wrong with the mesh, kept in the record for runs that reuse every output.
+    if (record) {
+      const auto checksum = record->find("input_checksum"), warning = record->find("warning");
+      if (checksum != record->end() && *checksum == r.input_checksum && warning != record->end() && warning->is_string()) r.warning = *warning;
+    }
     if (pending.empty()) return;
 
     report_(entry.id + ": loading");
     const splats::Mesh mesh = splats::load_mesh(entry.input);
+    r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
     for (const auto& p : pending) {
       try {
         Stopwatch clock;
@@ -335,6 +342,7 @@ nlohmann::json to_json(const ModelResult& r) {
                      {"outputs", outputs},
                      {"total_ms", r.total_ms}};
   if (!r.ok) out["reason"] = r.reason;
+  if (!r.warning.empty()) out["warning"] = r.warning;
   return out;
 }
 

@@ -127,7 +127,7 @@ int run_batch_command(const BatchCommand& c) {
   };
   const auto finished = [&](const ModelResult& r) {
     progress.clear();
-    if (r.ok) fmt::print("{:<8}{} ({})\n", r.reused() ? "reused" : "ok", r.id, describe_outputs(r));
+    if (r.ok) fmt::print("{:<8}{} ({}){}\n", r.reused() ? "reused" : "ok", r.id, describe_outputs(r), r.warning.empty() ? "" : "; warning: " + r.warning);
     else fmt::print("{:<8}{}: {}\n", "FAILED", r.id, r.reason);
     std::fflush(stdout);
   };

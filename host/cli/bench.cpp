@@ -20,6 +20,7 @@
 #include "bench/runner.hpp"
 #include "bench/suites.hpp"
 #include "cli/commands.hpp"
+#include "io/output_files.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cli {
@@ -33,15 +34,6 @@ struct BenchOptions {
   // bench report / compare / plot
   std::string results_path, baseline_path, output_dir;
 };
-
-// Fails before a long run, not after it, when a result could not be written.
-void check_output_directory(const std::string& path, const char* option) {
-  if (path.empty()) return;
-  const std::filesystem::path target(path);
-  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
-  if (!std::filesystem::is_directory(dir))
-    throw Error(std::string("cannot write ") + option + " " + path + ": directory " + dir.string() + " does not exist");
-}
 
 // Results from a .json file, or a .csv file written by --csv.
 bench::Results read_any_results(const std::string& path) {
@@ -163,8 +155,10 @@ Action register_bench(CLI::App& app) {
     if (chosen.empty())
       for (const auto& suite : bench::suites()) chosen.push_back(&suite);
 
-    check_output_directory(o.json_path, "--json");
-    check_output_directory(o.csv_path, "--csv");
+    // Fails before a long run, not after it, when a result could not be written.
+    check_output_file(o.json_path, "--json");
+    check_output_file(o.csv_path, "--csv");
+    check_distinct_outputs({{"--json", o.json_path}, {"--csv", o.csv_path}});
     if (!o.compare_path.empty()) read_any_results(o.compare_path);  // a bad baseline fails before the run
     bench::RunOptions run = o.run;
     run.scaling = bench::parse_scaling(o.scaling);

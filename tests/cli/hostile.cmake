@@ -120,3 +120,10 @@ hostile_error(message_cluster_lights_listed "--lights applies to scenes with gen
               cluster ${HOSTILE_DIR}/cluster-typo-free.json --lights 5)
 file(WRITE ${HOSTILE_DIR}/cluster-typo-free.json
      "{\"camera\": {\"eye\": [0, 4, 12], \"target\": [0, 0, 0]}, \"lights\": [{\"position\": [0, 1, 0], \"radius\": 2}]}")
+
+# Batch: mesh problems are reported per model (the log line and the summary), not silent.
+file(WRITE ${HOSTILE_DIR}/bad-index.csv "path\n${HOSTILE_DIR}/bad-index.obj\n")
+add_test(NAME hostile.mesh_warning_batch COMMAND splatcl batch ${HOSTILE_DIR}/bad-index.csv -o ${HOSTILE_DIR}/bad-index-out
+         --reference --outputs csm --maps 16 --res 8)
+set_tests_properties(hostile.mesh_warning_batch PROPERTIES
+                     PASS_REGULAR_EXPRESSION "ok      bad-index \\(csm [^\n]*\\); warning: 1 face with an index out of range dropped")
