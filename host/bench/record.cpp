@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "io/atomic_file.hpp"
+#include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::bench {
@@ -217,11 +218,10 @@ void write_results(const std::string& path, const Results& results) {
 }
 
 Results read_results(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read " + path + ": no such file or not readable");
+  const std::string text = read_text_file(path, "");
   Json json;
   try {
-    json = Json::parse(in);
+    json = Json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw Error(path + " is not valid JSON: " + e.what());
   }

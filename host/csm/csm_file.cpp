@@ -317,6 +317,7 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
 
 Csm read_csm(const std::string& path, Encoding* encoding, std::size_t* file_bytes) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read " + path + ": it is a directory");
   if (!std::filesystem::is_regular_file(path, ec)) throw Error("cannot read " + path + ": no such file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read " + path + ": not readable");

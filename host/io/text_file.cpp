@@ -11,7 +11,7 @@
 namespace splatcl {
 
 std::string read_text_file(const std::string& path, const std::string& what) {
-  const std::string name = "cannot read " + what + " " + path + ": ";
+  const std::string name = "cannot read " + (what.empty() ? "" : what + " ") + path + ": ";
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error(name + "it is a directory");
   std::ifstream in(path, std::ios::binary);

@@ -5,7 +5,8 @@
 
 namespace splatcl {
 
-// The bytes of `path`. Throws Error "cannot read WHAT PATH: CAUSE" (what: "scene", "manifest", ...).
+// The bytes of `path`. Throws Error "cannot read WHAT PATH: CAUSE" (what: "scene", "manifest", ...;
+// empty: "cannot read PATH: CAUSE").
 std::string read_text_file(const std::string& path, const std::string& what);
 
 }  // namespace splatcl

@@ -799,6 +799,7 @@ bool parse_number(std::string_view token, double& value) {
 
 RawMesh read_mesh_file(const std::string& path) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) refuse(path, "it is a directory");
   if (!std::filesystem::is_regular_file(path, ec)) refuse(path, "no such file");
   const std::string ext = lower_extension(path);
   if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl") refuse(path, "not an OBJ, PLY, OFF or STL file (by its extension)");

@@ -127,3 +127,7 @@ add_test(NAME hostile.mesh_warning_batch COMMAND splatcl batch ${HOSTILE_DIR}/ba
          --reference --outputs csm --maps 16 --res 8)
 set_tests_properties(hostile.mesh_warning_batch PROPERTIES
                      PASS_REGULAR_EXPRESSION "ok      bad-index \\(csm [^\n]*\\); warning: 1 face with an index out of range dropped")
+file(MAKE_DIRECTORY ${HOSTILE_DIR}/dir.json ${HOSTILE_DIR}/dir.csm ${HOSTILE_DIR}/dir.obj)
+hostile_error(message_bench_results_directory "cannot read ${HOSTILE_DIR}/dir.json: it is a directory$" bench report ${HOSTILE_DIR}/dir.json)
+hostile_error(message_csm_directory "cannot read ${HOSTILE_DIR}/dir.csm: it is a directory$" csm info ${HOSTILE_DIR}/dir.csm)
+hostile_error(message_mesh_directory "cannot read mesh ${HOSTILE_DIR}/dir.obj: it is a directory$" csm build ${HOSTILE_DIR}/dir.obj -o ${HOSTILE_DIR}/x.csm)
