@@ -94,6 +94,12 @@ void print_parameters(const CsmInfo& info) {
              info.sphere.centre.x, info.sphere.centre.y, info.sphere.centre.z, info.sphere.radius, to_string(info.single_hit),
              info.hit_epsilon);
   fmt::print("capture    {}\n", to_string(info.capture));
+  const auto& t = info.object_transform;
+  const bool identity = t == CsmInfo{}.object_transform;
+  fmt::print("transform  {}\n", identity ? std::string("identity (the model as loaded)")
+                                          : fmt::format("[{:.6g} {:.6g} {:.6g} {:.6g}; {:.6g} {:.6g} {:.6g} {:.6g}; {:.6g} {:.6g} {:.6g} {:.6g}] "
+                                                        "(model file to object space, row-major)",
+                                                        t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], t[8], t[9], t[10], t[11]));
 }
 
 void print_sizes(const Csm& csm, double plain_bytes, double compact_bytes) {

@@ -253,7 +253,8 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
     if (grid.rows() != rows || grid.cols() != cols) throw fail(fmt::format("grid {}x{} does not match {} maps", rows, cols, info.maps));
   } catch (const Error& e) {
     if (std::string(e.what()).rfind(name, 0) == 0) throw;
-    throw fail(e.what());
+    // The grid's own message speaks of the --maps option; here the count comes from the file.
+    throw fail(fmt::format("its {} maps do not fit the {} distribution's grid", info.maps, to_string(info.distribution)));
   }
 
   const std::size_t at = kCsmHeaderBytes;

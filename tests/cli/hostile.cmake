@@ -96,7 +96,8 @@ foreach(case "double-x|${properties_message}" "swapped-xy|${properties_message}"
 endforeach()
 foreach(case "zero-pole-frame|the pole frame does not match pole axis y" "nan-pole-frame|the pole frame does not match pole axis y"
              "singular-transform|the object transform is singular \\(determinant 0\\)"
-             "projective-transform|the object transform is not affine")
+             "projective-transform|the object transform is not affine"
+             "odd-map-count|its 257 maps do not fit the uniform distribution's grid$")
   string(REPLACE "|" ";" parts "${case}")
   list(GET parts 0 name)
   list(GET parts 1 pattern)
@@ -131,3 +132,10 @@ file(MAKE_DIRECTORY ${HOSTILE_DIR}/dir.json ${HOSTILE_DIR}/dir.csm ${HOSTILE_DIR
 hostile_error(message_bench_results_directory "cannot read ${HOSTILE_DIR}/dir.json: it is a directory$" bench report ${HOSTILE_DIR}/dir.json)
 hostile_error(message_csm_directory "cannot read ${HOSTILE_DIR}/dir.csm: it is a directory$" csm info ${HOSTILE_DIR}/dir.csm)
 hostile_error(message_mesh_directory "cannot read mesh ${HOSTILE_DIR}/dir.obj: it is a directory$" csm build ${HOSTILE_DIR}/dir.obj -o ${HOSTILE_DIR}/x.csm)
+# A crafted map count is refused by the checksum before the grid is sized (it allocated gigabytes
+# first): under a 1 GiB address-space limit the answer is still the checksum, not "out of memory".
+add_test(NAME hostile.csm_huge-map-count COMMAND sh -c "ulimit -v 1048576 && exec \"$0\" \"$@\"" ${EXPECT_ERROR}
+         "hostile-huge-map-count.csm: checksum mismatch \\(the file is corrupted\\)$" $<TARGET_FILE:splatcl> csm info ${HOSTILE_DIR}/hostile-huge-map-count.csm)
+set_tests_properties(hostile.csm_huge-map-count PROPERTIES FIXTURES_REQUIRED hostile_splats TIMEOUT 20)
+add_test(NAME hostile.csm_info_transform COMMAND splatcl csm info ${HOSTILE_DIR}/hostile-good.csm)
+set_tests_properties(hostile.csm_info_transform PROPERTIES FIXTURES_REQUIRED hostile_csm PASS_REGULAR_EXPRESSION "transform  identity \\(the model as loaded\\)")

@@ -65,6 +65,17 @@ void write_csm_variants(const std::string& dir, const std::string& good) {
   std::ofstream(dir + "/hostile-nan-pole-frame.csm", std::ios::binary) << csm_with_floats(file, 72, 1, std::numeric_limits<float>::quiet_NaN());
   std::ofstream(dir + "/hostile-singular-transform.csm", std::ios::binary) << csm_with_floats(file, 108, 11, 0.0f);  // t[0..10]: the 3 x 3 part zero
   std::ofstream(dir + "/hostile-projective-transform.csm", std::ios::binary) << csm_with_floats(file, 108 + 4 * 12, 1, 0.5f);
+  // Bytes 20, 24, 28: the map count and the grid's rows and columns. A count of 46340² (the grid would
+  // take gigabytes) with the checksum left as it was: refused by the checksum before any allocation.
+  std::string huge = file;
+  const std::uint32_t maps = 46340u * 46340u, side = 46340u;
+  std::memcpy(huge.data() + 20, &maps, 4), std::memcpy(huge.data() + 24, &side, 4), std::memcpy(huge.data() + 28, &side, 4);
+  std::ofstream(dir + "/hostile-huge-map-count.csm", std::ios::binary) << huge;
+  // 257 maps resealed: not a square, refused as the file's count, not as an option.
+  std::string odd = file;
+  const std::uint32_t odd_maps = 257;
+  std::memcpy(odd.data() + 20, &odd_maps, 4);
+  std::ofstream(dir + "/hostile-odd-map-count.csm", std::ios::binary) << csm_with_floats(odd, 72, 0, 0.0f);
 }
 
 }  // namespace
