@@ -84,10 +84,10 @@ int run_splats(const SplatsOptions& o) {
   const auto show_phase = [&](const std::string& phase) { progress.show(phase); };
   SplatRun run = generate_splats(mesh, colors, options, runtime.get(), show_phase);
   run.phases.insert(run.phases.begin(), {"load", load_ms});
-  std::vector<SplatRecord> records = run.records();
+  const std::vector<SplatRecord> records = run.records();
   // The same check as `splatcl splats verify`, on the splats as they will be written.
   std::optional<SurfaceCheckReport> check;
-  const auto run_check = [&] {
+  if (!o.no_check) {
     Stopwatch check_clock;
     SurfaceCheckOptions check_options;
     check_options.eps = options.fit.eps;
@@ -95,23 +95,6 @@ int run_splats(const SplatsOptions& o) {
       progress.show(fmt::format("checking: {} {:.0f}%", phase, 100 * fraction));
     });
     run.phases.push_back({"check", check_clock.elapsed_ms()});
-  };
-  if (!o.no_check) {
-    run_check();
-    if (!check->ok() && run.surface_bound && check->uncovered_points == 0 && !options.certify_everywhere) {
-      // Splats are certified against the surface only near boundaries and creases; a splat found
-      // off it elsewhere sends the whole run through the certification of every splat.
-      progress.clear();
-      fmt::print(stderr, "splatcl: note: {}: {} splat(s) off the surface; building again with every splat certified\n", o.model,
-                 check->splats_beyond);
-      PipelineOptions everywhere = options;
-      everywhere.certify_everywhere = true;
-      const std::vector<PhaseTime> first = run.phases;
-      run = generate_splats(mesh, colors, everywhere, runtime.get(), show_phase);
-      run.phases.insert(run.phases.begin(), first.begin(), first.end());
-      records = run.records();
-      run_check();
-    }
     if (!check->ok() && run.surface_bound)
       throw Error(fmt::format("{}: the splats break the two-sided bound at eps {:.6g} ({}); nothing written (--no-check writes "
                               "them unchecked)",

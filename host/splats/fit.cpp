@@ -17,7 +17,7 @@ using primitives::detail::set_args;
 // First growth capacity (accepted samples per splat) and the factor for each relaunch of the splats
 // that outgrew it; the per-splat output (and, in the GPU shape, the per-splat scratch) of one launch
 // stays under kScratchBudget bytes by batching splats.
-constexpr std::uint32_t kFirstCapacity = 96;
+constexpr std::uint32_t kFirstCapacity = 128;
 constexpr std::uint32_t kCapacityGrowth = 8;
 constexpr std::size_t kScratchBudget = std::size_t{16} << 20;
 // CPU shape: items a worker takes from the shared counter at a time (few enough atomics, small tail).

@@ -43,7 +43,7 @@ struct FitOptions {
   // accepting samples when Q holds this many, as if no violator had been met. It keeps growth and
   // selection linear in the sample count on flat regions, where one splat would otherwise walk the
   // whole plane; the surface bound and gap filling (splats/surface_fit.hpp) keep the cover whole.
-  std::uint32_t max_covered = kMaxCoveredLimit;  // the two-sided setup (pipeline_options) uses 512
+  std::uint32_t max_covered = kMaxCoveredLimit;  // the two-sided setup (pipeline_options) uses 128
   // Size at the accepted samples (an extension for the two-sided bound): each axis ends at the
   // farthest accepted sample (d1, λ1) instead of the thesis's size corrections, which reach the
   // violator (d2, λ2, or beyond for colour) - a point that by definition lies more than ε off the

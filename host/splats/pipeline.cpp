@@ -108,12 +108,14 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   }
   phase("sampling", [&] { run.samples = sample_mesh(mesh, sampling, colors); });
   phase("knn", [&] { run.neighbors = find_neighbors(run.samples.positions, options.k); });
+  FitOptions growth = options.fit;
+  if (options.surface_bound) growth.eps = growth_eps(options.fit.eps);
   if (runtime) {
     run.fit_backend = runtime->info().name;
     // Frames and growth are separate kernels; their device times split the fit phase.
     Stopwatch clock;
     if (progress) progress("fit");
-    run.fit = fit_splats(*runtime, run.samples, run.neighbors, options.fit, nullptr, &run.fit_timings);
+    run.fit = fit_splats(*runtime, run.samples, run.neighbors, growth, nullptr, &run.fit_timings);
     const double wall = clock.elapsed_ms();
     run.phases.push_back({"pca", run.fit_timings.frames_ms});
     run.phases.push_back({"growth+safe", std::max(0.0, wall - run.fit_timings.frames_ms)});
@@ -121,7 +123,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
     run.fit_backend = "reference";
     std::vector<Frame> frames;
     phase("pca", [&] { frames = reference::fit_frames(run.samples, run.neighbors); });
-    phase("growth+safe", [&] { run.fit = reference::grow_splats(run.samples, run.neighbors, frames, options.fit); });
+    phase("growth+safe", [&] { run.fit = reference::grow_splats(run.samples, run.neighbors, frames, growth); });
   }
   std::optional<Surface> surface;
   if (options.surface_bound) {
@@ -147,7 +149,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
         else
           kept.push_back(grown_record(run.fit, run.samples, j));
       }
-      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, options.fit.eps, options.certify_everywhere, run.surface_fit);
+      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, options.fit.eps, run.surface_fit);
       run.kept_splats = std::move(kept);
     });
   }
@@ -188,7 +190,6 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
           {"size_at_accepted", options.fit.size_at_accepted},
           {"clipped_splats", clipped},
           {"surface_bound", run.surface_bound},
-          {"certify_everywhere", options.certify_everywhere},
           {"max_covered", options.fit.max_covered},
           {"sampling_note", run.samples.note},
           {"surface_fit", {{"shrunk_splats", run.surface_fit.shrunk},

@@ -27,9 +27,6 @@ struct PipelineOptions {
   // The two-sided bound (splats/surface_fit.hpp): grown splats bounded by the surface, zero-size
   // splats left out, gaps filled. Off: the thesis's method alone.
   bool surface_bound = false;
-  // Certify every selected splat against the surface, not only those near a boundary or a crease
-  // (slower; what splatcl splats retries with when its end-of-run check finds a splat off the surface).
-  bool certify_everywhere = false;
 };
 
 struct PhaseTime {

@@ -18,7 +18,7 @@ struct SplatParameters {
   unsigned k = 10;                   // neighbourhood size
   std::string samples = "auto";      // or "vertices", "grid:N", "spacing:D"
   std::size_t max_samples = kDefaultMaxSamples;
-  unsigned max_covered = 512;        // growth cap (samples per splat)
+  unsigned max_covered = 128;        // growth cap (samples per splat)
   bool thesis_only = false;          // the thesis's method alone: no surface bound, no gap filling, no growth cap
   int color_tol = 255;               // φ per channel; 255 ignores colour
   std::string color_field = "grey";  // colours without a texture

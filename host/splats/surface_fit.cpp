@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <numbers>
-#include <tuple>
-#include <unordered_map>
 
 #include "runtime/profiling.hpp"
 #include "splats/parallel.hpp"
@@ -16,7 +14,6 @@ namespace {
 // the rounding of the written values.
 constexpr double kFloatReserve = 1e-4;
 constexpr double kBetweenPointsReserve = 0.1;
-constexpr double kCreaseAngle = 20.0 * std::numbers::pi / 180.0;
 // Squares a certification may visit before the splat counts as failing (and is made smaller).
 constexpr std::size_t kCertifyBudget = 8192;
 // Coverage cells are refined down to this fraction of ε; below it, a cell that no one splat holds
@@ -127,6 +124,8 @@ void ellipse_test_points(const Ellipse& e, double eps, std::vector<DVec3>& out) 
   add(0, 0);
 }
 
+float growth_eps(float eps) { return static_cast<float>(eps * (1 - kFloatReserve) * (1 - kBetweenPointsReserve)); }
+
 bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch) {
   ellipse_test_points(e, eps, scratch);
   // The points are a sample of the ellipse: between them the distance can rise by a little more
@@ -162,7 +161,7 @@ bool certified_within_surface(const Surface& surface, const Ellipse& e, double e
   const double cx = e.a * e.clip_x, cy = e.b * e.clip_y;  // the clip's linear form in (s, t)
   const auto& triangles = surface.triangles();
   std::vector<Rect> stack{{0, 0, 1, 1}};
-  Surface::Recent recent;  // [0]: the last answer, mostly the triangle under the last rectangle
+  Surface::Recent recent;  // the last answers, mostly the triangles under the last rectangles
   std::size_t visited = 0;
   while (!stack.empty()) {
     const Rect q = stack.back();
@@ -176,18 +175,18 @@ bool certified_within_surface(const Surface& surface, const Ellipse& e, double e
     const bool centre_inside = q.s * q.s + q.t * q.t <= 1 && (!clipped || cx * q.s + cy * q.t <= e.clip_offset);
     const DVec3 centre = e.center + (e.a * q.s) * e.u + (e.b * q.t) * e.v;
     const DVec3 hu = (e.a * q.hs) * e.u, hv = (e.b * q.ht) * e.v;
-    // The last answer first (neighbouring rectangles mostly lie over the same triangle), then the
-    // nearest triangle.
-    const std::uint32_t last = recent.triangles[0];
-    if (last != UINT32_MAX) {
-      const SurfaceTriangle& tri = triangles[last];
-      if (centre_inside && length(closest_point(tri, centre) - centre) + radius <= eps) continue;
-      if (parallelogram_within(tri, centre, hu, hv, eps)) continue;
-    }
+    // The recent answers first (neighbouring rectangles mostly lie over the same triangles), then
+    // the nearest triangle.
+    const auto certifies = [&](std::uint32_t t, double distance) {
+      return (centre_inside && distance + radius <= eps) || parallelogram_within(triangles[t], centre, hu, hv, eps);
+    };
+    bool done = false;
+    for (const std::uint32_t t : recent.triangles)
+      if (t != UINT32_MAX && !done) done = certifies(t, length(closest_point(triangles[t], centre) - centre));
+    if (done) continue;
     const Surface::Nearest nearest = surface.nearest(centre, eps, &recent);
     if (nearest.triangle != UINT32_MAX) {
-      if (centre_inside && nearest.distance + radius <= eps) continue;
-      if (nearest.triangle != last && parallelogram_within(triangles[nearest.triangle], centre, hu, hv, eps)) continue;
+      if (certifies(nearest.triangle, nearest.distance)) continue;
     } else if (centre_inside) {
       return false;  // a point of the splat farther than ε
     }
@@ -400,7 +399,7 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
     double hi = start;
     while (hi < largest && passes(hi)) lo = hi, hi *= 2;
     if (hi >= largest && lo > 0 && passes(largest)) return largest;
-    for (int step = 0; step < 5 && hi > lo * 1.05; ++step) {
+    for (int step = 0; step < 5 && hi > lo * 1.15; ++step) {
       const double r = 0.5 * (lo + hi);
       (passes(r) ? lo : hi) = r;
     }
@@ -438,55 +437,21 @@ Rgba8 color_at(const Mesh& mesh, const ColorSource& colors, const SurfaceTriangl
   return colors.at(to_float(p), uv);
 }
 
-// The edges where the surface is not smooth: boundary and non-manifold edges, and creases whose
-// faces' normals differ by more than kCreaseAngle.
-BoxTree feature_edges(const Mesh& mesh, const Surface& surface) {
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> edges;
-  const auto& triangles = surface.triangles();
-  for (std::uint32_t t = 0; t < triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      std::uint64_t a = mesh.corners[triangles[t].corners[k]], b = mesh.corners[triangles[t].corners[(k + 1) % 3]];
-      if (a > b) std::swap(a, b);
-      edges[(a << 32) | b].push_back(t);
-    }
-  const double cos_crease = std::cos(kCreaseAngle);
-  std::vector<BoxTree::Box> boxes;
-  for (const auto& [key, faces] : edges) {
-    bool feature = faces.size() != 2;
-    if (!feature) feature = dot(triangles[faces[0]].normal, triangles[faces[1]].normal) < cos_crease;
-    if (!feature) continue;
-    BoxTree::Box& box = boxes.emplace_back();
-    box.add(DVec3(mesh.vertices[key >> 32]));
-    box.add(DVec3(mesh.vertices[key & 0xffffffffu]));
-  }
-  // Sorted so that the tree does not depend on the hash map's order.
-  std::sort(boxes.begin(), boxes.end(), [](const BoxTree::Box& p, const BoxTree::Box& q) {
-    return std::tie(p.lo.x, p.lo.y, p.lo.z, p.hi.x, p.hi.y, p.hi.z) < std::tie(q.lo.x, q.lo.y, q.lo.z, q.hi.x, q.hi.y, q.hi.z);
-  });
-  return BoxTree(boxes);
-}
-
 }  // namespace
 
 std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
-                                   std::vector<SplatRecord>& selected, float eps_float, bool certify_everywhere,
-                                   SurfaceFitStats& stats) {
+                                   std::vector<SplatRecord>& selected, float eps_float, SurfaceFitStats& stats) {
   Stopwatch clock;
   const double eps = eps_float * (1 - kFloatReserve);
-  // The selected splats certified first (the bound's sampled test can miss a narrow excursion).
+  // Every selected splat certified first: the bound's test points are a sample of the ellipse, and
+  // between them the distance can rise (at a boundary, a crease or a bump).
   std::vector<Ellipse> certified(selected.size());
   std::vector<std::uint8_t> changed(selected.size(), 0);
   Stopwatch certify_clock;
-  const BoxTree features = feature_edges(mesh, surface);
   parallel_for(selected.size(), 16, [&](std::size_t j, std::size_t) {
     certified[j] = ellipse_of(selected[j]);
     const double a = certified[j].a;
-    // Over smooth surface the test points' reserve holds between them; near a boundary or a crease
-    // the distance can rise between them, so there the whole splat is certified.
-    double reach = std::max(certified[j].a, certified[j].b) + eps;
-    bool near_feature = false;
-    features.visit(certified[j].center, reach, [&](std::uint32_t, double&) { return near_feature = true; });
-    if (near_feature || certify_everywhere) shrink_until_certified(surface, certified[j], eps);
+    shrink_until_certified(surface, certified[j], eps);
     changed[j] = certified[j].a != a;
   });
   stats.certify_ms += certify_clock.elapsed_ms();

@@ -1,12 +1,14 @@
 #pragma once
 // Extensions of the thesis's method that make its splats keep the two-sided bound on any mesh
 // (docs/results/splats.md, "The two-sided bound"):
+//  - growth within ±0.9 ε: the height band of the growth rule is the surface bound's test limit;
 //  - bound by the surface: before selection, a grown splat whose test points leave the mesh surface
 //    by more than 0.9 ε is scaled down (then its major axis extended back as far as it passes),
 //    and its covered and safe sets are recomputed from the samples still inside it;
-//  - certification: after selection, the splats near a boundary or a crease (or all of them) are
-//    certified by subdividing the ellipse (the distance to the surface is 1-Lipschitz) and made
-//    smaller until they pass;
+//  - certification: after selection, every splat is certified by subdividing the ellipse (a
+//    rectangle passes when its centre's distance plus its radius is at most ε, the distance being
+//    1-Lipschitz, or when one triangle lies within ε of its four corners, the distance to one
+//    triangle being convex) and made smaller until it passes;
 //  - gap filling: after selection, the surface is checked cell by cell (each triangle subdivided
 //    where needed): a cell is covered when one splat covers its three corners (what a splat covers
 //    is convex, so it then covers the whole cell); below ε/16 a cell covered only by several splats
@@ -66,19 +68,21 @@ struct SurfaceFitStats {
   double bound_ms = 0, cover_ms = 0, certify_ms = 0, gap_search_ms = 0;
 };
 
+// The height band that growth keeps under the two-sided bound: ±(the surface bound's test limit)
+// instead of the thesis's ±ε, so that most grown splats pass the bound's first test unshrunk.
+float growth_eps(float eps);
+
 // Shrinks the splats of `fit` that leave the surface by more than ε and drops the samples outside
 // the shrunk ellipses from their covered and safe sets (the start point always stays).
 // `neighbors` give a first guess of the scale (the nearest off-plane neighbour of the covered samples).
 void bound_by_surface(const Surface& surface, const Samples& samples, const Neighborhoods& neighbors, FitResult& fit,
                       float eps, SurfaceFitStats& stats);
 
-// Certifies `selected` against the surface (shrinking, or dropping, the splats that fail; only
-// those near a boundary or a crease unless `certify_everywhere`), then
-// returns the splats to add so that every point of the surface lies within ε of a splat that
+// Certifies every splat of `selected` against the surface (shrinking, or dropping, the splats that
+// fail), then returns the splats to add so that every point of the surface lies within ε of a splat that
 // contains its projection and faces its way. Colours come from `colors` at the gap (through the
 // mesh's texture coordinates when it has them).
 std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
-                                   std::vector<SplatRecord>& selected, float eps, bool certify_everywhere,
-                                   SurfaceFitStats& stats);
+                                   std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats);
 
 }  // namespace splatcl::splats
