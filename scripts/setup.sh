@@ -3,12 +3,15 @@
 #   scripts/setup.sh run    run the main job on the embedded default in data/
 #   scripts/setup.sh test   run the whole test suite (Release, then ASan+UBSan) with ctest
 #   scripts/setup.sh build  only install and build
+# Beside PoCL it installs two more OpenCL implementations for the cross-implementation tests and
+# benchmarks: Oclgrind (Debian) and Intel's OpenCL CPU runtime (PyPI wheels unpacked into .opencl/,
+# which git ignores). `. .opencl/env` points the ICD loader at all of them (docs/portability.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake pkg-config
-  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo oclgrind python3-pip unzip
   libglfw3-dev libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
   libopenmesh-dev libopenimageio-dev libflann-dev liblz4-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
@@ -27,6 +30,43 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+# Intel's OpenCL CPU runtime, with the libraries it loads, from PyPI (wheel, version).
+intel_wheels=(intel-opencl-rt==2026.2.0 tbb==2023.2.0 intel-cmplr-lib-rt==2026.2.0 tcmlib==1.6.0)
+opencl_dir=$PWD/.opencl
+
+# .opencl/vendors: the system's ICD files, Oclgrind's and Intel's; .opencl/env names it for the ICD
+# loader (ocl-icd reads OCL_ICD_VENDORS instead of /etc/OpenCL/vendors). Without PyPI, PoCL and
+# Oclgrind only: the tests skip the missing implementation with a message.
+setup_opencl_implementations() {
+  local vendors=$opencl_dir/vendors intel=$opencl_dir/intel stamp="${intel_wheels[*]}"
+  rm -rf "$vendors" && mkdir -p "$vendors"
+  cp /etc/OpenCL/vendors/*.icd "$vendors"/ 2>/dev/null || true
+  [ -f /usr/lib/oclgrind/liboclgrind-rt-icd.so ] && echo /usr/lib/oclgrind/liboclgrind-rt-icd.so > "$vendors/oclgrind.icd"
+  if [ "$(cat "$intel/stamp" 2>/dev/null)" != "$stamp" ]; then
+    echo "setup: downloading Intel's OpenCL CPU runtime from PyPI (${intel_wheels[*]})"
+    rm -rf "$intel" "$opencl_dir/wheels"
+    if timeout 900 python3 -m pip download -q --no-deps --only-binary=:all: --disable-pip-version-check --timeout 30 --retries 2 \
+        -d "$opencl_dir/wheels" "${intel_wheels[@]}"; then
+      mkdir -p "$intel/lib"
+      for wheel in "$opencl_dir"/wheels/*.whl; do unzip -q -o -j "$wheel" '*.data/data/lib/*' -d "$intel/lib"; done
+      # The wheel's own ICD loader would shadow the system's (ocl-icd) on LD_LIBRARY_PATH.
+      rm -f "$intel"/lib/libOpenCL.so*
+      echo "$stamp" > "$intel/stamp"
+      rm -rf "$opencl_dir/wheels"
+    else
+      echo "setup: PyPI is not reachable: Intel's OpenCL CPU runtime is not installed; PoCL and Oclgrind only" >&2
+      rm -rf "$intel" "$opencl_dir/wheels"
+    fi
+  fi
+  [ -f "$intel/lib/libintelocl.so" ] && echo "$intel/lib/libintelocl.so" > "$vendors/intel-cpu.icd"
+  cat > "$opencl_dir/env" <<ENV
+# Written by scripts/setup.sh: every OpenCL implementation it installed (. .opencl/env).
+export OCL_ICD_VENDORS="$vendors"
+export LD_LIBRARY_PATH="$intel/lib\${LD_LIBRARY_PATH:+:\$LD_LIBRARY_PATH}"
+ENV
+}
+setup_opencl_implementations
+
 jobs=$(nproc)
 build_config() {  # build_config DIR CMAKE_ARGS...
   local dir=$1; shift
@@ -44,8 +84,11 @@ case "${1:-build}" in
       --json out/presenter/timings.json
     ;;
   test)
-    ctest --test-dir build --output-on-failure -j "$jobs"
-    build_config build-asan -DSPLATCL_SANITIZE=ON -DSPLATCL_BUILD_BENCH_PEERS=OFF
+    # Release: every implementation visible; the devices.* tests rerun the kernel tests on each device
+    # that is not the default (tests/devices/on_devices.sh; $SPLATCL_TEST_DEVICES narrows the list).
+    (. "$opencl_dir/env" && ctest --test-dir build --output-on-failure -j "$jobs")
+    # ASan+UBSan: PoCL only (the system's ICD files), without the reruns.
+    build_config build-asan -DSPLATCL_SANITIZE=ON -DSPLATCL_BUILD_BENCH_PEERS=OFF -DSPLATCL_DEVICE_TESTS=OFF
     ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
       ctest --test-dir build-asan --output-on-failure -j "$jobs"
     ;;

@@ -66,6 +66,14 @@ TEST(ClusterAssignment, NormalBitsAndWindowDepth) {
                                     frame.lights, &frame.depth.normals);
 }
 
+// Every kernel and input variant on a frame small enough for Oclgrind (devices.cluster): window
+// depth with normal bits, partial tiles in x and y.
+TEST(ClusterAssignment, SmallFrameWindowDepthAndNormalBits) {
+  const auto frame = make_frame(40, 40, 21, 16, 8, true, 60);
+  expect_pipeline_matches_reference(frame.config, window_depth(frame.depth, frame.scene.camera), DepthFormat::Window,
+                                    frame.lights, &frame.depth.normals);
+}
+
 TEST(ClusterAssignment, ZeroAndOneLight) {
   const auto frame = make_frame(24, 96, 64);
   expect_pipeline_matches_reference(frame.config, frame.depth.view_z, DepthFormat::ViewZ, {});

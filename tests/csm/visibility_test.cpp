@@ -90,10 +90,11 @@ void expect_identical(const std::vector<float>& a, const std::vector<float>& b, 
   EXPECT_EQ(differ, 0u) << what;
 }
 
-void expect_kernel_matches_reference(const Csm& csm, const std::vector<Instance>& instances, unsigned seed) {
+void expect_kernel_matches_reference(const Csm& csm, const std::vector<Instance>& instances, unsigned seed,
+                                     std::size_t count = 20000) {
   const VisibilityScene scene({&csm}, instances);
   VisibilityQueries queries(runtime(), scene);
-  const Queries q = random_queries(csm, 20000, seed);
+  const Queries q = random_queries(csm, count, seed);
   for (Filter filter : {Filter::None, Filter::SameMap, Filter::CrossMap}) {
     std::vector<float> ref;
     visibility_reference(scene, q.receivers, q.lights, filter, 0.0f, ref);
@@ -115,6 +116,17 @@ TEST(CsmVisibility, KernelMatchesReferenceEveryDistribution) {
   expect_kernel_matches_reference(regular, {{}}, 2);
   const Csm ao = build(sphere_mesh(10, 20), Distribution::ThesisAo, Order::ZigzagV, PoleAxis::Z, 512, 24);
   expect_kernel_matches_reference(ao, {{}}, 3);
+}
+
+// A CSM built on the host (64 maps of 16²), two instances, 2000 queries: small enough for Oclgrind
+// (devices.csm).
+TEST(CsmVisibility, KernelMatchesReferenceOnASmallHostBuiltCsm) {
+  BuildOptions options;
+  options.maps = 64;
+  options.resolution = 16;
+  const Csm small = build_csm(scene_mesh(), options, nullptr).csm;
+  const Instance moved{0, {0.5, 0, 0, 1.5, 0, 0.5, 0, -0.25, 0, 0, 0.5, 0.75, 0, 0, 0, 1}};
+  expect_kernel_matches_reference(small, {{}, moved}, 5, 2000);
 }
 
 TEST(CsmVisibility, KernelMatchesReferenceWithSeveralPlacedInstances) {
