@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/model_input.hpp"
+#include "io/in_flight.hpp"
 #include "runtime/error.hpp"
 #include "runtime/runtime.hpp"
 
@@ -21,6 +22,8 @@ void add_device_option(CLI::App& app, DeviceOptions& options) {
 }  // namespace splatcl::cli
 
 int main(int argc, char** argv) {
+  // SIGTERM (scancel, time limits, preemption), SIGINT and SIGHUP remove half-written files first.
+  splatcl::remove_in_flight_files_on_termination();
   CLI::App app{"splatcl: point-based rendering with coherent shadow maps and many lights, on OpenCL"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "splatcl 0.1.0");

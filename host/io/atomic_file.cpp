@@ -4,6 +4,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <thread>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -11,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/in_flight.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl {
@@ -22,8 +26,14 @@ void write_atomically(const std::string& path, const std::function<void(const st
   if (!fs::is_directory(dir)) throw Error("cannot write " + path + ": directory " + dir.string() + " does not exist");
   // The pid keeps concurrent writers of the same target apart.
   const std::string temp = path + ".tmp" + std::to_string(::getpid());
+  // Removed by a terminating signal while it exists (io/in_flight.hpp).
+  struct InFlight {
+    int slot;
+    ~InFlight() { unregister_in_flight(slot); }
+  } in_flight{register_in_flight(temp)};
   try {
     write(temp);
+    if (const char* pause = std::getenv(kPauseBeforeRenameVariable)) std::this_thread::sleep_for(std::chrono::milliseconds(std::atol(pause)));
     std::error_code ec;
     fs::rename(temp, target, ec);
     if (ec) throw Error("cannot write " + path + ": " + ec.message());

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "io/atomic_file.hpp"
+#include "io/in_flight.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl {
@@ -72,13 +73,14 @@ StagedOutputs::~StagedOutputs() {
   for (std::size_t i = committed_; i < entries_.size(); ++i) {
     std::error_code ignored;
     fs::remove(entries_[i].staged, ignored);
+    unregister_in_flight(entries_[i].in_flight);
   }
 }
 
 std::string StagedOutputs::stage(const std::string& path) {
   // The pid keeps concurrent runs writing the same target apart.
   const std::string staged = path + ".partial" + std::to_string(::getpid()) + fs::path(path).extension().string();
-  entries_.push_back({path, staged});
+  entries_.push_back({path, staged, register_in_flight(staged)});
   return staged;
 }
 
@@ -103,6 +105,7 @@ void StagedOutputs::commit() {
     if (!fs::is_regular_file(e.staged, ec)) throw Error("cannot write " + e.target + ": it was never written");
     fs::rename(e.staged, e.target, ec);
     if (ec) throw Error("cannot write " + e.target + ": " + ec.message());
+    unregister_in_flight(e.in_flight);
   }
 }
 

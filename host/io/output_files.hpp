@@ -52,6 +52,7 @@ class StagedOutputs {
  private:
   struct Entry {
     std::string target, staged;
+    int in_flight = -1;  // io/in_flight.hpp: removed by a terminating signal until committed
   };
   std::vector<Entry> entries_;
   std::size_t committed_ = 0;

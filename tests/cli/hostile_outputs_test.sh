@@ -6,7 +6,8 @@
 #     ignored (writes past the limit fail with EFBIG, as they would with ENOSPC), or a small tmpfs;
 #   batch-*: batch runs whose outputs would replace their inputs, an unwritable output directory,
 #     and two runs on one output directory at once;
-#   csm-leftover: a killed `csm build` left F.csm.tmpPID; the next run removes it.
+#   csm-leftover: a killed `csm build` left F.csm.tmpPID; the next run removes it;
+#   sigterm-*: SIGTERM (scancel, a time limit) while a temporary is on disk removes it; status 143.
 set -u
 mode=$1 splatcl=$2 work=$3 expect_error=$4
 fail() { echo "FAIL: $*"; exit 1; }
@@ -113,6 +114,28 @@ case $mode in
     "$splatcl" csm build "$cube" -o "$work/cube.csm" --maps 64 --res 16 --reference >/dev/null || fail "csm build failed"
     [ -e "$work/cube.csm.tmp$dead" ] && fail "the dead run's temporary is still there"
     "$splatcl" csm verify "$work/cube.csm" >/dev/null || fail "the rebuilt file does not verify" ;;
+  sigterm-csm-build | sigterm-batch)  # SIGTERM while a temporary is on disk (each write pauses 5 s before its rename)
+    if [ "$mode" = sigterm-csm-build ]; then
+      SPLATCL_TEST_PAUSE_BEFORE_RENAME_MS=5000 "$splatcl" csm build "$cube" -o "$work/cube.csm" --maps 64 --res 16 --reference \
+        --coherence "$work/coherence.png" >/dev/null 2>&1 &
+    else
+      printf 'path\n%s\n' "$cube" >"$work/set.csv"
+      SPLATCL_TEST_PAUSE_BEFORE_RENAME_MS=5000 "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 \
+        >/dev/null 2>&1 &
+    fi
+    pid=$!
+    for _ in $(seq 200); do [ -n "$(find "$work" -name '*.tmp[0-9]*')" ] && break; sleep 0.05; done
+    [ -n "$(find "$work" -name '*.tmp[0-9]*')" ] || fail "no temporary appeared"
+    kill -TERM "$pid"
+    wait "$pid"
+    status=$?
+    [ "$status" -eq 143 ] || fail "expected the status of a SIGTERM (143), got $status"
+    [ -e "$work/cube.csm" ] || [ -e "$work/coherence.png" ] && fail "an output was left at the target"
+    no_leftovers "$work"
+    if [ "$mode" = sigterm-batch ]; then  # and the run resumes
+      "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 >"$work/again.log" || fail "the rerun failed"
+      grep -q '^ok      cube' "$work/again.log" || fail "the rerun did not build the model: $(cat "$work/again.log")"
+    fi ;;
   *) fail "unknown mode $mode" ;;
 esac
 no_leftovers "$work"
