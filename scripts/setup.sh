@@ -54,7 +54,7 @@ setup_opencl_implementations() {
       echo "$stamp" > "$intel/stamp"
       rm -rf "$opencl_dir/wheels"
     else
-      echo "setup: PyPI is not reachable: Intel's OpenCL CPU runtime is not installed; PoCL and Oclgrind only" >&2
+      echo "setup: could not download from PyPI (no network, or no pip): Intel's OpenCL CPU runtime is not installed; PoCL and Oclgrind only" >&2
       rm -rf "$intel" "$opencl_dir/wheels"
     fi
   fi
