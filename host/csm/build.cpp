@@ -104,9 +104,22 @@ BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* 
   return result;
 }
 
-LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress,
+LosslessReport check_lossless(const Csm& csm, const splats::Mesh& model, Runtime* runtime, const BuildProgress& progress,
                               std::optional<CaptureMethod> method) {
   const CsmInfo& info = csm.info;
+  // The maps were taken in object space: the model file's vertices go through the stored object
+  // transform (row-major affine) first; identity leaves the model as loaded.
+  std::optional<splats::Mesh> moved;
+  if (info.object_transform != CsmInfo{}.object_transform) {
+    moved = model;
+    const auto& t = info.object_transform;
+    for (splats::Vec3& v : moved->vertices) {
+      const double x = v.x, y = v.y, z = v.z;
+      v = {static_cast<float>(t[0] * x + t[1] * y + t[2] * z + t[3]), static_cast<float>(t[4] * x + t[5] * y + t[6] * z + t[7]),
+           static_cast<float>(t[8] * x + t[9] * y + t[10] * z + t[11])};
+    }
+  }
+  const splats::Mesh& mesh = moved ? *moved : model;
   const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
   const CaptureScene scene(mesh, info.sphere, info.resolution, info.single_hit, info.hit_epsilon);
   const std::size_t pixels = scene.pixels();

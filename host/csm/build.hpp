@@ -82,6 +82,7 @@ struct LosslessReport {
   std::size_t first_pixel = 0;
   float first_depth = 0, first_z1 = 0, first_z2 = 0;
 };
+// The model file's mesh is moved into object space by the CSM's stored object transform first.
 LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {},
                               std::optional<CaptureMethod> method = std::nullopt);
 

@@ -139,3 +139,11 @@ add_test(NAME hostile.csm_huge-map-count COMMAND sh -c "ulimit -v 1048576 && exe
 set_tests_properties(hostile.csm_huge-map-count PROPERTIES FIXTURES_REQUIRED hostile_splats TIMEOUT 20)
 add_test(NAME hostile.csm_info_transform COMMAND splatcl csm info ${HOSTILE_DIR}/hostile-good.csm)
 set_tests_properties(hostile.csm_info_transform PROPERTIES FIXTURES_REQUIRED hostile_csm PASS_REGULAR_EXPRESSION "transform  identity \\(the model as loaded\\)")
+# csm verify moves the model by the stored object transform before it recaptures (it ignored it):
+# the CSM of the unit cube stored with "model x + 1 = object x" verifies against the cube shifted by
+# -1 in x, and not against the unshifted cube.
+file(WRITE ${HOSTILE_DIR}/cube-shifted.obj "v -1 0 0\nv 0 0 0\nv 0 1 0\nv -1 1 0\nv -1 0 1\nv 0 0 1\nv 0 1 1\nv -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nf 1 5 8 4\n")
+add_test(NAME hostile.csm_verify_transform COMMAND splatcl csm verify ${HOSTILE_DIR}/hostile-translated.csm ${HOSTILE_DIR}/cube-shifted.obj --reference)
+set_tests_properties(hostile.csm_verify_transform PROPERTIES FIXTURES_REQUIRED hostile_splats PASS_REGULAR_EXPRESSION "lossless   all ")
+hostile_error(csm_verify_transform_unshifted "hostile-translated.csm: not lossless for " csm verify ${HOSTILE_DIR}/hostile-translated.csm ${SPLATS_CUBE} --reference)
+set_tests_properties(hostile.csm_verify_transform_unshifted PROPERTIES FIXTURES_REQUIRED hostile_splats)

@@ -65,6 +65,8 @@ void write_csm_variants(const std::string& dir, const std::string& good) {
   std::ofstream(dir + "/hostile-nan-pole-frame.csm", std::ios::binary) << csm_with_floats(file, 72, 1, std::numeric_limits<float>::quiet_NaN());
   std::ofstream(dir + "/hostile-singular-transform.csm", std::ios::binary) << csm_with_floats(file, 108, 11, 0.0f);  // t[0..10]: the 3 x 3 part zero
   std::ofstream(dir + "/hostile-projective-transform.csm", std::ios::binary) << csm_with_floats(file, 108 + 4 * 12, 1, 0.5f);
+  // A valid transform: model file x + 1 = object x (t[3], the x translation), for a model shifted by -1 in x.
+  std::ofstream(dir + "/hostile-translated.csm", std::ios::binary) << csm_with_floats(file, 108 + 4 * 3, 1, 1.0f);
   // Bytes 20, 24, 28: the map count and the grid's rows and columns. A count of 46340² (the grid would
   // take gigabytes) with the checksum left as it was: refused by the checksum before any allocation.
   std::string huge = file;
