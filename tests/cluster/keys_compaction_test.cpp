@@ -138,7 +138,9 @@ TEST(ClusterKeys, LargestSortableTile) {
     const std::uint32_t pixels = max_sort_tile_pixels(device, shape);
     SCOPED_TRACE(std::string("shape ") + to_string(shape) + ", largest sortable tile " + std::to_string(pixels));
     ASSERT_GE(pixels, 256u) << "a device with " << device.local_mem_bytes << " B local memory sorts 16x16 tiles";
-    if (shape == Shape::Gpu) EXPECT_LE(tile_sort_local_bytes(device, pixels), device.local_mem_bytes);
+    if (shape == Shape::Gpu) {
+      EXPECT_LE(tile_sort_local_bytes(device, pixels), device.local_mem_bytes);
+    }
     const std::uint32_t tile_w = std::min<std::uint32_t>(64, pixels), tile_h = pixels / tile_w;
     const auto frame = make_frame(18, 150, 100, tile_w, tile_h);
     expect_all_variants_match_reference(frame.config, frame.depth.view_z, DepthFormat::ViewZ, nullptr, {shape});
