@@ -1,0 +1,35 @@
+# splatcl ao: the shared spot model's vertices under two instances of the cube's CSM (and the
+# reference path with the ground plane), then bad input: one line each.
+# Needs SPLATS_CUBE (splats.cmake) and CSM_OUT with its csm_cube fixture (csm.cmake).
+set(AO_MODEL ${CMAKE_SOURCE_DIR}/../shared/data/models/spot.obj)
+add_test(NAME cli.help_ao COMMAND splatcl ao --help)
+add_test(NAME cli.ao_spot COMMAND splatcl ao ${AO_MODEL} --occluder ${CSM_OUT} --occluder-transform 0,1.2,0
+         --occluder ${CSM_OUT} --occluder-transform 1.5,0,0,0,45,0 --pattern lhs --samples 16 -o ${CMAKE_CURRENT_BINARY_DIR}/ao-spot.ply)
+add_test(NAME cli.ao_spot_reference_ground COMMAND splatcl ao ${AO_MODEL} --occluder ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm
+         --ground-plane --pattern stratified --reference -o ${CMAKE_CURRENT_BINARY_DIR}/ao-spot-ground.ply)
+set_tests_properties(cli.ao_spot cli.ao_spot_reference_ground PROPERTIES FIXTURES_REQUIRED csm_cube)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ao-nan.obj "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ao-empty.obj "# no geometry\n")
+string(REPEAT "corrupt " 40 AO_CORRUPT_BODY)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ao-corrupt.csm "SPLATCSM${AO_CORRUPT_BODY}")
+add_test(NAME cli.error_ao_no_occluder COMMAND ${EXPECT_ERROR} "at least one --occluder" $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} -o out.ply)
+add_test(NAME cli.error_ao_no_output COMMAND ${EXPECT_ERROR} "-o OUT.ply" $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} --occluder ${CSM_OUT})
+add_test(NAME cli.error_ao_missing_csm COMMAND ${EXPECT_ERROR} "cannot read missing.csm" $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} --occluder missing.csm -o out.ply)
+add_test(NAME cli.error_ao_truncated_csm COMMAND ${EXPECT_ERROR} "csm-truncated.csm: not a .csm file" $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE}
+         --occluder ${CMAKE_CURRENT_BINARY_DIR}/csm-truncated.csm -o out.ply)
+add_test(NAME cli.error_ao_corrupt_csm COMMAND ${EXPECT_ERROR} "ao-corrupt.csm: " $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE}
+         --occluder ${CMAKE_CURRENT_BINARY_DIR}/ao-corrupt.csm -o out.ply)
+add_test(NAME cli.error_ao_bad_transform COMMAND ${EXPECT_ERROR} "bad occluder transform '1,2'" $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE}
+         --occluder ${CSM_OUT} --occluder-transform 1,2 -o out.ply)
+add_test(NAME cli.error_ao_transform_count COMMAND ${EXPECT_ERROR} "2 --occluder-transform for 1 --occluder" $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE}
+         --occluder ${CSM_OUT} --occluder-transform 0,0,0 --occluder-transform 1,0,0 -o out.ply)
+add_test(NAME cli.error_ao_bad_pattern COMMAND ${EXPECT_ERROR} "unknown pattern set 'sobol'" $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE}
+         --occluder ${CSM_OUT} --pattern sobol -o out.ply)
+add_test(NAME cli.error_ao_nan_mesh COMMAND ${EXPECT_ERROR} "ao-nan.obj" $<TARGET_FILE:splatcl> ao ${CMAKE_CURRENT_BINARY_DIR}/ao-nan.obj
+         --occluder ${CSM_OUT} -o out.ply)
+add_test(NAME cli.error_ao_empty_mesh COMMAND ${EXPECT_ERROR} "ao-empty.obj" $<TARGET_FILE:splatcl> ao ${CMAKE_CURRENT_BINARY_DIR}/ao-empty.obj
+         --occluder ${CSM_OUT} -o out.ply)
+add_test(NAME cli.error_ao_missing_receiver COMMAND ${EXPECT_ERROR} "missing.obj" $<TARGET_FILE:splatcl> ao missing.obj --occluder ${CSM_OUT} -o out.ply)
+set_tests_properties(cli.error_ao_no_output cli.error_ao_truncated_csm cli.error_ao_bad_transform cli.error_ao_transform_count
+                     cli.error_ao_bad_pattern cli.error_ao_nan_mesh cli.error_ao_empty_mesh cli.error_ao_missing_receiver
+                     PROPERTIES FIXTURES_REQUIRED csm_cube)

@@ -1,0 +1,29 @@
+# splatcl batch: --help, one-line manifest errors, then tests/batch/cli_*.sh drive whole runs
+# (interrupted and resumed, sharded and merged, with failing models) on tiny generated meshes.
+set(BATCH_DIR ${CMAKE_CURRENT_BINARY_DIR}/batch-cli)
+add_test(NAME cli.help_batch COMMAND splatcl batch --help)
+add_test(NAME cli.help_batch_merge COMMAND splatcl batch merge --help)
+file(WRITE ${BATCH_DIR}/bad.json "{\"models\": [\"a.obj\",]}")
+file(WRITE ${BATCH_DIR}/unknown-key.json "{\"models\": [{\"path\": \"a.obj\", \"epsilon\": 1}]}")
+file(WRITE ${BATCH_DIR}/bad-value.csv "path,k\na.obj,zero\n")
+file(WRITE ${BATCH_DIR}/ok.csv "path\na.obj\n")
+file(WRITE ${BATCH_DIR}/not-summary.json "{\"models\": []}")
+add_test(NAME cli.error_batch_missing_manifest COMMAND ${EXPECT_ERROR} "cannot read manifest .*missing.json: No such file"
+         $<TARGET_FILE:splatcl> batch missing.json -o ${BATCH_DIR}/out)
+add_test(NAME cli.error_batch_bad_json COMMAND ${EXPECT_ERROR} "bad.json: not valid JSON: parse error at line 1"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/bad.json -o ${BATCH_DIR}/out)
+add_test(NAME cli.error_batch_unknown_key COMMAND ${EXPECT_ERROR} "unknown-key.json: models\\[0\\] \\(a\\): unknown parameter 'epsilon'"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/unknown-key.json -o ${BATCH_DIR}/out)
+add_test(NAME cli.error_batch_bad_value COMMAND ${EXPECT_ERROR} "bad-value.csv:2 \\(a\\): 'k' must be an integer from 1 to 1024, got 'zero'"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/bad-value.csv -o ${BATCH_DIR}/out)
+add_test(NAME cli.error_batch_bad_option COMMAND ${EXPECT_ERROR} "ok.csv:2 \\(a\\): 'maps': .*not a perfect square"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --maps 1000)
+add_test(NAME cli.error_batch_bad_shard COMMAND ${EXPECT_ERROR} "bad shard '3/3': i must be below N"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --shard 3/3)
+add_test(NAME cli.error_batch_no_output COMMAND ${EXPECT_ERROR} "-o OUTDIR" $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv)
+add_test(NAME cli.error_batch_merge_not_summary COMMAND ${EXPECT_ERROR} "not-summary.json: not a splatcl batch summary"
+         $<TARGET_FILE:splatcl> batch merge ${BATCH_DIR}/not-summary.json -o ${BATCH_DIR}/merged.json)
+foreach(script resume shards failure parameters)
+  add_test(NAME cli.batch_${script} COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/batch/cli_${script}_test.sh $<TARGET_FILE:splatcl>
+           ${CMAKE_CURRENT_BINARY_DIR}/batch-${script})
+endforeach()

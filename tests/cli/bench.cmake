@@ -1,0 +1,31 @@
+# splatcl bench: the csm suite in --quick mode to JSON and CSV, then report, compare, plot and errors.
+set(BENCH_QUICK ${CMAKE_CURRENT_BINARY_DIR}/bench-csm-quick)
+foreach(command csm plot compare report)
+  add_test(NAME cli.help_bench_${command} COMMAND splatcl bench ${command} --help)
+endforeach()
+add_test(NAME cli.bench_csm_quick COMMAND splatcl bench csm --quick --device 0 --json ${BENCH_QUICK}.json --csv ${BENCH_QUICK}.csv)
+set_tests_properties(cli.bench_csm_quick PROPERTIES FIXTURES_SETUP bench_csm_quick)
+add_test(NAME cli.bench_report_quick COMMAND splatcl bench report ${BENCH_QUICK}.json)
+add_test(NAME cli.bench_compare_identical COMMAND splatcl bench compare ${BENCH_QUICK}.json ${BENCH_QUICK}.json --threshold 0)
+add_test(NAME cli.bench_compare_csv_with_json COMMAND splatcl bench compare ${BENCH_QUICK}.csv ${BENCH_QUICK}.json --threshold 0)
+set_tests_properties(cli.bench_report_quick cli.bench_compare_identical cli.bench_compare_csv_with_json PROPERTIES FIXTURES_REQUIRED bench_csm_quick)
+find_program(GNUPLOT_PROGRAM gnuplot)
+if(GNUPLOT_PROGRAM)
+  add_test(NAME cli.bench_plot_quick COMMAND splatcl bench plot ${BENCH_QUICK}.json -o ${CMAKE_CURRENT_BINARY_DIR}/bench-plots)
+  set_tests_properties(cli.bench_plot_quick PROPERTIES FIXTURES_REQUIRED bench_csm_quick)
+endif()
+set(BENCH_RECORD "\"suite\": \"csm\", \"case\": \"capture\", \"impl\": \"opencl\", \"device\": \"dev\", \"size\": 1000, \"size_unit\": \"rays\", \"runs\": 3, \"throughput\": 1e5, \"throughput_unit\": \"rays/s\"")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json "{\"machine\": {}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 10, \"min_ms\": 9, \"max_ms\": 11}]}\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json "{\"machine\": {}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 12, \"min_ms\": 11, \"max_ms\": 13}]}\n")
+add_test(NAME cli.error_bench_regression COMMAND ${EXPECT_ERROR} "1 regression\\(s\\) beyond 10 % against .*bench-fast.json" $<TARGET_FILE:splatcl>
+         bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 10)
+add_test(NAME cli.bench_within_threshold COMMAND splatcl bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json
+         ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 25)
+add_test(NAME cli.error_bench_bad_scaling COMMAND ${EXPECT_ERROR} "unknown scaling 'cores'" $<TARGET_FILE:splatcl> bench csm --scaling cores)
+add_test(NAME cli.error_bench_missing_results COMMAND ${EXPECT_ERROR} "cannot read .*missing.json" $<TARGET_FILE:splatcl> bench plot missing.json -o plots)
+add_test(NAME cli.error_bench_json_dir COMMAND ${EXPECT_ERROR} "cannot write --json .*no-such-dir" $<TARGET_FILE:splatcl> bench csm --json no-such-dir/x.json)
+add_test(NAME cli.error_bench_csm_missing_models COMMAND ${EXPECT_ERROR} "models directory .*no-such-dir does not exist" $<TARGET_FILE:splatcl>
+         bench csm --quick --models no-such-dir)
+add_test(NAME cli.error_bench_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device matches" $<TARGET_FILE:splatcl> bench csm --quick --device no-such-device)
+add_test(NAME cli.error_bench_plot_without_gnuplot COMMAND ${EXPECT_ERROR} "gnuplot not found on PATH" env PATH=/nonexistent
+         $<TARGET_FILE:splatcl> bench plot ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json -o ${CMAKE_CURRENT_BINARY_DIR}/bench-plots-nognuplot)

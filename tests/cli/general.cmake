@@ -1,0 +1,16 @@
+# splatcl --help, devices and cluster: the main job runs, bad input gives one line and a non-zero exit.
+add_test(NAME cli.help COMMAND splatcl --help)
+foreach(command devices cluster bench)
+  add_test(NAME cli.help_${command} COMMAND splatcl ${command} --help)
+endforeach()
+add_test(NAME cli.devices COMMAND splatcl devices)
+add_test(NAME cli.cluster_default_scene COMMAND splatcl cluster --size 320x180 -o ${CMAKE_CURRENT_BINARY_DIR}/cli-cluster-out)
+add_test(NAME cli.cluster_every_variant COMMAND splatcl cluster --size 200x120 --tile 16x16 --compaction bitmask
+         --assignment brute --normal-bits --window-depth --lights 300)
+add_test(NAME cli.error_unknown_command COMMAND ${EXPECT_ERROR} "unknown command 'nonsense' \\(commands: devices, cluster" $<TARGET_FILE:splatcl> nonsense)
+add_test(NAME cli.error_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device matches" $<TARGET_FILE:splatcl> devices --device no-such-device)
+add_test(NAME cli.error_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> cluster missing.json)
+add_test(NAME cli.error_bad_size COMMAND ${EXPECT_ERROR} "--size" $<TARGET_FILE:splatcl> cluster --size 12by7)
+add_test(NAME cli.error_bad_compaction COMMAND ${EXPECT_ERROR} "compaction" $<TARGET_FILE:splatcl> cluster --compaction quick)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/broken-scene.json "{\"objects\": [{\"type\": \"cone\"}]}")
+add_test(NAME cli.error_broken_scene COMMAND ${EXPECT_ERROR} "broken-scene.json" $<TARGET_FILE:splatcl> cluster ${CMAKE_CURRENT_BINARY_DIR}/broken-scene.json)

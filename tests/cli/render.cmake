@@ -1,0 +1,39 @@
+# splatcl render and view: the presenter offscreen and in a window; PRESENT_CACHE and its fixture
+# present_cache are set in tests/CMakeLists.txt.
+foreach(command render view)
+  add_test(NAME cli.help_${command} COMMAND splatcl ${command} --help)
+endforeach()
+add_test(NAME cli.render_default_scene COMMAND splatcl render --size 160x120 --frames 3 --cache ${PRESENT_CACHE}
+         -o ${CMAKE_CURRENT_BINARY_DIR}/render-default.png --json ${CMAKE_CURRENT_BINARY_DIR}/render-default.json)
+add_test(NAME cli.render_tiled_points_exr COMMAND splatcl render --size 120x90 --shading tiled --mode points --shadows pixel --pixel-ao
+         --view final --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-points.exr)
+add_test(NAME cli.render_no_display COMMAND env -u DISPLAY -u WAYLAND_DISPLAY $<TARGET_FILE:splatcl> render --size 64x48
+         --shading brute --lights 64 --view clusters --cache ${PRESENT_CACHE})
+set_tests_properties(cli.render_default_scene cli.render_tiled_points_exr cli.render_no_display PROPERTIES FIXTURES_REQUIRED present_cache)
+add_test(NAME cli.render_wall_passes COMMAND splatcl render --size 64x48 --frames 2 --wall-passes --cache ${PRESENT_CACHE})
+set_tests_properties(cli.render_wall_passes PROPERTIES FIXTURES_REQUIRED present_cache PASS_REGULAR_EXPRESSION "gl: splat accumulation +[0-9.]+")
+add_test(NAME cli.render_lod COMMAND splatcl render --size 96x72 --lod 2 --mode points --cache ${PRESENT_CACHE})
+set_tests_properties(cli.render_lod PROPERTIES FIXTURES_REQUIRED present_cache PASS_REGULAR_EXPRESSION "splats drawn \\(LOD 2 px\\)")
+add_test(NAME cli.error_render_bad_lod COMMAND ${EXPECT_ERROR} "--lod" $<TARGET_FILE:splatcl> render --lod -1)
+add_test(NAME cli.render_specular COMMAND splatcl render --size 64x48 --specular 0.5 --cache ${PRESENT_CACHE})
+set_tests_properties(cli.render_specular PROPERTIES FIXTURES_REQUIRED present_cache)
+add_test(NAME cli.error_render_bad_specular COMMAND ${EXPECT_ERROR} "--specular" $<TARGET_FILE:splatcl> render --specular -1)
+add_test(NAME cli.error_render_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> render missing.json)
+add_test(NAME cli.error_render_bad_size COMMAND ${EXPECT_ERROR} "--size '12by7'" $<TARGET_FILE:splatcl> render --size 12by7)
+add_test(NAME cli.error_render_bad_output COMMAND ${EXPECT_ERROR} "must be .png or .exr" $<TARGET_FILE:splatcl> render -o frame.tiff)
+add_test(NAME cli.error_render_missing_output_dir COMMAND ${EXPECT_ERROR} "directory no-such-dir does not exist" $<TARGET_FILE:splatcl> render -o no-such-dir/frame.png)
+add_test(NAME cli.error_render_bad_shading COMMAND ${EXPECT_ERROR} "--shading 'quick'" $<TARGET_FILE:splatcl> render --shading quick)
+add_test(NAME cli.error_render_bad_view COMMAND ${EXPECT_ERROR} "unknown view 'wireframe'" $<TARGET_FILE:splatcl> render --view wireframe)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-broken-scene.json "{\"objects\": [{\"mesh\": {\"procedural\": \"cone\"}}]}")
+add_test(NAME cli.error_render_broken_scene COMMAND ${EXPECT_ERROR} "present-broken-scene.json: 'procedural'" $<TARGET_FILE:splatcl>
+         render ${CMAKE_CURRENT_BINARY_DIR}/present-broken-scene.json)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-missing-mesh.json "{\"objects\": [{\"mesh\": \"no-such-mesh.obj\"}]}")
+add_test(NAME cli.error_render_missing_mesh COMMAND ${EXPECT_ERROR} "no-such-mesh.obj" $<TARGET_FILE:splatcl>
+         render ${CMAKE_CURRENT_BINARY_DIR}/present-missing-mesh.json --cache ${PRESENT_CACHE})
+add_test(NAME cli.error_view_no_display COMMAND ${EXPECT_ERROR} "GLFW: cannot" env -u DISPLAY -u WAYLAND_DISPLAY
+         $<TARGET_FILE:splatcl> view --cache ${PRESENT_CACHE})
+find_program(XVFB_RUN xvfb-run)
+if(XVFB_RUN)
+  add_test(NAME cli.view_window COMMAND ${XVFB_RUN} -a $<TARGET_FILE:splatcl> view --size 160x120 --seconds 2 --cache ${PRESENT_CACHE})
+  set_tests_properties(cli.view_window PROPERTIES FIXTURES_REQUIRED present_cache)
+endif()
