@@ -1,5 +1,5 @@
 // Coherent shadow maps, ambient occlusion: one work-item per receiver, `samples` directions of the
-// receiver's pattern through every occluder instance (AO digest §5.2). The per-receiver work lives
+// receiver's pattern through every occluder instance (Müller §5.3). The per-receiver work lives
 // in csm_query.h, shared with the native reference (host/csm/ao.cpp).
 #include "csm_query.h"
 

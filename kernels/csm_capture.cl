@@ -3,7 +3,7 @@
 // (map, pixel row), a serial loop over the row, no barriers. Native reference: host/csm/capture.cpp.
 #include "csm_trace.h"
 
-// Depth is linear, 0 at the camera plane and 1 at distance 2R (compression digest §3.5). Empty
+// Depth is linear, 0 at the camera plane and 1 at distance 2R (Talpe §4.2). Empty
 // pixels: z1 = 1, z2 = +inf. Single-surface pixels: z2 = the ray's exit from the bounding sphere
 // (SINGLE_HIT_EXACT = 0) or z2 = z1, a value that merges with nothing (SINGLE_HIT_EXACT = 1).
 kernel void csm_capture(global const CsmNode* nodes, global const CsmTriangle* tris, global const CsmCamera* cameras,

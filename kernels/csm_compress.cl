@@ -1,4 +1,4 @@
-// Coherent shadow maps, streaming per-pixel greedy compression (compression digest §4.2, §15).
+// Coherent shadow maps, streaming per-pixel greedy compression (Talpe §5.2).
 // Maps arrive in batches in sequence order, laid out [map][pixel]. Each pixel keeps its open run's
 // (max z1, min z2) between batches; a run is extended while max z1 < min z2 (strict), and a closed
 // run is written as (max z1, min z2, inclusive end index). Two passes per batch: count the runs each

@@ -4,8 +4,8 @@
 // (csm_visibility.cl, csm_ao.cl) and the native references (host/csm/visibility.cpp, ao.cpp, which
 // include this file inside a namespace) execute the same float operations and agree exactly.
 //
-// Conventions: docs/formats.md (.csm geometry) and compression digest §5; AO digest §5.2–§5.8 with
-// its errata resolutions (nearest camera by rounding with φ wrap, d = 2(h·s)h − s, lower-bound
+// Conventions: docs/formats.md (.csm geometry) and Talpe §4.3–§4.4.1; Müller §5.3 with
+// our resolutions where it is ambiguous (nearest camera by rounding with φ wrap, d = 2(h·s)h − s, lower-bound
 // segment search, never-occluding +∞ for empty runs). The nearest camera is found by exact tests
 // against the cell boundaries (csm_walk_cell): same cells as rounding the continuous grid
 // coordinates up to float rounding at a boundary, but with no atan2 and, for coherent queries
@@ -93,7 +93,7 @@ inline float csm_atan2(float y, float x) {
   return y < 0.0f ? -a : a;
 }
 
-// Continuous grid coordinates of a sphere-frame direction (compression digest §5.1, the inverse
+// Continuous grid coordinates of a sphere-frame direction (Talpe §4.3, the inverse
 // of the distribution): sr = s·rows, tc = t·cols with t = φ/2π ∈ [0, 1). Returns 0 for a zero or
 // non-finite direction (a light at the receiver), which the callers treat as lit.
 inline int csm_grid_coords(CSM_GLOBAL const CsmOccluder* oc, float x, float y, float z, float* sr, float* tc) {
@@ -316,7 +316,7 @@ inline float csm_instance_visibility(const CsmScene* scene, uint k, float px, fl
 }
 
 // Visibility of light vector w from receiver p through every instance: the product of the
-// instances' lit fractions (compression digest §5.5: lit only if every test passes; with PCF each
+// instances' lit fractions (Talpe §4.3: lit only if every test passes; with PCF each
 // instance contributes its fraction). Stops at the first fully occluding instance.
 inline float csm_visibility(const CsmScene* scene, float px, float py, float pz, float wx, float wy, float wz, uint filter,
                             float bias) {
@@ -423,9 +423,9 @@ inline float csm_instance_visibility_cached(const CsmScene* scene, uint k, float
   return cache->g < limit ? 0.0f : 1.0f;
 }
 
-// Ambient occlusion of one receiver (AO digest §5.2): `samples` cosine-weighted directions of one
+// Ambient occlusion of one receiver (Müller §5.3): `samples` cosine-weighted directions of one
 // pattern (+y hemisphere, xyz of 4 floats each) rotated into the normal's hemisphere by the 180°
-// rotation about h = normalize(n + o), o = +y (d = 2(h·s)h − s, digest §16 #2; h = (1, 0, 0) when
+// rotation about h = normalize(n + o), o = +y (d = 2(h·s)h − s, our reading of Müller §5.3.1; h = (1, 0, 0) when
 // n = −o). With `ground`, directions below the world floor (d.y < 0) are occluded without a test.
 // out = (bent normal xyz, AO = lit fraction); the bent normal is n when nothing is lit.
 // The rotation's axis h = normalize(n + o), o = +y; h = (1, 0, 0) when n = −o. Also used by the

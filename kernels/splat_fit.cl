@@ -1,4 +1,4 @@
-// Splat fit (digest §3.3–§3.8), one work-item per sample. Native reference: host/splats/reference.cpp,
+// Splat fit (the splat thesis §2.2.2–§2.2.3), one work-item per sample. Native reference: host/splats/reference.cpp,
 // which performs the same float operations in the same order; contraction into fused multiply-adds
 // is off so both round identically.
 //

@@ -1,17 +1,17 @@
 #pragma once
-// Level of detail for one object's splats: a sequential point tree (splat-rendering digest §3.4–3.8,
+// Level of detail for one object's splats: a sequential point tree (the point-rendering thesis §5.2.3–§5.2.4,
 // Dachsbacher et al. 2003 as the thesis builds it).
 //   - A temporary octree split at the mean point (children by the per-axis comparison of the
-//     digest's table, ties to the "<" side) down to fewer than `leaf_splats` splats per leaf.
+//     thesis's table, ties to the "<" side) down to fewer than `leaf_splats` splats per leaf.
 //   - Every octree node becomes one extra round splat: position and normal the mean of its direct
 //     children, radius max(r_i + |p_i − p|), colour the mean colour.
 //   - Its geometric error e_g = sqrt(e_p² + e_t²): e_p the thickness of the slab along the node
 //     normal enclosing the children's disks, e_t = radius × the share of the node's disk not covered
-//     by its children, counted on a grid × grid raster in the node's plane (the digest's OpenCL
-//     note for the thesis's render-and-read-back).
+//     by its children, counted on a grid × grid raster in the node's plane (our OpenCL
+//     stand-in for the thesis's render-and-read-back).
 //   - Interval [e_min, e_max): node e_min = min(radius, e_g), raised to its children's e_min so the
 //     bounds decrease from the root to the leaves (a cut exists at every threshold); a child's
-//     e_max = its parent's e_min × (1 + overlap) (the digest's "small value against holes"); the
+//     e_max = its parent's e_min × (1 + overlap) (the thesis's "small value against holes"); the
 //     root's e_max = FLT_MAX; the original splats have e_min = 0.
 //   - Originals and nodes in one array sorted by e_max, descending (the "sequential" form).
 // Selection per frame: an entry is drawn when e_min ≤ e < e_max, e = (distance from the eye to the

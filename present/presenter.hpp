@@ -1,5 +1,5 @@
 #pragma once
-// One frame of the presenter (issue 5):
+// One frame of the presenter:
 //   CL, when an occluder moved, on a worker thread beside the visibility pass: per-splat ambient
 //       occlusion and bent normal from every occluder's CSM (csm::AmbientOcclusion) and per-splat
 //       key-light visibility (csm::VisibilityQueries, PCF)

@@ -25,7 +25,7 @@ vec3 sh_irradiance(vec3 n) {
 // results, bent normal + AO and key-light visibility.
 // splat_head gives the world centre c, normal n and model rotation m, sets the flat outputs, and
 // tells whether the splat is drawn (it faces the eye and, with LOD on, the eye distance puts its
-// error in its interval: the digest's sequential point tree test). The ambient term is evaluated
+// error in its interval: the point-rendering thesis's sequential point tree test, §5.3.1). The ambient term is evaluated
 // per splat, where the AO is known: irradiance of the sky around the bent normal times AO
 // (u_ambient 0), around the normal without AO (1), or the AO itself as grey (2, the AO view).
 const std::string kSplatHead = std::string(kShIrradiance) + R"(
@@ -164,7 +164,7 @@ void main() {
   v_view_z = view.z;
   if (!drawn) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); gl_PointSize = 1.0; return; }
   gl_Position = u_proj * view;
-  // Projected diameter of the splat's major axis (digest: r·n/z·h/(t−b), ×2 for the diameter).
+  // Projected diameter of the splat's major axis (the point-rendering thesis: r·n/z·h/(t−b), ×2 for the diameter).
   float radius = u_scale * length(m * a_major);
   gl_PointSize = max(1.0, 2.0 * radius * u_proj[1][1] * 0.5 * u_viewport_height / max(-view.z, 1e-3));
 }

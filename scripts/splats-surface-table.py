@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The two-sided bound on every shared model, before and after, in one Markdown table.
+"""The two-sided bound on every test model, before and after, in one Markdown table.
 
 For every model (*.obj in --models) at --eps-diag F, and for the extra absolute tolerances given
 with --extra-eps (default: the bunny at the thesis's Table 3.1 eps = 0.0003), this runs
@@ -231,7 +231,7 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], epilog=__doc__.split("\n\n", 1)[1],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--splatcl", required=True, help="the splatcl binary, e.g. build-table/splatcl")
-    p.add_argument("--models", required=True, help="folder of the shared models (*.obj), e.g. ../shared/data/models")
+    p.add_argument("--models", required=True, help="folder of the test models (*.obj), e.g. data/models")
     p.add_argument("--out", required=True, help="folder for the splat files, statistics and verify JSON (created), e.g. out/splats-surface-table")
     p.add_argument("--eps-diag", default="0.001", help="eps as a fraction of the bounding-box diagonal for every model (default 0.001)")
     p.add_argument("--extra-eps", action="append", metavar="MODEL=EPS",

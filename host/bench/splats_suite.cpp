@@ -36,10 +36,10 @@ struct BenchModel {
 };
 
 constexpr BenchModel kModels[] = {{"stanford-bunny", "stanford-bunny.obj", 0.0003, 0}, {"ogre", "ogre.obj", 0, 0.001}};
-// The 130k-vertex scan at ε = 0.001 of the diagonal: none of the shared models is that large,
+// A 130k-vertex scan at ε = 0.001 of the diagonal: none of the test models is that large,
 // so the bunny's triangles are split in four at their edge midpoints (139k vertices, the same surface).
 constexpr BenchModel kSubdividedBunny{"stanford-bunny-midpoint-4x", "stanford-bunny.obj", 0, 0.001};
-// 100×100 vertices, 99×99 quads over the unit square: no shared model needed.
+// 100×100 vertices, 99×99 quads over the unit square: no test model needed.
 constexpr BenchModel kFlatGrid{"flat-grid-100", nullptr, 0, 0.001};
 constexpr std::size_t kFlatGridSide = 100;
 

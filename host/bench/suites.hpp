@@ -35,7 +35,7 @@ void run_cluster_suite(Session& session);
 // stanford-bunny (ε = 0.0003) and ogre (ε = 0.001 × diagonal) from splats_models_dir(), and the
 // default two-sided variant end to end on both and on a generated flat 100×100 grid; the models come
 // from splats_models_dir(), which
-// `--models` sets (default: the shared models next to the repository). Size scaling keeps every
+// `--models` sets (default: data/models, SPLATCL_MODELS_DIR at configure time). Size scaling keeps every
 // 1/scale-th vertex of each model (ε stays that of the whole model), so every phase sees that share of
 // the samples.
 void run_splats_suite(Session& session);

@@ -77,7 +77,7 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
       ->check(CLI::Range(0.0, 1e6));
   app.add_option("--plot", o.plot_dir, "Also draw PNG plots with gnuplot into DIR (see 'bench plot')")->type_name("DIR");
   if (splats_models)
-    app.add_option("--models", bench::splats_models_dir(), "Directory holding the shared models (splats and csm suites)")
+    app.add_option("--models", bench::splats_models_dir(), "Directory holding the test models (splats and csm suites)")
         ->capture_default_str();
 }
 

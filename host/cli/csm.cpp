@@ -72,7 +72,7 @@ double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
 
 double uncompressed_bytes(const CsmInfo& info) { return 8.0 * info.maps * info.resolution * info.resolution; }
 
-// c = 1 − (S_px − 1)/(N − 1) (digest §4.6): white = one segment, black = a segment per map.
+// c = 1 − (S_px − 1)/(N − 1) (Talpe §5.3.6): white = one segment, black = a segment per map.
 void write_coherence_map(const std::string& path, const Csm& csm) {
   const int m = static_cast<int>(csm.info.resolution);
   std::vector<float> rgb(csm.pixels() * 3);
@@ -361,7 +361,7 @@ Action register_csm(CLI::App& app) {
   verify->add_option("--capture", v->capture, "Recapture with this method (raster or raycast) instead of the one recorded in the file: "
                                               "a cross-check, which may fail at triangle-edge pixels");
 
-  auto* quality = sub->add_subcommand("quality", "Shadow quality study (compression digest §10.1): % of pixels whose CSM shadow test "
+  auto* quality = sub->add_subcommand("quality", "Shadow quality study (Talpe §6.1): % of pixels whose CSM shadow test "
                                                   "differs from exact ray casting, over random views and point lights");
   auto q = std::make_shared<QualityCommand>();
   add_device_option(*quality, q->build.device);

@@ -1,5 +1,5 @@
 #pragma once
-// Clustered-shading back end on OpenCL (thesis §3.3, digest §5 and §8): per-pixel cluster keys,
+// Clustered-shading back end on OpenCL (Tegelaers §3.3): per-pixel cluster keys,
 // sort/compaction to the unique clusters with a per-pixel cluster index, cluster bounds, and light
 // lists per cluster. Kernels: kernels/cluster.cl, kernels/cluster_lights.cl. Native reference:
 // cluster/reference.hpp.

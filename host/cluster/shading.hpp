@@ -1,12 +1,12 @@
 #pragma once
-// Host-side deferred shading of a depth frame with many finite point lights (thesis §2.4, digest
-// §2.5 and §8.7): the reference the GL presenter's final shading will be checked against, and the
+// Host-side deferred shading of a depth frame with many finite point lights (Tegelaers
+// §2.4): the reference the GL presenter's final shading will be checked against, and the
 // check that clustered light lists lose nothing (clustered shading equals brute-force shading).
 //
 //   L_o = Σ_k albedo/π · (π·i_k) · f(d_k) · max(0, n·l_k),   f(d) = clamp(1 − (d/r)², 0, 1)
 //
 // The falloff is our reading of the thesis's garbled "(l/r)² clamped to [0,1]" (1 at the light,
-// exactly 0 at r). Intensities are pre-multiplied by π (the digest's suggestion) so that a light
+// exactly 0 at r). Intensities are pre-multiplied by π (our choice: the thesis gives no scale) so that a light
 // touching a surface head-on gives albedo · i.
 #include <cstdint>
 #include <vector>

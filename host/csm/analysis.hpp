@@ -1,16 +1,16 @@
 #pragma once
-// The compression thesis's alternatives to per-pixel compression (compression digest §6), for
+// The compression thesis's alternatives to per-pixel compression (Talpe §5.4–§5.7), for
 // comparison with it:
 // - per-map: each map segmented on its own along a 2-D pixel curve; n = the pixel's curve index;
 // - 3-D Hilbert: the map sequence cut into blocks of M maps, each an M × M × M cube (x, y, map in
 //   block) segmented along a 3-D Hilbert curve; n = the Hilbert index;
 // - 4-D Hilbert: one list over (i / W, i mod W, x, y), i = sequence index, W = the grid's φ cells
-//   (digest §6.4's reading); n = the Hilbert index.
+//   (our reading of Talpe §5.6.2); n = the Hilbert index.
 // All use the per-pixel merge rule (max z1 < min z2, midpoint), so all are exactly lossless; each
 // build decodes every (map, pixel) through the mode's own lookup (index from coordinates, binary
 // search) and counts the samples whose test would change. Sizes use the plain accounting: 256 B
 // header, 4 B per list offset, 8 B per segment.
-// Offline analyses (digest §6.2, §6.5): k-means clustering of maps before per-pixel compression
+// Offline analyses (Talpe §5.5, §5.7): k-means clustering of maps before per-pixel compression
 // (lossy; errors and correction cost counted) and the Haar-wavelet layer re-layout (zero count).
 #include <cstdint>
 #include <functional>
@@ -89,7 +89,7 @@ std::vector<KMeansResult> kmeans_analysis(const std::vector<float>& z1, const st
 // Haar-wavelet re-layout of per-pixel segments: L = the longest list; layer l holds every pixel's
 // l-th stored depth (+∞ as 2, missing entries 0) and a second set its l-th end index; each layer
 // gets a standard 2-D Haar transform (rows, then columns; M a power of two) and the exactly zero
-// coefficients are counted. Estimated size = 2·L·M²·4 B × (1 − zero fraction) (digest §6.5).
+// coefficients are counted. Estimated size = 2·L·M²·4 B × (1 − zero fraction) (Talpe §5.7).
 struct WaveletResult {
   std::uint32_t layers = 0;
   std::uint64_t coefficients = 0, zeros = 0;

@@ -28,7 +28,7 @@ double radical_inverse(std::uint32_t k, std::uint32_t base) {
 double wrap01(double v) { return v - std::floor(v); }
 
 // Random digit scrambling (Kollig & Keller): XOR the 32-bit fixed-point value with a random word.
-// u = 1 (Hammersley's k = N) is clamped below 2^32 first (AO digest §6.8).
+// u = 1 (Hammersley's k = N) is clamped below 2^32 first (Müller §5.3.1).
 double scramble(double u, std::uint32_t word) {
   const double fixed = std::min(u * 4294967296.0, 4294967295.0);
   return static_cast<double>(static_cast<std::uint32_t>(fixed) ^ word) / 4294967296.0;

@@ -1,5 +1,5 @@
 #pragma once
-// Ambient occlusion with coherent shadow maps (AO digest §5.2–§6): per receiver, the N directions of
+// Ambient occlusion with coherent shadow maps (Müller §5.3): per receiver, the N directions of
 // one precomputed cosine-weighted pattern (chosen per receiver) rotated into the normal's
 // hemisphere, each tested against every occluder instance; AO = fraction unoccluded (no cosine
 // factor: the density carries it) and the bent normal = normalised sum of the unoccluded directions.
@@ -13,7 +13,7 @@
 
 namespace splatcl::csm {
 
-// The thesis's six strategies (digest §6.3–§6.8; Fig. 5.7 a–f).
+// The thesis's six strategies (Müller §5.3.1, Fig. 5.7 a–f).
 enum class PatternSet : std::uint32_t {
   MonteCarlo = 0,
   Stratified = 1,          // √N × √N strata, one jittered sample each (N a perfect square)
@@ -30,8 +30,8 @@ inline constexpr std::uint32_t kDefaultPatterns = 256, kDefaultSamples = 36;
 // table (patterns x samples x 16 bytes) stays under 256 MiB; more is refused before allocating.
 inline constexpr std::uint32_t kMaxSamples = 4096, kMaxPatterns = 4096;
 
-// patterns × samples directions on the +y hemisphere with density cosθ/π (Shirley's map, digest
-// Eq. 5.9), xyz with w = 0, pattern-major. Deterministic for a seed. Throws Error for zero sizes or a
+// patterns × samples directions on the +y hemisphere with density cosθ/π (Shirley's map,
+// Müller Eq. 5.9), xyz with w = 0, pattern-major. Deterministic for a seed. Throws Error for zero sizes or a
 // stratified set whose sample count is not a perfect square.
 std::vector<Vec4> make_patterns(PatternSet set, std::uint32_t patterns, std::uint32_t samples, std::uint32_t seed);
 

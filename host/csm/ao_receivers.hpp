@@ -1,5 +1,5 @@
 #pragma once
-// Ambient occlusion for the vertices of a receiver mesh under placed occluders (AO digest §5.2):
+// Ambient occlusion for the vertices of a receiver mesh under placed occluders (Müller §5.3):
 // each vertex is a receiver with its vertex normal; occluder instances may share one CSM. The result
 // is written as a vertex-coloured binary PLY (grey = AO) carrying the AO value and the bent normal
 // as extra vertex properties, and the mesh's faces so common viewers show it shaded.

@@ -72,7 +72,7 @@ class HostMapCapture {
   cl::Buffer d1_, d2_;
 };
 
-// Losslessness check (compression digest §13): every (map, pixel) of `csm` recaptured from `mesh`
+// Losslessness check (Talpe §5.1.1): every (map, pixel) of `csm` recaptured from `mesh`
 // and its stored depth tested with lossless(). Captures in batches on `runtime` (native reference
 // when null) with the method recorded in the CSM, or `method` when given (a cross-check against
 // the other method, which may report violations at triangle-edge pixels).

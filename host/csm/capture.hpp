@@ -1,5 +1,5 @@
 #pragma once
-// Dual-depth capture (compression digest §3; AO digest §4.3): for every map of a SphereGrid, an
+// Dual-depth capture (Talpe ch. 4 and §5.1.2; Müller §5.2.2): for every map of a SphereGrid, an
 // M × M orthographic depth map pair (z1 = first surface, z2 = next distinct surface) by ray
 // casting against a host-built SAH BVH. DepthCapture runs kernels/csm_capture.cl; capture_reference
 // is the native multithreaded reference with the same float operations.
@@ -10,8 +10,8 @@
 // Rules (documented in docs/formats.md):
 // - empty pixel (no hit): z1 = 1, z2 = +inf; runs of empty pixels store +inf (always lit);
 // - single-surface pixel (open mesh, or a ray grazing one triangle): SingleHit::SphereExit sets z2
-//   to the depth where the ray leaves the bounding sphere (digest §3.6 workaround b);
-//   SingleHit::Exact sets z2 = z1, so the pixel keeps its own first depth (AO digest §4.4, "ONE").
+//   to the depth where the ray leaves the bounding sphere (Talpe §5.1.2, its second workaround);
+//   SingleHit::Exact sets z2 = z1, so the pixel keeps its own first depth (Müller §5.2.2, "ONE").
 #include <cstdint>
 #include <memory>
 #include <vector>

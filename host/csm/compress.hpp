@@ -1,5 +1,5 @@
 #pragma once
-// Per-pixel greedy segmentation (compression digest §4.2–§4.3): for every pixel, the maps in
+// Per-pixel greedy segmentation (Talpe §5.2): for every pixel, the maps in
 // sequence order are cut into maximal runs with max z1 < min z2; each run stores its interval
 // [lo = max z1, hi = min z2] and its inclusive end index. The stored depth is segment_depth(lo, hi).
 //
@@ -25,7 +25,7 @@ struct Segments {
 };
 
 // The thesis's midpoint in float, kept strictly below hi when lo and hi are adjacent floats
-// (digest §4.2); +inf for a run of empty pixels; lo itself when lo == hi.
+// (Talpe §5.2); +inf for a run of empty pixels; lo itself when lo == hi.
 float segment_depth(float lo, float hi);
 
 // Whether stored depth g gives every depth test the same answer as the pixel's own (z1, z2):

@@ -1,5 +1,5 @@
 #pragma once
-// The shadow-quality study of the compression thesis (digest §10.1): the model rendered from random
+// The shadow-quality study of Talpe's thesis (§6.1): the model rendered from random
 // cameras on its bounding sphere, lit by a point light at a random position outside the sphere;
 // every pixel's shadow test done twice, with the CSM and by exact ray casting; the result is the
 // percentage of pixels whose answers differ. The thesis leaves the image size, view count, light
@@ -9,7 +9,7 @@
 // Two counts of "wrong": every object pixel whose shadow answer differs (visibility), and only the
 // pixels whose diffusely shaded colour differs, i.e. those facing the light (n·l > 0 with n the hit
 // triangle's normal turned towards the camera): a pixel facing away is black in both renders
-// whatever the shadow test says. The thesis compared rendered images (digest §10.1), so the second
+// whatever the shadow test says. The thesis compared rendered images (§6.1), so the second
 // is its metric; the CSM's answers differ most right at the terminator, where it does not show.
 #include <cstdint>
 

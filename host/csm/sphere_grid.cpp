@@ -166,7 +166,7 @@ Camera SphereGrid::camera(std::uint32_t sequence) const {
   const double st = std::sin(theta), ct = std::cos(theta), sp = std::sin(phi), cp = std::cos(phi);
   const double d[3] = {st * sp, ct, st * cp};
   // The φ-tangent varies continuously with the direction; on the pole itself it is undefined, and
-  // a fixed axis makes every pole map identical (AO digest §4.2).
+  // a fixed axis makes every pole map identical (Müller §5.2.1).
   const double u[3] = {st > 0 ? cp : 1.0, 0.0, st > 0 ? -sp : 0.0};
   const double v[3] = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
   const Vec3 od = to_object(frame_, d[0], d[1], d[2]), ou = to_object(frame_, u[0], u[1], u[2]),

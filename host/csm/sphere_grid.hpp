@@ -2,7 +2,7 @@
 // The directions of a coherent shadow map's N orthographic cameras on the bounding sphere, their
 // coherent sequence order, and the inverse (direction → nearest map) used by queries.
 //
-// Conventions (compression digest §3.2–§3.5, §4.4; AO digest §4.2):
+// Conventions (Talpe §4.2, §5.2, §5.3.2; Müller §5.2.1):
 // - Sphere frame: pole on +y; x = sinθ sinφ, y = cosθ, z = sinθ cosφ. A pole-axis choice maps the
 //   sphere frame into object space (frame(): object = x·ex + y·ey + z·ez).
 // - A grid cell is (a, b): a walks θ (the s axis, "horizontal"), b walks φ (the t axis, "vertical").
@@ -26,7 +26,7 @@ enum class Distribution : std::uint32_t {
   ThesisAo = 2  // T × 2T, θ = πa/T, φ = 2πb/2T (AO thesis §5.2.1)
 };
 
-// Map orders over the grid. "h" curves walk θ fastest, "v" curves walk φ fastest (digest §4.4).
+// Map orders over the grid. "h" curves walk θ fastest, "v" curves walk φ fastest (Talpe §5.3.2).
 enum class Order : std::uint32_t {
   ZigzagH = 0,
   ZigzagV = 1,
@@ -83,7 +83,7 @@ class SphereGrid {
   void angles(Cell cell, double& theta, double& phi) const;
   // The camera of the map at `sequence`, in object space (computed in double, stored as float).
   Camera camera(std::uint32_t sequence) const;
-  // The cell whose direction is nearest to the object-space direction `w` (digest §5.1), in float.
+  // The cell whose direction is nearest to the object-space direction `w` (Talpe §4.3), in float.
   Cell nearest_cell(Vec3 w) const;
 
  private:
@@ -99,7 +99,7 @@ class SphereGrid {
 // Grid (rows, cols) for `maps` under `distribution`, or throws Error.
 std::array<std::uint32_t, 2> grid_shape(Distribution distribution, std::uint32_t maps);
 
-// 2-D Hilbert index → (x, y) on an n × n grid, n a power of two (digest §4.4).
+// 2-D Hilbert index → (x, y) on an n × n grid, n a power of two (Talpe §2.4).
 void hilbert_d2xy(std::uint32_t n, std::uint32_t d, std::uint32_t& x, std::uint32_t& y);
 
 }  // namespace splatcl::csm

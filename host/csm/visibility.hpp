@@ -1,5 +1,5 @@
 #pragma once
-// Visibility sampling with coherent shadow maps (compression digest §5, AO digest §5.5–§5.8): for a
+// Visibility sampling with coherent shadow maps (Talpe §4.3–§4.4.1, Müller §5.3): for a
 // batch of (receiver, light) queries, the fraction of the light that every placed occluder lets
 // through; 0 or 1 without filtering, a multiple of 1/16 with PCF. The per-query code is
 // kernels/csm_query.h, compiled both into the OpenCL kernel (VisibilityQueries) and into the native

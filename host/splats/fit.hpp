@@ -1,5 +1,5 @@
 #pragma once
-// One splat per sample (digest §3.3–§3.8): the PCA frame with the orientation test, ring-by-ring
+// One splat per sample (the splat thesis §2.2.2–§2.2.3, §4.1): the PCA frame with the orientation test, ring-by-ring
 // growth of a circle and then an ellipse with the 2ε height test and the ±φ colour test, the size
 // corrections, the accepted set Q_i and the safe points Q̄_i (Q_i without its projected convex hull).
 //
@@ -8,7 +8,7 @@
 // same operation order (no contraction), so on a device with correctly rounded division and square
 // root the accepted and safe sets are identical.
 //
-// Interpretation choices (digest §8): the PCA uses {p_i} ∪ N_k(p_i) mean-centred; u and v take the
+// Interpretation choices where the thesis is open: the PCA uses {p_i} ∪ N_k(p_i) mean-centred; u and v take the
 // sign that makes their largest component positive and n = u × v before the orientation test; the
 // ellipse phase continues with the untested rest of the stopping ring plus the collected next ring,
 // with b = the corrected minor axis and the violator not re-tested (switch: retest_violator, which
@@ -34,12 +34,12 @@ struct FitOptions {
   int color_tolerance = 255;     // φ per channel, 0..255; 255 ignores colour
   bool literal_lambda = false;   // read "λ" in the size corrections literally instead of as √λ
   bool retest_violator = false;  // ellipse phase with b = d1 and the circle's violator re-tested
-  // Clipped splats (digest §3.13, a proposal the thesis left untried): a violator within
+  // Clipped splats (the splat thesis §4.2.2, a proposal it left untried): a violator within
   // 90° of the mean direction to the earlier skipped violators is skipped instead of ending the
   // phase; the splat is then cut by a line perpendicular to that mean direction, halfway between the
   // farthest accepted and the nearest skipped sample along it.
   bool clip = false;
-  // Growth cap (an extension; the thesis grows without bound, digest §8 item 19): a splat stops
+  // Growth cap (an extension; the thesis grows without bound): a splat stops
   // accepting samples when Q holds this many, as if no violator had been met. It keeps growth and
   // selection linear in the sample count on flat regions, where one splat would otherwise walk the
   // whole plane; the surface bound and gap filling (splats/surface_fit.hpp) keep the cover whole.

@@ -1,5 +1,5 @@
 #pragma once
-// Exact k-nearest-neighbour graph of the samples (digest §3.2), by a FLANN single kd-tree:
+// Exact k-nearest-neighbour graph of the samples (the splat thesis §2.2.1), by a FLANN single kd-tree:
 // N_k(p_i) excludes p_i, sorted by distance then index; d_i = distance to the k-th neighbour;
 // ω_i = π d_i².
 #include <cstdint>

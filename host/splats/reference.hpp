@@ -15,7 +15,7 @@ FitResult grow_splats(const Samples& samples, const Neighborhoods& neighbors, co
 
 // Sets kOnHullBit on the entries of q (sample indices, start point first, bits clear) whose
 // projection on the plane through c spanned by fu, fv lies on the convex hull of the projected
-// set, for |q| > 3; the start point is never marked (digest §3.8). The growth's own rule.
+// set, for |q| > 3; the start point is never marked (the splat thesis §2.2.3). The growth's own rule.
 void mark_hull_points(const Samples& samples, Vec3 c, Vec3 fu, Vec3 fv, std::vector<std::uint32_t>& q);
 
 // Frames then growth.

@@ -129,7 +129,7 @@ struct SampleBuilder {
   }
 };
 
-// The grid of one face (digest §3.1, thesis §2.1.1 / Fig. 2.4): the face's bounding rectangle in its
+// The grid of one face (the splat thesis §2.1.1, Fig. 2.4): the face's bounding rectangle in its
 // own plane, x along its first edge, walked row by row from the rectangle's lower corner with spacing
 // d; the points strictly inside the (convex) polygon are kept. Points on the boundary are left out:
 // they lie on an edge shared with the neighbouring face or on a vertex, which the vertex samples

@@ -1,5 +1,5 @@
 #pragma once
-// Sampling a mesh into the dense point set P of the thesis (digest §3.1): the vertices (mode A), or
+// Sampling a mesh into the dense point set P of the splat thesis (§2.1): the vertices (mode A), or
 // the vertices plus a per-face grid of spacing d = L_min / n (mode B). Each sample has a position, a
 // unit normal and an RGB colour (texture, procedural colour field, or grey).
 #include <cstddef>

@@ -1,5 +1,5 @@
 #pragma once
-// Choosing the splats (digest §3.9, §3.10, §3.12): greedy cover of the samples by the safe sets Q̄_j,
+// Choosing the splats (the splat thesis §2.2.3, §2.2.4, §3.2): greedy cover of the samples by the safe sets Q̄_j,
 // scored by the ω-weighted sum of their uncovered samples, then rounds of relaxation and removal;
 // and the error metrics before and after selection.
 //

@@ -275,7 +275,7 @@ void bound_by_surface(const Surface& surface, const Samples& samples, const Neig
     shrunk[i] = 1;
   });
   // A shrunk splat covers the samples still inside it, and its safe set is those without their
-  // new convex hull (the growth's rule, digest §3.8).
+  // new convex hull (the growth's rule, the splat thesis §2.2.3).
   std::vector<std::vector<std::uint32_t>> sets(n);
   parallel_for(n, 64, [&](std::size_t i, std::size_t) {
     std::vector<std::uint32_t>& set = sets[i];

@@ -202,7 +202,7 @@ TEST(Manifest, ParametersAreTheStagesOwnWithTheirOptionSpellings) {
   EXPECT_TRUE(p.splats.retest_violator);
   EXPECT_EQ(p.csm.batch, 8u);
   EXPECT_EQ(csv("path,eps-diag,color-tol\na.obj,0.01,9\n").at(0).params.splats.color_tol, 9);
-  // A JSON manifest spells booleans true and false; "yes" is for CSV cells and options (issue 13 item 4).
+  // A JSON manifest spells booleans true and false; "yes" is for CSV cells and options.
   EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "clip": "yes"}]})"); }), "m.json: models[0] (b): 'clip' must be true or false, got 'yes'");
   EXPECT_TRUE(csv("path,clip\na.obj,yes\n").at(0).params.splats.clip);
   EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "b.obj", "capture": "photo"}]})"); }).rfind("m.json: models[0] (b): 'capture': ", 0), 0u);
@@ -215,11 +215,11 @@ TEST(Manifest, ParametersAreTheStagesOwnWithTheirOptionSpellings) {
 TEST(Manifest, TexturePathsResolveAgainstTheManifestFolder) {
   const auto models = json(R"({"defaults": {"texture": "textures/wood.png"},
                                "models": ["a.obj", {"path": "b.obj", "texture": "/abs/stone.png"},
-                                          {"path": "c.obj", "texture": "../shared/c.jpg"}]})");
+                                          {"path": "c.obj", "texture": "../textures/c.jpg"}]})");
   ASSERT_EQ(models.size(), 3u);
   EXPECT_EQ(models[0].params.splats.texture, "meshes/textures/wood.png");
   EXPECT_EQ(models[1].params.splats.texture, "/abs/stone.png");
-  EXPECT_EQ(models[2].params.splats.texture, "shared/c.jpg");
+  EXPECT_EQ(models[2].params.splats.texture, "textures/c.jpg");
   const auto rows = csv("id,path,texture\nx,x.obj,x.png\ny,y.obj,\n");
   EXPECT_EQ(rows[0].params.splats.texture, "meshes/x.png");
   EXPECT_EQ(rows[1].params.splats.texture, "");  // empty cell: no texture

@@ -8,11 +8,13 @@
 #include "bench/report.hpp"
 #include "bench/session.hpp"
 #include "bench/suites.hpp"
+#include "bench_models.hpp"
 
 namespace splatcl::bench {
 namespace {
 
 TEST(BenchCsmSuite, QuickRunMeasuresEveryCaseWithPositiveThroughput) {
+  if (const std::string missing = missing_bench_model("csm"); !missing.empty()) GTEST_SKIP() << missing << " not found";
   SessionOptions options;
   options.quick = true;
   options.measure = MeasureOptions{0, 1};
@@ -77,6 +79,7 @@ TEST(BenchCsmSuite, QuickRunMeasuresEveryCaseWithPositiveThroughput) {
 }
 
 TEST(BenchCsmSuite, HostRowsOfLaterDevicesAreNotRecordedAgain) {
+  if (const std::string missing = missing_bench_model("csm"); !missing.empty()) GTEST_SKIP() << missing << " not found";
   SessionOptions options;
   options.quick = true;
   options.measure = MeasureOptions{0, 1};

@@ -17,6 +17,7 @@
 #include "bench/report.hpp"
 #include "bench/runner.hpp"
 #include "bench/suites.hpp"
+#include "bench_models.hpp"
 
 namespace splatcl::bench {
 namespace {
@@ -40,6 +41,8 @@ class BenchSizeScaling : public testing::TestWithParam<ScalingCase> {};
 
 TEST_P(BenchSizeScaling, EverySuiteRunsAtEveryStepWithWellFormedRecords) {
   const ScalingCase param = GetParam();
+  if (const std::string missing = missing_bench_model(param.suite); !missing.empty())
+    GTEST_SKIP() << missing << " not found";
   RunOptions options;
   options.session.quick = true;
   options.session.measure = MeasureOptions{0, 1};

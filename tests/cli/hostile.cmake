@@ -1,4 +1,4 @@
-# Hostile input, full disks and concurrent runs (issue 13; promises in docs/reliability.md).
+# Hostile input, full disks and concurrent runs (the promises in docs/reliability.md).
 # Included at the end of tests/CMakeLists.txt: EXPECT_ERROR, SPLATS_CUBE and PRESENT_CACHE are set.
 set(HOSTILE_DIR ${CMAKE_CURRENT_BINARY_DIR}/hostile)
 file(MAKE_DIRECTORY ${HOSTILE_DIR})

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# hostile_outputs_test.sh MODE SPLATCL WORKDIR EXPECT_ERROR: outputs under hostile conditions
-# (issue 13 items 2, 3, 7, 8). Each mode reproduces one failure and asserts the exit status, the one
+# hostile_outputs_test.sh MODE SPLATCL WORKDIR EXPECT_ERROR: outputs under hostile conditions.
+# Each mode reproduces one failure and asserts the exit status, the one
 # error line and what is (not) on disk afterwards.
 #   full-disk-*: a file system that fills up under each PNG writer: RLIMIT_FSIZE with SIGXFSZ
 #     ignored (writes past the limit fail with EFBIG, as they would with ENOSPC), or a small tmpfs;

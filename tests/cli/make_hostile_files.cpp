@@ -1,6 +1,6 @@
 // make_hostile_files DIR [GOOD.csm]: files that are wrong in one way each but carry a checksum that
 // matches (recomputed by the format's rule, docs/formats.md), so only the reader's own checks can
-// refuse them (issue 13 item 6): splat files DIR/hostile-NAME.ply for each NAME below (and
+// refuse them: splat files DIR/hostile-NAME.ply for each NAME below (and
 // DIR/hostile-good.ply, which is valid); given a .csm, DIR/hostile-NAME.csm made from it.
 #include <cstdio>
 #include <cstring>

@@ -23,8 +23,8 @@ ClusterConfig config_of(std::uint32_t w, std::uint32_t h, float fov_degrees, flo
   return c;
 }
 
-// The worked examples of digest §5.3 (32×32 tiles).
-TEST(ClusterLayout, ReproducesTheDigestWorkedExamples) {
+// Cluster keys of Tegelaers §3.3 worked out by hand for 32×32 tiles (the thesis gives no examples).
+TEST(ClusterLayout, ReproducesHandWorkedExamples) {
   struct Row {
     std::uint32_t w, h;
     float fov, near_plane, far_plane;
@@ -121,7 +121,7 @@ TEST(ClusterLayout, RejectsBadConfigsWithClearErrors) {
   rejects(c, "too thin");
 }
 
-// The slice of a distance is floor(ln(d/near)/ln q) (the corrected formula of digest §5.3), except
+// The slice of a distance is floor(ln(d/near)/ln q) (Tegelaers §3.3.1 with its logarithm corrected), except
 // within rounding distance of a slice boundary, where the boundary table decides.
 TEST(ClusterLayout, SliceOfDistanceFollowsTheCorrectedFormula) {
   const auto layout = ClusterLayout::make(config_of(1920, 1080, 60, 0.1f, 1000));

@@ -1,4 +1,4 @@
-// `splatcl ao`'s library part: placements parsed, AO at the vertices of a shared model under two
+// `splatcl ao`'s library part: placements parsed, AO at the vertices of a test model under two
 // instances of one CSM (kernel == reference, values in [0, 1], an unoccluded receiver gets exactly
 // 1), and the PLY it writes read back byte for byte.
 #include <cmath>

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the CSM tests: one Runtime per process, small meshes made in code, the shared models.
+// Shared by the CSM tests: one Runtime per process, small meshes made in code, the test models.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,5 +1,5 @@
-// The % wrong-pixels study (compression digest §10.1): the kernel and the reference give the same
-// counts, the shaded-image metric only counts pixels facing the light, and on a shared model the
+// The % wrong-pixels study (Talpe §6.1): the kernel and the reference give the same
+// counts, the shaded-image metric only counts pixels facing the light, and on a test model the
 // figure stays under a bound measured with docs/results/csm.md's study (kept loose for other
 // devices' float rounding, tight enough to catch a broken selection, projection or search).
 #include "csm/build.hpp"

@@ -69,7 +69,7 @@ TEST(AtomicFile, MissingDirectoryIsAClearError) {
   }
 }
 
-// Outputs on hostile file systems (issue 13): a full disk, killed writers, concurrent runs.
+// Outputs on hostile file systems: a full disk, killed writers, concurrent runs.
 
 std::string error_of(const std::function<void()>& f) {
   try {
@@ -109,7 +109,7 @@ std::vector<float> noise(int w, int h) {
   return rgb;
 }
 
-// Issue 13 item 2: OpenImageIO's PNG writer reports success on a full disk; the image lands
+// OpenImageIO's PNG writer reports success on a full disk; the image lands
 // truncated under its name. Every image format goes through write_file_atomically now.
 TEST(ImageOutput, FullDiskIsAWriteFailureWithNothingAtTheTarget) {
   const auto dir = fresh_dir("splatcl_io_full_disk");
@@ -148,7 +148,7 @@ TEST(ImageOutput, AnEarlierImageSurvivesAFailedWrite) {
   EXPECT_EQ(text, "earlier");
 }
 
-// Issue 13 item 7: a killed writer leaves PATH.tmpPID; the next command writing PATH removes those
+// A killed writer leaves PATH.tmpPID; the next command writing PATH removes those
 // of processes that no longer exist and keeps a live process's.
 TEST(AtomicFile, TemporariesOfDeadProcessesAreRemovedLiveOnesKept) {
   const auto dir = fresh_dir("splatcl_io_dead_temporaries");
@@ -169,7 +169,7 @@ TEST(AtomicFile, TemporariesOfDeadProcessesAreRemovedLiveOnesKept) {
   EXPECT_TRUE(fs::exists(other));
 }
 
-// Issue 13 item 8: outputs are checked by writing, so a full file system fails before the work.
+// Outputs are checked by writing, so a full file system fails before the work.
 TEST(OutputFiles, AFullFileSystemFailsTheCheckBeforeAnyWork) {
   const auto dir = fresh_dir("splatcl_io_probe");
   const std::string path = (dir / "out.ply").string();
@@ -191,7 +191,7 @@ TEST(OutputFiles, PathsWithinADirectory) {
   EXPECT_FALSE(path_within(comparable_path("/a"), comparable_path("/a/b")));
 }
 
-// Issue 13 item 7: a key locked by one process is refused to another, which is told its pid; the
+// A key locked by one process is refused to another, which is told its pid; the
 // lock goes when the holder ends, however it ends.
 TEST(KeyLocks, ASecondProcessIsRefusedUntilTheFirstEnds) {
   const auto dir = fresh_dir("splatcl_io_locks");
@@ -228,7 +228,7 @@ TEST(JsonKeys, TheFirstUnknownKeyIsNamed) {
   EXPECT_EQ(key_list({"a", "b"}), "a, b");
 }
 
-// Issue 13 item 9: a directory is reported as a directory, not as a missing file or bad JSON.
+// A directory is reported as a directory, not as a missing file or bad JSON.
 TEST(TextFile, ADirectoryOrAMissingFileIsNamedAsSuch) {
   const auto dir = fresh_dir("splatcl_io_text");
   EXPECT_EQ(error_of([&] { read_text_file(dir.string(), "scene"); }), "cannot read scene " + dir.string() + ": it is a directory");

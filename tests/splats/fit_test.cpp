@@ -100,7 +100,7 @@ TEST(SplatFit, KernelMatchesReferenceWithEverySwitch) {
 
 TEST(SplatFit, KernelMatchesReferenceOnBunnySubset) {
   const std::string path = model_path("stanford-bunny.obj");
-  if (path.empty()) GTEST_SKIP() << "shared models not found";
+  if (path.empty()) GTEST_SKIP() << "stanford-bunny.obj not found in " << SPLATCL_MODELS_DIR;
   Input in = prepare(load_mesh(path));
   compare(in, geometry(3e-4f));
 }

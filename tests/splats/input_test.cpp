@@ -35,7 +35,7 @@ void expect_error_naming(const std::function<void()>& action, const std::string&
 
 TEST(MeshLoad, BunnyDropsUnusedScanVertices) {
   const std::string path = model_path("stanford-bunny.obj");
-  if (path.empty()) GTEST_SKIP() << "shared models not found at " << SPLATCL_MODELS_DIR;
+  if (path.empty()) GTEST_SKIP() << "test models not found in " << SPLATCL_MODELS_DIR;
   const Mesh mesh = load_mesh(path);
   EXPECT_EQ(mesh.vertices.size(), 34834u);  // 35,947 in the file, 1,113 used by no face
   EXPECT_EQ(mesh.face_count(), 69451u);
@@ -161,7 +161,7 @@ TEST(Sampling, FaceGridSamplesLieStrictlyInsideTheirFaces) {
 
 TEST(Sampling, BunnyFaceGridMatchesTheThesisCount) {
   const std::string path = model_path("stanford-bunny.obj");
-  if (path.empty()) GTEST_SKIP() << "shared models not found at " << SPLATCL_MODELS_DIR;
+  if (path.empty()) GTEST_SKIP() << "test models not found in " << SPLATCL_MODELS_DIR;
   // Thesis §3.3: n = 0.3 on the bunny gives 110,174 samples (from 34,801 vertices). Ours: 34,834
   // vertices + 75,637 face samples, no duplicate dropped.
   const Samples samples = sample_mesh(load_mesh(path), parse_sampling("grid:0.3"), ColorSource{});

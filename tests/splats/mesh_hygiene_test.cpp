@@ -347,7 +347,7 @@ TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
 TEST(MeshHygiene, SharedModelsAreClean) {
   for (const char* name : {"stanford-bunny.obj", "spot.obj", "fandisk.obj"}) {
     const std::string path = model_path(name);
-    if (path.empty()) GTEST_SKIP() << "shared models not found at " << SPLATCL_MODELS_DIR;
+    if (path.empty()) GTEST_SKIP() << "test models not found in " << SPLATCL_MODELS_DIR;
     const Mesh mesh = load_mesh(path);
     EXPECT_FALSE(mesh.problems.any()) << name << ": " << mesh.problems.summary();
   }

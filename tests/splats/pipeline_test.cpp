@@ -195,7 +195,7 @@ TEST(SplatFile, RoundTripAndCorruption) {
 
 TEST(SplatPipeline, BunnyAtTheThesisDefault) {
   const std::string path = model_path("stanford-bunny.obj");
-  if (path.empty()) GTEST_SKIP() << "shared models not found";
+  if (path.empty()) GTEST_SKIP() << "stanford-bunny.obj not found in " << SPLATCL_MODELS_DIR;
   const SplatRun run = generate_splats(load_mesh(path), ColorSource{}, options_with(3e-4f), &runtime());
   // Table 3.1 at ε = 0.0003: 4,734 splats, ε̄ after selection 38.0 % of ε. Ours: fewer splats at the same maximum error.
   EXPECT_LE(run.selected.size(), 4734u);

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the splat tests: one Runtime per process, generated meshes, and the shared models.
+// Shared by the splat tests: one Runtime per process, generated meshes, and the test models.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,7 +19,7 @@ namespace splatcl::splats::testing {
 
 inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
 
-// A shared model from ../shared/data/models, or "" when that folder is not beside the checkout.
+// A test model from SPLATCL_MODELS_DIR (data/models by default), or "" when it is absent.
 inline std::string model_path(const std::string& name) {
   const std::string path = std::string(SPLATCL_MODELS_DIR) + "/" + name;
   return std::filesystem::exists(path) ? path : std::string();

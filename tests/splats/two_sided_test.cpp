@@ -1,7 +1,7 @@
 // The two-sided bound on the meshes users bring, checked against the surface itself
 // (splats/surface_check.hpp, independent of the builder): every point of every splat within ε of
 // the surface, every point of the surface within ε of a splat that holds its projection and faces
-// its way. Generated hard cases, and the shared models when they are beside the checkout.
+// its way. Generated hard cases, and the test models when they are present.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -188,9 +188,9 @@ TEST(TwoSidedBound, GrowthCapBoundsEverySplat) {
   EXPECT_TRUE(check_surface(mesh, run.records(), check).ok());
 }
 
-// The shared models at two ε (Release only: under the sanitizers this would take many minutes).
+// The test models at two ε (Release only: under the sanitizers this would take many minutes).
 TEST(TwoSidedBound, HoldsOnTheSharedModels) {
-  if (kSanitized) GTEST_SKIP() << "the shared models are checked in the Release build";
+  if (kSanitized) GTEST_SKIP() << "the test models are checked in the Release build";
   bool any = false;
   for (const char* name : {"stanford-bunny.obj", "fandisk.obj", "spot.obj", "teapot.obj", "rocker-arm.obj", "homer.obj",
                            "nefertiti.obj", "ogre.obj"}) {
@@ -203,7 +203,7 @@ TEST(TwoSidedBound, HoldsOnTheSharedModels) {
       EXPECT_TRUE(out.report.ok()) << name << " at eps_diag " << eps_diag << ": " << describe(out.report);
     }
   }
-  if (!any) GTEST_SKIP() << "the shared models are not beside this checkout (../shared/data/models)";
+  if (!any) GTEST_SKIP() << "the test models are not in " << SPLATCL_MODELS_DIR;
 }
 
 }  // namespace
