@@ -1,0 +1,112 @@
+// The presenter's scene files: the default scene, one-line errors naming the source and field,
+// procedural meshes and cache keys, and the validation of every quality option.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "presenter_test_support.hpp"
+
+namespace splatcl::present {
+namespace {
+
+using namespace testing;
+
+TEST(PresenterScene, DefaultSceneHasManyLightsAndAMovingOccluder) {
+  const Scene scene = default_scene();
+  EXPECT_GE(scene.lights.size(), 1024u);
+  ASSERT_GE(scene.objects.size(), 2u);
+  bool moving = false;
+  for (const auto& o : scene.objects) moving |= o.occluder && o.placement(0.0f) != o.placement(1.0f);
+  EXPECT_TRUE(moving);
+  // Deterministic lights.
+  EXPECT_EQ(generate_lights(scene.generated, scene.floor)[5].position, default_scene().lights[5].position);
+}
+
+TEST(PresenterScene, ErrorsNameTheSourceAndField) {
+  const auto message = [](const std::string& text) {
+    try {
+      parse_scene(text, "bad.json", ".");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("{\"objects\": [{\"mesh\": {\"procedural\": \"cone\"}}]}").find("bad.json: 'procedural'"), std::string::npos);
+  EXPECT_NE(message("{\"objects\": [], \"quality\": {\"mode\": \"fast\"}}").find("'mode'"), std::string::npos);
+  EXPECT_NE(message("{\"objects\": [], \"lights\": {\"count\": -1}}").find("'count'"), std::string::npos);
+  EXPECT_NE(message("[1, 2]").find("bad.json"), std::string::npos);
+  EXPECT_NE(message("{\"objects\": [{\"name\": \"a\"}]}").find("'mesh' is missing in a"), std::string::npos);
+  EXPECT_THROW(parse_frame_size("640by480", "--size"), Error);
+  EXPECT_EQ(parse_frame_size("640x480", "--size"), std::make_pair(640, 480));
+}
+
+TEST(PresenterScene, ProceduralMeshesAndCacheKeys) {
+  for (const char* shape : {"sphere", "torus", "box"}) {
+    MeshSpec spec;
+    spec.procedural = shape;
+    spec.segments = 12;
+    spec.rings = 6;
+    const splats::Mesh mesh = make_object_mesh(spec, ".");
+    EXPECT_GT(mesh.face_count(), 30u) << shape;
+    // Closed: every edge is shared by exactly two faces, in opposite directions.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+      for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) {
+        const std::uint32_t next = c + 1 == mesh.face_offsets[f + 1] ? mesh.face_offsets[f] : c + 1;
+        ++edges[{mesh.corners[c], mesh.corners[next]}];
+      }
+    for (const auto& [edge, count] : edges) {
+      EXPECT_EQ(count, 1) << shape;
+      EXPECT_EQ(edges.count({edge.second, edge.first}), 1u) << shape;
+    }
+    EXPECT_NE(asset_key(mesh, "a"), asset_key(mesh, "b"));
+  }
+}
+
+TEST(PresenterScene, SpecularIsOffByDefaultAndValidated) {
+  EXPECT_EQ(default_scene().quality.specular, 0.0f);
+  const Scene on = parse_scene("{\"objects\": [], \"quality\": {\"specular\": 0.5, \"shininess\": 16}}", "s.json", ".");
+  EXPECT_EQ(on.quality.specular, 0.5f);
+  EXPECT_EQ(on.quality.shininess, 16.0f);
+  EXPECT_THROW(parse_scene("{\"objects\": [], \"quality\": {\"specular\": -1}}", "s.json", "."), Error);
+  EXPECT_THROW(parse_scene("{\"objects\": [], \"quality\": {\"shininess\": 0}}", "s.json", "."), Error);
+  Scene scene = default_scene();
+  Overrides overrides;
+  overrides.specular = 0.25;
+  apply_overrides(scene, overrides);
+  EXPECT_EQ(scene.quality.specular, 0.25f);
+}
+
+TEST(PresenterScene, SplatColoursAndLodOptionsAreValidated) {
+  const Scene scene = parse_scene(
+      R"({"objects": [{"mesh": {"procedural": "box"}, "color": "splats", "color_field": "soft"},
+                       {"mesh": {"procedural": "box"}, "color": [0.1, 0.2, 0.3]}],
+          "quality": {"lod_error": 1.5, "lod_leaf": 8}})",
+      "s.json", ".");
+  EXPECT_TRUE(scene.objects[0].splat_colors);
+  EXPECT_EQ(scene.objects[0].color_field, "soft");
+  EXPECT_FALSE(scene.objects[1].splat_colors);
+  EXPECT_EQ(scene.quality.lod_error, 1.5f);
+  EXPECT_EQ(scene.quality.lod_leaf, 8u);
+  EXPECT_EQ(default_scene().quality.lod_error, 0.0f);  // LOD is off by default
+  const auto fails = [](const std::string& text, const std::string& field) {
+    try {
+      parse_scene(text, "s.json", ".");
+    } catch (const Error& e) {
+      return std::string(e.what()).find(field) != std::string::npos;
+    }
+    return false;
+  };
+  EXPECT_TRUE(fails(R"({"objects": [{"mesh": {"procedural": "box"}, "color": "texture"}]})", "'color'"));
+  EXPECT_TRUE(fails(R"({"objects": [{"mesh": {"procedural": "box"}, "color": "splats", "color_field": "plaid"}]})", "'color_field'"));
+  EXPECT_TRUE(fails(R"({"objects": [{"mesh": {"procedural": "box"}, "color_field": "soft"}]})", "'color_field'"));
+  EXPECT_TRUE(fails(R"({"objects": [], "quality": {"lod_error": -1}})", "'lod_error'"));
+  Scene s = default_scene();
+  Overrides o;
+  o.lod = 2;
+  apply_overrides(s, o);
+  EXPECT_EQ(s.quality.lod_error, 2.0f);
+}
+
+}  // namespace
+}  // namespace splatcl::present
