@@ -25,12 +25,13 @@ kernel void csm_capture(global const CsmNode* nodes, global const CsmTriangle* t
     const float x = (float)(2 * i + 1) * half_pixel - radius;
     const float3 o = (float3)(radius * d.x + x * u.x + y * v.x, radius * d.y + x * u.y + y * v.y,
                               radius * d.z + x * u.z + y * v.z);
-    const float2 hits = csm_first_two_hits(nodes, tris, o, dir, inv, eps);
+    const float o3[3] = {o.x, o.y, o.z}, dir3[3] = {dir.x, dir.y, dir.z}, inv3[3] = {inv.x, inv.y, inv.z};
+    const CsmHits hits = csm_trace(nodes, tris, o3, dir3, inv3, eps, CSM_TRACE_FIRST_TWO, INFINITY);
     float z1 = 1.0f, z2 = INFINITY;
-    if (hits.x != INFINITY) {
-      z1 = hits.x * depth_scale;
-      if (hits.y != INFINITY) {
-        z2 = hits.y * depth_scale;
+    if (hits.t1 != INFINITY) {
+      z1 = hits.t1 * depth_scale;
+      if (hits.t2 != INFINITY) {
+        z2 = hits.t2 * depth_scale;
       } else if (single_hit_exact) {
         z2 = z1;
       } else {

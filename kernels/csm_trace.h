@@ -1,20 +1,32 @@
-// Coherent shadow maps: BVH traversal shared by the capture and query kernels. The operations and
-// their order match host/csm/bvh.cpp exactly (no contraction), so kernel and native reference
-// return the same floats.
+// Coherent shadow maps: BVH traversal for the ray-cast capture (csm_capture.cl) and the host's
+// exact visibility. Written once, in the common subset of OpenCL C and C++ (scalar floats,
+// + − × ÷ and comparisons, no contraction), so the kernel and the native traversal
+// (host/csm/bvh.cpp, which includes this file inside a namespace) walk the same nodes in the same
+// order and return the same floats.
 #ifndef SPLATCL_CSM_TRACE_H
 #define SPLATCL_CSM_TRACE_H
 
+#ifdef __OPENCL_C_VERSION__
 #pragma OPENCL FP_CONTRACT OFF
+#define CSM_TGLOBAL global
+#define csm_tfmin fmin
+#else
+#define CSM_TGLOBAL
+#define csm_tfmin std::fmin
+#endif
 
+// The deepest BVH the builder makes; the traversal stack has this many entries.
 #define CSM_MAX_DEPTH 64
 
+// Internal node: count == 0, children at (this + 1) and `index`. Leaf: triangles [index, index + count).
 typedef struct {
   float lo[3];
-  uint index;  // internal: right child (left is the next node); leaf: first triangle
+  uint index;
   float hi[3];
-  uint count;  // 0 for internal nodes
+  uint count;
 } CsmNode;
 
+// A triangle as vertex 0 and the two edges from it, precomputed once on the host.
 typedef struct {
   float v0[3], e1[3], e2[3];
 } CsmTriangle;
@@ -27,61 +39,80 @@ typedef struct {
 inline float csm_min(float a, float b) { return a < b ? a : b; }
 inline float csm_max(float a, float b) { return a > b ? a : b; }
 
-inline float csm_box_entry(global const CsmNode* n, float3 o, float3 inv, float limit) {
-  const float ax = (n->lo[0] - o.x) * inv.x, bx = (n->hi[0] - o.x) * inv.x;
-  const float ay = (n->lo[1] - o.y) * inv.y, by = (n->hi[1] - o.y) * inv.y;
-  const float az = (n->lo[2] - o.z) * inv.z, bz = (n->hi[2] - o.z) * inv.z;
+// Entry distance of the ray into the node's box, or INFINITY when it misses or enters beyond `limit`.
+inline float csm_box_entry(CSM_TGLOBAL const CsmNode* n, const float* o, const float* inv, float limit) {
+  const float ax = (n->lo[0] - o[0]) * inv[0], bx = (n->hi[0] - o[0]) * inv[0];
+  const float ay = (n->lo[1] - o[1]) * inv[1], by = (n->hi[1] - o[1]) * inv[1];
+  const float az = (n->lo[2] - o[2]) * inv[2], bz = (n->hi[2] - o[2]) * inv[2];
   const float tmin = csm_max(csm_max(csm_min(ax, bx), csm_min(ay, by)), csm_min(az, bz));
   const float tmax = csm_min(csm_min(csm_max(ax, bx), csm_max(ay, by)), csm_max(az, bz));
   return (tmin <= tmax && tmax >= 0.0f && tmin <= limit) ? tmin : INFINITY;
 }
 
-inline float csm_triangle_hit(global const CsmTriangle* tri, float3 o, float3 dir) {
+// Ray-triangle distance (Möller–Trumbore, edges inclusive), INFINITY on a miss.
+inline float csm_triangle_hit(CSM_TGLOBAL const CsmTriangle* tri, const float* o, const float* dir) {
   const float e1x = tri->e1[0], e1y = tri->e1[1], e1z = tri->e1[2];
   const float e2x = tri->e2[0], e2y = tri->e2[1], e2z = tri->e2[2];
-  const float px = dir.y * e2z - dir.z * e2y, py = dir.z * e2x - dir.x * e2z, pz = dir.x * e2y - dir.y * e2x;
+  const float px = dir[1] * e2z - dir[2] * e2y, py = dir[2] * e2x - dir[0] * e2z, pz = dir[0] * e2y - dir[1] * e2x;
   const float det = e1x * px + e1y * py + e1z * pz;
   if (det == 0.0f) return INFINITY;
   const float inv_det = 1.0f / det;
-  const float tx = o.x - tri->v0[0], ty = o.y - tri->v0[1], tz = o.z - tri->v0[2];
+  const float tx = o[0] - tri->v0[0], ty = o[1] - tri->v0[1], tz = o[2] - tri->v0[2];
   const float u = (tx * px + ty * py + tz * pz) * inv_det;
   if (u < 0.0f || u > 1.0f) return INFINITY;
   const float qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
-  const float v = (dir.x * qx + dir.y * qy + dir.z * qz) * inv_det;
+  const float v = (dir[0] * qx + dir[1] * qy + dir[2] * qz) * inv_det;
   if (v < 0.0f || u + v > 1.0f) return INFINITY;
   const float t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
   return t > 0.0f ? t : INFINITY;
 }
 
-// Nearest hit t1 and next distinct hit t2 (> t1 + eps) along o + t·dir; INFINITY where none.
-// Nearer child first; nodes entered beyond the current t2 are skipped.
-inline float2 csm_first_two_hits(global const CsmNode* nodes, global const CsmTriangle* tris, float3 o, float3 dir,
-                                 float3 inv, float eps) {
-  float t1 = INFINITY, t2 = INFINITY;
-  if (csm_box_entry(nodes, o, inv, t2) == INFINITY) return (float2)(t1, t2);
+typedef struct {
+  float t1, t2;
+} CsmHits;
+
+// What csm_trace looks for.
+#define CSM_TRACE_FIRST_TWO 0  // the nearest hit t1 and the next distinct one t2 (> t1 + eps)
+#define CSM_TRACE_ANY 1        // any hit before t_max: t1 = the first found (not the nearest)
+
+// Depth-first walk along o + t·dir (t > 0), nearer child first, skipping nodes entered beyond the
+// current limit (t2 for CSM_TRACE_FIRST_TWO, t_max for CSM_TRACE_ANY). Hits within `eps` of t1
+// count as the same surface (shared edges and vertices). INFINITY where there is none.
+inline CsmHits csm_trace(CSM_TGLOBAL const CsmNode* nodes, CSM_TGLOBAL const CsmTriangle* tris, const float* o,
+                         const float* dir, const float* inv, float eps, int mode, float t_max) {
+  CsmHits hits;
+  hits.t1 = INFINITY;
+  hits.t2 = INFINITY;
+  if (csm_box_entry(nodes, o, inv, mode == CSM_TRACE_ANY ? t_max : hits.t2) == INFINITY) return hits;
   uint stack_node[CSM_MAX_DEPTH];
   float stack_entry[CSM_MAX_DEPTH];
   int sp = 0;
   uint node = 0;
   for (;;) {
-    global const CsmNode* n = nodes + node;
+    CSM_TGLOBAL const CsmNode* n = nodes + node;
     bool descend = false;
     if (n->count > 0) {
       const uint end = n->index + n->count;
       for (uint k = n->index; k < end; ++k) {
         const float t = csm_triangle_hit(tris + k, o, dir);
-        if (t < t1 - eps) {
-          t2 = t1;
-          t1 = t;
-        } else if (t <= t1 + eps) {
-          t1 = fmin(t1, t);
-        } else if (t < t2) {
-          t2 = t;
+        if (mode == CSM_TRACE_ANY) {
+          if (t < t_max) {
+            hits.t1 = t;
+            return hits;
+          }
+        } else if (t < hits.t1 - eps) {
+          hits.t2 = hits.t1;
+          hits.t1 = t;
+        } else if (t <= hits.t1 + eps) {
+          hits.t1 = csm_tfmin(hits.t1, t);
+        } else if (t < hits.t2) {
+          hits.t2 = t;
         }
       }
     } else {
+      const float limit = mode == CSM_TRACE_ANY ? t_max : hits.t2;
       const uint left = node + 1, right = n->index;
-      const float el = csm_box_entry(nodes + left, o, inv, t2), er = csm_box_entry(nodes + right, o, inv, t2);
+      const float el = csm_box_entry(nodes + left, o, inv, limit), er = csm_box_entry(nodes + right, o, inv, limit);
       if (el != INFINITY && er != INFINITY) {
         const bool left_first = el <= er;
         stack_node[sp] = left_first ? right : left;
@@ -101,7 +132,7 @@ inline float2 csm_first_two_hits(global const CsmNode* nodes, global const CsmTr
     bool found = false;
     while (sp > 0) {
       --sp;
-      if (stack_entry[sp] <= t2) {
+      if (stack_entry[sp] <= (mode == CSM_TRACE_ANY ? t_max : hits.t2)) {
         node = stack_node[sp];
         found = true;
         break;
@@ -109,7 +140,7 @@ inline float2 csm_first_two_hits(global const CsmNode* nodes, global const CsmTr
     }
     if (!found) break;
   }
-  return (float2)(t1, t2);
+  return hits;
 }
 
 #endif  // SPLATCL_CSM_TRACE_H

@@ -1,115 +1,33 @@
 // Splat fit (the splat thesis §2.2.2–§2.2.3), one work-item per sample. Native reference: host/splats/reference.cpp,
-// which performs the same float operations in the same order; contraction into fused multiply-adds
-// is off so both round identically.
+// which performs the same float operations in the same order; the frame, size rule, sort key,
+// colour test and hull test are one source with it (splat_fit.h); contraction into fused
+// multiply-adds is off so both round identically.
 //
-// Build options: LITERAL_LAMBDA (0/1), RETEST_VIOLATOR (0/1), CLIP (0/1), ON_HULL_BIT (uint).
+// Build options: LITERAL_LAMBDA (0/1), RETEST_VIOLATOR (0/1), CLIP (0/1), SIZE_AT_ACCEPTED (0/1),
+// MAX_COVERED (uint), ON_HULL_BIT (uint).
 #pragma OPENCL FP_CONTRACT OFF
+#include "splat_fit.h"
 
 typedef struct {
   float4 u, v, n;
 } Frame;
 
-#define STOP_NONE 0
-#define STOP_GEOMETRY 1
-#define STOP_COLOR 2
-
 inline float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-inline float4 cross3(float4 a, float4 b) {
-  return (float4)(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x, 0.0f);
-}
-
 // ---------------------------------------------------------------------------------------------
-// Frames: PCA of {p_i} ∪ N_k(p_i), mean-centred, in coordinates scaled by 1/d_i (scale-free),
-// cyclic Jacobi; eigenvectors by descending eigenvalue → u, v; n = u × v; orientation test.
-
-// Sign convention: the largest-magnitude component (first on ties) is positive.
-inline float4 canonical_sign(float4 a) {
-  float m = a.x;
-  if (fabs(a.y) > fabs(m)) m = a.y;
-  if (fabs(a.z) > fabs(m)) m = a.z;
-  return m < 0.0f ? -a : a;
-}
+// Frames (splat_frame in splat_fit.h).
 
 __kernel void splat_frames(__global const float4* positions, __global const float4* normals,
                            __global const uint* neighbors, uint k, __global const float* kth_distance,
                            uint count, __global Frame* frames) {
   const size_t i = get_global_id(0);
   if (i >= count) return;
-  const float4 p0 = positions[i];
-  const float di = kth_distance[i];
-  const float scale = di > 0.0f ? 1.0f / di : 1.0f;
-  __global const uint* row = neighbors + i * (size_t)k;
-  // Mean of the scaled offsets from p0 (p0 itself contributes zero).
-  float mx = 0.0f, my = 0.0f, mz = 0.0f;
-  for (uint r = 0; r < k; ++r) {
-    const float4 w = (positions[row[r]] - p0) * scale;
-    mx += w.x, my += w.y, mz += w.z;
-  }
-  const float inv = 1.0f / (float)(k + 1);
-  mx *= inv, my *= inv, mz *= inv;
-  float a[3][3];
-  {
-    float xx = mx * mx, xy = mx * my, xz = mx * mz, yy = my * my, yz = my * mz, zz = mz * mz;  // p0's term
-    for (uint r = 0; r < k; ++r) {
-      const float4 w = (positions[row[r]] - p0) * scale;
-      const float x = w.x - mx, y = w.y - my, z = w.z - mz;
-      xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
-    }
-    a[0][0] = xx * inv, a[0][1] = xy * inv, a[0][2] = xz * inv;
-    a[1][0] = xy * inv, a[1][1] = yy * inv, a[1][2] = yz * inv;
-    a[2][0] = xz * inv, a[2][1] = yz * inv, a[2][2] = zz * inv;
-  }
-  float e[3][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
-  for (int sweep = 0; sweep < 10; ++sweep) {
-    if (a[0][1] == 0.0f && a[0][2] == 0.0f && a[1][2] == 0.0f) break;
-    for (int pair = 0; pair < 3; ++pair) {
-      const int p = pair == 2 ? 1 : 0, q = pair == 0 ? 1 : 2;
-      const float apq = a[p][q];
-      if (apq == 0.0f) continue;
-      const float theta = (a[q][q] - a[p][p]) / (2.0f * apq);
-      float t = 1.0f / (fabs(theta) + sqrt(theta * theta + 1.0f));
-      if (theta < 0.0f) t = -t;
-      const float c = 1.0f / sqrt(t * t + 1.0f), s = t * c;
-      for (int r = 0; r < 3; ++r) {
-        const float arp = a[r][p], arq = a[r][q];
-        a[r][p] = c * arp - s * arq;
-        a[r][q] = s * arp + c * arq;
-      }
-      for (int r = 0; r < 3; ++r) {
-        const float apr = a[p][r], aqr = a[q][r];
-        a[p][r] = c * apr - s * aqr;
-        a[q][r] = s * apr + c * aqr;
-      }
-      for (int r = 0; r < 3; ++r) {
-        const float erp = e[r][p], erq = e[r][q];
-        e[r][p] = c * erp - s * erq;
-        e[r][q] = s * erp + c * erq;
-      }
-    }
-  }
-  // Order by descending eigenvalue, ties by column.
-  int order[3] = {0, 1, 2};
-  for (int x = 1; x < 3; ++x)
-    for (int y = x; y > 0 && a[order[y]][order[y]] > a[order[y - 1]][order[y - 1]]; --y) {
-      const int swap = order[y];
-      order[y] = order[y - 1];
-      order[y - 1] = swap;
-    }
-  float4 u = canonical_sign((float4)(e[0][order[0]], e[1][order[0]], e[2][order[0]], 0.0f));
-  float4 v = canonical_sign((float4)(e[0][order[1]], e[1][order[1]], e[2][order[1]], 0.0f));
-  float4 n = cross3(u, v);
-  // Orientation: distance-weighted mean of the sample normals (weight exp(-3 |p_j - p_i| / d_i)).
-  float4 m = normals[i];
-  for (uint r = 0; r < k; ++r) {
-    const float4 w = positions[row[r]] - p0;
-    const float d = sqrt(dot3(w, w));
-    m += normals[row[r]] * exp(-3.0f * d * scale);
-  }
-  if (dot3(m, n) < 0.0f) u = -u, v = -v, n = -n;
-  frames[i].u = u;
-  frames[i].v = v;
-  frames[i].n = n;
+  float u[3], v[3], n[3];
+  splat_frame((__global const float*)positions, (__global const float*)normals, neighbors + i * (size_t)k, k,
+              kth_distance[i], (uint)i, u, v, n);
+  frames[i].u = (float4)(u[0], u[1], u[2], 0.0f);
+  frames[i].v = (float4)(v[0], v[1], v[2], 0.0f);
+  frames[i].n = (float4)(n[0], n[1], n[2], 0.0f);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -206,24 +124,6 @@ void seen_clear(__global uint* table, uint mask, __global const uint* list, uint
   }
 }
 
-inline bool color_similar(uchar4 a, uchar4 b, int tolerance) {
-  return abs((int)a.x - (int)b.x) <= tolerance && abs((int)a.y - (int)b.y) <= tolerance &&
-         abs((int)a.z - (int)b.z) <= tolerance;
-}
-
-// §3.6 size rule for one phase: geometric max(e1, e2), colour extrapolation 2 e2 - e1, e1 with no violator.
-inline float size_rule(float e1, float e2, int stop) {
-  if (SIZE_AT_ACCEPTED || stop == STOP_NONE || e2 < e1) return e1;
-  return stop == STOP_COLOR ? e2 + (e2 - e1) : e2;
-}
-
-// Sort key of a candidate: in-plane distance (circle phase) or λ = x²/(b² − y²), −1 when unusable.
-inline float growth_key(int ellipse, float x, float y, float b) {
-  if (!ellipse) return sqrt(x * x + y * y);
-  const float den = b * b - y * y;
-  return den > 0.0f ? x * x / den : -1.0f;
-}
-
 // Grows the splat of item s (sample items[s]) with one worker's scratch.
 void grow_one(__global const float4* positions, __global const uchar4* colors, __global const uint* neighbors, uint k,
               __global const Frame* frames, float eps, int color_tolerance, uint i, uint capacity, uint hash_mask,
@@ -261,7 +161,7 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
       circle_extent1 = extent1, circle_extent2 = extent2, circle_stop = stop;
       extent1 = 1.0f, extent2 = -1.0f, stop = STOP_NONE;
       // Continue with the untested rest of the circle's last ring and the collected next ring.
-      b = RETEST_VIOLATOR ? circle_extent1 : size_rule(circle_extent1, circle_extent2, circle_stop);
+      b = RETEST_VIOLATOR ? circle_extent1 : splat_size_rule(circle_extent1, circle_extent2, circle_stop, SIZE_AT_ACCEPTED);
       ring_begin = circle_stop != STOP_NONE ? (RETEST_VIOLATOR ? pos : pos + 1u) : seen_len;
       ring_end = seen_len;
       if (full) break;
@@ -270,7 +170,7 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
       for (uint r = ring_begin; r < ring_end; ++r) {
         const uint j = seen[r];
         const float4 w = positions[j] - p0;
-        ring[r] = pack_key(growth_key(ellipse, dot3(f.u, w), dot3(f.v, w), b), j);
+        ring[r] = pack_key(splat_growth_key(ellipse, dot3(f.u, w), dot3(f.v, w), b), j);
       }
       sort_packed(ring + ring_begin, ring_end - ring_begin);
       for (uint r = ring_begin; r < ring_end; ++r) seen[r] = (uint)ring[r];
@@ -282,7 +182,8 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
         const float4 w = positions[j] - p0;
         const float h = dot3(f.n, w);
         const float lo = fmin(hmin, h), hi = fmax(hmax, h);
-        const int violation = !color_similar(colors[j], c0, color_tolerance) ? STOP_COLOR
+        const uchar4 cj = colors[j];
+        const int violation = !splat_color_similar(cj.x, cj.y, cj.z, c0.x, c0.y, c0.z, color_tolerance) ? STOP_COLOR
                               : hi - lo > two_eps                             ? STOP_GEOMETRY
                                                                               : STOP_NONE;
         if (violation != STOP_NONE) {
@@ -321,11 +222,11 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
   }
   seen_clear(table, hash_mask, seen, seen_len);
 
-  const float minor = size_rule(circle_extent1, circle_extent2, circle_stop);
+  const float minor = splat_size_rule(circle_extent1, circle_extent2, circle_stop, SIZE_AT_ACCEPTED);
 #if LITERAL_LAMBDA
-  const float ratio = size_rule(extent1, extent2, stop);
+  const float ratio = splat_size_rule(extent1, extent2, stop, SIZE_AT_ACCEPTED);
 #else
-  const float ratio = size_rule(sqrt(extent1), extent2 >= 0.0f ? sqrt(extent2) : -1.0f, stop);
+  const float ratio = splat_size_rule(sqrt(extent1), extent2 >= 0.0f ? sqrt(extent2) : -1.0f, stop, SIZE_AT_ACCEPTED);
 #endif
   const float major = ratio * minor;
   const float4 c = p0 + f.n * (0.5f * (hmin + hmax));
@@ -355,8 +256,7 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
 #endif
   clips[i] = clip;
 
-  // Safe points (§3.8): flag the samples whose projection lies on the convex hull (vertices and
-  // edges, within 1e-6 of the extent), monotone chain; |Q| <= 3 and the start point stay.
+  // Safe points: the projections of Q sorted, then splat_mark_hull; |Q| <= 3 stays unmarked.
   if (qn > 3) {
     __global float* xs = (__global float*)ring;
     __global float* ys = (__global float*)aux;
@@ -369,36 +269,7 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
       lo_x = fmin(lo_x, xs[r]), hi_x = fmax(hi_x, xs[r]), lo_y = fmin(lo_y, ys[r]), hi_y = fmax(hi_y, ys[r]);
     }
     sort_points(xs, ys, order, qn);
-    uint hn = 0;
-    for (uint r = 0; r < qn; ++r) {
-      while (hn >= 2 && (xs[hull[hn - 1]] - xs[hull[hn - 2]]) * (ys[r] - ys[hull[hn - 2]]) -
-                                (ys[hull[hn - 1]] - ys[hull[hn - 2]]) * (xs[r] - xs[hull[hn - 2]]) <= 0.0f)
-        --hn;
-      hull[hn++] = r;
-    }
-    const uint lower = hn + 1u;
-    for (uint r = qn - 1u; r-- > 0;) {
-      while (hn >= lower && (xs[hull[hn - 1]] - xs[hull[hn - 2]]) * (ys[r] - ys[hull[hn - 2]]) -
-                                   (ys[hull[hn - 1]] - ys[hull[hn - 2]]) * (xs[r] - xs[hull[hn - 2]]) <= 0.0f)
-        --hn;
-      hull[hn++] = r;
-    }
-    const float tolerance = 1e-6f * fmax(hi_x - lo_x, hi_y - lo_y);
-    const float tolerance2 = tolerance * tolerance;
-    for (uint r = 0; r < qn; ++r) {
-      bool on_hull = false;
-      for (uint e = 0; e + 1u < hn && !on_hull; ++e) {
-        const float ax = xs[hull[e]], ay = ys[hull[e]];
-        const float ex = xs[hull[e + 1u]] - ax, ey = ys[hull[e + 1u]] - ay;
-        const float wx = xs[r] - ax, wy = ys[r] - ay;
-        const float ee = ex * ex + ey * ey;
-        float t = ee > 0.0f ? (wx * ex + wy * ey) / ee : 0.0f;
-        t = fmin(fmax(t, 0.0f), 1.0f);
-        const float dx = wx - t * ex, dy = wy - t * ey;
-        on_hull = dx * dx + dy * dy <= tolerance2;
-      }
-      if (on_hull && order[r] != 0u) q[order[r]] |= ON_HULL_BIT;
-    }
+    splat_mark_hull(xs, ys, order, qn, fmax(hi_x - lo_x, hi_y - lo_y), hull, q, ON_HULL_BIT);
     // The chain pushes at most 2 qn entries before its pops; empty every slot it may have written.
     for (uint r = 0; r < min(2u * qn, hash_mask + 1u); ++r) hull[r] = 0u;
   }

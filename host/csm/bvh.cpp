@@ -168,67 +168,6 @@ class Builder {
   std::vector<BvhNode> nodes_;
 };
 
-// Plain comparisons (minss/maxss) instead of fmin/fmax: inverse directions are finite, so no NaN.
-inline float min2(float a, float b) { return a < b ? a : b; }
-inline float max2(float a, float b) { return a > b ? a : b; }
-
-// Entry distance of the ray into the node's box, or INFINITY when it misses or enters beyond `limit`.
-float box_entry(const BvhNode& n, const float o[3], const float inv[3], float limit) {
-  const float ax = (n.lo[0] - o[0]) * inv[0], bx = (n.hi[0] - o[0]) * inv[0];
-  const float ay = (n.lo[1] - o[1]) * inv[1], by = (n.hi[1] - o[1]) * inv[1];
-  const float az = (n.lo[2] - o[2]) * inv[2], bz = (n.hi[2] - o[2]) * inv[2];
-  const float tmin = max2(max2(min2(ax, bx), min2(ay, by)), min2(az, bz));
-  const float tmax = min2(min2(max2(ax, bx), max2(ay, by)), max2(az, bz));
-  return (tmin <= tmax && tmax >= 0.0f && tmin <= limit) ? tmin : INFINITY;
-}
-
-// Depth-first traversal, nearer child first, skipping nodes that start beyond limit(); the same
-// walk as csm_first_two_hits in kernels/csm_trace.h. visit(first, count) handles a leaf and returns
-// false to stop.
-template <class Limit, class Visit>
-void traverse(const Bvh& bvh, const float o[3], const float inv[3], Limit limit, Visit visit) {
-  if (bvh.nodes.empty() || box_entry(bvh.nodes[0], o, inv, limit()) == INFINITY) return;
-  std::uint32_t stack_node[kBvhMaxDepth];
-  float stack_entry[kBvhMaxDepth];
-  int sp = 0;
-  std::uint32_t node = 0;
-  for (;;) {
-    const BvhNode& n = bvh.nodes[node];
-    bool descend = false;
-    if (n.count > 0) {
-      if (!visit(n.index, n.count)) return;
-    } else {
-      const std::uint32_t left = node + 1, right = n.index;
-      const float el = box_entry(bvh.nodes[left], o, inv, limit()), er = box_entry(bvh.nodes[right], o, inv, limit());
-      if (el != INFINITY && er != INFINITY) {
-        const bool left_first = el <= er;
-        stack_node[sp] = left_first ? right : left;
-        stack_entry[sp] = left_first ? er : el;
-        ++sp;
-        node = left_first ? left : right;
-        descend = true;
-      } else if (el != INFINITY) {
-        node = left;
-        descend = true;
-      } else if (er != INFINITY) {
-        node = right;
-        descend = true;
-      }
-    }
-    if (descend) continue;
-    bool found = false;
-    while (sp > 0) {
-      --sp;
-      if (stack_entry[sp] <= limit()) {
-        node = stack_node[sp];
-        found = true;
-        break;
-      }
-    }
-    if (!found) return;
-  }
-}
-
 }  // namespace
 
 void relative_position(const splats::Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]) {
@@ -280,40 +219,14 @@ Bvh build_bvh(std::vector<BvhTriangle> triangles) {
 }
 
 float triangle_hit(const BvhTriangle& tri, const float o[3], const float dir[3]) {
-  const float* e1 = tri.e1;
-  const float* e2 = tri.e2;
-  const float px = dir[1] * e2[2] - dir[2] * e2[1], py = dir[2] * e2[0] - dir[0] * e2[2], pz = dir[0] * e2[1] - dir[1] * e2[0];
-  const float det = e1[0] * px + e1[1] * py + e1[2] * pz;
-  if (det == 0.0f) return INFINITY;
-  const float inv_det = 1.0f / det;
-  const float tx = o[0] - tri.v0[0], ty = o[1] - tri.v0[1], tz = o[2] - tri.v0[2];
-  const float u = (tx * px + ty * py + tz * pz) * inv_det;
-  if (u < 0.0f || u > 1.0f) return INFINITY;
-  const float qx = ty * e1[2] - tz * e1[1], qy = tz * e1[0] - tx * e1[2], qz = tx * e1[1] - ty * e1[0];
-  const float v = (dir[0] * qx + dir[1] * qy + dir[2] * qz) * inv_det;
-  if (v < 0.0f || u + v > 1.0f) return INFINITY;
-  const float t = (e2[0] * qx + e2[1] * qy + e2[2] * qz) * inv_det;
-  return t > 0.0f ? t : INFINITY;
+  return device_trace::csm_triangle_hit(&tri, o, dir);
 }
 
 TwoHits first_two_hits(const Bvh& bvh, const float o[3], const float dir[3], const float inv[3], float eps) {
-  TwoHits hits{INFINITY, INFINITY};
-  traverse(bvh, o, inv, [&] { return hits.t2; },
-           [&](std::uint32_t first, std::uint32_t count) {
-             for (std::uint32_t k = first; k < first + count; ++k) {
-               const float t = triangle_hit(bvh.triangles[k], o, dir);
-               if (t < hits.t1 - eps) {
-                 hits.t2 = hits.t1;
-                 hits.t1 = t;
-               } else if (t <= hits.t1 + eps) {
-                 hits.t1 = std::fmin(hits.t1, t);
-               } else if (t < hits.t2) {
-                 hits.t2 = t;
-               }
-             }
-             return true;
-           });
-  return hits;
+  if (bvh.nodes.empty()) return {INFINITY, INFINITY};
+  const device_trace::CsmHits hits =
+      device_trace::csm_trace(bvh.nodes.data(), bvh.triangles.data(), o, dir, inv, eps, CSM_TRACE_FIRST_TWO, INFINITY);
+  return {hits.t1, hits.t2};
 }
 
 float inverse_direction(float d) {
@@ -322,18 +235,11 @@ float inverse_direction(float d) {
 }
 
 bool any_hit(const Bvh& bvh, const float o[3], const float dir[3], float t_max) {
+  if (bvh.nodes.empty()) return false;
   const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
-  bool hit = false;
-  traverse(bvh, o, inv, [&] { return t_max; },
-           [&](std::uint32_t first, std::uint32_t count) {
-             for (std::uint32_t k = first; k < first + count; ++k)
-               if (triangle_hit(bvh.triangles[k], o, dir) < t_max) {
-                 hit = true;
-                 return false;
-               }
-             return true;
-           });
-  return hit;
+  const device_trace::CsmHits hits =
+      device_trace::csm_trace(bvh.nodes.data(), bvh.triangles.data(), o, dir, inv, 0.0f, CSM_TRACE_ANY, t_max);
+  return hits.t1 < t_max;
 }
 
 }  // namespace splatcl::csm

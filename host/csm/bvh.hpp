@@ -4,6 +4,7 @@
 // traversal here walk the same nodes in the same order with the same float operations.
 //
 // Coordinates are relative to an origin (the bounding sphere's centre) to keep float error small.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -14,19 +15,17 @@ namespace splatcl::csm {
 
 using splats::Vec3;
 
-// Internal node: count == 0, children at (this + 1) and `index`. Leaf: triangles [index, index + count).
-struct BvhNode {
-  float lo[3];
-  std::uint32_t index;
-  float hi[3];
-  std::uint32_t count;
-};
+// The node, triangle and traversal of kernels/csm_trace.h, shared with the capture kernel.
+namespace device_trace {
+using uint = std::uint32_t;
+#include "../../kernels/csm_trace.h"
+}  // namespace device_trace
 
+// Internal node: count == 0, children at (this + 1) and `index`. Leaf: triangles [index, index + count).
+using BvhNode = device_trace::CsmNode;
 // A triangle as vertex 0 and the two edges from it, precomputed once so both traversals use the
 // same values.
-struct BvhTriangle {
-  float v0[3], e1[3], e2[3];
-};
+using BvhTriangle = device_trace::CsmTriangle;
 
 struct Bvh {
   std::vector<BvhNode> nodes;
@@ -34,8 +33,8 @@ struct Bvh {
   std::uint32_t depth = 0;  // longest root-to-leaf path (the traversal stack needs fewer entries)
 };
 
-// Maximum tree depth; the kernels' traversal stack has this many entries.
-inline constexpr std::uint32_t kBvhMaxDepth = 64;
+// Maximum tree depth; the traversal stack has this many entries.
+inline constexpr std::uint32_t kBvhMaxDepth = CSM_MAX_DEPTH;
 
 // Vertex v relative to `origin` as both capture methods see it: the float of the double difference.
 void relative_position(const splats::Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]);
@@ -65,8 +64,7 @@ bool any_hit(const Bvh& bvh, const float o[3], const float dir[3], float t_max);
 // every inverse direction they pass to the traversal.
 float inverse_direction(float d);
 
-// Ray-triangle distance (Möller–Trumbore, edges inclusive), INFINITY on a miss; the kernels'
-// csm_triangle_hit does the same operations.
+// Ray-triangle distance (Möller–Trumbore, edges inclusive), INFINITY on a miss (csm_triangle_hit).
 float triangle_hit(const BvhTriangle& tri, const float o[3], const float dir[3]);
 
 }  // namespace splatcl::csm
