@@ -2,11 +2,17 @@
 # reference path with the ground plane), then bad input: one line each.
 # Needs SPLATS_CUBE (splats.cmake) and CSM_OUT with its csm_cube fixture (csm.cmake).
 set(AO_MODEL ${SPLATCL_MODELS_DIR}/spot.obj)
-add_test(NAME cli.help_ao COMMAND splatcl ao --help)
-add_test(NAME cli.ao_spot COMMAND ${NEEDS_FILE} ${AO_MODEL} $<TARGET_FILE:splatcl> ao ${AO_MODEL} --occluder ${CSM_OUT} --occluder-transform 0,1.2,0
+add_test(NAME cli.help_ao COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl ao \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> ao --help)
+# Every vertex of spot (2930) is a receiver; the AO stays in [0, 1] with some vertices occluded.
+set(AO_SPOT_RANGE "^ao +mean 0\\.[0-9]+, min 0\\.[0-9]+, max 1\\.0000 \\(1 = unoccluded\\)$")
+add_test(NAME cli.ao_spot COMMAND ${NEEDS_FILE} ${AO_MODEL} ${EXPECT_OUTPUT} --match "^receivers +2930 vertices of .*spot.obj; 2 occluder instance\\(s\\) of 1 CSM file\\(s\\)$"
+         --match "^sampling +16 directions per vertex, pattern set latin-hypercube" --match "${AO_SPOT_RANGE}" --ply ${CMAKE_CURRENT_BINARY_DIR}/ao-spot.ply 2930
+         -- $<TARGET_FILE:splatcl> ao ${AO_MODEL} --occluder ${CSM_OUT} --occluder-transform 0,1.2,0
          --occluder ${CSM_OUT} --occluder-transform 1.5,0,0,0,45,0 --pattern lhs --samples 16 -o ${CMAKE_CURRENT_BINARY_DIR}/ao-spot.ply)
-add_test(NAME cli.ao_spot_reference_ground COMMAND ${NEEDS_FILE} ${AO_MODEL} $<TARGET_FILE:splatcl> ao ${AO_MODEL} --occluder ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm
-         --ground-plane --pattern stratified --reference -o ${CMAKE_CURRENT_BINARY_DIR}/ao-spot-ground.ply)
+add_test(NAME cli.ao_spot_reference_ground COMMAND ${NEEDS_FILE} ${AO_MODEL} ${EXPECT_OUTPUT} --match "; ground plane on$" --match "${AO_SPOT_RANGE}"
+         --match "on the native reference" --ply ${CMAKE_CURRENT_BINARY_DIR}/ao-spot-ground.ply 2930
+         -- $<TARGET_FILE:splatcl> ao ${AO_MODEL} --occluder ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm --ground-plane --pattern stratified --reference
+         -o ${CMAKE_CURRENT_BINARY_DIR}/ao-spot-ground.ply)
 set_tests_properties(cli.ao_spot cli.ao_spot_reference_ground PROPERTIES FIXTURES_REQUIRED csm_cube SKIP_RETURN_CODE 77)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ao-nan.obj "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n")
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ao-empty.obj "# no geometry\n")

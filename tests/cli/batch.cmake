@@ -1,8 +1,8 @@
 # splatcl batch: --help, one-line manifest errors, then tests/batch/cli_*.sh drive whole runs
 # (interrupted and resumed, sharded and merged, with failing models) on tiny generated meshes.
 set(BATCH_DIR ${CMAKE_CURRENT_BINARY_DIR}/batch-cli)
-add_test(NAME cli.help_batch COMMAND splatcl batch --help)
-add_test(NAME cli.help_batch_merge COMMAND splatcl batch merge --help)
+add_test(NAME cli.help_batch COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl batch \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> batch --help)
+add_test(NAME cli.help_batch_merge COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl batch merge \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> batch merge --help)
 file(WRITE ${BATCH_DIR}/bad.json "{\"models\": [\"a.obj\",]}")
 file(WRITE ${BATCH_DIR}/unknown-key.json "{\"models\": [{\"path\": \"a.obj\", \"epsilon\": 1}]}")
 file(WRITE ${BATCH_DIR}/bad-value.csv "path,k\na.obj,zero\n")

@@ -3,18 +3,27 @@
 set(BENCH_MODEL ${SPLATCL_MODELS_DIR}/stanford-bunny.obj)
 set(BENCH_QUICK ${CMAKE_CURRENT_BINARY_DIR}/bench-csm-quick)
 foreach(command csm plot compare report)
-  add_test(NAME cli.help_bench_${command} COMMAND splatcl bench ${command} --help)
+  add_test(NAME cli.help_bench_${command} COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl bench ${command} \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> bench ${command} --help)
 endforeach()
-add_test(NAME cli.bench_csm_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} $<TARGET_FILE:splatcl> bench csm --quick --device 0 --json ${BENCH_QUICK}.json --csv ${BENCH_QUICK}.csv)
+add_test(NAME cli.bench_csm_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${EXPECT_OUTPUT} --file ${BENCH_QUICK}.json "\"suite\": \"csm\""
+         --file ${BENCH_QUICK}.csv "^csm,capture,opencl,.*,stanford-bunny," --file ${BENCH_QUICK}.csv "^csm,ao,reference,host,"
+         -- $<TARGET_FILE:splatcl> bench csm --quick --device 0 --json ${BENCH_QUICK}.json --csv ${BENCH_QUICK}.csv)
 set_tests_properties(cli.bench_csm_quick PROPERTIES FIXTURES_SETUP bench_csm_quick SKIP_RETURN_CODE 77)
-add_test(NAME cli.bench_report_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} $<TARGET_FILE:splatcl> bench report ${BENCH_QUICK}.json)
-add_test(NAME cli.bench_compare_identical COMMAND ${NEEDS_FILE} ${BENCH_MODEL} $<TARGET_FILE:splatcl> bench compare ${BENCH_QUICK}.json ${BENCH_QUICK}.json --threshold 0)
-add_test(NAME cli.bench_compare_csv_with_json COMMAND ${NEEDS_FILE} ${BENCH_MODEL} $<TARGET_FILE:splatcl> bench compare ${BENCH_QUICK}.csv ${BENCH_QUICK}.json --threshold 0)
+add_test(NAME cli.bench_report_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${EXPECT_OUTPUT} --match "^### csm$"
+         --match "^\\| capture model=stanford-bunny res=32 +\\| opencl raycast +\\| +8192 rays \\|"
+         -- $<TARGET_FILE:splatcl> bench report ${BENCH_QUICK}.json)
+# A results file against itself: every record matched, none slower, every change +0.0 %.
+add_test(NAME cli.bench_compare_identical COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${EXPECT_OUTPUT} --match "^0 of [1-9][0-9]* matched records regressed by more than 0 %"
+         --no-match "\\| [-+]([1-9][0-9]*\\.[0-9]|0\\.[1-9]) % \\|" --match "\\| \\+0\\.0 % \\|" --no-match "^only in"
+         -- $<TARGET_FILE:splatcl> bench compare ${BENCH_QUICK}.json ${BENCH_QUICK}.json --threshold 0)
+add_test(NAME cli.bench_compare_csv_with_json COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${EXPECT_OUTPUT} --match "^0 of [1-9][0-9]* matched records regressed by more than 0 %"
+         -- $<TARGET_FILE:splatcl> bench compare ${BENCH_QUICK}.csv ${BENCH_QUICK}.json --threshold 0)
 set_tests_properties(cli.bench_report_quick cli.bench_compare_identical cli.bench_compare_csv_with_json PROPERTIES FIXTURES_REQUIRED bench_csm_quick
                      SKIP_RETURN_CODE 77)
 find_program(GNUPLOT_PROGRAM gnuplot)
 if(GNUPLOT_PROGRAM)
-  add_test(NAME cli.bench_plot_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} $<TARGET_FILE:splatcl> bench plot ${BENCH_QUICK}.json -o ${CMAKE_CURRENT_BINARY_DIR}/bench-plots)
+  add_test(NAME cli.bench_plot_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${EXPECT_OUTPUT} --match "^wrote .*bench-plots/throughput-csm.png$"
+           --file ${CMAKE_CURRENT_BINARY_DIR}/bench-plots/throughput-csm.dat "capture" -- $<TARGET_FILE:splatcl> bench plot ${BENCH_QUICK}.json -o ${CMAKE_CURRENT_BINARY_DIR}/bench-plots)
   set_tests_properties(cli.bench_plot_quick PROPERTIES FIXTURES_REQUIRED bench_csm_quick SKIP_RETURN_CODE 77)
 endif()
 set(BENCH_RECORD "\"suite\": \"csm\", \"case\": \"capture\", \"impl\": \"opencl\", \"device\": \"dev\", \"size\": 1000, \"size_unit\": \"rays\", \"runs\": 3, \"throughput\": 1e5, \"throughput_unit\": \"rays/s\"")
@@ -22,8 +31,8 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json "{\"machine\": {}, \"reco
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json "{\"machine\": {}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 12, \"min_ms\": 11, \"max_ms\": 13}]}\n")
 add_test(NAME cli.error_bench_regression COMMAND ${EXPECT_ERROR} "1 regression\\(s\\) beyond 10 % against .*bench-fast.json" $<TARGET_FILE:splatcl>
          bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 10)
-add_test(NAME cli.bench_within_threshold COMMAND splatcl bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json
-         ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 25)
+add_test(NAME cli.bench_within_threshold COMMAND ${EXPECT_OUTPUT} --match "^0 of 1 matched records regressed by more than 25 %" --match "\\| \\+20\\.0 % \\|"
+         -- $<TARGET_FILE:splatcl> bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 25)
 add_test(NAME cli.error_bench_bad_scaling COMMAND ${EXPECT_ERROR} "unknown scaling 'cores'" $<TARGET_FILE:splatcl> bench csm --scaling cores)
 add_test(NAME cli.error_bench_missing_results COMMAND ${EXPECT_ERROR} "cannot read .*missing.json" $<TARGET_FILE:splatcl> bench plot missing.json -o plots)
 add_test(NAME cli.error_bench_json_dir COMMAND ${EXPECT_ERROR} "cannot write --json .*no-such-dir" $<TARGET_FILE:splatcl> bench csm --json no-such-dir/x.json)

@@ -1,20 +1,27 @@
 # splatcl csm: a generated cube built, described, verified (losslessness), then bad input.
 set(CSM_OUT ${CMAKE_CURRENT_BINARY_DIR}/csm-cube.csm)
-add_test(NAME cli.help_csm COMMAND splatcl csm --help)
-add_test(NAME cli.help_csm_build COMMAND splatcl csm build --help)
-add_test(NAME cli.csm_build_cube COMMAND splatcl csm build ${SPLATS_CUBE} -o ${CSM_OUT} --maps 256 --res 32 --batch 50
-         --coherence ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-coherence.png)
+add_test(NAME cli.help_csm COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl csm \\[OPTIONS\\] SUBCOMMAND" -- $<TARGET_FILE:splatcl> csm --help)
+add_test(NAME cli.help_csm_build COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl csm build \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> csm build --help)
+add_test(NAME cli.csm_build_cube COMMAND ${EXPECT_OUTPUT} --match "^maps +256 = 16 x 16 \\(uniform distribution, zigzag-h order, pole y\\), 32x32 pixels$"
+         --match "^segments +[1-9][0-9]* " --match "^wrote +.*csm-cube.csm \\(plain encoding\\)" --png ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-coherence.png 32 32
+         -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CSM_OUT} --maps 256 --res 32 --batch 50 --coherence ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-coherence.png)
 set_tests_properties(cli.csm_build_cube PROPERTIES FIXTURES_SETUP csm_cube)
-add_test(NAME cli.csm_build_cube_compact COMMAND splatcl csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm
-         --maps 128 --res 16 --dist ao --order zigzag-v --encoding compact --single-hit exact)
+add_test(NAME cli.csm_build_cube_compact COMMAND ${EXPECT_OUTPUT} --match "^maps +128 = 8 x 16 \\(ao distribution, zigzag-v order, pole y\\), 16x16 pixels$"
+         --match "single-surface pixels: exact;" --match "^wrote +.*csm-cube-compact.csm \\(compact encoding\\)$"
+         -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm --maps 128 --res 16 --dist ao --order zigzag-v
+         --encoding compact --single-hit exact)
 set_tests_properties(cli.csm_build_cube_compact PROPERTIES FIXTURES_SETUP csm_cube)
-add_test(NAME cli.csm_info COMMAND splatcl csm info ${CSM_OUT})
-add_test(NAME cli.csm_verify COMMAND splatcl csm verify ${CSM_OUT} ${SPLATS_CUBE})
-add_test(NAME cli.csm_verify_compact COMMAND splatcl csm verify ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm ${SPLATS_CUBE} --reference)
+add_test(NAME cli.csm_info COMMAND ${EXPECT_OUTPUT} --match "^model +.*splats-cube.obj \\(12 triangles\\)$" --match "^maps +256 = 16 x 16 .*, 32x32 pixels$"
+         --match "^file +plain encoding, [1-9][0-9]* bytes" -- $<TARGET_FILE:splatcl> csm info ${CSM_OUT})
+set(CSM_LOSSLESS "^lossless +all [1-9][0-9]* \\(map, pixel\\) samples of .* keep their depth-test result")
+add_test(NAME cli.csm_verify COMMAND ${EXPECT_OUTPUT} --match "^file +.*csm-cube.csm: valid \\(plain encoding, [1-9][0-9]* segments, 256 maps of 32x32\\)$"
+         --match "^lossless +all 262144 \\(map, pixel\\)" -- $<TARGET_FILE:splatcl> csm verify ${CSM_OUT} ${SPLATS_CUBE})
+add_test(NAME cli.csm_verify_compact COMMAND ${EXPECT_OUTPUT} --match "valid \\(compact encoding, [1-9][0-9]* segments, 128 maps of 16x16\\)$"
+         --match "^lossless +all 32768 \\(map, pixel\\)" -- $<TARGET_FILE:splatcl> csm verify ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm ${SPLATS_CUBE} --reference)
 set_tests_properties(cli.csm_info cli.csm_verify cli.csm_verify_compact PROPERTIES FIXTURES_REQUIRED csm_cube)
 # Both capture methods: a ray-cast build verifies by the method recorded in its header; a bad method name is an error.
-add_test(NAME cli.csm_build_cube_raycast COMMAND splatcl csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-raycast.csm
-         --maps 64 --res 16 --capture raycast)
+add_test(NAME cli.csm_build_cube_raycast COMMAND ${EXPECT_OUTPUT} --match "^capture +raycast$" --match "^wrote +.*csm-cube-raycast.csm"
+         -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-raycast.csm --maps 64 --res 16 --capture raycast)
 set_tests_properties(cli.csm_build_cube_raycast PROPERTIES FIXTURES_SETUP csm_cube_raycast)
 add_test(NAME cli.csm_verify_raycast COMMAND splatcl csm verify ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-raycast.csm ${SPLATS_CUBE})
 set_tests_properties(cli.csm_verify_raycast PROPERTIES PASS_REGULAR_EXPRESSION "recaptured by raycast, as recorded in the file")
@@ -31,14 +38,23 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/csm-truncated.csm "SPLATCSM")
 add_test(NAME cli.error_csm_truncated COMMAND ${EXPECT_ERROR} "csm-truncated.csm: not a .csm file" $<TARGET_FILE:splatcl> csm info ${CMAKE_CURRENT_BINARY_DIR}/csm-truncated.csm)
 add_test(NAME cli.error_csm_missing_file COMMAND ${EXPECT_ERROR} "cannot read missing.csm" $<TARGET_FILE:splatcl> csm verify missing.csm)
 # splatcl csm quality: the shadow-quality study on the generated cube, then a bad filter name.
-add_test(NAME cli.csm_quality_cube COMMAND splatcl csm quality ${SPLATS_CUBE} --maps 64 --res 16 --views 2 --image 32 --filter cross-map)
+add_test(NAME cli.csm_quality_cube COMMAND ${EXPECT_OUTPUT} --match "^study +2 views of 32x32 pixels, .*filter cross-map"
+         --match "^wrong +[0-9.]+ % of image pixels, [0-9.]+ % of object pixels \\([0-9]+ of [1-9][0-9]* object pixels"
+         --match "^queries +[1-9][0-9]* CSM visibility queries" -- $<TARGET_FILE:splatcl> csm quality ${SPLATS_CUBE} --maps 64 --res 16 --views 2 --image 32 --filter cross-map)
 add_test(NAME cli.error_csm_quality_bad_filter COMMAND ${EXPECT_ERROR} "unknown filter 'gauss'" $<TARGET_FILE:splatcl> csm quality ${SPLATS_CUBE} --maps 64 --res 16 --filter gauss)
 
 # csm build --mode: the thesis's alternatives (sizes only, every sample checked), csm analyze.
-add_test(NAME cli.csm_mode_per_map COMMAND splatcl csm build ${SPLATS_CUBE} --mode per-map --pixel-order zigzag-h --maps 64 --res 16)
-add_test(NAME cli.csm_mode_hilbert_3d COMMAND splatcl csm build ${SPLATS_CUBE} --mode hilbert-3d --maps 36 --res 8)
-add_test(NAME cli.csm_mode_hilbert_4d COMMAND splatcl csm build ${SPLATS_CUBE} --mode hilbert-4d --maps 64 --res 8 --reference)
-add_test(NAME cli.csm_analyze COMMAND splatcl csm analyze ${SPLATS_CUBE} --maps 64 --res 16 --kmeans 4 --kmeans 64 --wavelet)
+set(CSM_MODE_LOSSLESS "^lossless +all [1-9][0-9]* \\(map, pixel\\) samples decode through the mode's lookup to a depth in \\[z1, z2\\)$")
+add_test(NAME cli.csm_mode_per_map COMMAND ${EXPECT_OUTPUT} --match "^mode +per-map \\(pixel order zigzag-h\\) on 64 maps of 16x16" --match "^segments +[1-9][0-9]* in 64 lists"
+         --match "${CSM_MODE_LOSSLESS}" -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} --mode per-map --pixel-order zigzag-h --maps 64 --res 16)
+add_test(NAME cli.csm_mode_hilbert_3d COMMAND ${EXPECT_OUTPUT} --match "^mode +hilbert-3d on 36 maps of 8x8" --match "${CSM_MODE_LOSSLESS}"
+         -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} --mode hilbert-3d --maps 36 --res 8)
+add_test(NAME cli.csm_mode_hilbert_4d COMMAND ${EXPECT_OUTPUT} --match "^mode +hilbert-4d on 64 maps of 8x8" --match "^segments +[1-9][0-9]* in 1 lists"
+         --match "${CSM_MODE_LOSSLESS}" -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} --mode hilbert-4d --maps 64 --res 8 --reference)
+# k = the map count reproduces the per-pixel build exactly: no wrong sample.
+add_test(NAME cli.csm_analyze COMMAND ${EXPECT_OUTPUT} --match "^per-pixel +[1-9][0-9]* segments" --match "^wavelet +[1-9][0-9]* layers x 2"
+         --match "^k-means +k = +4: .*wrong samples [0-9]+ " --match "^k-means +k = +64: .*wrong samples 0 \\(0.000 %\\)"
+         -- $<TARGET_FILE:splatcl> csm analyze ${SPLATS_CUBE} --maps 64 --res 16 --kmeans 4 --kmeans 64 --wavelet)
 add_test(NAME cli.error_csm_bad_mode COMMAND ${EXPECT_ERROR} "unknown compression mode 'octree'" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} --mode octree)
 add_test(NAME cli.error_csm_mode_output COMMAND ${EXPECT_ERROR} "only measures sizes" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} --mode per-map -o out.csm)
 add_test(NAME cli.error_csm_mode_hilbert_res COMMAND ${EXPECT_ERROR} "power-of-two resolution, not 12" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE}

@@ -1,12 +1,18 @@
 # splatcl --help, devices and cluster: the main job runs, bad input gives one line and a non-zero exit.
-add_test(NAME cli.help COMMAND splatcl --help)
+add_test(NAME cli.help COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl \\[OPTIONS\\] SUBCOMMAND" --match "^  csm " -- $<TARGET_FILE:splatcl> --help)
 foreach(command devices cluster bench)
-  add_test(NAME cli.help_${command} COMMAND splatcl ${command} --help)
+  add_test(NAME cli.help_${command} COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl ${command} \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> ${command} --help)
 endforeach()
-add_test(NAME cli.devices COMMAND splatcl devices)
-add_test(NAME cli.cluster_default_scene COMMAND splatcl cluster --size 320x180 -o ${CMAKE_CURRENT_BINARY_DIR}/cli-cluster-out)
-add_test(NAME cli.cluster_every_variant COMMAND splatcl cluster --size 200x120 --tile 16x16 --compaction bitmask
-         --assignment brute --normal-bits --window-depth --lights 300)
+# One chosen device, with its type; the default scene's light lists lose nothing against brute force.
+add_test(NAME cli.devices COMMAND ${EXPECT_OUTPUT} --match "^\\* \\[[0-9]+\\] " --match "^ +type (cpu|gpu|accelerator)" -- $<TARGET_FILE:splatcl> devices)
+add_test(NAME cli.cluster_default_scene COMMAND ${EXPECT_OUTPUT} --match "^check +clustered vs brute-force shading: max difference 0 over 1024 lights$"
+         --png ${CMAKE_CURRENT_BINARY_DIR}/cli-cluster-out/shaded.png 320 180 --png ${CMAKE_CURRENT_BINARY_DIR}/cli-cluster-out/clusters.png 320 180
+         --file ${CMAKE_CURRENT_BINARY_DIR}/cli-cluster-out/summary.json "\"clusters\": [1-9]"
+         -- $<TARGET_FILE:splatcl> cluster --size 320x180 -o ${CMAKE_CURRENT_BINARY_DIR}/cli-cluster-out)
+add_test(NAME cli.cluster_every_variant COMMAND ${EXPECT_OUTPUT} --match "^grid +13x8 tiles of 16x16, .* with normal-cone bits$"
+         --match "^clusters +[1-9][0-9]* occupied .*bitmask$" --match "^lights +300, [1-9][0-9]* list entries \\(brute\\)"
+         --match "^check +clustered vs brute-force shading: max difference 0 over 300 lights$"
+         -- $<TARGET_FILE:splatcl> cluster --size 200x120 --tile 16x16 --compaction bitmask --assignment brute --normal-bits --window-depth --lights 300)
 add_test(NAME cli.error_unknown_command COMMAND ${EXPECT_ERROR} "unknown command 'nonsense' \\(commands: devices, cluster" $<TARGET_FILE:splatcl> nonsense)
 add_test(NAME cli.error_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device matches" $<TARGET_FILE:splatcl> devices --device no-such-device)
 add_test(NAME cli.error_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> cluster missing.json)

@@ -1,21 +1,29 @@
 # splatcl render and view: the presenter offscreen and in a window; PRESENT_CACHE and its fixture
 # present_cache are set in tests/CMakeLists.txt.
 foreach(command render view)
-  add_test(NAME cli.help_${command} COMMAND splatcl ${command} --help)
+  add_test(NAME cli.help_${command} COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl ${command} \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> ${command} --help)
 endforeach()
-add_test(NAME cli.render_default_scene COMMAND splatcl render --size 160x120 --frames 3 --cache ${PRESENT_CACHE}
-         -o ${CMAKE_CURRENT_BINARY_DIR}/render-default.png --json ${CMAKE_CURRENT_BINARY_DIR}/render-default.json)
-add_test(NAME cli.render_tiled_points_exr COMMAND splatcl render --size 120x90 --shading tiled --mode points --shadows pixel --pixel-ao
-         --view final --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-points.exr)
-add_test(NAME cli.render_no_display COMMAND env -u DISPLAY -u WAYLAND_DISPLAY $<TARGET_FILE:splatcl> render --size 64x48
-         --shading brute --lights 64 --view clusters --cache ${PRESENT_CACHE})
+set(RENDER_FRAME "^frame +[0-9.]+ ms = [0-9.]+ fps$")
+add_test(NAME cli.render_default_scene COMMAND ${EXPECT_OUTPUT} --match "^scene +default scene .*: 3 objects, [1-9][0-9]* splats, 1024 lights \\(clustered shading, splats mode\\), 160x120$"
+         --match "^clusters +[1-9][0-9]* with [1-9][0-9]* light indices" --match "${RENDER_FRAME}" --png ${CMAKE_CURRENT_BINARY_DIR}/render-default.png 160 120
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"frames_measured\": 2,"
+         -- $<TARGET_FILE:splatcl> render --size 160x120 --frames 3 --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-default.png
+         --json ${CMAKE_CURRENT_BINARY_DIR}/render-default.json)
+add_test(NAME cli.render_tiled_points_exr COMMAND ${EXPECT_OUTPUT} --match "\\(tiled shading, points mode\\), 120x90$" --exr ${CMAKE_CURRENT_BINARY_DIR}/render-points.exr
+         -- $<TARGET_FILE:splatcl> render --size 120x90 --shading tiled --mode points --shadows pixel --pixel-ao --view final
+         --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-points.exr)
+add_test(NAME cli.render_no_display COMMAND ${EXPECT_OUTPUT} --match " 64 lights \\(brute shading, splats mode\\), 64x48$" --match "${RENDER_FRAME}"
+         -- env -u DISPLAY -u WAYLAND_DISPLAY $<TARGET_FILE:splatcl> render --size 64x48 --shading brute --lights 64 --view clusters
+         --cache ${PRESENT_CACHE})
 set_tests_properties(cli.render_default_scene cli.render_tiled_points_exr cli.render_no_display PROPERTIES FIXTURES_REQUIRED present_cache)
-add_test(NAME cli.render_wall_passes COMMAND splatcl render --size 64x48 --frames 2 --wall-passes --cache ${PRESENT_CACHE})
-set_tests_properties(cli.render_wall_passes PROPERTIES FIXTURES_REQUIRED present_cache PASS_REGULAR_EXPRESSION "gl: splat accumulation +[0-9.]+")
-add_test(NAME cli.render_lod COMMAND splatcl render --size 96x72 --lod 2 --mode points --cache ${PRESENT_CACHE})
-set_tests_properties(cli.render_lod PROPERTIES FIXTURES_REQUIRED present_cache PASS_REGULAR_EXPRESSION "splats drawn \\(LOD 2 px\\)")
+add_test(NAME cli.render_wall_passes COMMAND ${EXPECT_OUTPUT} --match "gl: splat accumulation +[0-9.]+" -- $<TARGET_FILE:splatcl> render --size 64x48 --frames 2
+         --wall-passes --cache ${PRESENT_CACHE})
+add_test(NAME cli.render_lod COMMAND ${EXPECT_OUTPUT} --match "splats drawn \\(LOD 2 px\\)" -- $<TARGET_FILE:splatcl> render --size 96x72 --lod 2 --mode points
+         --cache ${PRESENT_CACHE})
+set_tests_properties(cli.render_wall_passes cli.render_lod PROPERTIES FIXTURES_REQUIRED present_cache)
 add_test(NAME cli.error_render_bad_lod COMMAND ${EXPECT_ERROR} "--lod" $<TARGET_FILE:splatcl> render --lod -1)
-add_test(NAME cli.render_specular COMMAND splatcl render --size 64x48 --specular 0.5 --cache ${PRESENT_CACHE})
+add_test(NAME cli.render_specular COMMAND ${EXPECT_OUTPUT} --match "${RENDER_FRAME}" --png ${CMAKE_CURRENT_BINARY_DIR}/render-specular.png 64 48
+         -- $<TARGET_FILE:splatcl> render --size 64x48 --specular 0.5 --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-specular.png)
 set_tests_properties(cli.render_specular PROPERTIES FIXTURES_REQUIRED present_cache)
 add_test(NAME cli.error_render_bad_specular COMMAND ${EXPECT_ERROR} "--specular" $<TARGET_FILE:splatcl> render --specular -1)
 add_test(NAME cli.error_render_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> render missing.json)
@@ -34,6 +42,7 @@ add_test(NAME cli.error_view_no_display COMMAND ${EXPECT_ERROR} "GLFW: cannot" e
          $<TARGET_FILE:splatcl> view --cache ${PRESENT_CACHE})
 find_program(XVFB_RUN xvfb-run)
 if(XVFB_RUN)
-  add_test(NAME cli.view_window COMMAND ${XVFB_RUN} -a $<TARGET_FILE:splatcl> view --size 160x120 --seconds 2 --cache ${PRESENT_CACHE})
+  add_test(NAME cli.view_window COMMAND ${EXPECT_OUTPUT} --match "^keys: left drag orbit" -- ${XVFB_RUN} -a $<TARGET_FILE:splatcl> view --size 160x120
+           --seconds 2 --cache ${PRESENT_CACHE})
   set_tests_properties(cli.view_window PROPERTIES FIXTURES_REQUIRED present_cache)
 endif()

@@ -1,12 +1,15 @@
 # splatcl splats: a generated cube through the whole stage, then verify its output.
 set(SPLATS_CUBE ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.obj)
 file(WRITE ${SPLATS_CUBE} "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nf 1 5 8 4\n")
-add_test(NAME cli.help_splats COMMAND splatcl splats --help)
-add_test(NAME cli.help_splats_verify COMMAND splatcl splats verify --help)
-add_test(NAME cli.splats_cube COMMAND splatcl splats ${SPLATS_CUBE} --samples grid:8 --eps 0.002 --color-field hard --color-tol 40
+add_test(NAME cli.help_splats COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl splats \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> splats --help)
+add_test(NAME cli.help_splats_verify COMMAND ${EXPECT_OUTPUT} --match "^Usage: .*splatcl splats verify \\[OPTIONS\\]" -- $<TARGET_FILE:splatcl> splats verify --help)
+set(SPLATS_BOUND_HOLDS "^check +two-sided bound holds: 0% of the surface uncovered, .* 0 beyond eps")
+add_test(NAME cli.splats_cube COMMAND ${EXPECT_OUTPUT} --match "${SPLATS_BOUND_HOLDS}" --match "^samples +302 \\(grid:8"
+         --ply ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.ply 100 --file ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.json "\"color_tolerance\": 40,"
+         -- $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:8 --eps 0.002 --color-field hard --color-tol 40
          -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.ply --stats ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.json)
 set_tests_properties(cli.splats_cube PROPERTIES FIXTURES_SETUP splats_cube)
-add_test(NAME cli.splats_verify COMMAND splatcl splats verify ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.ply)
+add_test(NAME cli.splats_verify COMMAND ${EXPECT_OUTPUT} --match "^ok$" --match " 0 splats beyond eps$" -- $<TARGET_FILE:splatcl> splats verify ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.ply)
 set_tests_properties(cli.splats_verify PROPERTIES FIXTURES_REQUIRED splats_cube)
 # verify measures the surface, whoever made the splats: hand-made splat files with a known truth
 # (tests/cli/make_test_splats.cpp) on the unit square pass, or fail naming the file and the bound.
@@ -33,10 +36,11 @@ add_test(NAME cli.error_splats_verify_bad_points COMMAND ${EXPECT_ERROR} "--poin
          $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --points 10)
 add_test(NAME cli.error_splats_verify_bad_eps COMMAND ${EXPECT_ERROR} "--eps must be finite and positive"
          $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --eps -1)
-add_test(NAME cli.splats_clip COMMAND splatcl splats ${SPLATS_CUBE} --samples grid:8 --eps 0.002 --color-field hard --color-tol 40 --clip
+add_test(NAME cli.splats_clip COMMAND ${EXPECT_OUTPUT} --match "${SPLATS_BOUND_HOLDS}" --ply ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-clip.ply 100
+         -- $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:8 --eps 0.002 --color-field hard --color-tol 40 --clip
          -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-clip.ply)
 set_tests_properties(cli.splats_clip PROPERTIES FIXTURES_SETUP splats_cube_clip)
-add_test(NAME cli.splats_clip_verify COMMAND splatcl splats verify ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-clip.ply)
+add_test(NAME cli.splats_clip_verify COMMAND ${EXPECT_OUTPUT} --match "^ok$" --match " 0 splats beyond eps$" -- $<TARGET_FILE:splatcl> splats verify ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-clip.ply)
 set_tests_properties(cli.splats_clip_verify PROPERTIES FIXTURES_REQUIRED splats_cube_clip)
 # --format 3dgs: the 3D Gaussian Splatting PLY read back with od and awk (header, count, per-Gaussian properties).
 add_test(NAME cli.splats_3dgs COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/splats_3dgs_test.sh $<TARGET_FILE:splatcl> ${SPLATS_CUBE}
@@ -57,7 +61,8 @@ foreach(mode stats render)
            $<TARGET_FILE:splatcl> ${CMAKE_CURRENT_BINARY_DIR}/cli-splats-outputs-${mode} ${EXPECT_ERROR})
 endforeach()
 add_test(NAME cli.error_splats_bench_missing_models COMMAND ${EXPECT_ERROR} "models directory .*no-such-dir does not exist" $<TARGET_FILE:splatcl> bench splats --models no-such-dir)
-add_test(NAME cli.splats_reference COMMAND splatcl splats ${SPLATS_CUBE} --samples grid:4 --reference -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-ref.ply)
+add_test(NAME cli.splats_reference COMMAND ${EXPECT_OUTPUT} --match "${SPLATS_BOUND_HOLDS}" --match "\\(fit on reference\\)$" --ply ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-ref.ply 100
+         -- $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:4 --reference -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-ref.ply)
 add_test(NAME cli.error_splats_missing_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*missing.obj" $<TARGET_FILE:splatcl> splats missing.obj -o out.ply)
 add_test(NAME cli.error_splats_bad_samples COMMAND ${EXPECT_ERROR} "--samples" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --samples grid:0)
 add_test(NAME cli.error_splats_bad_color_tol COMMAND ${EXPECT_ERROR} "--color-tol" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --color-tol 300)
