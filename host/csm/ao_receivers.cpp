@@ -10,8 +10,11 @@
 #include <numbers>
 #include <sstream>
 
+#include "csm/bvh.hpp"
+#include "csm/capture.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/error.hpp"
+#include "splats/parallel.hpp"
 
 namespace splatcl::csm {
 
@@ -54,6 +57,16 @@ Transform parse_placement(const std::string& text) {
           0,       0,                      0,                      1};
 }
 
+namespace {
+
+// Vertex v's normal, or +y where it has none (only degenerate faces around it).
+Vec3 receiver_normal(const splats::Mesh& receiver, std::size_t v) {
+  const Vec3 nrm = v < receiver.normals.size() ? receiver.normals[v] : Vec3{0, 0, 0};
+  return nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z > 0.5f ? nrm : Vec3{0, 1, 0};
+}
+
+}  // namespace
+
 std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const VisibilityScene& scene,
                                              const ReceiverAoOptions& options, Runtime* runtime,
                                              const std::function<void(std::size_t, std::size_t)>& progress) {
@@ -77,8 +90,7 @@ std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const
                               choice.begin() + static_cast<std::ptrdiff_t>(first + count));
     for (std::size_t k = 0; k < count; ++k) {
       const Vec3 p = receiver.vertices[first + k];
-      Vec3 nrm = k + first < receiver.normals.size() ? receiver.normals[first + k] : Vec3{0, 0, 0};
-      if (!(nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z > 0.5f)) nrm = {0, 1, 0};
+      const Vec3 nrm = receiver_normal(receiver, first + k);
       request.positions[k] = {p.x, p.y, p.z, 1};
       request.normals[k] = {nrm.x, nrm.y, nrm.z, 0};
     }
@@ -90,6 +102,34 @@ std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const
   return out;
 }
 
+std::vector<float> raycast_ambient_occlusion(const splats::Mesh& receiver, const splats::Mesh& occluder, const ReceiverAoOptions& options) {
+  const std::size_t n = receiver.vertices.size();
+  if (n == 0) throw Error(receiver.source + ": the receiver mesh has no vertices");
+  const std::vector<Vec4> patterns = make_patterns(options.pattern_set, options.patterns, options.samples, options.seed);
+  const std::vector<std::uint32_t> choice = choose_patterns(n, options.patterns, options.seed);
+  const Sphere sphere = bounding_sphere(occluder);
+  const Vec3 c = sphere.centre;
+  const Bvh bvh = build_bvh(mesh_triangles(occluder, c));
+  const float eps = 1e-4f * sphere.radius;
+  std::vector<float> out(n);
+  splats::parallel_for(n, 64, [&](std::size_t v, std::size_t) {
+    const Vec3 p = receiver.vertices[v], nrm = receiver_normal(receiver, v);
+    float h[3];
+    device::csm_ao_rotation_axis(nrm.x, nrm.y, nrm.z, h);
+    const Vec4* pattern = patterns.data() + std::size_t{choice[v]} * options.samples;
+    std::uint32_t lit = 0;
+    for (std::uint32_t k = 0; k < options.samples; ++k) {
+      float d[3];
+      device::csm_ao_rotate(h, pattern[k].x, pattern[k].y, pattern[k].z, d);
+      if (options.ground && d[1] < 0.0f) continue;
+      const float o[3] = {p.x - c.x + eps * d[0], p.y - c.y + eps * d[1], p.z - c.z + eps * d[2]};
+      lit += !any_hit(bvh, o, d, INFINITY);
+    }
+    out[v] = static_cast<float>(lit) / static_cast<float>(options.samples);
+  });
+  return out;
+}
+
 void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const std::vector<Vec4>& ao) {
   const std::size_t n = receiver.vertices.size();
   if (ao.size() != n) throw Error("write_ao_ply: one AO value per vertex needed");
@@ -97,7 +137,7 @@ void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const s
       "ply\nformat binary_little_endian 1.0\ncomment splatcl ao: ambient occlusion per vertex (grey = AO, 1 = unoccluded)\n"
       "element vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n"
       "property float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nproperty float ao\n"
-      "property float bent_nx\nproperty float bent_ny\nproperty float bent_nz\nelement face {}\n"
+      "property float bent_nx\nproperty float bent_ny\nproperty float bent_nz\nproperty uint file_vertex\nelement face {}\n"
       "property list uchar int vertex_indices\nend_header\n",
       n, receiver.face_count());
   const auto put = [&out](const auto& value) { out.append(reinterpret_cast<const char*>(&value), sizeof(value)); };
@@ -108,6 +148,7 @@ void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const s
     const auto grey = static_cast<std::uint8_t>(std::lround(std::clamp(ao[v].w, 0.0f, 1.0f) * 255.0f));
     for (int c = 0; c < 3; ++c) put(grey);
     for (float f : {ao[v].w, ao[v].x, ao[v].y, ao[v].z}) put(f);
+    put(static_cast<std::uint32_t>(v < receiver.file_vertex.size() ? receiver.file_vertex[v] : v));
   }
   for (std::size_t f = 0; f < receiver.face_count(); ++f) {
     const std::uint32_t first = receiver.face_offsets[f], last = receiver.face_offsets[f + 1];

@@ -32,8 +32,16 @@ std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const
                                              const ReceiverAoOptions& options, Runtime* runtime,
                                              const std::function<void(std::size_t, std::size_t)>& progress = {});
 
-// Binary little-endian PLY: vertex x y z nx ny nz red green blue ao bent_nx bent_ny bent_nz, and
-// face vertex_indices. Written atomically.
+// The AO of the same receivers and directions as receiver_ambient_occlusion, by exact ray casting
+// against `occluder` (in world coordinates) instead of CSM queries: out[v] = lit fraction. A ray
+// leaves the vertex 1e-4 bounding radii along its direction, so its own faces do not occlude it. The
+// ground truth the CSM's AO error is measured against (docs/results/csm.md).
+std::vector<float> raycast_ambient_occlusion(const splats::Mesh& receiver, const splats::Mesh& occluder, const ReceiverAoOptions& options);
+
+// Binary little-endian PLY: vertex x y z nx ny nz red green blue ao bent_nx bent_ny bent_nz
+// file_vertex, and face vertex_indices. The vertices are the mesh's as loaded: the file's in its
+// order but those no face uses, then the copies of split non-manifold vertices; file_vertex is each
+// one's index in the receiver file (Mesh::file_vertex). Written atomically.
 void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const std::vector<Vec4>& ao);
 
 }  // namespace splatcl::csm

@@ -34,7 +34,7 @@ bool is_csm_parameter(const std::string& name) {
 void set_parameter(CsmParameters& p, const std::string& name, const nlohmann::json& value) {
   const std::string key = parameter_key(name);
   if (key == "maps") {
-    p.maps = static_cast<std::uint32_t>(integer_parameter(name, value, 1, 1 << 24));
+    p.maps = static_cast<std::uint32_t>(integer_parameter(name, value, 1, kMaxMaps));
   } else if (key == "res") {
     p.res = static_cast<std::uint32_t>(integer_parameter(name, value, 1, 8192));
   } else if (key == "dist") {

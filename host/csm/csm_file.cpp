@@ -51,15 +51,26 @@ float decode_code(std::uint16_t q) {
   return static_cast<float>(q) / static_cast<float>(kCodeScale);
 }
 
-// A code whose depth keeps every test of the run unchanged, or kCodeExact.
+// A code whose depth keeps every test of the run unchanged (lo <= g < hi, or g == lo when lo == hi),
+// or kCodeExact when none does. Of the codes that fit, the one nearest the plain encoding's depth
+// (segment_depth, the interval's midpoint): both encodings are lossless, and the midpoint keeps the
+// margin to both surfaces that an unbiased shadow test needs (the lowest fitting code sat on max z1
+// and shadowed lit receivers there).
 std::uint16_t choose_code(float lo, float hi) {
   if (hi == INFINITY) return lo <= 1.0f ? kCodeInfinity : kCodeExact;
   if (!(lo >= 0.0f) || !(hi <= 1.0f)) return kCodeExact;
   const auto fits = [&](float g) { return lo <= g && (g < hi || (lo == hi && g == lo)); };
-  const long first = std::lround(std::ceil(static_cast<double>(lo) * kCodeScale));
-  for (long q = std::max(0L, first - 1); q <= std::min<long>(kCodeScale, first + 1); ++q)
-    if (fits(decode_code(static_cast<std::uint16_t>(q)))) return static_cast<std::uint16_t>(q);
-  return kCodeExact;
+  const float middle = segment_depth(lo, hi);
+  // The nearest codes to the middle are its rounding and the neighbours float rounding may shift it to.
+  const long nearest = std::lround(static_cast<double>(middle) * kCodeScale);
+  std::uint16_t best = kCodeExact;
+  double best_distance = INFINITY;
+  for (long q = std::max(0L, nearest - 1); q <= std::min<long>(kCodeScale, nearest + 1); ++q) {
+    const float g = decode_code(static_cast<std::uint16_t>(q));
+    const double distance = std::abs(static_cast<double>(g) - middle);
+    if (fits(g) && distance < best_distance) best = static_cast<std::uint16_t>(q), best_distance = distance;
+  }
+  return best;
 }
 
 void put_varint(std::string& out, std::uint32_t value) {
@@ -247,7 +258,9 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   std::uint64_t hash = fnv1a64({copy.data(), copy.size()});
   hash = fnv1a64({bytes.data() + kCsmHeaderBytes, payload}, hash);
   if (hash != get<std::uint64_t>(bytes, kChecksumOffset)) throw fail("checksum mismatch (the file is corrupted)");
-  // The grid is sized from the map count only now: a crafted count allocates nothing before the checksum.
+  // The grid is sized from the map count only now, and within the stated limit: a crafted count
+  // allocates nothing before the checksum, and a resealed one nothing beyond the limit.
+  if (info.maps == 0 || info.maps > kMaxMaps) throw fail(fmt::format("its map count {} is not in 1..{}", info.maps, kMaxMaps));
   try {
     const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
     if (grid.rows() != rows || grid.cols() != cols) throw fail(fmt::format("grid {}x{} does not match {} maps", rows, cols, info.maps));

@@ -61,6 +61,10 @@ struct Camera {
   float d[3], u[3], v[3], inv[3];
 };
 
+// Stated limit of the map count N (docs/reliability.md): the grid's tables take 8 B per map, and
+// `csm build --maps` and .csm headers beyond it are refused before anything is sized from them.
+inline constexpr std::uint32_t kMaxMaps = 1u << 24;
+
 class SphereGrid {
  public:
   // Throws Error when `maps` does not fit the distribution (G × G needs a perfect square, T × 2T

@@ -273,6 +273,7 @@ Mesh assemble(const detail::RawMesh& raw, const std::string& source) {
     remap[static_cast<std::size_t>(v.idx())] = static_cast<std::uint32_t>(mesh.vertices.size());
     mesh.vertices.push_back({p[0], p[1], p[2]});
     mesh.normals.push_back(normal);
+    mesh.file_vertex.push_back(origin[static_cast<std::size_t>(v.idx())]);
   }
   for (const auto f : om.faces()) {
     for (const auto h : om.fh_range(f)) {

@@ -57,6 +57,9 @@ struct Mesh {
   std::string source;                 // file name or a description of a generated mesh
   std::vector<Vec3> vertices;
   std::vector<Vec3> normals;          // one unit normal per vertex (zero where undefined)
+  // Per vertex: its index among the file's vertices (STL: equal positions in order of appearance).
+  // Vertices no face uses are dropped, and the copies a non-manifold face gets share its index.
+  std::vector<std::uint32_t> file_vertex;
   std::vector<std::uint32_t> face_offsets{0};  // face f = corners [face_offsets[f], face_offsets[f+1])
   std::vector<std::uint32_t> corners;          // vertex index per face corner
   std::vector<std::array<float, 2>> corner_texcoords;  // per face corner; empty when the file has none

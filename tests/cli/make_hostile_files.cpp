@@ -73,6 +73,8 @@ void write_csm_variants(const std::string& dir, const std::string& good) {
   const std::uint32_t maps = 46340u * 46340u, side = 46340u;
   std::memcpy(huge.data() + 20, &maps, 4), std::memcpy(huge.data() + 24, &side, 4), std::memcpy(huge.data() + 28, &side, 4);
   std::ofstream(dir + "/hostile-huge-map-count.csm", std::ios::binary) << huge;
+  // The same count resealed: refused by the map-count limit before the grid is sized.
+  std::ofstream(dir + "/hostile-resealed-huge-map-count.csm", std::ios::binary) << csm_with_floats(huge, 72, 0, 0.0f);
   // 257 maps resealed: not a square, refused as the file's count, not as an option.
   std::string odd = file;
   const std::uint32_t odd_maps = 257;
