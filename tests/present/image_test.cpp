@@ -111,15 +111,58 @@ TEST_F(PresenterTest, SplatsCoverTheMeshSilhouette) {
   }
 }
 
+// Every debug view shows what it names: values in [0, 1]; the final view's sky behind the splats,
+// black there in the others; grey where the view is one number (AO, shadows, depth); normals of
+// unit length; colours in the light-count heat map; each view different from the final image.
 TEST_F(PresenterTest, DebugViewsRender) {
   Presenter presenter(test_scene(), *runtime_, 96, 64, SPLATCL_TEST_CACHE);
+  std::vector<float> final_rgb;
   for (int v = 0; v < 8; ++v) {
-    presenter.debug_view = static_cast<DebugView>(v);
+    const DebugView view = static_cast<DebugView>(v);
+    presenter.debug_view = view;
     presenter.render(0.0f);
-    const auto rgb = presenter.read_display_rgb();
-    double sum = 0;
-    for (float x : rgb) sum += x;
-    EXPECT_GT(sum, 0.0) << to_string(presenter.debug_view);
+    const std::vector<float> rgb = presenter.read_display_rgb();
+    const std::vector<std::uint8_t> covered = presenter.read_coverage();
+    ASSERT_EQ(rgb.size(), 3 * covered.size()) << to_string(view);
+    const bool grey = view == DebugView::AmbientOcclusion || view == DebugView::Shadows || view == DebugView::Depth;
+    std::size_t splat_pixels = 0, out_of_range = 0, background_lit = 0, not_grey = 0, coloured = 0;
+    double splat_sum = 0, normal_length = 0;
+    for (std::size_t p = 0; p < covered.size(); ++p) {
+      const float r = rgb[3 * p], g = rgb[3 * p + 1], b = rgb[3 * p + 2];
+      for (const float c : {r, g, b}) out_of_range += !(c >= 0.0f && c <= 1.0f);
+      if (!covered[p]) {
+        background_lit += r + g + b > 0.0f;
+        continue;
+      }
+      ++splat_pixels;
+      splat_sum += r + g + b;
+      not_grey += r != g || g != b;
+      coloured += std::max({r, g, b}) - std::min({r, g, b}) > 0.1f;
+      if (view == DebugView::Normals) {  // 0.5 n + 0.5, then the display's 1/2.2 gamma
+        const auto component = [](float c) { return 2.0 * std::pow(static_cast<double>(c), 2.2) - 1.0; };
+        normal_length += std::hypot(component(r), component(g), component(b));
+      }
+    }
+    const std::string name = to_string(view);
+    ASSERT_GT(splat_pixels, covered.size() / 10) << name;
+    EXPECT_EQ(out_of_range, 0u) << name;
+    EXPECT_GT(splat_sum, 0.0) << name;
+    if (view == DebugView::Final) {
+      EXPECT_EQ(background_lit, covered.size() - splat_pixels) << "the sky behind the splats";
+      final_rgb = rgb;
+      continue;
+    }
+    EXPECT_EQ(background_lit, 0u) << name;
+    EXPECT_NE(rgb, final_rgb) << name;
+    if (grey) {
+      EXPECT_EQ(not_grey, 0u) << name;
+    }
+    if (view == DebugView::Normals) {
+      EXPECT_NEAR(normal_length / static_cast<double>(splat_pixels), 1.0, 0.01);
+    }
+    if (view == DebugView::LightsPerCluster) {
+      EXPECT_GT(coloured, splat_pixels / 2) << name;
+    }
   }
   EXPECT_THROW(parse_debug_view("wireframe"), Error);
 }
