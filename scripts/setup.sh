@@ -17,6 +17,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev gnuplot-nox
+  slurm-wlm munge strace  # tests/batch/cli_slurm_test.sh (a single-node Slurm), the batch start-up test (strace)
 )
 
 missing=()

@@ -305,21 +305,30 @@ class Worker {
 
 // A write killed mid-way leaves NAME.tmpPID beside NAME (io/atomic_file.hpp); remove those of this
 // run's models before starting. Each model belongs to exactly one shard, and a second run over the
-// same models is refused by their locks (lock_models), so no running writer's temporaries are touched.
+// same models is refused by their locks (lock_models, taken before this), so no running writer's
+// temporaries are touched. Only the folders of this run's own outputs are listed, each once and
+// not recursively: on a shared file system (NFS, Lustre) a shard does not walk the other shards'
+// output trees.
 void remove_stale_temporaries(const std::vector<ModelEntry>& models, const fs::path& dir) {
-  std::set<std::string> names;
+  std::map<fs::path, std::set<std::string>> names_in;  // folder -> output file names of this run there
   for (const auto& m : models)
-    for (const std::string& name : output_names(m.id)) names.insert((dir / name).lexically_normal().string());
-  std::error_code ec;
+    for (const std::string& name : output_names(m.id)) {
+      const fs::path target = (dir / name).lexically_normal();
+      names_in[target.parent_path()].insert(target.filename().string());
+    }
   std::vector<fs::path> stale;
-  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string path = it->path().lexically_normal().string();
-    const auto at = path.rfind(".tmp");
-    if (at == std::string::npos || at + 4 == path.size()) continue;
-    if (path.find_first_not_of("0123456789", at + 4) != std::string::npos) continue;
-    if (names.count(path.substr(0, at))) stale.push_back(it->path());
+  for (const auto& [folder, names] : names_in) {
+    std::error_code ec;  // a folder not made yet holds nothing stale
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string entry = it->path().filename().string();
+      const auto at = entry.rfind(".tmp");
+      if (at == std::string::npos || at + 4 == entry.size()) continue;
+      if (entry.find_first_not_of("0123456789", at + 4) != std::string::npos) continue;
+      if (names.count(entry.substr(0, at))) stale.push_back(it->path());
+    }
   }
-  for (const auto& p : stale) fs::remove(p, ec);
+  std::error_code ignored;
+  for (const auto& p : stale) fs::remove(p, ignored);
 }
 
 }  // namespace
@@ -386,7 +395,8 @@ void prepare_output_directory(const std::string& output_dir) {
   check_writable_directory(output_dir, "output directory " + output_dir);
 }
 
-std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir) {
+std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir,
+                                      const std::string& summary_path) {
   auto locks = std::make_unique<KeyLocks>((fs::path(output_dir) / ".splatcl-batch.lock").string());
   for (const auto& m : models) {
     const pid_t holder = locks->try_lock(m.id);
@@ -395,6 +405,10 @@ std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, con
                               "directory at a time (lock {})",
                               m.id, output_dir, holder > 0 ? fmt::format(" (pid {})", holder) : "", locks->path()));
   }
+  // Model ids cannot contain ':', so the summary's key is no model's.
+  if (const pid_t holder = locks->try_lock("summary:" + comparable_path(summary_path).string()); holder != 0)
+    throw Error(fmt::format("batch: the summary {} is being written by another batch run{}; run one batch per summary at a time (lock {})",
+                            summary_path, holder > 0 ? fmt::format(" (pid {})", holder) : "", locks->path()));
   if (const char* hold = std::getenv(kHoldLocksVariable)) std::this_thread::sleep_for(std::chrono::milliseconds(std::atol(hold)));
   return locks;
 }

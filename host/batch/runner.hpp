@@ -85,8 +85,12 @@ void prepare_output_directory(const std::string& output_dir);
 // Two runs must not build the same model in one output directory at once: they would replace each
 // other's files and records. A run holds the lock of each of its models (in OUTDIR/.splatcl-batch.lock)
 // until its summary is written; a second run over any of them is refused with one line naming the
-// model and the other run's pid. Shards of one run hold disjoint models and run side by side.
-std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir);
+// model and the other run's pid. Shards of one run hold disjoint models and run side by side. The
+// summary file is locked too (a shard with no models, two runs naming one --summary). Taken before
+// the run removes any temporary: two copies of one shard (a requeued Slurm task while the first
+// still runs on another node, whose pids this node cannot see) never delete each other's files.
+std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir,
+                                      const std::string& summary_path);
 
 // Output file names of a model, relative to the output directory.
 std::string record_name(const std::string& id);  // ID.batch.json

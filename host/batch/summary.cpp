@@ -93,7 +93,7 @@ nlohmann::json read_summary(const std::string& path) {
 nlohmann::json merge_summaries(const std::vector<std::pair<std::string, nlohmann::json>>& named, bool partial) {
   if (named.empty()) throw Error("batch merge: no summaries given");
   const auto& [first_name, first] = named.front();
-  const std::string checksum = first.at("manifest_checksum");
+  const std::string checksum = first.at("manifest_checksum"), device = first.value("device", "");
   const unsigned count = first.at("shard").at("count");
   std::map<unsigned, std::string> shards;
   std::map<std::string, std::string> model_file;
@@ -103,8 +103,11 @@ nlohmann::json merge_summaries(const std::vector<std::pair<std::string, nlohmann
   nlohmann::json sources = nlohmann::json::array();
   for (const auto& [name, s] : named) {
     if (s.at("manifest_checksum") != checksum)
-      throw Error(fmt::format("{}: from a different run than {} (manifest checksum {} vs {})", name, first_name,
-                              s.at("manifest_checksum").get<std::string>(), checksum));
+      throw Error(fmt::format("{}: from a different run than {}: other models, inputs or parameters (manifest checksum {} vs {})", name,
+                              first_name, s.at("manifest_checksum").get<std::string>(), checksum));
+    // Same parameters, but another device (or the native reference) could round differently.
+    if (s.value("device", "") != device)
+      throw Error(fmt::format("{}: ran on device '{}', {} on '{}'; rerun the shards on one device", name, s.value("device", ""), first_name, device));
     if (s.at("shard").at("count") != count)
       throw Error(fmt::format("{}: split into {} shards, {} into {}", name, s.at("shard").at("count").get<unsigned>(), first_name, count));
     for (const auto& index : s.at("shard").at("indices")) {

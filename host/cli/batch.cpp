@@ -96,10 +96,12 @@ int run_batch_command(const BatchCommand& c) {
   const std::string summary_path = c.summary.empty() ? (fs::path(c.output) / summary_name(shard)).string() : c.summary;
   // Before any work: nothing the run writes may replace what it reads, every output must be
   // writable, and no other run may be building these models here (held until the summary is written).
+  // The locks come before anything is removed: check_output_file clears the summary's dead
+  // temporaries, and "dead" means no such pid on this node, which a copy on another node may be.
   check_run_paths(c.input, input_is_directory, c.output, summary_path, all);
   prepare_output_directory(c.output);
+  const auto locks = lock_models(models, c.output, summary_path);
   check_output_file(summary_path, "--summary");
-  const auto locks = lock_models(models, c.output);
 
   RunInfo info;
   info.input = c.input;

@@ -1,6 +1,10 @@
 #include <fmt/format.h>
 
+#include <cstdlib>
+#include <thread>
+
 #include "cli/commands.hpp"
+#include "io/cpu_set.hpp"
 #include "runtime/runtime.hpp"
 
 namespace splatcl::cli {
@@ -20,6 +24,9 @@ Action register_devices(CLI::App& app) {
       fmt::print("      {}, {}, max work-group {}, preferred work-group multiple {}\n", d.version, d.opencl_c_version,
                  d.max_work_group_size, d.preferred_work_group_multiple);
     }
+    const char* pocl_threads = std::getenv("POCL_MAX_PTHREAD_COUNT");
+    fmt::print("host threads {} (the process's CPU affinity mask, of {} on the machine); POCL_MAX_PTHREAD_COUNT {}\n", usable_cpus(),
+               std::thread::hardware_concurrency(), pocl_threads ? pocl_threads : "unset (PoCL uses every core)");
     fmt::print("* = chosen ({})\n", options->device.empty() ? "default: $SPLATCL_DEVICE, else GPU, else PoCL, else CPU; simulators only when named" : "--device " + options->device);
     return 0;
   };

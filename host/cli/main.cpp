@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/model_input.hpp"
+#include "io/cpu_set.hpp"
 #include "io/in_flight.hpp"
 #include "runtime/error.hpp"
 #include "runtime/runtime.hpp"
@@ -24,6 +25,8 @@ void add_device_option(CLI::App& app, DeviceOptions& options) {
 int main(int argc, char** argv) {
   // SIGTERM (scancel, time limits, preemption), SIGINT and SIGHUP remove half-written files first.
   splatcl::remove_in_flight_files_on_termination();
+  // A task's CPU set (Slurm --cpus-per-task, taskset) bounds PoCL's threads as it bounds ours.
+  splatcl::limit_opencl_threads_to_cpu_set();
   CLI::App app{"splatcl: point-based rendering with coherent shadow maps and many lights, on OpenCL"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "splatcl 0.1.0");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "io/cpu_set.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cluster {
@@ -55,7 +56,7 @@ LightLists reference_assign(const std::vector<ClusterBox>& boxes, const std::vec
   const std::size_t clusters = boxes.size();
   std::vector<std::vector<std::uint32_t>> per_cluster(clusters);
   const std::size_t threads =
-      std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, std::max<std::size_t>(1, clusters / 64));
+      std::clamp<std::size_t>(usable_cpus(), 1, std::max<std::size_t>(1, clusters / 64));
   std::vector<std::thread> workers;
   for (std::size_t t = 0; t < threads; ++t) {
     workers.emplace_back([&, t] {

@@ -6,6 +6,7 @@
 #include <span>
 #include <thread>
 
+#include "io/cpu_set.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cluster {
@@ -43,7 +44,7 @@ std::vector<float> shade_rows(const ClusterLayout& layout, const std::vector<flo
         rgb[3 * p + 2] = albedo.z * sum.z;
       }
   };
-  const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), height));
+  const unsigned threads = std::max(1u, std::min(usable_cpus(), height));
   std::vector<std::thread> pool;
   for (unsigned t = 0; t < threads; ++t)
     pool.emplace_back(shade_range, height * t / threads, height * (t + 1) / threads);

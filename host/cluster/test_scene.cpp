@@ -6,6 +6,7 @@
 #include <numbers>
 #include <thread>
 
+#include "io/cpu_set.hpp"
 #include "io/json_keys.hpp"
 #include "runtime/error.hpp"
 
@@ -204,7 +205,7 @@ DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t heigh
       result.normals[p] = {dot(normal, frame.right), dot(normal, frame.up), dot(normal, frame.back)};
     }
   };
-  const unsigned workers = std::clamp(threads ? threads : std::thread::hardware_concurrency(), 1u, height);
+  const unsigned workers = std::clamp(threads ? threads : usable_cpus(), 1u, height);
   std::vector<std::thread> pool;
   for (unsigned t = 0; t < workers; ++t)
     pool.emplace_back([&, t] {

@@ -12,6 +12,7 @@
 #include <immintrin.h>
 #endif
 
+#include "io/cpu_set.hpp"
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
 
@@ -179,7 +180,7 @@ void scatter_chunk(const Key* keys_in, Key* keys_out, const std::uint32_t* value
 
 }  // namespace
 
-unsigned default_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
+unsigned default_threads() { return usable_cpus(); }
 
 std::uint32_t scan(std::span<const std::uint32_t> in, std::span<std::uint32_t> out, ScanKind kind, unsigned threads) {
   require_output(out.size(), in.size(), "reference scan");

@@ -11,7 +11,7 @@
 
 namespace splatcl::primitives::reference {
 
-// Threads used when a function is given threads = 0: std::thread::hardware_concurrency().
+// Threads used when a function is given threads = 0: the CPUs of the process's affinity mask (usable_cpus).
 unsigned default_threads();
 
 // out = scan(in); in and out may be the same memory. Returns the total (wrapping modulo 2^32).

@@ -7,6 +7,7 @@
 
 #include <flann/flann.hpp>
 
+#include "io/cpu_set.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::splats {
@@ -25,7 +26,7 @@ Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k) {
   flann::Matrix<float> data(const_cast<float*>(&positions[0].x), n, 3, sizeof(Vec4));
   flann::Index<flann::L2_Simple<float>> index(data, flann::KDTreeSingleIndexParams(10));
   index.buildIndex();
-  const std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t threads = usable_cpus();
   const std::size_t chunk = (n + threads - 1) / threads;
   auto work = [&](std::size_t begin, std::size_t end) {
     const std::size_t want = kk + 1;

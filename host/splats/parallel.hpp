@@ -1,7 +1,8 @@
 #pragma once
-// Runs body(i, worker) for i in [0, n) on every hardware thread (worker < worker_count(n, block)),
-// handing out blocks of `block` indices from a shared counter so uneven work per index stays
-// balanced. The worker index lets callers keep per-thread scratch.
+// Runs body(i, worker) for i in [0, n) on every CPU the process may use (usable_cpus: its affinity
+// mask; worker < worker_count(n, block)), handing out blocks of `block` indices from a shared
+// counter so uneven work per index stays balanced. The worker index lets callers keep per-thread
+// scratch.
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
@@ -10,10 +11,12 @@
 #include <thread>
 #include <vector>
 
+#include "io/cpu_set.hpp"
+
 namespace splatcl::splats {
 
 inline std::size_t worker_count(std::size_t n, std::size_t block) {
-  return std::clamp<std::size_t>((n + block - 1) / block, 1, std::max(1u, std::thread::hardware_concurrency()));
+  return std::clamp<std::size_t>((n + block - 1) / block, 1, usable_cpus());
 }
 
 template <class Body>

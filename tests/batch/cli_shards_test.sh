@@ -25,4 +25,17 @@ done
 # The whole run in one go finds every shard's outputs and reuses them.
 "$splatcl" batch "$work/meshes" -o "$work/out" "${args[@]}" > "$work/whole.log" || fail "whole run failed"
 [ "$(grep -c '^reused' "$work/whole.log")" -eq 5 ] || fail "the whole run did not reuse the shards' outputs: $(cat "$work/whole.log")"
-echo "ok: 3 shards cover 5 models exactly once"
+# Shards run with other parameters, or on another device, do not merge (they merged silently when
+# only the manifest's own keys differed): one line naming the summary.
+expect_error=$(dirname "$0")/../cli/expect_error.sh
+"$splatcl" batch "$work/meshes" -o "$work/mixed" --shard 0/2 "${args[@]}" > /dev/null || fail "shard 0/2 failed"
+"$splatcl" batch "$work/meshes" -o "$work/mixed" --shard 1/2 --maps 64 --res 16 --k 8 --reference > /dev/null || fail "shard 1/2 at --res 16 failed"
+"$expect_error" "summary-1-of-2.json: from a different run than .*summary-0-of-2.json: other models, inputs or parameters" \
+  "$splatcl" batch merge "$work/mixed/summary-0-of-2.json" "$work/mixed/summary-1-of-2.json" -o "$work/mixed.json" >/dev/null ||
+  fail "shards of other parameters merged"
+"$splatcl" batch "$work/meshes" -o "$work/mixed" --shard 1/2 --maps 64 --res 32 --k 8 > /dev/null || fail "shard 1/2 on the device failed"
+"$expect_error" "summary-1-of-2.json: ran on device '.+', .*summary-0-of-2.json on 'reference'; rerun the shards on one device" \
+  "$splatcl" batch merge "$work/mixed/summary-0-of-2.json" "$work/mixed/summary-1-of-2.json" -o "$work/mixed.json" >/dev/null ||
+  fail "shards of two devices merged"
+[ -e "$work/mixed.json" ] && fail "a refused merge wrote its output"
+echo "ok: 3 shards cover 5 models exactly once; shards of other parameters or devices are not merged"

@@ -12,6 +12,7 @@ nlohmann::json shard_summary(unsigned index, unsigned count, const std::vector<s
   RunInfo info;
   info.manifest_checksum = checksum;
   info.manifest_models = total;
+  info.device = "pthread-test-cpu";
   info.shard = {index, count};
   info.started = "2026-11-22T0" + std::to_string(index) + ":00:00Z";
   info.wall_s = index + 1.0;
@@ -72,7 +73,11 @@ TEST(BatchSummary, MergeRefusesInconsistentInput) {
   EXPECT_EQ(merge_summaries({{"s0", s0}}, true)["counts"]["models"], 3);
   EXPECT_EQ(merge_error({{"s0", s0}, {"again", s0}}), "again: shard 0/2 is also in s0");
   EXPECT_EQ(merge_error({{"s0", s0}, {"other", shard_summary(1, 2, {"b", "d"}, "beef")}}),
-            "other: from a different run than s0 (manifest checksum beef vs c0ffee)");
+            "other: from a different run than s0: other models, inputs or parameters (manifest checksum beef vs c0ffee)");
+  // The same manifest and parameters run on another device is refused too (it merged silently).
+  auto elsewhere = shard_summary(1, 2, {"b", "d"});
+  elsewhere["device"] = "reference";
+  EXPECT_EQ(merge_error({{"s0", s0}, {"elsewhere", elsewhere}}), "elsewhere: ran on device 'reference', s0 on 'pthread-test-cpu'; rerun the shards on one device");
   EXPECT_EQ(merge_error({{"s0", s0}, {"three", shard_summary(1, 3, {"b"})}}), "three: split into 3 shards, s0 into 2");
   EXPECT_EQ(merge_error({{"s0", s0}, {"dup", shard_summary(1, 2, {"b", "c"})}}), "dup: model 'c' is also in s0");
   EXPECT_EQ(merge_error({{"s0", s0}, {"short", shard_summary(1, 2, {"b"})}}), "batch merge: the shards hold 4 models, the manifest 5");

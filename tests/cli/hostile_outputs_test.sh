@@ -6,6 +6,9 @@
 #     ignored (writes past the limit fail with EFBIG, as they would with ENOSPC), or a small tmpfs;
 #   batch-*: batch runs whose outputs would replace their inputs, an unwritable output directory,
 #     and two runs on one output directory at once;
+#   batch-same-shard-twice, batch-scan-own-folders: two copies of one shard at once; start-up
+#     clean-up only in the folders of the shard's own outputs (strace);
+#   threads-follow-affinity: host threads and PoCL's count follow the CPU affinity mask (taskset);
 #   csm-leftover: a killed `csm build` left F.csm.tmpPID; the next run removes it;
 #   sigterm-*: SIGTERM (scancel, a time limit) while a temporary is on disk removes it; status 143.
 set -u
@@ -107,6 +110,47 @@ case $mode in
     "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 >"$work/third.log" || fail "a later run failed"
     grep -q '^reused  cube' "$work/third.log" || fail "a later run did not reuse: $(cat "$work/third.log")" ;;
 
+  batch-same-shard-twice)  # two copies of one shard (a requeued Slurm task while the first still runs)
+    # Copy A pauses 1.5 s before each rename, so it has a temporary on disk. summary-0-of-2.json.tmpDEAD
+    # stands for a summary temporary of a copy on another node: its pid does not exist on this one.
+    printf 'path\n%s\n%s\n' "$cube" "$work/wedge.obj" >"$work/set.csv"
+    printf 'v 0 0 0\nv 2 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/wedge.obj"
+    args=(batch "$work/set.csv" -o "$work/out" --shard 0/2 --reference --outputs csm --maps 64 --res 16)
+    SPLATCL_TEST_PAUSE_BEFORE_RENAME_MS=1500 "$splatcl" "${args[@]}" >"$work/first.log" 2>&1 &
+    first=$!
+    for _ in $(seq 200); do [ -n "$(find "$work/out" -name '*.tmp[0-9]*' 2>/dev/null)" ] && break; sleep 0.05; done
+    temporary=$(find "$work/out" -name '*.tmp[0-9]*')
+    [ -n "$temporary" ] || fail "the first copy wrote no temporary"
+    sh -c 'exit 0' & dead=$!
+    wait "$dead"
+    echo elsewhere >"$work/out/summary-0-of-2.json.tmp$dead"
+    "$expect_error" "is being built by another batch run \\(pid $first\\)" "$splatcl" "${args[@]}" || fail "the second copy was not refused"
+    [ -e "$work/out/summary-0-of-2.json.tmp$dead" ] || fail "the second copy removed a summary temporary before it was refused"
+    # Had the second copy removed the first one's temporary, the first one's rename would fail.
+    wait "$first" || fail "the first copy failed: $(cat "$work/first.log")"
+    "$splatcl" csm verify "$work/out/cube.csm" >/dev/null || fail "the first copy's output does not verify"
+    grep -q '^ok      cube' "$work/first.log" || fail "the first copy did not build its model: $(cat "$work/first.log")"
+    rm "$work/out/summary-0-of-2.json.tmp$dead" ;;
+  batch-scan-own-folders)  # start-up clean-up lists only the folders of the shard's own outputs
+    command -v strace >/dev/null || { echo "strace missing (Debian package strace): skipped"; exit 77; }
+    strace -f -o /dev/null true 2>/dev/null || { echo "strace cannot trace here (ptrace refused): skipped"; exit 77; }
+    mkdir -p "$work/out/others/deep/er" && echo x >"$work/out/others/deep/er/model.csm"
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    strace -f -e trace=openat,open -o "$work/trace" "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 \
+      >"$work/run.log" 2>&1 || fail "the run failed: $(cat "$work/run.log")"
+    # Opened by full path or relative to its parent's descriptor (libstdc++'s recursive iterator).
+    grep -q 'others"' "$work/trace" && fail "the run opened another shard's folder: $(grep 'others"' "$work/trace" | head -n 2)"
+    [ -e "$work/out/others/deep/er/model.csm" ] || fail "another model's file was removed" ;;
+  threads-follow-affinity)  # one CPU in the affinity mask: one host thread, and PoCL told so
+    command -v taskset >/dev/null || { echo "taskset missing: skipped"; exit 77; }
+    out=$(env -u POCL_MAX_PTHREAD_COUNT taskset -c 0 "$splatcl" devices) || fail "devices failed under taskset"
+    grep -q '^host threads 1 ' <<<"$out" || fail "the host threads do not follow the affinity mask: $(grep '^host' <<<"$out")"
+    if [ "$(nproc --all)" -gt 1 ]; then
+      grep -q 'POCL_MAX_PTHREAD_COUNT 1$' <<<"$out" || fail "PoCL's thread count was not set from the mask: $(grep '^host' <<<"$out")"
+      grep -A1 'Portable Computing Language' <<<"$out" | grep -q ', 1 compute units' || fail "PoCL does not use one thread: $out"
+    fi
+    # A value the user set is kept.
+    POCL_MAX_PTHREAD_COUNT=2 taskset -c 0 "$splatcl" devices | grep -q 'POCL_MAX_PTHREAD_COUNT 2$' || fail "the user's POCL_MAX_PTHREAD_COUNT was replaced" ;;
   csm-leftover)  # what a SIGKILL during the write leaves: F.csm.tmpPID of a process that is gone
     sh -c 'exit 0' & dead=$!
     wait "$dead"
