@@ -63,9 +63,12 @@ __kernel void compact_scatter_cpu(__global const uint* values, __global const ui
 }
 
 // ---- GPU shape: work-groups of GROUP_SIZE; a block is COMPACT_ROUNDS rounds of GROUP_SIZE
-// consecutive elements, one element per work-item per round.
+// consecutive elements, one element per work-item per round (COMPACT_ROUNDS: a build option, from
+// the device's tuning record).
 
-#define COMPACT_ROUNDS 4
+#ifndef COMPACT_ROUNDS
+#error "COMPACT_ROUNDS must be given as a build option"
+#endif
 #define COMPACT_BLOCK (GROUP_SIZE * COMPACT_ROUNDS)
 
 // block_counts[group] = elements kept in the block.

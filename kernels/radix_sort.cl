@@ -14,9 +14,13 @@
 #define WITH_VALUES 0
 #endif
 
-// ---- CPU shape: one work-item per contiguous chunk, 8-bit digits, serial loops, no barriers.
+// ---- CPU shape: one work-item per contiguous chunk, serial loops, no barriers. CPU_RADIX_BITS (a
+// build option, from the device's tuning record) bounds the digit width of a pass.
 
-#define CPU_RADIX 256
+#ifndef CPU_RADIX_BITS
+#error "CPU_RADIX_BITS must be given as a build option"
+#endif
+#define CPU_RADIX (1 << CPU_RADIX_BITS)
 
 inline uint cpu_digit(KEY_T key, uint shift, uint radix) { return (uint)(key >> shift) & (radix - 1u); }
 
@@ -114,7 +118,9 @@ __kernel void radix_scatter_cpu(__global const KEY_T* keys_in, __global KEY_T* k
 
 #define GPU_DIGIT_BITS 4
 #define GPU_RADIX (1 << GPU_DIGIT_BITS)
-#define GPU_ITEM_KEYS 4
+#ifndef GPU_ITEM_KEYS
+#error "GPU_ITEM_KEYS must be given as a build option"
+#endif
 #define GPU_BLOCK (GROUP_SIZE * GPU_ITEM_KEYS)
 #define SPLIT_BITS 2
 #define SPLIT_WAYS (1 << SPLIT_BITS)

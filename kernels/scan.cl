@@ -55,9 +55,12 @@ __kernel void scan_chunks_cpu(__global const uint* in, __global uint* out, __glo
   if (c == chunks - 1) *total = running;
 }
 
-// ---- GPU shape: work-groups of GROUP_SIZE, SCAN_ITEMS consecutive values per work-item.
+// ---- GPU shape: work-groups of GROUP_SIZE, SCAN_ITEMS consecutive values per work-item (both
+// build options: the device's tuning record, host/primitives/tuning.hpp).
 
-#define SCAN_ITEMS 4
+#ifndef SCAN_ITEMS
+#error "SCAN_ITEMS must be given as a build option"
+#endif
 #define SCAN_BLOCK (GROUP_SIZE * SCAN_ITEMS)
 
 // Scans each block of SCAN_BLOCK values locally; block_sums[group] = the block's sum. The block is

@@ -1,6 +1,7 @@
 #include "bench/bandwidth.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -102,12 +103,56 @@ void measure_device_copy(Session& session, std::size_t array_bytes) {
   if (!intact) throw Error("bench stream-copy: OpenCL copy output differs from its input");
 }
 
+// The host's value of fma_peak's output for work-item i (kernels/bench.cl): fma is correctly rounded
+// on both sides, and the sums run in the kernel's order.
+float fma_peak_expected(std::size_t i, unsigned steps, float a, float b) {
+  float x[8], y[8];
+  const float lanes[8] = {0.0f, 0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f};
+  for (int k = 0; k < 8; ++k) {
+    x[k] = static_cast<float>(i & 1023u) * 1e-4f + lanes[k];
+    y[k] = x[k] + 0.05f;
+  }
+  for (unsigned s = 0; s < steps; ++s)
+    for (int k = 0; k < 8; ++k) {
+      x[k] = std::fma(x[k], a, b);
+      y[k] = std::fma(y[k], a, b);
+    }
+  float sum[8], half[4];
+  for (int k = 0; k < 8; ++k) sum[k] = x[k] + y[k];
+  for (int k = 0; k < 4; ++k) half[k] = sum[k] + sum[k + 4];
+  return half[0] + half[1] + half[2] + half[3];
+}
+
+void measure_peak_fma(Session& session) {
+  Runtime& runtime = session.runtime();
+  const std::size_t items = session.options().quick ? std::size_t{1} << 16 : std::size_t{1} << 20;
+  const cl_uint steps = session.options().quick ? 256u : 512u;
+  const float a = 0.9999f, b = 1e-4f;
+  cl::Buffer out = runtime.buffer(CL_MEM_WRITE_ONLY, items * sizeof(float), "peak-fma output");
+  cl::Kernel kernel = runtime.kernel("bench.cl", "fma_peak");
+  set_args(kernel, out, steps, a, b);
+  Profiler profiler;
+  const Case c{kCasePeakFma, kImplOpenCL, true, std::uint64_t{64} * steps * items, "flop"};
+  session.measure(
+      c, {},
+      [&] {
+        enqueue_1d(runtime.queue(), kernel, items, 0, &profiler, "fma_peak");
+        finish(runtime);
+      },
+      &profiler);
+  const auto result = download<float>(runtime, out, items, "peak-fma output");
+  for (const std::size_t i : {std::size_t{0}, std::size_t{1}, std::size_t{777}, items - 1})
+    if (result[i] != fma_peak_expected(i, steps, a, b))
+      throw Error("bench peak-fma: OpenCL output differs from the host's FMA chains at work-item " + std::to_string(i));
+}
+
 }  // namespace
 
-void measure_stream_copy(Session& session, std::size_t array_bytes) {
+void measure_ceilings(Session& session, std::size_t array_bytes) {
   if (!session.options().measure_bandwidth) return;
   measure_host_copies(session, array_bytes);
   measure_device_copy(session, array_bytes);
+  measure_peak_fma(session);
 }
 
 }  // namespace splatcl::bench

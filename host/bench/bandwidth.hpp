@@ -1,7 +1,9 @@
 #pragma once
-// Streaming copy bandwidth, the physical limit of memory-bound kernels: a STREAM-style copy on the
-// host over all cores and the same copy as an OpenCL kernel on the session's device. Throughput is
-// bytes read plus bytes written per second, as STREAM counts it.
+// The ceilings the kernels are measured against. Streaming copy bandwidth, the physical limit of
+// memory-bound kernels: a STREAM-style copy on the host over all cores and the same copy as an
+// OpenCL kernel on the session's device; throughput is bytes read plus bytes written per second, as
+// STREAM counts it. Peak arithmetic, the limit of compute-bound ones: independent single-precision
+// FMA chains on the device, in flop/s (an FMA counts 2).
 #include <cstddef>
 
 #include "bench/session.hpp"
@@ -20,9 +22,12 @@ inline constexpr const char* kImplHostCopyLoop = "std::thread copy loop";
 // of the destination: the ceiling for code that can use them.
 inline constexpr const char* kImplHostMemcpy = "std::thread memcpy";
 
+inline constexpr const char* kCasePeakFma = "peak-fma";
+
 // Measures the host loop, host memcpy and OpenCL copy of `array_bytes` (rounded down to 16 bytes),
-// adding one record each under case "stream-copy" with size = bytes read + bytes written per run.
-// Does nothing when the session's options say the bandwidth is measured at another size step.
-void measure_stream_copy(Session& session, std::size_t array_bytes = kStreamArrayBytes);
+// adding one record each under case "stream-copy" with size = bytes read + bytes written per run,
+// and the device's FMA throughput (case "peak-fma", size in flop; smaller with --quick). Does
+// nothing when the session's options say the ceilings are measured at another size step.
+void measure_ceilings(Session& session, std::size_t array_bytes = kStreamArrayBytes);
 
 }  // namespace splatcl::bench

@@ -157,9 +157,13 @@ void run_cluster_suite(Session& session) {
     const Json problem{{"lights", light_count}, {"light_radius", {radius_min, radius_max}}};
     std::vector<std::pair<std::string, clu::LightLists>> device_lists;
     for (const clu::Assignment assignment : kAssignments) {
+      Json implementation{{"variant", clu::to_string(assignment)}};
+      // Brute force, counted from kernels/cluster_lights.cl: per cluster and light (padded to 8),
+      // 19 float operations in the sphere-box test (6 subtractions, 6 max, 4 multiplies, 2 adds, a
+      // compare), once to count and once to fill.
+      if (assignment == clu::Assignment::BruteForce) implementation["flops"] = 2 * 19 * cluster_count * ((light_count + 7) / 8 * 8);
       measure_pipelines(
-          session, pipelines, "assign-lights", cluster_count, "clusters", problem,
-          Json{{"variant", clu::to_string(assignment)}},
+          session, pipelines, "assign-lights", cluster_count, "clusters", problem, implementation,
           [&](clu::ClusterPipeline& p, Profiler* profiler) { p.assign_lights(assignment, profiler); },
           [&](clu::ClusterPipeline& p, const std::string& what) { device_lists.emplace_back(what, p.download_light_lists()); });
     }
@@ -173,7 +177,7 @@ void run_cluster_suite(Session& session) {
     }
   }
 
-  measure_stream_copy(session, quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
+  measure_ceilings(session, quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
 }
 
 }  // namespace splatcl::bench

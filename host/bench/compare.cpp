@@ -14,7 +14,7 @@ std::string comparison_key(const Record& record) {
   if (record.size) key += fmt::format("/{} {}", *record.size, record.size_unit);
   for (const auto& [field, value] : record.extra.items()) {
     // Measured figures, not identity.
-    if (value.is_structured() || field == "bytes" || field == "device_total_ms") continue;
+    if (value.is_structured() || field == "bytes" || field == "flops" || field == "device_total_ms") continue;
     key += "/" + field + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
   }
   return key;

@@ -52,14 +52,6 @@ CsmSizes sizes_for(const Session& session) {
   return sizes;
 }
 
-void finish(Runtime& runtime) {
-  try {
-    runtime.queue().finish();
-  } catch (...) {
-    rethrow_as_error("waiting for the benchmark kernels");
-  }
-}
-
 void expect_same_segments(const std::string& what, const csm::Segments& actual, const csm::Segments& expected) {
   expect_same_output(what + " offsets", actual.offsets, expected.offsets);
   expect_same_output(what + " lo", actual.lo, expected.lo);
@@ -308,7 +300,7 @@ void run_csm_suite(Session& session) {
   const CaptureOutput captured = bench_capture(session, mesh, sizes, z1, z2);
   bench_compress(session, sizes, captured, z1, z2);
   bench_queries(session, mesh, sizes);
-  measure_stream_copy(session, session.options().quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
+  measure_ceilings(session, session.options().quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
 }
 
 }  // namespace splatcl::bench

@@ -21,16 +21,6 @@ namespace prim = splatcl::primitives;
 
 // Fixed seed: the same inputs on every run and machine.
 constexpr std::uint64_t kSeed = 0x5EED5EEDu;
-// Cluster keys of a 1920×1080 frame with 32×32 tiles take about 20 bits (11 tile, 8 slice bits).
-constexpr unsigned kClusterKeyBits = 20;
-
-std::vector<std::uint32_t> random_keys(std::size_t n, unsigned bits, std::uint64_t seed) {
-  std::mt19937 rng(static_cast<std::uint32_t>(seed));
-  const std::uint32_t mask = bits >= 32 ? ~0u : (1u << bits) - 1u;
-  std::vector<std::uint32_t> keys(n);
-  for (auto& key : keys) key = static_cast<std::uint32_t>(rng()) & mask;
-  return keys;
-}
 
 std::vector<std::uint64_t> random_keys_64(std::size_t n, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -39,25 +29,14 @@ std::vector<std::uint64_t> random_keys_64(std::size_t n, std::uint64_t seed) {
   return keys;
 }
 
-// Restores a sort's input before each timed run, outside the timing.
-void copy_buffer(Runtime& runtime, const cl::Buffer& from, const cl::Buffer& to, std::size_t bytes) {
-  try {
-    if (bytes > 0) runtime.queue().enqueueCopyBuffer(from, to, 0, 0, bytes);
-    runtime.queue().finish();
-  } catch (...) {
-    rethrow_as_error("restoring benchmark input");
-  }
-}
-
-void finish(Runtime& runtime) {
-  try {
-    runtime.queue().finish();
-  } catch (...) {
-    rethrow_as_error("waiting for the benchmark kernels");
-  }
-}
-
 Json reference_threads() { return Json{{"threads", prim::reference::default_threads()}}; }
+
+// The streaming floor of an LSD radix sort with 8-bit digits (the reference's): every pass reads and
+// writes each key (and value) once.
+std::uint64_t streaming_floor_bytes(std::size_t n, unsigned bits, std::size_t key_bytes, bool with_values) {
+  const std::uint64_t passes = (bits + 7) / 8;
+  return passes * 2 * n * (key_bytes + (with_values ? sizeof(std::uint32_t) : 0));
+}
 
 void bench_scan(Session& session, std::size_t n) {
   Runtime& runtime = session.runtime();
@@ -161,6 +140,7 @@ void bench_radix_sort(Session& session, const std::string& name, const std::vect
   const bool with_values = !values.empty();
   const auto key_type = sizeof(Key) == 8 ? prim::KeyType::U64 : prim::KeyType::U32;
   const Json problem{{"bits", bits}};
+  const Json sort_bytes{{"bytes", streaming_floor_bytes(n, bits, sizeof(Key), with_values)}};
 
   std::vector<Key> expected_keys = keys;
   std::vector<std::uint32_t> expected_values = values;
@@ -173,7 +153,7 @@ void bench_radix_sort(Session& session, const std::string& name, const std::vect
   for (const Shape shape : kBothShapes) {
     prim::RadixSorter sorter(runtime, key_type, with_values, shape);
     Profiler profiler;
-    const Case c = opencl_case(name, shape, n, "keys", problem);
+    const Case c = opencl_case(name, shape, n, "keys", problem, sort_bytes);
     session.measure(
         c,
         [&] {
@@ -192,7 +172,8 @@ void bench_radix_sort(Session& session, const std::string& name, const std::vect
   prim::reference::RadixSorter sorter;
   std::vector<Key> host_keys;
   std::vector<std::uint32_t> host_values;
-  const Case c = reference_case(name, n, "keys", problem, reference_threads());
+  Case c = reference_case(name, n, "keys", problem, reference_threads());
+  c.extra.update(sort_bytes);
   session.measure(
       c,
       [&] {
@@ -217,6 +198,8 @@ void bench_sort_unique(Session& session, std::size_t n) {
   const auto expected = prim::reference::unique(sorted);
   const Json problem{{"bits", kClusterKeyBits}};
 
+  // The sort's floor, then the sorted keys read once more and the unique ones written.
+  const Json sort_unique_bytes{{"bytes", streaming_floor_bytes(n, kClusterKeyBits, 4, false) + 4 * n + 4 * expected.size()}};
   const cl::Buffer keys_in = upload(runtime, keys, "sort-unique input");
   const cl::Buffer keys_work = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "sort-unique keys");
   const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "sort-unique output");
@@ -225,7 +208,7 @@ void bench_sort_unique(Session& session, std::size_t n) {
     prim::Compactor compactor(runtime, shape);
     Profiler profiler;
     std::size_t kept = 0;
-    const Case c = opencl_case("sort-unique", shape, n, "keys", problem);
+    const Case c = opencl_case("sort-unique", shape, n, "keys", problem, sort_unique_bytes);
     session.measure(
         c, [&] { copy_buffer(runtime, keys_in, keys_work, n * sizeof(std::uint32_t)); },
         [&] {
@@ -241,7 +224,8 @@ void bench_sort_unique(Session& session, std::size_t n) {
   std::vector<std::uint32_t> host_keys;
   std::vector<std::uint32_t> host_out(n);
   std::size_t kept = 0;
-  const Case c = reference_case("sort-unique", n, "keys", problem, reference_threads());
+  Case c = reference_case("sort-unique", n, "keys", problem, reference_threads());
+  c.extra.update(sort_unique_bytes);
   session.measure(c, [&] { host_keys = keys; }, [&] {
     sorter.sort(std::span<std::uint32_t>(host_keys), {}, kClusterKeyBits);
     kept = prim::reference::unique(host_keys, host_out);
@@ -267,7 +251,7 @@ void run_primitives_suite(Session& session) {
   bench_radix_sort<std::uint32_t>(session, "radix-sort-kv", random_keys(n, 32, kSeed + 7), indices, 32);
   bench_radix_sort<std::uint64_t>(session, "radix-sort-u64", random_keys_64(n, kSeed + 8), {}, 64);
   bench_sort_unique(session, n);
-  measure_stream_copy(session, session.options().quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
+  measure_ceilings(session, session.options().quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
 }
 
 }  // namespace splatcl::bench

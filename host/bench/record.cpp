@@ -136,7 +136,7 @@ std::string hostname() {
 }  // namespace
 
 bool describes_implementation(const std::string& extra_field) {
-  static const char* const fields[] = {"shape", "variant", "threads", "pocl_threads", "bytes", "device_ms", "device_total_ms"};
+  static const char* const fields[] = {"shape", "variant", "threads", "pocl_threads", "bytes", "flops", "device_ms", "device_total_ms"};
   for (const char* field : fields)
     if (extra_field == field) return true;
   return false;

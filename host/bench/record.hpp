@@ -43,7 +43,7 @@ struct Record {
 };
 
 // Extra fields that describe how a row was measured ("shape", "variant", "threads", "pocl_threads"
-// of a thread-scaling run, "bytes" moved per run, "device_ms", "device_total_ms") rather than what:
+// of a thread-scaling run, "bytes" moved and "flops" done per run, "device_ms", "device_total_ms") rather than what:
 // rows of one case that differ only in these, in impl and in device are compared with each other.
 // Every other scalar extra field ("bits", "lights") names a variant of the problem itself.
 bool describes_implementation(const std::string& extra_field);

@@ -160,25 +160,37 @@ std::string markdown_table(const std::vector<Record>& records, const std::vector
       if (r.case_name == "stream-copy" && r.impl == impl && r.device == record.device && r.throughput) return r.throughput;
     return std::nullopt;
   };
+  // Peak arithmetic per device: the FMA chains of the peak-fma rows (device rows only).
+  auto peak_flops = [&](const Record& record) -> std::optional<double> {
+    for (const auto& r : context)
+      if (r.case_name == "peak-fma" && r.impl == kImplOpenCL && r.device == record.device && r.throughput) return r.throughput;
+    return std::nullopt;
+  };
+  // `field` per run / median time as a percentage of `ceiling`, or "—".
+  auto share = [](const Record& record, const char* field, const std::optional<double>& ceiling) -> std::string {
+    const auto value = record.extra.find(field);
+    if (value == record.extra.end() || !value->is_number() || record.median_ms <= 0 || !ceiling || *ceiling <= 0) return "—";
+    return fmt::format("{:.0f} %", value->get<double>() / (record.median_ms * 1e-3) / *ceiling * 100.0);
+  };
   std::vector<std::string> devices;
   for (const auto& record : records)
     if (record.device != kHostDevice && std::find(devices.begin(), devices.end(), record.device) == devices.end())
       devices.push_back(record.device);
   const bool show_device = devices.size() > 1;
-  bool show_peer = false, show_bandwidth = false;
+  bool show_peer = false, show_bandwidth = false, show_arithmetic = false;
   for (const auto& g : groups) show_peer = show_peer || g.peer;
   for (const auto& record : records) show_bandwidth = show_bandwidth || record.extra.contains("bytes");
+  for (const auto& record : records) show_arithmetic = show_arithmetic || record.extra.contains("flops");
 
   std::vector<std::vector<std::string>> rows;
   for (const auto& record : records) {
     const std::string key = group_key(record);
     const Group& group = *std::find_if(groups.begin(), groups.end(), [&](const Group& g) { return g.key == key; });
-    std::string speedup = "—", versus_peer = "—", bandwidth = "—";
+    std::string speedup = "—", versus_peer = "—";
     if (group.baseline && record.median_ms > 0) speedup = fmt::format("{:.2f}×", group.baseline->median_ms / record.median_ms);
     if (group.peer && record.median_ms > 0) versus_peer = fmt::format("{:.2f}×", group.peer->median_ms / record.median_ms);
-    if (const auto bytes = record.extra.find("bytes"); bytes != record.extra.end() && bytes->is_number() && record.median_ms > 0)
-      if (const auto stream = stream_bandwidth(record); stream && *stream > 0)
-        bandwidth = fmt::format("{:.0f} %", bytes->get<double>() / (record.median_ms * 1e-3) / *stream * 100.0);
+    const std::string bandwidth = share(record, "bytes", stream_bandwidth(record));
+    const std::string arithmetic = share(record, "flops", peak_flops(record));
     std::vector<std::string> row{case_label(record), impl_label(record)};
     if (show_device) row.push_back(record.device);
     row.insert(row.end(), {record.size ? fmt::format("{} {}", *record.size, record.size_unit) : "—", format_ms(record.median_ms),
@@ -186,6 +198,7 @@ std::string markdown_table(const std::vector<Record>& records, const std::vector
                            record.throughput ? format_throughput(*record.throughput, record.throughput_unit) : "—", speedup});
     if (show_peer) row.push_back(versus_peer);
     if (show_bandwidth) row.push_back(bandwidth);
+    if (show_arithmetic) row.push_back(arithmetic);
     row.push_back(record.peak_rss_mb ? fmt::format("{:.0f}", *record.peak_rss_mb) : "—");
     rows.push_back(std::move(row));
   }
@@ -195,6 +208,7 @@ std::string markdown_table(const std::vector<Record>& records, const std::vector
   for (const char* column : {"size", "median ms", "min ms", "max ms", "throughput", "speedup"}) header.push_back(column), right.push_back(true);
   if (show_peer) header.push_back("vs peer"), right.push_back(true);
   if (show_bandwidth) header.push_back("of stream BW"), right.push_back(true);
+  if (show_arithmetic) header.push_back("of peak FLOP/s"), right.push_back(true);
   header.push_back("peak RSS MiB");
   right.push_back(true);
   return render(header, right, rows);
@@ -215,7 +229,9 @@ std::string markdown_report(const Results& results) {
   }
   text += "\nspeedup = baseline median / median, where the baseline of a case is its reference, else its first peer; "
           "vs peer = the first peer's median / median; of stream BW = bytes the case must move per run / median time, "
-          "as a share of the same device's streaming-copy bandwidth (stream-copy rows).\n";
+          "as a share of the same device's streaming-copy bandwidth (stream-copy rows); of peak FLOP/s = floating-point "
+          "operations the case counts per run / median time, as a share of the same device's FMA throughput (peak-fma "
+          "rows, an FMA counting 2: operations that are not FMAs reach at most 50 %).\n";
   return text;
 }
 

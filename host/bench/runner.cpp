@@ -95,10 +95,16 @@ Scaling parse_scaling(const std::string& text) {
 std::vector<DeviceInfo> bench_devices(const std::vector<std::string>& selectors) {
   if (selectors.empty()) return default_devices();  // simulators only when named
   std::vector<DeviceInfo> chosen;
-  for (const auto& selector : selectors) {
-    DeviceInfo info = choose_device(selector);
+  auto add = [&](DeviceInfo info) {
     if (std::none_of(chosen.begin(), chosen.end(), [&](const DeviceInfo& d) { return d.index == info.index; }))
       chosen.push_back(std::move(info));
+  };
+  for (const auto& selector : selectors) {
+    if (selector == "all") {
+      for (DeviceInfo& info : default_devices()) add(std::move(info));
+    } else {
+      add(choose_device(selector));
+    }
   }
   return chosen;
 }

@@ -25,7 +25,8 @@ struct RunOptions {
   std::vector<std::string> arguments;
 };
 
-// The devices the selectors name, each once, in order; every device but simulators (Oclgrind) when there is no selector.
+// The devices the selectors name, each once, in order; "all" (or no selector) names every device but
+// simulators (Oclgrind), which run only when named.
 std::vector<DeviceInfo> bench_devices(const std::vector<std::string>& selectors);
 
 // This process's command-line arguments (after the program name), from /proc/self/cmdline.

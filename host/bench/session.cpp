@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <random>
 
 #include <fmt/format.h>
 
@@ -116,6 +117,31 @@ void Session::finish() const {
   std::fputs(markdown_report(all).c_str(), stdout);
   std::fflush(stdout);
   if (!options_.json_path.empty()) write_results(options_.json_path, all);
+}
+
+void finish(Runtime& runtime) {
+  try {
+    runtime.queue().finish();
+  } catch (...) {
+    rethrow_as_error("waiting for the benchmark kernels");
+  }
+}
+
+void copy_buffer(Runtime& runtime, const cl::Buffer& from, const cl::Buffer& to, std::size_t bytes) {
+  try {
+    if (bytes > 0) runtime.queue().enqueueCopyBuffer(from, to, 0, 0, bytes);
+    runtime.queue().finish();
+  } catch (...) {
+    rethrow_as_error("restoring benchmark input");
+  }
+}
+
+std::vector<std::uint32_t> random_keys(std::size_t n, unsigned bits, std::uint64_t seed) {
+  std::mt19937 rng(static_cast<std::uint32_t>(seed));
+  const std::uint32_t mask = bits >= 32 ? ~0u : (1u << bits) - 1u;
+  std::vector<std::uint32_t> keys(n);
+  for (auto& key : keys) key = static_cast<std::uint32_t>(rng()) & mask;
+  return keys;
 }
 
 std::uint64_t scaled(const Session& session, std::uint64_t standard) {

@@ -16,6 +16,8 @@ namespace splatcl::bench {
 
 // A 1920×1080 frame: one cluster key per pixel.
 inline constexpr std::uint64_t kFullHdPixels = 1920ull * 1080ull;
+// Cluster keys of a 1920×1080 frame with 32×32 tiles take about 20 bits (11 tile, 8 slice bits).
+inline constexpr unsigned kClusterKeyBits = 20;
 
 struct SessionOptions {
   std::uint64_t size = kFullHdPixels;
@@ -97,6 +99,13 @@ class Session {
   bool progress_line_open_ = false;
   Record unrecorded_;  // what measure() returns for a host row it does not record
 };
+
+// Waits for the session device's queue (Error naming the benchmark on failure).
+void finish(Runtime& runtime);
+// Copies `bytes` from one device buffer to another and waits: restores a case's input outside the timing.
+void copy_buffer(Runtime& runtime, const cl::Buffer& from, const cl::Buffer& to, std::size_t bytes);
+// n keys uniformly drawn from [0, 2^bits) (bits up to 32) from a fixed seed: the same inputs on every run and machine.
+std::vector<std::uint32_t> random_keys(std::size_t n, unsigned bits, std::uint64_t seed);
 
 // A suite's standard size scaled by SessionOptions::scale, at least 1.
 std::uint64_t scaled(const Session& session, std::uint64_t standard);

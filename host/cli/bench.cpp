@@ -3,6 +3,7 @@
 // splatcl bench report FILE.json
 // splatcl bench compare RESULTS.json BASELINE.json [--threshold PCT]
 // splatcl bench plot RESULTS.json -o DIR
+// splatcl bench tune -o TUNING.json [--device D ...] [--kernel K ...] [--quick] [--runs N]
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "bench/report.hpp"
 #include "bench/runner.hpp"
 #include "bench/suites.hpp"
+#include "bench/tune.hpp"
 #include "cli/commands.hpp"
 #include "io/output_files.hpp"
 #include "runtime/error.hpp"
@@ -33,7 +35,30 @@ struct BenchOptions {
   double threshold_pct = 10;
   // bench report / compare / plot
   std::string results_path, baseline_path, output_dir;
+  // bench tune
+  bench::TuneOptions tune;
+  std::string tuning_path, tune_shape;
 };
+
+// Tunes, prints the gains, and writes the records into `path`: merged into the database already
+// there (so `-o data/tuning.json` updates the shipped one), replacing records of the same kernel,
+// shape and device.
+int run_tune(const BenchOptions& o) {
+  check_output_file(o.tuning_path, "-o");
+  splatcl::TuningDatabase database;
+  if (std::filesystem::exists(o.tuning_path)) database = splatcl::TuningDatabase::read(o.tuning_path);
+  bench::TuneOptions options = o.tune;
+  if (!o.tune_shape.empty()) options.shapes = {parse_shape(o.tune_shape)};
+  if (options.devices.empty())
+    if (const char* env = std::getenv(kDeviceEnvVar); env && *env) options.devices.push_back(env);
+  for (const auto& name : options.kernels) bench::parse_tuned_kernel(name);  // a typo fails before the run
+  const auto results = bench::run_tuning(options);
+  std::fputs(bench::tuning_report(results).c_str(), stdout);
+  for (const auto& result : results) database.put(result.record);
+  database.write(o.tuning_path);
+  std::printf("wrote %zu record(s) to %s\n", results.size(), o.tuning_path.c_str());
+  return 0;
+}
 
 // Results from a .json file, or a .csv file written by --csv.
 bench::Results read_any_results(const std::string& path) {
@@ -55,8 +80,8 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
   app.add_option("--device", o.run.devices,
-                 "OpenCL device(s): index, type (cpu, gpu) or name substring; repeat or comma-separate for several. "
-                 "Default $SPLATCL_DEVICE, else every device present")
+                 "OpenCL device(s): index, type (cpu, gpu), name substring, or all (every device but simulators); "
+                 "repeat or comma-separate for several, measured side by side in one run. Default $SPLATCL_DEVICE, else all")
       ->delimiter(',')
       ->type_name("DEVICE");
   app.add_option("--scaling", o.scaling,
@@ -134,8 +159,32 @@ Action register_bench(CLI::App& app) {
   plot->add_option("RESULTS", options->results_path, "Results (.json or .csv)")->required()->type_name("RESULTS");
   plot->add_option("-o,--output", options->output_dir, "Directory for plots.gp, its data and the PNGs")->required()->type_name("DIR");
 
-  return [options, suite_commands, report, compare, plot] {
+  auto* tune = bench->add_subcommand(
+      "tune",
+      "Search the launch parameters of scan, compaction and radix sort (both shapes) on each device and write tuning "
+      "records (data/tuning.json format), with each kernel's gain over the defaults");
+  tune->add_option("-o,--output", options->tuning_path,
+                   "Tuning database to write (atomically); records already in it for other kernels or devices are kept")
+      ->required()
+      ->type_name("FILE");
+  tune->add_option("--device", options->tune.devices,
+                   "OpenCL device(s) as for bench; default $SPLATCL_DEVICE, else every device present but simulators")
+      ->delimiter(',')
+      ->type_name("DEVICE");
+  tune->add_option("--kernel", options->tune.kernels, "Kernels to tune: scan, compact, radix-sort (default: all)")
+      ->delimiter(',')
+      ->type_name("KERNEL");
+  tune->add_option("--size", options->tune.size, "Elements per problem")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{std::numeric_limits<std::uint32_t>::max()}));
+  tune->add_option("--runs", options->tune.measure.runs, "Timed runs per candidate")->capture_default_str()->check(CLI::Range(1, 1000));
+  tune->add_option("--shape", options->tune_shape, "Tune one shape only: cpu or gpu (default: both)")
+      ->check(CLI::IsMember({"cpu", "gpu"}));
+  tune->add_flag("--quick", options->tune.quick, "64k elements, 2 runs: a smoke test (figures not comparable)");
+
+  return [options, suite_commands, report, compare, plot, tune] {
     BenchOptions& o = *options;
+    if (tune->parsed()) return run_tune(o);
     if (report->parsed()) {
       std::fputs(bench::markdown_report(read_any_results(o.results_path)).c_str(), stdout);
       return 0;

@@ -8,21 +8,23 @@
 namespace splatcl::primitives {
 namespace {
 
-// Must match COMPACT_ROUNDS in kernels/compact.cl.
-constexpr std::size_t kCompactRounds = 4;
-constexpr std::size_t kCompactBlock = detail::kGroupSize * kCompactRounds;
-constexpr std::size_t kMinCpuChunk = std::size_t{1} << 15;
-
 }  // namespace
 
-Compactor::Compactor(Runtime& runtime, Shape shape) : runtime_(runtime), shape_(runtime.resolve(shape)) {
-  const std::string options = detail::group_options();
+Compactor::Compactor(Runtime& runtime, Shape shape, const std::optional<LaunchParameters>& parameters)
+    : runtime_(runtime),
+      shape_(runtime.resolve(shape)),
+      parameters_(detail::launch_parameters(runtime, Primitive::Compact, shape_, parameters)) {
+  const std::string options =
+      detail::group_options(parameters_) + " -DCOMPACT_ROUNDS=" + std::to_string(parameters_.items_per_work_item);
   if (shape_ == Shape::Cpu) {
     count_kernel_ = runtime_.kernel("compact.cl", "compact_count_cpu", options);
     scatter_kernel_ = runtime_.kernel("compact.cl", "compact_scatter_cpu", options);
   } else {
     count_kernel_ = runtime_.kernel("compact.cl", "compact_count_gpu", options);
     scatter_kernel_ = runtime_.kernel("compact.cl", "compact_scatter_gpu", options);
+    const auto group = static_cast<std::size_t>(parameters_.group_size);
+    validate_built_kernel(count_kernel_, "compact_count_gpu", group, runtime_.info());
+    validate_built_kernel(scatter_kernel_, "compact_scatter_gpu", group, runtime_.info());
     block_scanner_.emplace(runtime_, Shape::Gpu);
   }
 }
@@ -51,7 +53,7 @@ std::size_t Compactor::compact(const cl::Buffer& values, const cl::Buffer& flags
     const cl_uint mode_arg = unique_mode ? 1u : 0u;
     cl_uint total = 0;
     if (shape_ == Shape::Cpu) {
-      const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, kMinCpuChunk);
+      const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, parameters_);
       const auto chunks_arg = static_cast<cl_uint>(chunks);
       detail::ensure_bytes(runtime_, counts_, (chunks + 1) * sizeof(cl_uint), "compaction counts");
       if (chunks > 1) {
@@ -62,14 +64,14 @@ std::size_t Compactor::compact(const cl::Buffer& values, const cl::Buffer& flags
       enqueue_1d(queue, scatter_kernel_, chunks, 1, profiler, "compact scatter");
       queue.enqueueReadBuffer(counts_, CL_TRUE, chunks * sizeof(cl_uint), sizeof(total), &total);
     } else {
-      const std::size_t blocks = div_up(n, kCompactBlock);
+      const auto group = static_cast<std::size_t>(parameters_.group_size);
+      const std::size_t blocks = div_up(n, group * static_cast<std::size_t>(parameters_.items_per_work_item));
       detail::ensure_bytes(runtime_, counts_, blocks * sizeof(cl_uint), "compaction block counts");
       detail::set_args(count_kernel_, values, flags, counts_, n_arg, mode_arg);
-      enqueue_1d(queue, count_kernel_, blocks * detail::kGroupSize, detail::kGroupSize, profiler, "compact count");
+      enqueue_1d(queue, count_kernel_, blocks * group, group, profiler, "compact count");
       block_scanner_->run(counts_, counts_, blocks, ScanKind::Exclusive, false, profiler);
       detail::set_args(scatter_kernel_, values, flags, out, counts_, n_arg, mode_arg);
-      enqueue_1d(queue, scatter_kernel_, blocks * detail::kGroupSize, detail::kGroupSize, profiler,
-                 "compact scatter");
+      enqueue_1d(queue, scatter_kernel_, blocks * group, group, profiler, "compact scatter");
       queue.enqueueReadBuffer(block_scanner_->total_buffer(), CL_TRUE, 0, sizeof(total), &total);
     }
     return total;

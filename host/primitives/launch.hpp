@@ -1,26 +1,33 @@
 #pragma once
-// Shared by the primitive drivers: GPU-shape group size, chunk counts for the CPU shape, kernel
-// arguments and scratch buffers.
+// Shared by the primitive drivers: build options and chunk counts from the launch parameters,
+// kernel arguments and scratch buffers.
 #include <cstddef>
+#include <optional>
 #include <string>
 
+#include "primitives/tuning.hpp"
 #include "runtime/opencl.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
 
 namespace splatcl::primitives::detail {
 
-// Work-group size of every GPU-shaped primitive kernel (a multiple of 8, fits any OpenCL device).
-inline constexpr std::size_t kGroupSize = 256;
+// Build options shared by every primitive kernel file: the GPU shape's group size.
+inline std::string group_options(const LaunchParameters& parameters) {
+  return "-DGROUP_SIZE=" + std::to_string(parameters.group_size);
+}
 
-// Build options shared by every primitive kernel file.
-inline std::string group_options() { return "-DGROUP_SIZE=" + std::to_string(kGroupSize); }
+// The parameters a driver runs with: `given`, else the device's tuning record over the defaults;
+// validated against the device (Error naming the parameter and the limit otherwise).
+LaunchParameters launch_parameters(const Runtime& runtime, Primitive primitive, Shape shape,
+                                   const std::optional<LaunchParameters>& given, std::size_t key_bytes = 4,
+                                   bool with_values = false);
 
 using splatcl::set_args;
 
-// Chunks for a CPU-shaped launch over n items: up to runtime.cpu_chunks(), but none smaller than
-// min_chunk items (a tiny chunk costs more to launch than to process). At least 1.
-std::size_t cpu_chunk_count(const Runtime& runtime, std::size_t n, std::size_t min_chunk);
+// Chunks for a CPU-shaped launch over n items: up to compute units x chunks_per_compute_unit, but
+// none smaller than min_chunk_items (a tiny chunk costs more to launch than to process). At least 1.
+std::size_t cpu_chunk_count(const Runtime& runtime, std::size_t n, const LaunchParameters& parameters);
 
 // Size of a buffer in bytes; 0 for a buffer that was never allocated.
 std::size_t buffer_bytes(const cl::Buffer& buffer);

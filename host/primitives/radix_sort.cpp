@@ -10,30 +10,36 @@
 namespace splatcl::primitives {
 namespace {
 
-// Must match CPU_RADIX, GPU_DIGIT_BITS and GPU_ITEM_KEYS in kernels/radix_sort.cl.
-constexpr unsigned kCpuDigitBits = 8;
+// Must match GPU_DIGIT_BITS in kernels/radix_sort.cl.
 constexpr unsigned kGpuDigitBits = 4;
-constexpr std::size_t kGpuBlock = detail::kGroupSize * 4;
-constexpr std::size_t kMinCpuChunk = std::size_t{1} << 15;
 
 std::size_t key_bytes(KeyType key_type) { return key_type == KeyType::U64 ? sizeof(cl_ulong) : sizeof(cl_uint); }
 
-std::string sort_options(KeyType key_type, bool with_values) {
-  return detail::group_options() + (key_type == KeyType::U64 ? " -DKEY_T=ulong" : " -DKEY_T=uint") +
-         (with_values ? " -DWITH_VALUES=1" : " -DWITH_VALUES=0");
+std::string sort_options(KeyType key_type, bool with_values, const LaunchParameters& parameters) {
+  return detail::group_options(parameters) + (key_type == KeyType::U64 ? " -DKEY_T=ulong" : " -DKEY_T=uint") +
+         (with_values ? " -DWITH_VALUES=1" : " -DWITH_VALUES=0") + " -DCPU_RADIX_BITS=" + std::to_string(parameters.digit_bits) +
+         " -DGPU_ITEM_KEYS=" + std::to_string(parameters.items_per_work_item);
 }
 
 }  // namespace
 
-RadixSorter::RadixSorter(Runtime& runtime, KeyType key_type, bool with_values, Shape shape)
-    : runtime_(runtime), key_type_(key_type), with_values_(with_values), shape_(runtime.resolve(shape)) {
-  const std::string options = sort_options(key_type_, with_values_);
+RadixSorter::RadixSorter(Runtime& runtime, KeyType key_type, bool with_values, Shape shape,
+                         const std::optional<LaunchParameters>& parameters)
+    : runtime_(runtime),
+      key_type_(key_type),
+      with_values_(with_values),
+      shape_(runtime.resolve(shape)),
+      parameters_(detail::launch_parameters(runtime, Primitive::RadixSort, shape_, parameters, key_bytes(key_type), with_values)) {
+  const std::string options = sort_options(key_type_, with_values_, parameters_);
   if (shape_ == Shape::Cpu) {
     histogram_kernel_ = runtime_.kernel("radix_sort.cl", "radix_histogram_cpu", options);
     scatter_kernel_ = runtime_.kernel("radix_sort.cl", "radix_scatter_cpu", options);
   } else {
     histogram_kernel_ = runtime_.kernel("radix_sort.cl", "radix_block_sort_gpu", options);
     scatter_kernel_ = runtime_.kernel("radix_sort.cl", "radix_scatter_gpu", options);
+    const auto group = static_cast<std::size_t>(parameters_.group_size);
+    validate_built_kernel(histogram_kernel_, "radix_block_sort_gpu", group, runtime_.info());
+    validate_built_kernel(scatter_kernel_, "radix_scatter_gpu", group, runtime_.info());
     table_scanner_.emplace(runtime_, Shape::Gpu);
   }
   value_scratch_ = runtime_.buffer(CL_MEM_READ_WRITE, 0, "radix sort value scratch");
@@ -73,10 +79,11 @@ void RadixSorter::sort(const cl::Buffer& keys, const cl::Buffer* values, std::si
 
 void RadixSorter::sort_cpu(const cl::Buffer& keys, const cl::Buffer& values, std::size_t n, unsigned bits,
                            Profiler* profiler) {
-  const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, kMinCpuChunk);
-  detail::ensure_bytes(runtime_, histogram_, (std::size_t{1} << kCpuDigitBits) * chunks * sizeof(cl_uint),
+  const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, parameters_);
+  const auto digit_bits = static_cast<unsigned>(parameters_.digit_bits);
+  detail::ensure_bytes(runtime_, histogram_, (std::size_t{1} << digit_bits) * chunks * sizeof(cl_uint),
                        "radix sort histograms");
-  const auto passes = static_cast<unsigned>(div_up(bits, kCpuDigitBits));
+  const auto passes = static_cast<unsigned>(div_up(bits, digit_bits));
   const bool use_spare = passes % 2 == 1 && passes > 1;  // see detail::radix_pass_target
   if (use_spare && n > spare_capacity_) {
     key_spare_ = runtime_.buffer(CL_MEM_READ_WRITE, n * key_bytes(key_type_), "radix sort spare key scratch");
@@ -97,8 +104,8 @@ void RadixSorter::sort_cpu(const cl::Buffer& keys, const cl::Buffer& values, std
     const cl::Buffer& values_out = target == detail::RadixTarget::Caller    ? values
                                    : target == detail::RadixTarget::Scratch ? value_scratch_
                                                                             : value_spare_;
-    const unsigned shift = pass * kCpuDigitBits;
-    const auto radix = static_cast<cl_uint>(1u << std::min(kCpuDigitBits, bits - shift));
+    const unsigned shift = pass * digit_bits;
+    const auto radix = static_cast<cl_uint>(1u << std::min(digit_bits, bits - shift));
     const auto shift_arg = static_cast<cl_uint>(shift);
     detail::set_args(histogram_kernel_, keys_in, histogram_, n_arg, chunks_arg, shift_arg, radix);
     enqueue_1d(runtime_.queue(), histogram_kernel_, chunks, 1, profiler, "radix histogram");
@@ -122,7 +129,8 @@ void RadixSorter::sort_cpu(const cl::Buffer& keys, const cl::Buffer& values, std
 
 void RadixSorter::sort_gpu(const cl::Buffer& keys, const cl::Buffer& values, std::size_t n, unsigned bits,
                            Profiler* profiler) {
-  const std::size_t blocks = div_up(n, kGpuBlock);
+  const auto group = static_cast<std::size_t>(parameters_.group_size);
+  const std::size_t blocks = div_up(n, group * static_cast<std::size_t>(parameters_.items_per_work_item));
   const std::size_t table_entries = (std::size_t{1} << kGpuDigitBits) * blocks;
   detail::ensure_bytes(runtime_, histogram_, table_entries * sizeof(cl_uint), "radix sort histograms");
   const auto n_arg = static_cast<cl_ulong>(n);
@@ -133,13 +141,11 @@ void RadixSorter::sort_gpu(const cl::Buffer& keys, const cl::Buffer& values, std
     const auto shift_arg = static_cast<cl_uint>(shift);
     detail::set_args(histogram_kernel_, keys, values, key_scratch_, value_scratch_, histogram_, n_arg, blocks_arg,
                      shift_arg, digit_mask);
-    enqueue_1d(runtime_.queue(), histogram_kernel_, blocks * detail::kGroupSize, detail::kGroupSize, profiler,
-               "radix block sort");
+    enqueue_1d(runtime_.queue(), histogram_kernel_, blocks * group, group, profiler, "radix block sort");
     table_scanner_->run(histogram_, histogram_, table_entries, ScanKind::Exclusive, false, profiler);
     detail::set_args(scatter_kernel_, key_scratch_, value_scratch_, keys, values, histogram_, n_arg, blocks_arg,
                      shift_arg, digit_mask);
-    enqueue_1d(runtime_.queue(), scatter_kernel_, blocks * detail::kGroupSize, detail::kGroupSize, profiler,
-               "radix scatter");
+    enqueue_1d(runtime_.queue(), scatter_kernel_, blocks * group, group, profiler, "radix scatter");
   }
 }
 

@@ -7,24 +7,24 @@
 namespace splatcl::primitives {
 namespace {
 
-// Must match SCAN_ITEMS in kernels/scan.cl.
-constexpr std::size_t kScanItems = 4;
-constexpr std::size_t kScanBlock = detail::kGroupSize * kScanItems;
-// Below this many values per chunk, extra CPU chunks cost more in launch and sync than they save.
-constexpr std::size_t kMinCpuChunk = std::size_t{1} << 15;
-
 cl_uint inclusive_flag(ScanKind kind) { return kind == ScanKind::Inclusive ? 1u : 0u; }
 
 }  // namespace
 
-Scanner::Scanner(Runtime& runtime, Shape shape) : runtime_(runtime), shape_(runtime.resolve(shape)) {
-  const std::string options = detail::group_options();
+Scanner::Scanner(Runtime& runtime, Shape shape, const std::optional<LaunchParameters>& parameters)
+    : runtime_(runtime),
+      shape_(runtime.resolve(shape)),
+      parameters_(detail::launch_parameters(runtime, Primitive::Scan, shape_, parameters)) {
+  const std::string options = detail::group_options(parameters_) + " -DSCAN_ITEMS=" + std::to_string(parameters_.items_per_work_item);
   if (shape_ == Shape::Cpu) {
     reduce_kernel_ = runtime_.kernel("scan.cl", "scan_chunk_sums_cpu", options);
     scan_kernel_ = runtime_.kernel("scan.cl", "scan_chunks_cpu", options);
   } else {
     scan_kernel_ = runtime_.kernel("scan.cl", "scan_blocks_gpu", options);
     add_kernel_ = runtime_.kernel("scan.cl", "scan_add_offsets_gpu", options);
+    const auto group = static_cast<std::size_t>(parameters_.group_size);
+    validate_built_kernel(scan_kernel_, "scan_blocks_gpu", group, runtime_.info());
+    validate_built_kernel(add_kernel_, "scan_add_offsets_gpu", group, runtime_.info());
   }
   total_ = runtime_.buffer(CL_MEM_READ_WRITE, sizeof(cl_uint), "scan total");
 }
@@ -53,7 +53,7 @@ std::uint32_t Scanner::run(const cl::Buffer& in, const cl::Buffer& out, std::siz
 
 void Scanner::run_cpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n, ScanKind kind,
                       Profiler* profiler) {
-  const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, kMinCpuChunk);
+  const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, parameters_);
   if (partials_.empty()) partials_.resize(1);
   detail::ensure_bytes(runtime_, partials_[0], chunks * sizeof(cl_uint), "scan chunk sums");
   const auto n_arg = static_cast<cl_ulong>(n);
@@ -69,7 +69,8 @@ void Scanner::run_cpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n
 
 void Scanner::run_gpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n, ScanKind kind, std::size_t level,
                       Profiler* profiler) {
-  const std::size_t blocks = div_up(n, kScanBlock);
+  const auto group = static_cast<std::size_t>(parameters_.group_size);
+  const std::size_t blocks = div_up(n, group * static_cast<std::size_t>(parameters_.items_per_work_item));
   if (partials_.size() <= level) partials_.resize(level + 1);
   // A single block's sum is the grand total.
   if (blocks > 1) detail::ensure_bytes(runtime_, partials_[level], blocks * sizeof(cl_uint), "scan block sums");
@@ -77,12 +78,11 @@ void Scanner::run_gpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n
   const cl::Buffer block_sums = blocks > 1 ? partials_[level] : total_;
   const auto n_arg = static_cast<cl_ulong>(n);
   detail::set_args(scan_kernel_, in, out, block_sums, n_arg, inclusive_flag(kind));
-  enqueue_1d(runtime_.queue(), scan_kernel_, blocks * detail::kGroupSize, detail::kGroupSize, profiler,
-             "scan blocks");
+  enqueue_1d(runtime_.queue(), scan_kernel_, blocks * group, group, profiler, "scan blocks");
   if (blocks == 1) return;
   run_gpu(block_sums, block_sums, blocks, ScanKind::Exclusive, level + 1, profiler);
   detail::set_args(add_kernel_, out, block_sums, n_arg);
-  enqueue_1d(runtime_.queue(), add_kernel_, n, detail::kGroupSize, profiler, "scan add offsets");
+  enqueue_1d(runtime_.queue(), add_kernel_, n, group, profiler, "scan add offsets");
 }
 
 }  // namespace splatcl::primitives

@@ -115,6 +115,7 @@ std::vector<DeviceInfo> list_devices() {
       DeviceInfo info;
       info.index = result.size();
       info.platform = trim(platform.getInfo<CL_PLATFORM_NAME>());
+      info.vendor = trim(device.getInfo<CL_DEVICE_VENDOR>());
       info.name = trim(device.getInfo<CL_DEVICE_NAME>());
       const cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
       info.type = is_simulator(type, info.platform) ? "simulator" : device_type_name(type);

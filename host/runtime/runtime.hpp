@@ -19,6 +19,7 @@ inline constexpr const char* kDeviceEnvVar = "SPLATCL_DEVICE";
 struct DeviceInfo {
   std::size_t index = 0;  // position in the flat list over all platforms
   std::string platform;
+  std::string vendor;  // CL_DEVICE_VENDOR
   std::string name;
   // "cpu", "gpu", "accelerator", "other", or "simulator": a device that checks kernels rather than
   // runs them fast (Oclgrind, which reports itself as ACCELERATOR|GPU|CPU). Simulators are never a

@@ -99,6 +99,32 @@ TEST(BenchReport, WithoutAReferenceThePeerIsTheBaseline) {
   EXPECT_NE(row(report, "stream-copy", "std::thread copy loop").find("20.0 GB/s"), std::string::npos);
 }
 
+// A case's counted flops per run against the same device's peak-fma throughput; other devices' peak
+// does not count, and a device without a peak-fma row shows none.
+TEST(BenchReport, ShareOfPeakArithmeticUsesTheSameDevicesFmaRow) {
+  const Results results = results_from_json(Json::parse(R"({"machine": {}, "records": [
+    {"suite": "cluster", "case": "assign-lights", "impl": "opencl", "device": "dev-a", "size": 10, "size_unit": "clusters",
+     "runs": 1, "median_ms": 10, "min_ms": 10, "max_ms": 10, "variant": "brute", "flops": 2.5e8},
+    {"suite": "cluster", "case": "assign-lights", "impl": "opencl", "device": "dev-b", "size": 10, "size_unit": "clusters",
+     "runs": 1, "median_ms": 10, "min_ms": 10, "max_ms": 10, "variant": "brute", "flops": 2.5e8},
+    {"suite": "cluster", "case": "peak-fma", "impl": "opencl", "device": "dev-a", "size": 1000000000, "size_unit": "flop",
+     "runs": 1, "median_ms": 10, "min_ms": 10, "max_ms": 10, "throughput": 1e11, "throughput_unit": "flop/s"},
+    {"suite": "cluster", "case": "peak-fma", "impl": "opencl", "device": "dev-b", "size": 1000000000, "size_unit": "flop",
+     "runs": 1, "median_ms": 10, "min_ms": 10, "max_ms": 10}]})"));
+  const std::string table = markdown_table(results.records);
+  EXPECT_NE(table.find("of peak FLOP/s"), std::string::npos) << table;
+  std::vector<std::string> brute_rows;
+  for (const auto& line : lines_of(table))
+    if (line.find("assign-lights") != std::string::npos) brute_rows.push_back(line);
+  ASSERT_EQ(brute_rows.size(), 2u) << table;
+  // 2.5e8 flop in 10 ms = 25 GFLOP/s, 25 % of dev-a's 100 GFLOP/s; dev-b's peak row has no throughput.
+  EXPECT_NE(brute_rows[0].find("| dev-a "), std::string::npos) << brute_rows[0];
+  EXPECT_NE(brute_rows[0].find(" 25 % |"), std::string::npos) << brute_rows[0];
+  EXPECT_EQ(brute_rows[1].find(" % |"), std::string::npos) << brute_rows[1];
+  // The case is the same on both devices: the flops field does not make a variant of it.
+  EXPECT_EQ(case_label(results.records[0]), "assign-lights");
+}
+
 TEST(BenchReport, ImplementationVariantsShareTheCaseAndItsReference) {
   Results results;
   Record bitmask;

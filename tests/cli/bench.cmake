@@ -41,3 +41,20 @@ add_test(NAME cli.error_bench_csm_missing_models COMMAND ${EXPECT_ERROR} "models
 add_test(NAME cli.error_bench_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device matches" $<TARGET_FILE:splatcl> bench csm --quick --device no-such-device)
 add_test(NAME cli.error_bench_plot_without_gnuplot COMMAND ${EXPECT_ERROR} "gnuplot not found on PATH" env PATH=/nonexistent
          $<TARGET_FILE:splatcl> bench plot ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json -o ${CMAKE_CURRENT_BINARY_DIR}/bench-plots-nognuplot)
+# splatcl bench tune and the tuning database: a typo in --kernel fails before any run; a database
+# ($SPLATCL_TUNING) that cannot be read, or whose record the device cannot run, is one line naming it.
+add_test(NAME cli.help_bench_tune COMMAND splatcl bench tune --help)
+add_test(NAME cli.error_bench_tune_kernel COMMAND ${EXPECT_ERROR} "unknown kernel 'fft' to tune \\(one of: scan, compact, radix-sort\\)"
+         $<TARGET_FILE:splatcl> bench tune --kernel fft -o ${CMAKE_CURRENT_BINARY_DIR}/tune-typo.json)
+add_test(NAME cli.error_tuning_missing COMMAND ${EXPECT_ERROR} "cannot read tuning database .*no-such-tuning.json" env
+         SPLATCL_TUNING=${CMAKE_CURRENT_BINARY_DIR}/no-such-tuning.json $<TARGET_FILE:splatcl> cluster --size 64x48)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/tuning-refused.json "{\"records\": [{\"kernel\": \"compact\", \"shape\": \"cpu\", \"parameters\": {\"chunks_per_compute_unit\": 0}}, {\"kernel\": \"radix-sort\", \"shape\": \"cpu\", \"parameters\": {\"digit_bits\": 16}}]}\n")
+add_test(NAME cli.error_tuning_refused COMMAND ${EXPECT_ERROR} "tuning-refused.json: tuning of (compact: chunks_per_compute_unit = 0 is outside 1 .. 256|radix-sort: digit_bits = 16 is outside 1 .. 10)"
+         env SPLATCL_TUNING=${CMAKE_CURRENT_BINARY_DIR}/tuning-refused.json $<TARGET_FILE:splatcl> cluster --size 64x48 --device cpu)
+# scripts/gpu-check.sh without a GPU: refusals without an NVIDIA ICD, and a dry run on PoCL
+# (tests/cli/gpu_check_test.sh). Not in the sanitizer pass: a shell script drives the Release binary's steps.
+if(NOT SPLATCL_SANITIZE)
+  add_test(NAME cli.gpu_check COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${CMAKE_CURRENT_SOURCE_DIR}/cli/gpu_check_test.sh
+           ${CMAKE_SOURCE_DIR}/scripts/gpu-check.sh ${CMAKE_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/gpu-check)
+  set_tests_properties(cli.gpu_check PROPERTIES SKIP_RETURN_CODE 77)
+endif()
