@@ -1,6 +1,7 @@
 #include "io/cpu_set.hpp"
 
 #include <sched.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -18,8 +19,11 @@ unsigned usable_cpus() {
 
 void limit_opencl_threads_to_cpu_set() {
   if (std::getenv("POCL_MAX_PTHREAD_COUNT")) return;
+  // The machine's online CPUs, as PoCL counts them (some C libraries answer hardware_concurrency
+  // from the affinity mask too).
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
   const unsigned cpus = usable_cpus();
-  if (cpus < std::thread::hardware_concurrency()) setenv("POCL_MAX_PTHREAD_COUNT", std::to_string(cpus).c_str(), 0);
+  if (online > 0 && cpus < static_cast<unsigned long>(online)) setenv("POCL_MAX_PTHREAD_COUNT", std::to_string(cpus).c_str(), 0);
 }
 
 }  // namespace splatcl
