@@ -75,7 +75,9 @@ build_config() {  # build_config DIR CMAKE_ARGS...
   cmake --build "$dir" -j "$jobs"
 }
 
-build_config build
+# Warnings are errors in the test builds (CI), not when a user only builds or runs.
+werror=OFF; [ "${1:-build}" = test ] && werror=ON
+build_config build -DSPLATCL_WERROR=$werror
 case "${1:-build}" in
   build) ;;
   run)
@@ -89,9 +91,21 @@ case "${1:-build}" in
     # that is not the default (tests/devices/on_devices.sh; $SPLATCL_TEST_DEVICES narrows the list).
     (. "$opencl_dir/env" && ctest --test-dir build --output-on-failure -j "$jobs")
     # ASan+UBSan: PoCL only (the system's ICD files), without the reruns.
-    build_config build-asan -DSPLATCL_SANITIZE=ON -DSPLATCL_BUILD_BENCH_PEERS=OFF -DSPLATCL_DEVICE_TESTS=OFF
+    build_config build-asan -DSPLATCL_SANITIZE=ON -DSPLATCL_WERROR=ON -DSPLATCL_BUILD_BENCH_PEERS=OFF -DSPLATCL_DEVICE_TESTS=OFF
     ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
       ctest --test-dir build-asan --output-on-failure -j "$jobs"
+    # ThreadSanitizer on the threaded tests only: the presenter's lighting worker beside its
+    # visibility pass and the thread pools that build its assets. A third build, of the presenter's
+    # test program alone; it reuses the Release pass's asset cache. Mesa's own races: tests/tsan.supp.
+    threaded_present_tests=(PresenterTest.OverlappedLightingEqualsSerialLighting PresenterTest.MovingAnOccluderMovesItsAmbientOcclusion
+      PresenterTest.IncrementalSplatLightingEqualsFullRecomputation PresenterTest.LightingSettingsChangeTheRowsWithoutMotion
+      PresenterTest.UnreadableCacheEntriesAreRebuilt)
+    cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Release -DSPLATCL_SANITIZE_THREAD=ON -DSPLATCL_WERROR=ON \
+      -DSPLATCL_BUILD_BENCH_PEERS=OFF -DSPLATCL_DEVICE_TESTS=OFF >/dev/null
+    cmake --build build-tsan -j "$jobs" --target splatcl_tests_present
+    rm -rf build-tsan/tests/present-cache && cp -r build/tests/present-cache build-tsan/tests/present-cache
+    TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tests/tsan.supp" build-tsan/tests/splatcl_tests_present \
+      --gtest_filter="$(IFS=:; echo "${threaded_present_tests[*]}")"
     ;;
   *) echo "usage: scripts/setup.sh [build|run|test]" >&2; exit 2 ;;
 esac
