@@ -1,14 +1,11 @@
 #include "io/image.hpp"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <string_view>
 
 #include "io/atomic_file.hpp"
+#include "io/image_codec.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl {
@@ -16,25 +13,8 @@ namespace splatcl {
 void write_image_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb) {
   if (width <= 0 || height <= 0 || rgb.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)
     throw Error("cannot write " + path + ": image size does not match its data");
-  // OpenImageIO picks the format from the extension and encodes into memory; the bytes then go
-  // through write_file_atomically like every other output, which checks each write and the close.
-  // (OpenImageIO's own PNG file writer reports success on a full disk: the file lands truncated.)
-  const std::string extension = std::filesystem::path(path).extension().string();
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error("cannot write " + path + ": no image format for '" + extension + "'");
-  if (!out->supports("ioproxy")) throw Error("cannot write " + path + ": the '" + extension + "' writer cannot encode into memory");
-  std::vector<unsigned char> encoded;
-  OIIO::Filesystem::IOVecOutput memory(encoded);
-  out->set_ioproxy(&memory);
-  const bool is_float = extension == ".exr" || extension == ".hdr";
-  OIIO::ImageSpec spec(width, height, 3, is_float ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
-  if (!out->open(path, spec)) throw Error("cannot write " + path + ": " + out->geterror());
-  const std::size_t row = static_cast<std::size_t>(width) * 3;
-  // Start at the last row with a negative stride: files are top-down, our buffers bottom-up.
-  const float* last_row = rgb.data() + row * static_cast<std::size_t>(height - 1);
-  const bool ok = out->write_image(OIIO::TypeDesc::FLOAT, last_row, OIIO::AutoStride, -static_cast<OIIO::stride_t>(row * sizeof(float)));
-  if (!ok || !out->close()) throw Error("cannot write " + path + ": " + out->geterror());
-  out.reset();
+  // Encoded in memory, then written like every other output: each write and the close checked.
+  const std::vector<unsigned char> encoded = encode_image_rgb(path, width, height, rgb);
   write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(encoded.data()), encoded.size()));
 }
 

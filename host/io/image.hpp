@@ -1,5 +1,6 @@
 #pragma once
-// Image output through OpenImageIO (format from the extension: .png, .exr, ...), written atomically.
+// Image output through OpenImageIO (format from the extension: .png, .exr, ...; host/io/image_codec.hpp),
+// written atomically.
 #include <array>
 #include <cstdint>
 #include <string>

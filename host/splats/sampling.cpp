@@ -2,13 +2,13 @@
 
 #include <fmt/format.h>
 
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
 
+#include "io/image_codec.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::splats {
@@ -241,16 +241,11 @@ void drop_duplicates(Samples& samples) {
 }  // namespace
 
 Texture load_texture(const std::string& path) {
-  auto input = OIIO::ImageInput::open(path);
-  if (!input) throw Error("cannot read texture " + path + ": " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = input->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw Error("texture " + path + " is empty");
-  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data()))
-    throw Error("cannot read texture " + path + ": " + input->geterror());
-  Texture texture{spec.width, spec.height, std::vector<std::uint8_t>(static_cast<std::size_t>(spec.width) * spec.height * 3)};
-  for (std::size_t p = 0; p < static_cast<std::size_t>(spec.width) * spec.height; ++p)
-    for (int c = 0; c < 3; ++c) texture.rgb[3 * p + c] = pixels[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
+  const DecodedImage image = decode_image_u8(path, "texture");
+  const std::size_t texels = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
+  Texture texture{image.width, image.height, std::vector<std::uint8_t>(texels * 3)};
+  for (std::size_t p = 0; p < texels; ++p)
+    for (int c = 0; c < 3; ++c) texture.rgb[3 * p + c] = image.pixels[p * image.channels + std::min(c, image.channels - 1)];
   return texture;
 }
 
