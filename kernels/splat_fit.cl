@@ -1,6 +1,6 @@
 // Splat fit (the splat thesis §2.2.2–§2.2.3), one work-item per sample. Native reference: host/splats/reference.cpp,
-// which performs the same float operations in the same order; the frame, size rule, sort key,
-// colour test and hull test are one source with it (splat_fit.h); contraction into fused
+// which performs the same float operations in the same order; the size rule, sort key, colour
+// test and hull test are one source with it (splat_fit.h); contraction into fused
 // multiply-adds is off so both round identically.
 //
 // Build options: LITERAL_LAMBDA (0/1), RETEST_VIOLATOR (0/1), CLIP (0/1), SIZE_AT_ACCEPTED (0/1),
@@ -14,20 +14,97 @@ typedef struct {
 
 inline float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-// ---------------------------------------------------------------------------------------------
-// Frames (splat_frame in splat_fit.h).
+inline float4 cross3(float4 a, float4 b) {
+  return (float4)(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x, 0.0f);
+}
+
+// Sign convention: the largest-magnitude component (first on ties) is positive.
+inline float4 canonical_sign(float4 a) {
+  float m = a.x;
+  if (fabs(a.y) > fabs(m)) m = a.y;
+  if (fabs(a.z) > fabs(m)) m = a.z;
+  return m < 0.0f ? -a : a;
+}
 
 __kernel void splat_frames(__global const float4* positions, __global const float4* normals,
                            __global const uint* neighbors, uint k, __global const float* kth_distance,
                            uint count, __global Frame* frames) {
   const size_t i = get_global_id(0);
   if (i >= count) return;
-  float u[3], v[3], n[3];
-  splat_frame((__global const float*)positions, (__global const float*)normals, neighbors + i * (size_t)k, k,
-              kth_distance[i], (uint)i, u, v, n);
-  frames[i].u = (float4)(u[0], u[1], u[2], 0.0f);
-  frames[i].v = (float4)(v[0], v[1], v[2], 0.0f);
-  frames[i].n = (float4)(n[0], n[1], n[2], 0.0f);
+  const float4 p0 = positions[i];
+  const float di = kth_distance[i];
+  const float scale = di > 0.0f ? 1.0f / di : 1.0f;
+  __global const uint* row = neighbors + i * (size_t)k;
+  // Mean of the scaled offsets from p0 (p0 itself contributes zero).
+  float mx = 0.0f, my = 0.0f, mz = 0.0f;
+  for (uint r = 0; r < k; ++r) {
+    const float4 w = (positions[row[r]] - p0) * scale;
+    mx += w.x, my += w.y, mz += w.z;
+  }
+  const float inv = 1.0f / (float)(k + 1);
+  mx *= inv, my *= inv, mz *= inv;
+  float a[3][3];
+  {
+    float xx = mx * mx, xy = mx * my, xz = mx * mz, yy = my * my, yz = my * mz, zz = mz * mz;  // p0's term
+    for (uint r = 0; r < k; ++r) {
+      const float4 w = (positions[row[r]] - p0) * scale;
+      const float x = w.x - mx, y = w.y - my, z = w.z - mz;
+      xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
+    }
+    a[0][0] = xx * inv, a[0][1] = xy * inv, a[0][2] = xz * inv;
+    a[1][0] = xy * inv, a[1][1] = yy * inv, a[1][2] = yz * inv;
+    a[2][0] = xz * inv, a[2][1] = yz * inv, a[2][2] = zz * inv;
+  }
+  float e[3][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    if (a[0][1] == 0.0f && a[0][2] == 0.0f && a[1][2] == 0.0f) break;
+    for (int pair = 0; pair < 3; ++pair) {
+      const int p = pair == 2 ? 1 : 0, q = pair == 0 ? 1 : 2;
+      const float apq = a[p][q];
+      if (apq == 0.0f) continue;
+      const float theta = (a[q][q] - a[p][p]) / (2.0f * apq);
+      float t = 1.0f / (fabs(theta) + sqrt(theta * theta + 1.0f));
+      if (theta < 0.0f) t = -t;
+      const float c = 1.0f / sqrt(t * t + 1.0f), s = t * c;
+      for (int r = 0; r < 3; ++r) {
+        const float arp = a[r][p], arq = a[r][q];
+        a[r][p] = c * arp - s * arq;
+        a[r][q] = s * arp + c * arq;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float apr = a[p][r], aqr = a[q][r];
+        a[p][r] = c * apr - s * aqr;
+        a[q][r] = s * apr + c * aqr;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float erp = e[r][p], erq = e[r][q];
+        e[r][p] = c * erp - s * erq;
+        e[r][q] = s * erp + c * erq;
+      }
+    }
+  }
+  // Order by descending eigenvalue, ties by column.
+  int order[3] = {0, 1, 2};
+  for (int x = 1; x < 3; ++x)
+    for (int y = x; y > 0 && a[order[y]][order[y]] > a[order[y - 1]][order[y - 1]]; --y) {
+      const int swap = order[y];
+      order[y] = order[y - 1];
+      order[y - 1] = swap;
+    }
+  float4 u = canonical_sign((float4)(e[0][order[0]], e[1][order[0]], e[2][order[0]], 0.0f));
+  float4 v = canonical_sign((float4)(e[0][order[1]], e[1][order[1]], e[2][order[1]], 0.0f));
+  float4 n = cross3(u, v);
+  // Orientation: distance-weighted mean of the sample normals (weight exp(-3 |p_j - p_i| / d_i)).
+  float4 m = normals[i];
+  for (uint r = 0; r < k; ++r) {
+    const float4 w = positions[row[r]] - p0;
+    const float d = sqrt(dot3(w, w));
+    m += normals[row[r]] * exp(-3.0f * d * scale);
+  }
+  if (dot3(m, n) < 0.0f) u = -u, v = -v, n = -n;
+  frames[i].u = u;
+  frames[i].v = v;
+  frames[i].n = n;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -10,7 +10,7 @@
 
 namespace splatcl::splats::reference {
 
-// The frame, size rule, sort key, colour test and hull test, one source with the kernel.
+// The size rule, sort key, colour test and hull test, one source with the kernel.
 namespace device {
 using uint = std::uint32_t;
 using std::size_t;
@@ -20,15 +20,87 @@ using std::size_t;
 static_assert(static_cast<int>(Stop::None) == STOP_NONE && static_cast<int>(Stop::Geometry) == STOP_GEOMETRY &&
                   static_cast<int>(Stop::Color) == STOP_COLOR,
               "Stop has the values of kernels/splat_fit.h");
-static_assert(sizeof(Vec4) == 4 * sizeof(float), "positions and normals are read as xyzw floats");
 
 namespace {
 
+Vec3 canonical_sign(Vec3 a) {
+  float m = a.x;
+  if (std::fabs(a.y) > std::fabs(m)) m = a.y;
+  if (std::fabs(a.z) > std::fabs(m)) m = a.z;
+  return m < 0.0f ? Vec3{-a.x, -a.y, -a.z} : a;
+}
+
+Vec3 scaled(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+
 Frame frame_of(const Samples& samples, const Neighborhoods& nb, std::size_t i) {
-  float u[3], v[3], n[3];
-  device::splat_frame(&samples.positions[0].x, &samples.normals[0].x, nb.indices.data() + i * nb.k, nb.k,
-                      nb.kth_distance[i], static_cast<std::uint32_t>(i), u, v, n);
-  return {{u[0], u[1], u[2], 0.0f}, {v[0], v[1], v[2], 0.0f}, {n[0], n[1], n[2], 0.0f}};
+  const std::uint32_t k = nb.k;
+  const Vec3 p0 = xyz(samples.positions[i]);
+  const float di = nb.kth_distance[i];
+  const float scale = di > 0.0f ? 1.0f / di : 1.0f;
+  const std::uint32_t* row = nb.indices.data() + i * k;
+  float mx = 0.0f, my = 0.0f, mz = 0.0f;
+  for (std::uint32_t r = 0; r < k; ++r) {
+    const Vec3 w = scaled(xyz(samples.positions[row[r]]) - p0, scale);
+    mx += w.x, my += w.y, mz += w.z;
+  }
+  const float inv = 1.0f / static_cast<float>(k + 1);
+  mx *= inv, my *= inv, mz *= inv;
+  float a[3][3];
+  {
+    float xx = mx * mx, xy = mx * my, xz = mx * mz, yy = my * my, yz = my * mz, zz = mz * mz;
+    for (std::uint32_t r = 0; r < k; ++r) {
+      const Vec3 w = scaled(xyz(samples.positions[row[r]]) - p0, scale);
+      const float x = w.x - mx, y = w.y - my, z = w.z - mz;
+      xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
+    }
+    a[0][0] = xx * inv, a[0][1] = xy * inv, a[0][2] = xz * inv;
+    a[1][0] = xy * inv, a[1][1] = yy * inv, a[1][2] = yz * inv;
+    a[2][0] = xz * inv, a[2][1] = yz * inv, a[2][2] = zz * inv;
+  }
+  float e[3][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    if (a[0][1] == 0.0f && a[0][2] == 0.0f && a[1][2] == 0.0f) break;
+    for (int pair = 0; pair < 3; ++pair) {
+      const int p = pair == 2 ? 1 : 0, q = pair == 0 ? 1 : 2;
+      const float apq = a[p][q];
+      if (apq == 0.0f) continue;
+      const float theta = (a[q][q] - a[p][p]) / (2.0f * apq);
+      float t = 1.0f / (std::fabs(theta) + std::sqrt(theta * theta + 1.0f));
+      if (theta < 0.0f) t = -t;
+      const float c = 1.0f / std::sqrt(t * t + 1.0f), s = t * c;
+      for (int r = 0; r < 3; ++r) {
+        const float arp = a[r][p], arq = a[r][q];
+        a[r][p] = c * arp - s * arq;
+        a[r][q] = s * arp + c * arq;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float apr = a[p][r], aqr = a[q][r];
+        a[p][r] = c * apr - s * aqr;
+        a[q][r] = s * apr + c * aqr;
+      }
+      for (int r = 0; r < 3; ++r) {
+        const float erp = e[r][p], erq = e[r][q];
+        e[r][p] = c * erp - s * erq;
+        e[r][q] = s * erp + c * erq;
+      }
+    }
+  }
+  int order[3] = {0, 1, 2};
+  for (int x = 1; x < 3; ++x)
+    for (int y = x; y > 0 && a[order[y]][order[y]] > a[order[y - 1]][order[y - 1]]; --y) std::swap(order[y], order[y - 1]);
+  Vec3 u = canonical_sign({e[0][order[0]], e[1][order[0]], e[2][order[0]]});
+  Vec3 v = canonical_sign({e[0][order[1]], e[1][order[1]], e[2][order[1]]});
+  Vec3 n = cross(u, v);
+  Vec3 m = xyz(samples.normals[i]);
+  for (std::uint32_t r = 0; r < k; ++r) {
+    const Vec3 w = xyz(samples.positions[row[r]]) - p0;
+    const float d = std::sqrt(dot(w, w));
+    const float weight = std::exp(-3.0f * d * scale);
+    const Vec3 nj = xyz(samples.normals[row[r]]);
+    m = m + Vec3{nj.x * weight, nj.y * weight, nj.z * weight};
+  }
+  if (dot(m, n) < 0.0f) u = scaled(u, -1.0f), v = scaled(v, -1.0f), n = scaled(n, -1.0f);
+  return {to_vec4(u), to_vec4(v), to_vec4(n)};
 }
 
 bool color_similar(Rgba8 a, Rgba8 b, int tolerance) {
