@@ -126,14 +126,15 @@ void ellipse_test_points(const Ellipse& e, double eps, std::vector<DVec3>& out) 
 
 float growth_eps(float eps) { return static_cast<float>(eps * (1 - kFloatReserve) * (1 - kBetweenPointsReserve)); }
 
-bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch) {
+bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch, Surface::Recent* recent) {
   ellipse_test_points(e, eps, scratch);
   // The points are a sample of the ellipse: between them the distance can rise by a little more
   // (it is 1-Lipschitz), so they must keep this much below ε.
   const double limit = eps * (1 - kBetweenPointsReserve);
-  Surface::Recent recent;
+  Surface::Recent own;
+  if (!recent) recent = &own;
   for (const DVec3& p : scratch)
-    if (!surface.within(p, limit, &recent)) return false;
+    if (!surface.within(p, limit, recent)) return false;
   return true;
 }
 
@@ -233,9 +234,10 @@ void bound_by_surface(const Surface& surface, const Samples& samples, const Neig
       return;
     }
     const double a0 = e.a, b0 = e.b;
+    Surface::Recent recent;  // the tests at several sizes query the same part of the surface
     const auto test = [&](double s, double t) {  // both axes at scale s, then the major extended by t
       e.b = s * b0, e.a = s * a0 + t * (a0 - s * a0);
-      return within_surface(surface, e, eps, scratch[worker]);
+      return within_surface(surface, e, eps, scratch[worker], &recent);
     };
     // A first guess from the samples: the scale at which the nearest same-facing neighbour of the
     // covered samples that lies more than ε off the splat's plane projects onto its rim.
@@ -390,9 +392,10 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
   if (!(length(x) > 0)) x = any_perpendicular(e.normal);
   const DVec3 y = cross(e.normal, x);
   e.u = x, e.v = y;
+  Surface::Recent recent;  // the tests at several sizes query the same part of the surface
   const auto test = [&](double a, double b) {
     e.a = a, e.b = b;
-    return within_surface(surface, e, eps, scratch);
+    return within_surface(surface, e, eps, scratch, &recent);
   };
   // The largest passing value in (lo, hi] of a monotone test, by doubling then bisection.
   const auto largest_passing = [&](double lo, double start, const auto& passes) {

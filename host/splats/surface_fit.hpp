@@ -41,11 +41,13 @@ Ellipse ellipse_of(const SplatRecord& splat);
 Ellipse ellipse_of(const SplatShape& shape, const Vec4& clip, const Frame& frame);
 
 // The points the surface bound is tested at: the centre, an inner ring and the rim (spaced at
-// most ε apart, 24..128 points), the clip chord when clipped; points cut off by the clip are left out.
+// most 2ε apart, 24..128 points), the clip chord when clipped; points cut off by the clip are left out.
 void ellipse_test_points(const Ellipse& e, double eps, std::vector<DVec3>& out);
 
-// Whether every test point of `e` lies within `eps` of the surface.
-bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch);
+// Whether every test point of `e` lies within `eps` of the surface. `recent`, kept across the tests
+// of one splat at several sizes, only speeds the queries up.
+bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch,
+                    Surface::Recent* recent = nullptr);
 
 // Whether every point of `e` lies within `eps` of the surface, by a subdivision of the ellipse
 // whose cells are certified by the distance at their centre plus their radius (the distance is
