@@ -231,7 +231,7 @@ std::string markdown_report(const Results& results) {
           "vs peer = the first peer's median / median; of stream BW = bytes the case must move per run / median time, "
           "as a share of the same device's streaming-copy bandwidth (stream-copy rows); of peak FLOP/s = floating-point "
           "operations the case counts per run / median time, as a share of the same device's FMA throughput (peak-fma "
-          "rows, an FMA counting 2: operations that are not FMAs reach at most 50 %).\n";
+          "rows, an FMA counting 2).\n";
   return text;
 }
 
