@@ -18,6 +18,7 @@ packages=(
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev gnuplot-nox
   slurm-wlm munge strace  # tests/batch/cli_slurm_test.sh (a single-node Slurm), the batch start-up test (strace)
+  clang libclang-rt-14-dev  # libFuzzer for scripts/fuzz.sh (the suite replays the fuzz corpus with the default compiler)
 )
 
 missing=()

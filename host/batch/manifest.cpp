@@ -186,7 +186,7 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number beyond double
     std::string what = e.what();
     if (const auto at = what.find("] "); what.rfind("[json.exception", 0) == 0 && at != std::string::npos) what = what.substr(at + 2);
     throw Error(fmt::format("{}: not valid JSON: {}", name, what));
@@ -260,6 +260,8 @@ std::vector<ModelEntry> parse_csv_manifest(const std::string& text, const std::s
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.find_first_not_of(" \t") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
     const std::string where = fmt::format("{}:{}", name, number);
+    // As a JSON manifest must be: its paths and ids go into the summary's JSON.
+    if (!is_utf8(line)) throw Error(where + ": not UTF-8 text");
     auto fields = csv_fields(line, where);
     if (header.empty()) {
       header = std::move(fields);

@@ -136,6 +136,8 @@ std::string to_csv(const Results& results) {
 }
 
 Results results_from_csv(const std::string& text) {
+  // As JSON results must be (and --json could not write it otherwise).
+  if (!is_utf8(text)) throw Error("not UTF-8 text");
   const auto rows = parse_rows(text);
   if (rows.empty()) throw Error("empty CSV: expected a header row");
   const auto& header = rows.front();

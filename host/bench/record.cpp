@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "io/atomic_file.hpp"
@@ -177,7 +178,8 @@ Record record_from_json(const Json& json) {
   }
   record.size_unit = optional_string(json, "size_unit");
   const double runs = required_number(json, "runs");
-  if (runs < 1 || runs != std::floor(runs)) throw Error("benchmark record field 'runs' is not a positive integer");
+  if (runs < 1 || runs != std::floor(runs) || runs > std::numeric_limits<int>::max())
+    throw Error("benchmark record field 'runs' is not a positive integer (at most 2^31 - 1)");
   record.runs = static_cast<int>(runs);
   record.median_ms = required_number(json, "median_ms");
   record.min_ms = required_number(json, "min_ms");
@@ -217,8 +219,9 @@ void write_results(const std::string& path, const Results& results) {
   write_file_atomically(path, to_json(results).dump(2) + "\n");
 }
 
-Results read_results(const std::string& path) {
-  const std::string text = read_text_file(path, "");
+Results read_results(const std::string& path) { return parse_results(read_text_file(path, ""), path); }
+
+Results parse_results(const std::string& text, const std::string& path) {
   Json json;
   try {
     json = Json::parse(text);

@@ -64,6 +64,8 @@ Results results_from_json(const Json& json);
 void write_results(const std::string& path, const Results& results);
 // Throws Error naming the file when it cannot be read or is not a results file.
 Results read_results(const std::string& path);
+// The same for a file's text already in memory; `name` appears in errors.
+Results parse_results(const std::string& text, const std::string& name);
 
 // What a reader needs to compare figures across machines: host, CPU, memory, OS, compiler and build,
 // the OpenCL device (when given) and the PoCL thread count, and the date.

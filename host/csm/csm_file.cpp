@@ -262,8 +262,8 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   // allocates nothing before the checksum, and a resealed one nothing beyond the limit.
   if (info.maps == 0 || info.maps > kMaxMaps) throw fail(fmt::format("its map count {} is not in 1..{}", info.maps, kMaxMaps));
   try {
-    const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
-    if (grid.rows() != rows || grid.cols() != cols) throw fail(fmt::format("grid {}x{} does not match {} maps", rows, cols, info.maps));
+    const auto shape = grid_shape(info.distribution, info.order, info.maps);
+    if (shape[0] != rows || shape[1] != cols) throw fail(fmt::format("grid {}x{} does not match {} maps", rows, cols, info.maps));
   } catch (const Error& e) {
     if (std::string(e.what()).rfind(name, 0) == 0) throw;
     // The grid's own message speaks of the --maps option; here the count comes from the file.

@@ -104,13 +104,18 @@ void hilbert_d2xy(std::uint32_t n, std::uint32_t d, std::uint32_t& x, std::uint3
   }
 }
 
+std::array<std::uint32_t, 2> grid_shape(Distribution distribution, Order order, std::uint32_t maps) {
+  const auto shape = grid_shape(distribution, maps);
+  if ((order == Order::Hilbert || order == Order::Morton) && !(shape[0] == shape[1] && is_power_of_two(shape[0])))
+    throw Error(std::string("the ") + to_string(order) + " order needs a square power-of-two grid (maps = 4^k with a G x G distribution)");
+  return shape;
+}
+
 SphereGrid::SphereGrid(Distribution distribution, Order order, PoleAxis pole, std::uint32_t maps)
     : distribution_(distribution), order_(order), pole_(pole), frame_(pole_frame(pole)) {
-  const auto shape = grid_shape(distribution, maps);
+  const auto shape = grid_shape(distribution, order, maps);
   rows_ = shape[0];
   cols_ = shape[1];
-  if ((order == Order::Hilbert || order == Order::Morton) && !(rows_ == cols_ && is_power_of_two(rows_)))
-    throw Error(std::string("the ") + to_string(order) + " order needs a square power-of-two grid (maps = 4^k with a G x G distribution)");
   cell_of_sequence_.resize(maps);
   sequence_of_cell_.resize(maps);
   for (std::uint32_t i = 0; i < maps; ++i) {

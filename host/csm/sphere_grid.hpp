@@ -102,6 +102,9 @@ class SphereGrid {
 
 // Grid (rows, cols) for `maps` under `distribution`, or throws Error.
 std::array<std::uint32_t, 2> grid_shape(Distribution distribution, std::uint32_t maps);
+// The same, also checked against the order as SphereGrid's constructor checks it, without building
+// the grid's tables (a .csm header's map count is checked this way: 2^24 maps take seconds to build).
+std::array<std::uint32_t, 2> grid_shape(Distribution distribution, Order order, std::uint32_t maps);
 
 // 2-D Hilbert index → (x, y) on an n × n grid, n a power of two (Talpe §2.4).
 void hilbert_d2xy(std::uint32_t n, std::uint32_t d, std::uint32_t& x, std::uint32_t& y);

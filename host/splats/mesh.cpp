@@ -331,6 +331,11 @@ Mesh load_mesh(const std::string& path) {
   return assemble(detail::read_mesh_file(path), path);
 }
 
+Mesh parse_mesh(const std::string& path, std::string_view bytes) {
+  silence_openmesh();
+  return assemble(detail::parse_mesh_file(path, bytes), path);
+}
+
 Mesh make_mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<std::uint32_t>>& faces,
                const std::string& description) {
   detail::RawMesh raw;

@@ -27,6 +27,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "splats/geometry.hpp"
@@ -74,6 +75,9 @@ struct Mesh {
 // the file when it is missing, unreadable, not one of the four formats, truncated or otherwise
 // refused, or has no face left (the message then says what was dropped).
 Mesh load_mesh(const std::string& path);
+// The same for a file's bytes already in memory (the format by the extension of `path`, which
+// errors name): load_mesh is the file checks and one read, then this (the fuzz harnesses' entry).
+Mesh parse_mesh(const std::string& path, std::string_view bytes);
 
 // Builds a mesh from polygons (vertex index lists) through the same checks and OpenMesh path as
 // load_mesh, so tests and generated models get the same normals, cleaning and problem counts.

@@ -1,8 +1,5 @@
 #include "splats/mesh_readers.hpp"
 
-// GCC reports a false -Wmaybe-uninitialized inside OpenMesh's property vectors when sanitizers are on.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -18,8 +15,6 @@
 #include <limits>
 #include <unordered_map>
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include "runtime/error.hpp"
 
@@ -88,6 +83,8 @@ std::string lower_extension(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
 }
+
+bool known_mesh_extension(const std::string& ext) { return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl"; }
 
 std::string plural(std::uint64_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
 
@@ -215,54 +212,6 @@ RawMesh read_obj(const std::string& path, std::string_view text) {
   return raw;
 }
 
-// ------------------------------------------------------------------------- OpenMesh (rare variants)
-
-// OFF variants our reader leaves to OpenMesh (binary, 4D, n-dimensional): read as OpenMesh does,
-// then checked and counted like the rest.
-RawMesh read_with_openmesh(const std::string& path) {
-  using OmMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
-  OmMesh om;
-  om.request_vertex_normals();
-  om.request_vertex_texcoords2D();
-  om.request_halfedge_texcoords2D();
-  OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexNormal | OpenMesh::IO::Options::FaceTexCoord |
-                                  OpenMesh::IO::Options::VertexTexCoord;
-  bool ok = false;
-  try {
-    ok = OpenMesh::IO::read_mesh(om, path, options);
-  } catch (const std::exception& e) {
-    refuse(path, e.what());
-  }
-  if (!ok) refuse(path, "OpenMesh cannot parse this OFF variant");
-  RawMesh raw;
-  const bool file_normals = options.check(OpenMesh::IO::Options::VertexNormal);
-  const bool face_texcoords = options.check(OpenMesh::IO::Options::FaceTexCoord);
-  const bool vertex_texcoords = options.check(OpenMesh::IO::Options::VertexTexCoord);
-  for (const auto v : om.vertices()) {
-    const auto& p = om.point(v);
-    const Vec3 position{p[0], p[1], p[2]};
-    if (!finite(position)) ++raw.problems.non_finite_vertices;
-    raw.add_vertex(position, !finite(position));
-    if (file_normals) {
-      const auto& n = om.normal(v);
-      raw.normals.push_back({n[0], n[1], n[2]});
-      raw.has_normal.push_back(1);
-    }
-  }
-  for (const auto f : om.faces()) {
-    for (const auto h : om.fh_range(f)) {
-      const auto v = om.to_vertex_handle(h);
-      raw.corners.push_back(v.idx());
-      if (face_texcoords || vertex_texcoords) {
-        const auto t = face_texcoords ? om.texcoord2D(h) : om.texcoord2D(v);
-        raw.corner_texcoords.push_back({t[0], t[1]});
-      }
-    }
-    raw.end_face();
-  }
-  return raw;
-}
-
 // ---------------------------------------------------------------------------------------------- OFF
 
 // Non-empty lines with their '#' comments removed, and whether any is left.
@@ -294,24 +243,167 @@ class OffLines {
   bool has_next_ = false;
 };
 
+// What an OFF header's keyword [ST][C][N][4][n]OFF says of each vertex record (nOFF must be 3D).
+struct OffLayout {
+  bool texcoords = false, colors = false, normals = false, homogeneous = false;
+  std::size_t coordinates() const { return homogeneous ? 4 : 3; }
+};
+
+// A point from its coordinates: the first three, divided by the last with 4OFF (homogeneous).
+// False where it is not finite then (a zero or non-finite w included).
+bool off_point(const double* c, const OffLayout& layout, double out[3]) {
+  const double w = layout.homogeneous ? c[3] : 1.0;
+  for (int i = 0; i < 3; ++i) out[i] = c[i] / w;
+  return std::isfinite(w) && w != 0;
+}
+
+void add_off_vertex(RawMesh& raw, const double* c, const OffLayout& layout) {
+  double p[3];
+  Vec3 q;
+  if (!off_point(c, layout, p) || !(to_float(p[0], q.x) && to_float(p[1], q.y) && to_float(p[2], q.z))) {
+    ++raw.problems.non_finite_vertices;
+    raw.add_vertex({}, true);
+  } else {
+    raw.add_vertex(q, false);
+  }
+}
+
+// Texture coordinates per corner from those per vertex (STOFF); zero at a corner out of range.
+void off_corner_texcoords(RawMesh& raw, const std::vector<std::array<float, 2>>& vertex_texcoords) {
+  const auto vertex_count = static_cast<std::int64_t>(vertex_texcoords.size());
+  raw.corner_texcoords.reserve(raw.corners.size());
+  for (const std::int64_t v : raw.corners)
+    raw.corner_texcoords.push_back(v >= 0 && v < vertex_count ? vertex_texcoords[static_cast<std::size_t>(v)] : std::array<float, 2>{});
+}
+
+// 32-bit words of a binary OFF body, in one byte order.
+class OffWords {
+ public:
+  OffWords(std::string_view bytes, bool swap) : bytes_(bytes), swap_(swap) {}
+  bool next(std::uint32_t& value) {
+    if (bytes_.size() - pos_ < 4) return false;
+    std::memcpy(&value, bytes_.data() + pos_, 4);
+    if (swap_) value = __builtin_bswap32(value);
+    pos_ += 4;
+    return true;
+  }
+  float next_float() {
+    std::uint32_t bits = 0;
+    next(bits);
+    return std::bit_cast<float>(bits);
+  }
+  bool skip(std::uint64_t words) {
+    if (words > remaining()) return false;
+    pos_ += static_cast<std::size_t>(words) * 4;
+    return true;
+  }
+  std::size_t remaining() const { return (bytes_.size() - pos_) / 4; }
+
+ private:
+  std::string_view bytes_;
+  bool swap_;
+  std::size_t pos_ = 0;
+};
+
+// Binary OFF (Geomview's layout), after the header line: the dimension (nOFF) and the vertex, face
+// and edge counts as 32-bit integers; per vertex its coordinates, normal (N), RGBA colour (C) and
+// texture coordinates (ST) as floats; per face its corner count, the indices, a colour count and
+// that many floats. Big-endian as Geomview writes it; a file whose counts fit the file only in the
+// other byte order (OpenMesh writes the machine's) is read in that order. The counts must fit the
+// bytes after them before anything is allocated.
+RawMesh read_off_binary(const std::string& path, std::string_view text, const OffLayout& layout, bool dimension_given) {
+  std::size_t body_start = text.size();
+  {
+    Lines lines(text);
+    std::string_view line;
+    std::vector<std::string_view> tokens;
+    while (lines.next(line)) {
+      split(strip_comment(line), tokens);
+      if (!tokens.empty()) {
+        body_start = std::min(lines.position(), text.size());
+        break;
+      }
+    }
+  }
+  const std::string_view body = text.substr(body_start);
+  const std::size_t vertex_words = layout.coordinates() + (layout.normals ? 3 : 0) + (layout.colors ? 4 : 0) + (layout.texcoords ? 2 : 0);
+  struct Counts {
+    std::uint32_t dimension = 3, vertices = 0, faces = 0, edges = 0;
+  };
+  const auto read_counts = [&](OffWords& in, Counts& c) {
+    return (!dimension_given || in.next(c.dimension)) && in.next(c.vertices) && in.next(c.faces) && in.next(c.edges);
+  };
+  // Every face takes at least two words (its corner and colour counts).
+  const auto fits = [&](bool swap) {
+    OffWords in(body, swap);
+    Counts c;
+    return read_counts(in, c) && std::uint64_t{c.vertices} * vertex_words + std::uint64_t{c.faces} * 2 <= in.remaining();
+  };
+  bool swap = std::endian::native == std::endian::little;
+  if (!fits(swap) && fits(!swap)) swap = !swap;
+  OffWords in(body, swap);
+  Counts counts;
+  if (!read_counts(in, counts)) refuse(path, "truncated binary OFF: no vertex, face and edge counts after the header");
+  if (counts.dimension != 3) refuse(path, fmt::format("nOFF of dimension {}: only 3-dimensional meshes are read", counts.dimension));
+  if (std::uint64_t{counts.vertices} * vertex_words + std::uint64_t{counts.faces} * 2 > in.remaining())
+    refuse(path, fmt::format("binary OFF header declares {} and {}, more than the {} after it can hold", plural(counts.vertices, "vertex", "vertices"),
+                             plural(counts.faces, "face", "faces"), plural(in.remaining() * 4, "byte", "bytes")));
+  RawMesh raw;
+  raw.positions.reserve(counts.vertices);
+  std::vector<std::array<float, 2>> vertex_texcoords;
+  for (std::uint32_t i = 0; i < counts.vertices; ++i) {
+    double c[4] = {0, 0, 0, 1};
+    for (std::size_t k = 0; k < layout.coordinates(); ++k) c[k] = in.next_float();
+    add_off_vertex(raw, c, layout);
+    if (layout.normals) {
+      const float x = in.next_float(), y = in.next_float(), z = in.next_float();
+      raw.normals.push_back({x, y, z});
+      raw.has_normal.push_back(1);
+    }
+    if (layout.colors) in.skip(4);
+    if (layout.texcoords) {
+      const float u = in.next_float(), v = in.next_float();
+      vertex_texcoords.push_back({u, v});
+    }
+  }
+  for (std::uint32_t f = 0; f < counts.faces; ++f) {
+    const auto truncated = [&] { refuse(path, fmt::format("truncated binary OFF: the file ends in face {} of {}", f + 1, counts.faces)); };
+    std::uint32_t n = 0, colors = 0, index = 0;
+    if (!in.next(n) || n > in.remaining()) truncated();
+    for (std::uint32_t c = 0; c < n; ++c) {
+      in.next(index);
+      raw.corners.push_back(static_cast<std::int32_t>(index));
+    }
+    if (!in.next(colors) || !in.skip(colors)) truncated();
+    raw.end_face();
+  }
+  if (layout.texcoords) off_corner_texcoords(raw, vertex_texcoords);
+  return raw;
+}
+
 RawMesh read_off(const std::string& path, std::string_view text) {
   OffLines lines(text);
   std::vector<std::string_view> tokens;
   if (!lines.next(tokens)) refuse(path, "empty file (no OFF header)");
-  // [ST][C][N][4][n]OFF, optionally followed by BINARY and the counts on the same line.
+  OffLayout layout;
   std::string_view key = tokens[0];
-  const bool st = key.starts_with("ST");
-  if (st) key.remove_prefix(2);
-  if (key.starts_with("C")) key.remove_prefix(1);
-  const bool has_normals = key.starts_with("N");
-  if (has_normals) key.remove_prefix(1);
-  bool other_variant = false;
-  if (key.starts_with("4")) key.remove_prefix(1), other_variant = true;
-  if (key.starts_with("n")) key.remove_prefix(1), other_variant = true;
+  if (key.starts_with("ST")) key.remove_prefix(2), layout.texcoords = true;
+  if (key.starts_with("C")) key.remove_prefix(1), layout.colors = true;
+  if (key.starts_with("N")) key.remove_prefix(1), layout.normals = true;
+  if (key.starts_with("4")) key.remove_prefix(1), layout.homogeneous = true;
+  const bool dimension_given = key.starts_with("n");
+  if (dimension_given) key.remove_prefix(1);
   if (key != "OFF") refuse(path, "not an OFF file (its first word is not OFF)");
-  std::vector<std::string_view> counts(tokens.begin() + 1, tokens.end());
-  if (!counts.empty() && counts[0] == "BINARY") other_variant = true;
-  if (other_variant) return read_with_openmesh(path);
+  std::vector<std::string_view> rest(tokens.begin() + 1, tokens.end());
+  if (!rest.empty() && rest[0] == "BINARY") return read_off_binary(path, text, layout, dimension_given);
+  if (dimension_given) {
+    if (rest.empty() && !lines.next(rest)) refuse(path, "truncated nOFF: no dimension after the header");
+    std::int64_t dimension = 0;
+    if (!parse_integer(rest[0], dimension) || dimension != 3)
+      refuse(path, fmt::format("nOFF of dimension '{}': only 3-dimensional meshes are read", rest[0]));
+    rest.erase(rest.begin());
+  }
+  std::vector<std::string_view>& counts = rest;
   if (counts.empty() && !lines.next(counts)) refuse(path, "truncated OFF: no vertex and face counts after the header");
   std::int64_t vertex_count = 0, face_count = 0;
   if (counts.size() < 2 || !parse_integer(counts[0], vertex_count) || !parse_integer(counts[1], face_count) || vertex_count < 0 ||
@@ -326,19 +418,28 @@ RawMesh read_off(const std::string& path, std::string_view text) {
   const std::size_t reserve_limit = text.size() / 4;  // no header count allocates beyond what the file can hold
   raw.positions.reserve(std::min(nv, reserve_limit));
   std::vector<std::array<float, 2>> vertex_texcoords;
-  if (has_normals) {
+  if (layout.normals) {
     raw.normals.reserve(std::min(nv, reserve_limit));
     raw.has_normal.reserve(std::min(nv, reserve_limit));
   }
-  const std::size_t needed = 3 + (has_normals ? 3 : 0) + (st ? 2 : 0);
+  const std::size_t dims = layout.coordinates();
+  const std::size_t needed = dims + (layout.normals ? 3 : 0) + (layout.texcoords ? 2 : 0);
   for (std::size_t i = 0; i < nv; ++i) {
     if (!lines.next(tokens)) truncated(i, 0);
-    add_vertex_tokens(raw, tokens, 0, tokens.size() >= needed);
-    if (has_normals) {
-      raw.normals.push_back(vec_tokens(tokens, 3));
-      raw.has_normal.push_back(tokens.size() >= 6 ? 1 : 0);
+    double c[4] = {0, 0, 0, 1};
+    bool readable = tokens.size() >= needed;
+    for (std::size_t k = 0; readable && k < dims; ++k) readable = parse_number(tokens[k], c[k]);
+    if (!readable) {
+      ++raw.problems.unreadable_vertices;
+      raw.add_vertex({}, true);
+    } else {
+      add_off_vertex(raw, c, layout);
     }
-    if (st) {
+    if (layout.normals) {
+      raw.normals.push_back(vec_tokens(tokens, dims));
+      raw.has_normal.push_back(tokens.size() >= dims + 3 ? 1 : 0);
+    }
+    if (layout.texcoords) {
       const Vec3 t = tokens.size() >= needed ? vec_tokens(tokens, tokens.size() - 2) : Vec3{};
       vertex_texcoords.push_back({t.x, t.y});
     }
@@ -359,11 +460,7 @@ RawMesh read_off(const std::string& path, std::string_view text) {
     }
     raw.end_face();
   }
-  if (st) {
-    raw.corner_texcoords.reserve(raw.corners.size());
-    for (const std::int64_t v : raw.corners)
-      raw.corner_texcoords.push_back(v >= 0 && v < vertex_count ? vertex_texcoords[static_cast<std::size_t>(v)] : std::array<float, 2>{});
-  }
+  if (layout.texcoords) off_corner_texcoords(raw, vertex_texcoords);
   return raw;
 }
 
@@ -597,8 +694,9 @@ RawMesh read_ply(const std::string& path, std::string_view text) {
         if (counted == PlyBody::End) truncated();
         if (counted == PlyBody::Malformed || !(count >= 0) || count != std::floor(count))
           refuse(path, fmt::format("PLY {} record {} has a list length that is not a count", e.name, r + 1));
+        // Compared as a double first: a float or double count may be beyond any integer.
+        if (count > static_cast<double>(body.remaining() / (body.binary() ? size_of(p.type) : 2) + 1)) truncated();
         const auto n = static_cast<std::uint64_t>(count);
-        if (n > body.remaining() / (body.binary() ? size_of(p.type) : 2) + 1) truncated();
         list.resize(n);
         bool list_readable = true;
         for (std::uint64_t i = 0; i < n; ++i) {
@@ -801,9 +899,13 @@ RawMesh read_mesh_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) refuse(path, "it is a directory");
   if (!std::filesystem::is_regular_file(path, ec)) refuse(path, "no such file");
+  if (!known_mesh_extension(lower_extension(path))) refuse(path, "not an OBJ, PLY, OFF or STL file (by its extension)");
+  return parse_mesh_file(path, read_file(path));
+}
+
+RawMesh parse_mesh_file(const std::string& path, std::string_view text) {
   const std::string ext = lower_extension(path);
-  if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl") refuse(path, "not an OBJ, PLY, OFF or STL file (by its extension)");
-  const std::string text = read_file(path);
+  if (!known_mesh_extension(ext)) refuse(path, "not an OBJ, PLY, OFF or STL file (by its extension)");
   if (ext == ".obj") return read_obj(path, text);
   if (ext == ".off") return read_off(path, text);
   if (ext == ".ply") return read_ply(path, text);

@@ -33,6 +33,9 @@ struct RawMesh {
 // Reads `path` by its extension (any case). Throws Error "cannot read mesh PATH: ..." when it is
 // missing, unreadable, of an unknown format, truncated, or its header is refused (mesh.hpp).
 RawMesh read_mesh_file(const std::string& path);
+// The same for a file's bytes already in memory: the format by the extension of `path`, which
+// errors name. read_mesh_file is the file checks and one read, then this.
+RawMesh parse_mesh_file(const std::string& path, std::string_view bytes);
 
 // The number in all of `token` ("1.5", "-2e3", "+4", "nan", "inf"); false when it is not one.
 // Values beyond double range become ±inf (or 0 when too small), as strtod gives them.

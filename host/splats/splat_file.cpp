@@ -89,8 +89,9 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
   write_file_atomically(path, header_text(info, splats.size(), checksum_hex(file_checksum(zeros, body))) + body);
 }
 
-SplatFile read_splat_file(const std::string& path) {
-  const std::string data = read_text_file(path, "splat file");
+SplatFile read_splat_file(const std::string& path) { return decode_splat_file(read_text_file(path, "splat file"), path); }
+
+SplatFile decode_splat_file(const std::string& data, const std::string& path) {
   const auto fail = [&](const std::string& why) { return Error("splat file " + path + ": " + why); };
   const std::size_t end = data.find("end_header\n");
   if (data.rfind("ply\n", 0) != 0 || end == std::string::npos) throw fail("not a PLY file");

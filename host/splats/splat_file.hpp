@@ -45,5 +45,7 @@ struct SplatFile {
 // Throws Error naming the file (and the splat) for anything that is not a complete, uncorrupted
 // splat file of the current version.
 SplatFile read_splat_file(const std::string& path);
+// The same for a file's bytes already in memory; `name` appears in errors.
+SplatFile decode_splat_file(const std::string& bytes, const std::string& name);
 
 }  // namespace splatcl::splats

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 
 #include "batch/batch_test_support.hpp"
 #include "batch/manifest.hpp"
@@ -141,6 +142,25 @@ TEST(Manifest, CsvErrorsNameFileAndLine) {
   EXPECT_EQ(error_of([] { csv("path,path\na.obj,b.obj\n"); }), "m.csv:1: column 'path' appears twice");
   EXPECT_EQ(error_of([] { csv("# nothing\n"); }), "m.csv: empty (expected a header line with a 'path' column)");
   EXPECT_EQ(error_of([] { csv("path\n"); }), "m.csv: no models");
+}
+
+// Fuzz findings (tests/fuzz/corpus/manifest_*/regression-*): a number beyond double range escaped
+// as nlohmann's own exception, without the file's name; a CSV line that is not UTF-8 was read, and
+// its path then broke the JSON of the checksum and the summary.
+TEST(Manifest, NumberOverflowAndNonUtf8AreErrorsNamingTheFile) {
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "eps": 1e999}]})"); }),
+            "m.json: not valid JSON: number overflow parsing '1e999'");
+  EXPECT_EQ(error_of([] { csv("path\na.obj\nb\xEF.obj\n"); }), "m.csv:3: not UTF-8 text");
+  EXPECT_NE(csv("id,path\nm,mod\xC3\xA8le.obj\n").front().input.find("mod\xC3\xA8le.obj"), std::string::npos);
+}
+
+// The map count is checked against the grid's shape, not by building the grid: 2^24 maps took over
+// a second per model (a fuzz finding: tests/fuzz/corpus/manifest_json/regression-10m-maps.json).
+TEST(Manifest, TheLargestMapCountIsCheckedQuickly) {
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(json(R"({"defaults": {"maps": 16777216}, "models": ["a.obj", "b.obj", "c.obj", "d.obj"]})").size(), 4u);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "maps": 16777215}]})"); }).rfind("m.json: models[0] (a): 'maps': ", 0), 0u);
 }
 
 TEST(Manifest, LoadManifestChoosesByExtensionAndNamesMissingFiles) {

@@ -101,6 +101,21 @@ TEST(BenchCsv, BadFilesAreErrorsNamingTheProblem) {
   EXPECT_THROW(results_from_csv(header + "csm,capture\n"), Error);                         // short row
   EXPECT_THROW(results_from_csv(header + "\"csm,capture,opencl,dev,1,r,1,1,1,1,,,\n"), Error);  // open quote
   EXPECT_THROW(read_csv("/nonexistent/results.csv"), Error);
+  // A fuzz finding (tests/fuzz/corpus/bench_csv/regression-not-utf8.csv): text the JSON reader
+  // refuses, and --json could not write.
+  try {
+    results_from_csv(header + "csm,capt\xDF\xFFre,opencl,dev,12,rays,7,1,1,1,,,\n");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "not UTF-8 text");
+  }
+  // A fuzz finding (regression-runs-beyond-int.csv): a run count beyond int was cast (UB).
+  try {
+    results_from_csv(header + "csm,capture,opencl,dev,12,rays,3333333333333,1,1,1,,,\n");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'runs' is not a positive integer"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // .csm files: plain and compact round trips (including the recorded capture method), compact
 // losslessness and size, and every kind of damage (truncation, bit flips, wrong magic, other
 // versions, missing file) as one clear Error.
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -146,6 +147,26 @@ TEST(CsmFile, DamagedFilesAreOneClearError) {
   const std::string compact = encode_csm(small_build().csm, Encoding::Compact);
   expect_error(compact.substr(0, compact.size() - 1), "compact cut");
   EXPECT_THROW(read_csm(temp_path("missing.csm")), Error);
+}
+
+// A resealed header claiming the most maps (2^24) with a grid that does not fit them is refused
+// without building that grid's tables, which took seconds under the sanitizers (a fuzz finding:
+// tests/fuzz/corpus/csm/regression-16m-maps-resealed.csm).
+TEST(CsmFile, AHugeMapCountIsCheckedWithoutBuildingItsGrid) {
+  std::string bytes = encode_csm(small_build().csm, Encoding::Plain);
+  const std::uint32_t maps = kMaxMaps;
+  std::memcpy(bytes.data() + 20, &maps, 4);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    decode_csm(with_checksum(bytes), "huge.csm");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "huge.csm: grid 8x8 does not match 16777216 maps");
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.25);
+  // The order's condition is checked as the grid's constructor checks it.
+  EXPECT_THROW(grid_shape(Distribution::Uniform, Order::Hilbert, 36), Error);  // 6 x 6
+  EXPECT_EQ(grid_shape(Distribution::Uniform, Order::Morton, 64), (std::array<std::uint32_t, 2>{8, 8}));
 }
 
 TEST(CsmFile, CaptureMethodRoundTripsAndVerifyUsesIt) {

@@ -236,5 +236,15 @@ TEST(TextFile, ADirectoryOrAMissingFileIsNamedAsSuch) {
   EXPECT_EQ(error_of([&] { read_text_file(missing, "scene"); }), "cannot read scene " + missing + ": No such file or directory");
 }
 
+// Well-formed UTF-8 only, as the JSON reader takes it (the CSV readers' check).
+TEST(TextFile, Utf8IsCheckedAsTheJsonReaderDoes) {
+  for (const char* good : {"", "plain ascii", "mod\xC3\xA8le", "\xE2\x82\xAC", "\xF0\x9F\x98\x80", "\xF4\x8F\xBF\xBF", "\xED\x9F\xBF"})
+    EXPECT_TRUE(is_utf8(good)) << good;
+  // A stray continuation byte, a cut sequence, overlong forms, a surrogate, beyond U+10FFFF, 0xFF.
+  for (const char* bad : {"\x80", "a\xC3", "\xE2\x82", "\xC0\xAF", "\xE0\x80\xAF", "\xF0\x80\x80\xAF", "\xED\xA0\x80", "\xF4\x90\x80\x80",
+                          "\xFF", "\xC3\x28"})
+    EXPECT_FALSE(is_utf8(bad)) << bad;
+}
+
 }  // namespace
 }  // namespace splatcl

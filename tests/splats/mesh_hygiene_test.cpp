@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -149,6 +150,54 @@ TEST(MeshHygiene, OffTruncatedIsRefused) {
 
 std::string ply_header(const std::string& format, int vertices, const std::string& faces) {
   return fmt::format("ply\nformat {} 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n{}end_header\n", format, vertices, faces);
+}
+
+// 32-bit words in the given byte order: binary OFF's counts (integers) and values (floats).
+std::string off_words(const std::vector<double>& values, bool big_endian, std::size_t integers) {
+  std::string out;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::uint32_t word = i < integers ? static_cast<std::uint32_t>(static_cast<std::int32_t>(values[i]))
+                                      : std::bit_cast<std::uint32_t>(static_cast<float>(values[i]));
+    if (big_endian == (std::endian::native == std::endian::little)) word = __builtin_bswap32(word);
+    out.append(reinterpret_cast<const char*>(&word), 4);
+  }
+  return out;
+}
+
+// Binary, 4D (homogeneous) and nOFF files, once OpenMesh's (it reserved 3 GB for a bare "4OFF",
+// a fuzz finding: tests/fuzz/corpus/mesh_off/regression-4off-no-counts.off), now ours.
+TEST(MeshHygiene, OffBinaryHomogeneousAndNDimensionalVariants) {
+  const std::vector<Vec3> triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const auto expect_triangle = [&](const std::string& name, const std::string& contents) {
+    const Mesh mesh = load_mesh(temp_file(name, contents));
+    ASSERT_EQ(mesh.face_count(), 1u) << name;
+    EXPECT_TRUE(face_is(mesh, 0, triangle)) << name;
+    expect_only(mesh.problems, 0, 0, 0, 0);
+  };
+  expect_triangle("homogeneous.off", "4OFF\n3 1 0\n0 0 0 1\n2 0 0 2\n0 -3 0 -3\n3 0 1 2\n");
+  expect_triangle("dimension.off", "nOFF\n3\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  // Face: 3 corners, then a colour count of 1 with its float.
+  const std::vector<double> body{3, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::vector<double> face{3, 0, 1, 2, 1, 0.5};
+  for (const bool big : {true, false})
+    expect_triangle(big ? "big.off" : "little.off", "OFF BINARY\n" + off_words(body, big, 3) + off_words(face, big, 5));
+  const Mesh w0 = load_mesh(temp_file("w0.off", "4OFF\n4 2 0\n0 0 0 1\n1 0 0 1\n0 1 0 1\n1 1 0 0\n3 0 1 2\n3 1 3 2\n"));
+  expect_only(w0.problems, 1, 0, 1, 0);
+  expect_refused(temp_file("bare-4off.off", "4OFF"), "no vertex and face counts");
+  expect_refused(temp_file("dimension-4.off", "nOFF 4 3 1 0\n"), "nOFF of dimension '4': only 3-dimensional meshes are read");
+  expect_refused(temp_file("binary-huge.off", "OFF BINARY\n" + off_words({1e9, 1, 0}, true, 3) + std::string(64, '\0')),
+                 "binary OFF header declares 1000000000 vertices and 1 face, more than the 64 bytes after it can hold");
+  expect_refused(temp_file("binary-cut.off", "OFF BINARY\n" + off_words(body, true, 3) + off_words({3, 0, 1}, true, 3)),
+                 "truncated binary OFF: the file ends in face 1 of 1");
+}
+
+// A PLY list length stored as a float beyond any integer (UB in the cast before; a fuzz finding:
+// tests/fuzz/corpus/mesh_ply/regression-float-list-count.ply) is a truncated file.
+TEST(MeshHygiene, PlyListLengthBeyondTheFileIsTruncation) {
+  std::string file = ply_header("binary_little_endian", 3, "element face 1\nproperty list float int vertex_indices\n");
+  const float values[10] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 7e31f};
+  file.append(reinterpret_cast<const char*>(values), sizeof values);
+  expect_refused(temp_file("float-count.ply", file), "truncated PLY: the file ends in face record 1 of 1");
 }
 
 TEST(MeshHygiene, PlyWithoutEndHeaderIsRefusedAtOnce) {
