@@ -7,7 +7,7 @@ foreach(command csm plot compare report)
 endforeach()
 add_test(NAME cli.bench_csm_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${EXPECT_OUTPUT} --file ${BENCH_QUICK}.json "\"suite\": \"csm\""
          --file ${BENCH_QUICK}.csv "^csm,capture,opencl,.*,stanford-bunny," --file ${BENCH_QUICK}.csv "^csm,ao,reference,host,"
-         -- $<TARGET_FILE:splatcl> bench csm --quick --device 0 --json ${BENCH_QUICK}.json --csv ${BENCH_QUICK}.csv)
+         -- $<TARGET_FILE:splatcl> bench csm --quick --device cpu --json ${BENCH_QUICK}.json --csv ${BENCH_QUICK}.csv)
 set_tests_properties(cli.bench_csm_quick PROPERTIES FIXTURES_SETUP bench_csm_quick SKIP_RETURN_CODE 77)
 add_test(NAME cli.bench_report_quick COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${EXPECT_OUTPUT} --match "^### csm$"
          --match "^\\| capture model=stanford-bunny res=32 +\\| opencl raycast +\\| +8192 rays \\|"
