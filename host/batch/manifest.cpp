@@ -149,14 +149,17 @@ void apply_parameter(ModelParams& params, const std::string& name, const nlohman
 
 namespace {
 
-// A JSON manifest spells a boolean parameter true or false: the strings "yes", "no", "1" that a CSV
-// cell or a command-line option may hold are refused there, as a typo would be.
+// A JSON manifest spells a boolean parameter true or false and a number as a number: the strings
+// "yes", "no", "1" or "10" that a CSV cell or a command-line option may hold are refused there, as
+// a typo would be.
 void apply_json_parameter(ModelParams& params, const std::string& name, const nlohmann::json& value, const std::string& folder) {
   const std::string key = parameter_key(name);
   for (const auto* list : {&splats::splat_parameters(), &csm::csm_parameters()})
-    for (const ParameterInfo& p : *list)
-      if (p.flag && key == p.key && !value.is_boolean())
-        throw Error(fmt::format("'{}' must be true or false, got {}", name, shown_value(value)));
+    for (const ParameterInfo& p : *list) {
+      if (key != p.key) continue;
+      if (p.flag && !value.is_boolean()) throw Error(fmt::format("'{}' must be true or false, got {}", name, shown_value(value)));
+      if (p.number && !value.is_number()) throw Error(fmt::format("'{}' must be a number, got {}", name, shown_value(value)));
+    }
   apply_parameter(params, name, value, folder);
 }
 

@@ -11,8 +11,8 @@ namespace splatcl::csm {
 
 const std::vector<ParameterInfo>& csm_parameters() {
   static const std::vector<ParameterInfo> list{
-      {"maps", "Number of maps N: G^2 for uniform/regular, 2T^2 for ao"},
-      {"res", "Map resolution M (M x M pixels), 1..8192"},
+      {"maps", "Number of maps N: G^2 for uniform/regular, 2T^2 for ao", false, false, true},
+      {"res", "Map resolution M (M x M pixels), 1..8192", false, false, true},
       {"dist", "Direction grid: uniform, regular (G x G) or ao (the AO thesis's T x 2T)"},
       {"order", "Map order: zigzag-h, zigzag-v, linear-h, linear-v (h = theta fastest), hilbert, morton (extension)"},
       {"pole", "Object axis of the sphere's pole: y, z, x, or y180, z180, x180 (poles swapped)"},
@@ -20,7 +20,7 @@ const std::vector<ParameterInfo>& csm_parameters() {
       {"encoding", "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)"},
       {"capture", "Capture method: raster (two-layer depth buffer) or raycast (SAH BVH); same depths up to rounding and "
                   "triangle-edge pixels; recorded in the .csm"},
-      {"batch", "Maps captured per batch (0: about 8 M samples); memory only, the file is the same"},
+      {"batch", "Maps captured per batch (0: about 8 M samples); memory only, the file is the same", false, false, true},
   };
   return list;
 }

@@ -14,6 +14,7 @@ struct ParameterInfo {
   const char* help;    // one line, for --help
   bool flag = false;   // true/false; a flag without a value on the command line
   bool path = false;   // a file path: a manifest's relative paths are resolved against its folder
+  bool number = false; // a number: a JSON manifest must give it as one ("k": 10, not "k": "10")
 };
 
 // The key of a parameter named in any spelling: "--eps-diag", "eps-diag" and "eps_diag" all give

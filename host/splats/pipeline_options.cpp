@@ -11,20 +11,20 @@ namespace splatcl::splats {
 
 const std::vector<ParameterInfo>& splat_parameters() {
   static const std::vector<ParameterInfo> list{
-      {"eps", "Geometric tolerance epsilon, absolute in model units (0: eps_diag times the bounding-box diagonal)"},
-      {"eps_diag", "Epsilon as a fraction of the bounding-box diagonal when eps is 0"},
-      {"color_tol", "Colour tolerance phi per RGB channel, 0..255 (255 ignores colour)"},
+      {"eps", "Geometric tolerance epsilon, absolute in model units (0: eps_diag times the bounding-box diagonal)", false, false, true},
+      {"eps_diag", "Epsilon as a fraction of the bounding-box diagonal when eps is 0", false, false, true},
+      {"color_tol", "Colour tolerance phi per RGB channel, 0..255 (255 ignores colour)", false, false, true},
       {"color_field", "Sample colours without a texture: grey, soft (red to white gradient), hard (3-D checker of flat colours) or "
                       "rainbow (cells of continuous hue bands with hard edges between cells)"},
       {"texture", "Texture image applied through the mesh's texture coordinates (nearest texel)", false, true},
       {"samples", "auto (vertices plus, on every face, grid points at a spacing of 0.5*sqrt(eps*diagonal), coarsened to fit "
                   "max_samples), vertices, grid:N (the thesis: spacing shortest-edge / N) or spacing:D (absolute spacing D)"},
-      {"max_samples", "Sample budget: a sampling estimated to exceed it is refused before any work (auto coarsens instead), 1000..2147483647"},
-      {"max_covered", "Growth cap: a splat stops growing when it covers this many samples (keeps flat regions linear), 4..1048576"},
+      {"max_samples", "Sample budget: a sampling estimated to exceed it is refused before any work (auto coarsens instead), 1000..2147483647", false, false, true},
+      {"max_covered", "Growth cap: a splat stops growing when it covers this many samples (keeps flat regions linear), 4..1048576", false, false, true},
       {"thesis_only", "Only the thesis's method: its size corrections, no surface bound on splat size, no gap filling, no growth "
                       "cap (the two-sided bound is then not guaranteed)", true},
-      {"k", "Neighbourhood size, 1..1024"},
-      {"rounds", "Optimisation rounds (relaxation + removal), 0..1000"},
+      {"k", "Neighbourhood size, 1..1024", false, false, true},
+      {"rounds", "Optimisation rounds (relaxation + removal), 0..1000", false, false, true},
       {"literal_lambda", "Read lambda in the size corrections literally instead of as the axis ratio sqrt(lambda)", true},
       {"retest_violator", "Ellipse phase with b = d1, re-testing the circle phase's violator", true},
       {"clip", "Clipped splats (thesis ch. 4): skip violators on one side and cut the splat there with a line", true},

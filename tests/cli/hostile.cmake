@@ -164,3 +164,7 @@ add_test(NAME hostile.csm_verify_transform COMMAND splatcl csm verify ${HOSTILE_
 set_tests_properties(hostile.csm_verify_transform PROPERTIES FIXTURES_REQUIRED hostile_splats PASS_REGULAR_EXPRESSION "lossless   all ")
 hostile_error(csm_verify_transform_unshifted "hostile-translated.csm: not lossless for " csm verify ${HOSTILE_DIR}/hostile-translated.csm ${SPLATS_CUBE} --reference)
 set_tests_properties(hostile.csm_verify_transform_unshifted PROPERTIES FIXTURES_REQUIRED hostile_splats)
+# Batch manifests: a JSON number spelled as a string is refused like a boolean spelled as one.
+file(WRITE ${HOSTILE_DIR}/k-string.json "{\"models\": [{\"path\": \"${SPLATS_CUBE}\", \"k\": \"10\"}]}")
+hostile_error(manifest_json_number_string "k-string.json: models\\[0\\] \\(splats-cube\\): 'k' must be a number, got '10'$"
+              batch ${HOSTILE_DIR}/k-string.json -o ${HOSTILE_DIR}/k-string-out)
