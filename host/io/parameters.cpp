@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cstdlib>
 
+#include "io/json_keys.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl {
@@ -25,7 +26,7 @@ std::string option_name(const std::string& key) {
 }
 
 std::string shown_value(const nlohmann::json& value) {
-  return value.is_string() ? fmt::format("'{}'", value.get<std::string>()) : value.dump();
+  return value.is_string() ? fmt::format("'{}'", printable(value.get<std::string>())) : value.dump();
 }
 
 double number_parameter(const std::string& name, const nlohmann::json& value) {

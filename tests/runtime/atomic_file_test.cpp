@@ -17,6 +17,7 @@
 #include "io/image.hpp"
 #include "io/json_keys.hpp"
 #include "io/output_files.hpp"
+#include "io/parameters.hpp"
 #include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
@@ -226,6 +227,15 @@ TEST(JsonKeys, TheFirstUnknownKeyIsNamed) {
   EXPECT_EQ(unknown_key(j, {"position", "color"}), "colour");
   EXPECT_EQ(unknown_key(j, {"position", "colour"}), std::nullopt);
   EXPECT_EQ(key_list({"a", "b"}), "a, b");
+}
+
+// A key or value with a line break (the fuzzer's present_scene finding) keeps the error on one line.
+TEST(JsonKeys, KeysAndValuesWithControlCharactersArePrintedOnOneLine) {
+  const auto j = nlohmann::json::parse(R"({"posi\ntion": 1, "tab\there\u0001": 2})");
+  EXPECT_EQ(unknown_key(j, {"tab\there\x01"}), "posi\\ntion");
+  EXPECT_EQ(printable("tab\there\x01\r"), "tab\\there\\x01\\r");
+  EXPECT_EQ(shown_value(nlohmann::json("a\nb")), "'a\\nb'");
+  EXPECT_EQ(printable("plain ascii and UTF-8 \u00e9"), "plain ascii and UTF-8 \u00e9");
 }
 
 // A directory is reported as a directory, not as a missing file or bad JSON.
