@@ -3,7 +3,9 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -70,6 +72,14 @@ const Module& module() {
 }
 
 }  // namespace
+
+void check_image_module(const std::string& path, const std::string& prefix) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  static constexpr std::array<const char*, 8> kImages = {".png", ".exr", ".hdr", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp"};
+  if (std::none_of(kImages.begin(), kImages.end(), [&](const char* e) { return extension == e; })) return;
+  if (const Module& m = module(); !m.failure.empty()) throw Error(prefix + m.failure);
+}
 
 std::vector<unsigned char> encode_image_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb) {
   const Module& m = module();

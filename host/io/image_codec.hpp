@@ -12,6 +12,10 @@ namespace splatcl {
 // row 0 = bottom. Throws Error("cannot write PATH: cause").
 std::vector<unsigned char> encode_image_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb);
 
+// Throws Error(prefix + why) when `path` names an image (by its extension) and the module cannot
+// be loaded: the output checks call it, so a broken install fails before any work.
+void check_image_module(const std::string& path, const std::string& prefix);
+
 struct DecodedImage {
   int width = 0, height = 0, channels = 0;
   std::vector<std::uint8_t> pixels;  // 8-bit channels, top row first

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "io/atomic_file.hpp"
+#include "io/image_codec.hpp"
 #include "io/in_flight.hpp"
 #include "runtime/error.hpp"
 
@@ -38,6 +39,7 @@ void check_output_file(const std::string& path, const std::string& what) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec)) throw Error(name + "directory " + dir.string() + " does not exist");
   check_writable_directory(dir.string(), what + " " + path);
+  check_image_module(path, name);
   remove_dead_temporaries(path);
 }
 

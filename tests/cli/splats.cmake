@@ -86,7 +86,7 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-no-end-header.ply "ply\nformat asc
 add_test(NAME cli.error_splats_ply_no_end_header COMMAND ${EXPECT_ERROR} "splats-no-end-header.ply: PLY header has no end_header"
          $<TARGET_FILE:splatcl> splats ${CMAKE_CURRENT_BINARY_DIR}/splats-no-end-header.ply -o ${CMAKE_CURRENT_BINARY_DIR}/splats-no-end-header-out.ply)
 set_tests_properties(cli.error_splats_ply_no_end_header PROPERTIES TIMEOUT 10)
-# OpenImageIO is a module loaded on first use: without it, an image output is one error line and nothing is written.
+# OpenImageIO is a module loaded on first use: without it, an image output fails its check before any work, in one line.
 add_test(NAME cli.error_image_module_missing COMMAND ${EXPECT_ERROR} "cannot write .*splats-no-module.png: the image module is missing \\(.*no-such-module.so"
          $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:4 -o ${CMAKE_CURRENT_BINARY_DIR}/splats-no-module.ply
          --render ${CMAKE_CURRENT_BINARY_DIR}/splats-no-module.png)
