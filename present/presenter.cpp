@@ -18,7 +18,8 @@
 #include "csm/ao.hpp"
 #include "csm/sphere_grid.hpp"
 #include "csm/visibility.hpp"
-#include "present/gl.hpp"
+#include "present/gbuffer.hpp"
+#include "present/gl_objects.hpp"
 #include "present/shaders.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
@@ -31,64 +32,6 @@ constexpr std::uint32_t kAoPatterns = 256;
 constexpr std::uint32_t kAoSeed = 1;
 
 constexpr const char* kDebugNames[] = {"final", "albedo", "normals", "ao", "clusters", "shadows", "depth", "footprints"};
-
-GLuint compile(GLenum type, const char* source, const char* name) {
-  const GLuint shader = glCreateShader(type);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
-    throw Error(fmt::format("GL shader '{}' does not compile: {}", name, log));
-  }
-  return shader;
-}
-
-GLuint link(const char* vertex, const char* fragment, const char* name) {
-  const GLuint vs = compile(GL_VERTEX_SHADER, vertex, name), fs = compile(GL_FRAGMENT_SHADER, fragment, name);
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    glDeleteProgram(program);
-    throw Error(fmt::format("GL program '{}' does not link: {}", name, log));
-  }
-  return program;
-}
-
-GLuint make_texture(GLenum format, int width, int height) {
-  GLuint texture = 0;
-  glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-  glTextureStorage2D(texture, 1, format, width, height);
-  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  return texture;
-}
-
-GLuint make_framebuffer(const std::vector<GLuint>& colors, GLuint depth, const char* name) {
-  GLuint fbo = 0;
-  glCreateFramebuffers(1, &fbo);
-  std::vector<GLenum> buffers;
-  for (std::size_t i = 0; i < colors.size(); ++i) {
-    glNamedFramebufferTexture(fbo, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i), colors[i], 0);
-    buffers.push_back(static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i));
-  }
-  if (depth) glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
-  glNamedFramebufferDrawBuffers(fbo, static_cast<GLsizei>(buffers.size()), buffers.data());
-  if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error(fmt::format("GL framebuffer '{}' is incomplete", name));
-  return fbo;
-}
 
 csm::Transform to_transform(const glm::mat4& m) {
   csm::Transform t{};
@@ -113,16 +56,14 @@ std::vector<csm::Instance> occluder_instances(const Scene& scene, const std::vec
 // does, at the price of serialising the frame.
 struct GpuTimers {
   bool wall = false;
-  std::vector<GLuint> queries;
+  std::vector<gl::Query> queries;
   std::vector<std::string> names;
   std::vector<double> wall_ms;
   std::size_t used = 0;
   Stopwatch clock;
   void begin(const char* name) {
     if (used == queries.size()) {
-      GLuint q = 0;
-      glGenQueries(1, &q);
-      queries.push_back(q);
+      queries.push_back(gl::make_query());
       names.emplace_back();
       wall_ms.push_back(0.0);
     }
@@ -131,7 +72,7 @@ struct GpuTimers {
       glFinish();
       clock.restart();
     }
-    glBeginQuery(GL_TIME_ELAPSED, queries[used]);
+    glBeginQuery(GL_TIME_ELAPSED, queries[used].get());
   }
   void end() {
     glEndQuery(GL_TIME_ELAPSED);
@@ -144,13 +85,10 @@ struct GpuTimers {
   void collect(std::vector<StageTime>& out) {
     for (std::size_t i = 0; i < used; ++i) {
       GLuint64 ns = 0;
-      glGetQueryObjectui64v(queries[i], GL_QUERY_RESULT, &ns);
+      glGetQueryObjectui64v(queries[i].get(), GL_QUERY_RESULT, &ns);
       out.push_back({names[i], wall ? wall_ms[i] : static_cast<double>(ns) * 1e-6});
     }
     used = 0;
-  }
-  ~GpuTimers() {
-    if (!queries.empty()) glDeleteQueries(static_cast<GLsizei>(queries.size()), queries.data());
   }
 };
 
@@ -377,14 +315,22 @@ struct ShadeVariant {
 };
 
 struct Presenter::Impl {
-  GLuint visibility_program = 0, accumulate_program = 0, point_program = 0, mesh_program = 0;
-  std::map<std::uint32_t, GLuint> shade_programs;  // final shading, one per variant (shade_program)
-  GLuint static_vbo = 0, dynamic_vbo = 0, empty_vao = 0;
-  GLuint depth = 0, accum[4] = {}, hdr = 0, display = 0, pixel_list = 0, pixel_shadow = 0, pixel_ao = 0;
-  GLuint accum_fbo = 0, visibility_fbo = 0, hdr_fbo = 0, display_fbo = 0;
-  GLuint mesh_color = 0, mesh_depth = 0, mesh_fbo = 0;
-  GLuint ssbo[4] = {};
-  std::vector<GLuint> mesh_vbos, mesh_vaos;
+  gl::Program visibility_program, accumulate_program, point_program, mesh_program;
+  std::map<std::uint32_t, gl::Program> shade_programs;  // final shading, one per variant (shade_program)
+  gl::Buffer static_vbo, dynamic_vbo;
+  gl::VertexArray empty_vao;
+  // Everything sized by the frame, made again by resize().
+  struct Targets {
+    Targets(int width, int height) : gbuffer(width, height), shading(width, height), pixel(width, height), mesh(width, height) {}
+    GBuffer gbuffer;
+    ShadingTargets shading;
+    PixelInputs pixel;
+    MeshMaskTarget mesh;
+  };
+  std::unique_ptr<Targets> targets;
+  gl::Buffer ssbo[4];
+  std::vector<gl::Buffer> mesh_vbos;
+  std::vector<gl::VertexArray> mesh_vaos;
   std::vector<GLsizei> mesh_vertices;
   GpuTimers timers;
   std::unique_ptr<cluster::ClusterPipeline> clusters;
@@ -437,7 +383,7 @@ struct Presenter::Impl {
   std::vector<glm::vec3> lod_centers;  // model-space centre of every LOD entry, in instance order
 
   // The shading program of a variant, compiled on first use.
-  GLuint shade_program(const ShadeVariant& v) {
+  const gl::Program& shade_program(const ShadeVariant& v) {
     const auto found = shade_programs.find(v.key());
     if (found != shade_programs.end()) return found->second;
     const std::string source = fmt::format(
@@ -445,33 +391,7 @@ struct Presenter::Impl {
         "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n{}",
         v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.hdr_output ? 1 : 0, v.key_count,
         v.specular ? 1 : 0, shaders::kShade);
-    const GLuint program = link(shaders::kFullscreenVertex, source.c_str(), "shading");
-    shade_programs.emplace(v.key(), program);
-    return program;
-  }
-
-  void delete_targets() {
-    const GLuint fbos[] = {accum_fbo, visibility_fbo, hdr_fbo, display_fbo, mesh_fbo};
-    glDeleteFramebuffers(5, fbos);
-    const GLuint textures[] = {depth,        accum[0],   accum[1],   accum[2], accum[3], hdr,      display,
-                               pixel_list,   pixel_shadow, mesh_color, mesh_depth, pixel_ao};
-    glDeleteTextures(12, textures);
-  }
-  void make_targets(int width, int height) {
-    depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
-    for (GLuint& t : accum) t = make_texture(GL_RGBA32F, width, height);
-    hdr = make_texture(GL_RGBA32F, width, height);
-    display = make_texture(GL_RGBA8, width, height);
-    pixel_list = make_texture(GL_R32UI, width, height);
-    pixel_shadow = make_texture(GL_RGBA32F, width, height);
-    pixel_ao = make_texture(GL_RGBA32F, width, height);
-    mesh_color = make_texture(GL_R8, width, height);
-    mesh_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
-    visibility_fbo = make_framebuffer({}, depth, "splat visibility");
-    accum_fbo = make_framebuffer({accum[0], accum[1], accum[2], accum[3]}, depth, "splat accumulation");
-    hdr_fbo = make_framebuffer({hdr, display}, 0, "shading");
-    display_fbo = make_framebuffer({display}, 0, "display");
-    mesh_fbo = make_framebuffer({mesh_color}, mesh_depth, "mesh mask");
+    return shade_programs.emplace(v.key(), gl::Program(shaders::kFullscreenVertex, source, "shading")).first->second;
   }
 };
 
@@ -542,21 +462,21 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   }
   const std::size_t instance_count = statics.size() / kRow;  // originals and LOD entries
 
-  g.visibility_program = link(shaders::kSplatVisibilityVertex.c_str(), shaders::kSplatVisibility, "splat visibility");
-  g.accumulate_program = link(shaders::kSplatVertex.c_str(), shaders::kSplatAccumulate.c_str(), "splat accumulation");
-  g.point_program = link(shaders::kPointVertex.c_str(), shaders::kPointFragment.c_str(), "points");
-  g.mesh_program = link(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
+  g.visibility_program = gl::Program(shaders::kSplatVisibilityVertex, shaders::kSplatVisibility, "splat visibility");
+  g.accumulate_program = gl::Program(shaders::kSplatVertex, shaders::kSplatAccumulate, "splat accumulation");
+  g.point_program = gl::Program(shaders::kPointVertex, shaders::kPointFragment, "points");
+  g.mesh_program = gl::Program(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
 
-  glCreateVertexArrays(1, &g.empty_vao);
-  glCreateBuffers(1, &g.static_vbo);
-  glCreateBuffers(1, &g.dynamic_vbo);
-  glNamedBufferStorage(g.static_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(statics.size(), 1) * sizeof(float)),
+  g.empty_vao = gl::make_vertex_array();
+  g.static_vbo = gl::make_buffer();
+  g.dynamic_vbo = gl::make_buffer();
+  glNamedBufferStorage(g.static_vbo.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(statics.size(), 1) * sizeof(float)),
                        statics.empty() ? nullptr : statics.data(), 0);
-  glNamedBufferStorage(g.dynamic_vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * 8 * sizeof(float)),
+  glNamedBufferStorage(g.dynamic_vbo.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * 8 * sizeof(float)),
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
   // The splat shaders pull their rows from static_vbo and dynamic_vbo (storage buffers 4 and 5);
   // the vertices of splat s are 3s..3s+2, one triangle around its ellipse (points: vertex s).
-  glCreateBuffers(4, g.ssbo);
+  for (gl::Buffer& b : g.ssbo) b = gl::make_buffer();
 
   // Triangle meshes of the objects, for the coverage test.
   for (const ObjectAssets& a : assets_) {
@@ -569,17 +489,17 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
           triangles.insert(triangles.end(), {p.x, p.y, p.z});
         }
     }
-    GLuint vbo = 0, vao = 0;
-    glCreateBuffers(1, &vbo);
+    gl::Buffer vbo_owner = gl::make_buffer();
+    gl::VertexArray vao_owner = gl::make_vertex_array();
+    const GLuint vbo = vbo_owner.get(), vao = vao_owner.get();
     glNamedBufferStorage(vbo, static_cast<GLsizeiptr>(std::max<std::size_t>(triangles.size(), 1) * sizeof(float)),
                          triangles.empty() ? nullptr : triangles.data(), 0);
-    glCreateVertexArrays(1, &vao);
     glVertexArrayVertexBuffer(vao, 0, vbo, 0, 3 * sizeof(float));
     glEnableVertexArrayAttrib(vao, 0);
     glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(vao, 0, 0);
-    g.mesh_vbos.push_back(vbo);
-    g.mesh_vaos.push_back(vao);
+    g.mesh_vbos.push_back(std::move(vbo_owner));
+    g.mesh_vaos.push_back(std::move(vao_owner));
     g.mesh_vertices.push_back(static_cast<GLsizei>(triangles.size() / 3));
   }
 
@@ -591,28 +511,17 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   resize(width, height);
 }
 
-Presenter::~Presenter() {
-  Impl& g = *impl_;
-  g.delete_targets();
-  for (GLuint p : {g.visibility_program, g.accumulate_program, g.point_program, g.mesh_program})
-    glDeleteProgram(p);
-  for (const auto& [key, program] : g.shade_programs) glDeleteProgram(program);
-  const GLuint buffers[] = {g.static_vbo, g.dynamic_vbo, g.ssbo[0], g.ssbo[1], g.ssbo[2], g.ssbo[3]};
-  glDeleteBuffers(6, buffers);
-  glDeleteBuffers(static_cast<GLsizei>(g.mesh_vbos.size()), g.mesh_vbos.data());
-  glDeleteVertexArrays(static_cast<GLsizei>(g.mesh_vaos.size()), g.mesh_vaos.data());
-  glDeleteVertexArrays(1, &g.empty_vao);
-}
+Presenter::~Presenter() = default;
 
 void Presenter::resize(int width, int height) {
   if (width <= 0 || height <= 0 || width > 8192 || height > 8192)
     throw Error(fmt::format("frame size {}x{} is outside 1..8192", width, height));
   if (width == width_ && height == height_) return;
   Impl& g = *impl_;
-  if (width_ > 0) g.delete_targets();
+  g.targets.reset();
+  g.targets = std::make_unique<Impl::Targets>(width, height);
   width_ = width;
   height_ = height;
-  g.make_targets(width, height);
   const cluster::ClusterConfig config = cluster::cluster_config(scene_.camera, static_cast<std::uint32_t>(width),
                                                                 static_cast<std::uint32_t>(height), scene_.quality.tile,
                                                                 scene_.quality.tile);
@@ -1001,7 +910,7 @@ FrameStats Presenter::render(float time) {
     stats.lighting_receivers = worker.lighting_receivers;
     Stopwatch clock;
     if (!g.upload_rows.empty())
-      glNamedBufferSubData(g.dynamic_vbo, 0, static_cast<GLsizeiptr>(g.upload_rows.size() * sizeof(float)), g.upload_rows.data());
+      glNamedBufferSubData(g.dynamic_vbo.get(), 0, static_cast<GLsizeiptr>(g.upload_rows.size() * sizeof(float)), g.upload_rows.data());
     stats.stages.push_back({"upload: splat AO/shadows", clock.elapsed_ms()});
     g.last_placements = placements;
     g.have_lighting = true;
@@ -1041,10 +950,11 @@ FrameStats Presenter::render(float time) {
   }
 
   glViewport(0, 0, width_, height_);
-  glBindVertexArray(g.empty_vao);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.static_vbo);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.dynamic_vbo);
-  const auto set_common = [&](GLuint program) {
+  glBindVertexArray(g.empty_vao.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.static_vbo.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.dynamic_vbo.get());
+  const auto set_common = [&](const gl::Program& pass) {
+    const GLuint program = pass.get();
     glUseProgram(program);
     glUniformMatrix4fv(glGetUniformLocation(program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
     glUniformMatrix4fv(glGetUniformLocation(program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
@@ -1055,7 +965,8 @@ FrameStats Presenter::render(float time) {
     glUniform1i(glGetUniformLocation(program, "u_ambient"), ambient);
     glUniform3fv(glGetUniformLocation(program, "u_sh"), 9, glm::value_ptr(g.sh[0]));
   };
-  const auto draw_objects = [&](GLuint program, bool points) {
+  const auto draw_objects = [&](const gl::Program& pass, bool points) {
+    const GLuint program = pass.get();
     const GLint model = glGetUniformLocation(program, "u_model");
     for (std::size_t i = 0; i < objects_.size(); ++i) {
       const ObjectRange& r = objects_[i];
@@ -1077,34 +988,27 @@ FrameStats Presenter::render(float time) {
         glDrawArrays(GL_TRIANGLES, static_cast<GLint>(3 * first), static_cast<GLsizei>(3 * count));
     }
   };
-  const float zero[4] = {0, 0, 0, 0};
-  const float one = 1.0f;
   glDisable(GL_CULL_FACE);
   // The accumulation targets are the G-buffer; the fourth holds key lights 1-3 only.
-  const GLenum accum_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
-  const GLsizei accum_count = scene_.key_lights.size() > 1 ? 4 : 3;
-  glNamedFramebufferDrawBuffers(g.accum_fbo, accum_count, accum_buffers);
-  glBindFramebuffer(GL_FRAMEBUFFER, g.accum_fbo);
-  for (GLint b = 0; b < accum_count; ++b) glClearBufferfv(GL_COLOR, b, zero);
-  glDepthMask(GL_TRUE);
-  glClearBufferfv(GL_DEPTH, 0, &one);
+  const GBuffer& gbuffer = g.targets->gbuffer;
+  gbuffer.bind_and_clear(scene_.key_lights.size() > 1 ? 4 : 3);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   if (q.mode == "points") {
     g.timers.begin("gl: points");
     glEnable(GL_PROGRAM_POINT_SIZE);
     set_common(g.point_program);
-    glUniform1f(glGetUniformLocation(g.point_program, "u_viewport_height"), static_cast<float>(height_));
-    glUniform1i(glGetUniformLocation(g.point_program, "u_footprints"), footprints ? 1 : 0);
+    glUniform1f(glGetUniformLocation(g.point_program.get(), "u_viewport_height"), static_cast<float>(height_));
+    glUniform1i(glGetUniformLocation(g.point_program.get(), "u_footprints"), footprints ? 1 : 0);
     draw_objects(g.point_program, true);
     g.timers.end();
   } else {
     // Pass 1: visibility (depth only, pushed back by ε).
     g.timers.begin("gl: splat visibility");
-    glBindFramebuffer(GL_FRAMEBUFFER, g.visibility_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.visibility_framebuffer());
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     set_common(g.visibility_program);
-    glUniform1f(glGetUniformLocation(g.visibility_program, "u_depth_offset"), q.depth_offset);
+    glUniform1f(glGetUniformLocation(g.visibility_program.get(), "u_depth_offset"), q.depth_offset);
     draw_objects(g.visibility_program, false);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     g.timers.end();
@@ -1112,14 +1016,14 @@ FrameStats Presenter::render(float time) {
     finish_lighting();
     // Pass 2: Gaussian-weighted accumulation of the splats within ε of the front.
     g.timers.begin("gl: splat accumulation");
-    glBindFramebuffer(GL_FRAMEBUFFER, g.accum_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.accumulation_framebuffer());
     glDepthMask(GL_FALSE);
     glDepthFunc(GL_LEQUAL);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     set_common(g.accumulate_program);
-    glUniform1f(glGetUniformLocation(g.accumulate_program, "u_beta"), q.gaussian);
-    glUniform1i(glGetUniformLocation(g.accumulate_program, "u_footprints"), footprints ? 1 : 0);
+    glUniform1f(glGetUniformLocation(g.accumulate_program.get(), "u_beta"), q.gaussian);
+    glUniform1i(glGetUniformLocation(g.accumulate_program.get(), "u_footprints"), footprints ? 1 : 0);
     draw_objects(g.accumulate_program, false);
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
@@ -1297,24 +1201,25 @@ FrameStats Presenter::render(float time) {
     }
     glNamedBufferData(buffer, static_cast<GLsizeiptr>(bytes), data, GL_STREAM_DRAW);
   };
-  upload(g.ssbo[0], light_data.data(), light_data.size() * sizeof(float));
-  upload(g.ssbo[1], lists.offsets.data(), lists.offsets.size() * 4);
-  upload(g.ssbo[2], lists.counts.data(), lists.counts.size() * 4);
-  upload(g.ssbo[3], lists.indices.data(), lists.indices.size() * 4);
+  upload(g.ssbo[0].get(), light_data.data(), light_data.size() * sizeof(float));
+  upload(g.ssbo[1].get(), lists.offsets.data(), lists.offsets.size() * 4);
+  upload(g.ssbo[2].get(), lists.counts.data(), lists.counts.size() * 4);
+  upload(g.ssbo[3].get(), lists.indices.data(), lists.indices.size() * 4);
+  const PixelInputs& pixel = g.targets->pixel;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(g.pixel_list, 0, 0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, pixel_list.data());
+  glTextureSubImage2D(pixel.light_list.get(), 0, 0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, pixel_list.data());
   if (!pixel_ao_values.empty())
-    glTextureSubImage2D(g.pixel_ao, 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_ao_values.data());
+    glTextureSubImage2D(pixel.ao.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_ao_values.data());
   if (!pixel_shadow.empty())
-    glTextureSubImage2D(g.pixel_shadow, 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_shadow.data());
+    glTextureSubImage2D(pixel.shadow.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_shadow.data());
   g.heat_max = 1;
   for (const std::uint32_t c : lists.counts) g.heat_max = std::max(g.heat_max, c);
   stats.stages.push_back({"upload: lights+lists", clock.elapsed_ms()});
 
   // Final shading.
   g.timers.begin("gl: shading");
-  for (GLuint i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, g.ssbo[i]);
-  glBindFramebuffer(GL_FRAMEBUFFER, hdr_output ? g.hdr_fbo : g.display_fbo);
+  for (GLuint i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, g.ssbo[i].get());
+  glBindFramebuffer(GL_FRAMEBUFFER, g.targets->shading.framebuffer(hdr_output));
   const int keys = static_cast<int>(scene_.key_lights.size());
   ShadeVariant variant;
   variant.debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
@@ -1324,10 +1229,10 @@ FrameStats Presenter::render(float time) {
   variant.hdr_output = hdr_output;
   variant.key_count = q.shadows == "off" ? 0 : keys;
   variant.specular = q.specular > 0;
-  const GLuint sp = g.shade_program(variant);
+  const GLuint sp = g.shade_program(variant).get();
   glUseProgram(sp);
-  const GLuint textures[8] = {g.accum[0], g.accum[1], g.accum[2], g.accum[3],
-                              0,          g.pixel_list, g.pixel_shadow, g.pixel_ao};
+  const GLuint textures[8] = {gbuffer.texture(0), gbuffer.texture(1), gbuffer.texture(2), gbuffer.texture(3),
+                              0,                  pixel.light_list.get(), pixel.shadow.get(), pixel.ao.get()};
   glBindTextures(0, 8, textures);
   glUniformMatrix4fv(glGetUniformLocation(sp, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
   glUniform2f(glGetUniformLocation(sp, "u_tan_half"), layout.tan_half_x, layout.tan_half_y);
@@ -1344,7 +1249,7 @@ FrameStats Presenter::render(float time) {
   glUniform1f(glGetUniformLocation(sp, "u_heat_max"), static_cast<float>(g.heat_max));
   glUniform1f(glGetUniformLocation(sp, "u_specular"), q.specular);
   glUniform1f(glGetUniformLocation(sp, "u_shininess"), q.shininess);
-  glBindVertexArray(g.empty_vao);
+  glBindVertexArray(g.empty_vao.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   g.hdr_written = hdr_output;
   g.timers.end();
@@ -1355,62 +1260,14 @@ FrameStats Presenter::render(float time) {
   return stats;
 }
 
-namespace {
-std::vector<float> read_rgba(GLuint fbo, GLenum attachment, int width, int height) {
-  std::vector<float> rgba(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
-  glReadBuffer(attachment);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, rgba.data());
-  return rgba;
-}
-std::vector<float> drop_alpha(const std::vector<float>& rgba) {
-  std::vector<float> rgb(rgba.size() / 4 * 3);
-  for (std::size_t i = 0; i < rgba.size() / 4; ++i)
-    for (int c = 0; c < 3; ++c) rgb[3 * i + static_cast<std::size_t>(c)] = rgba[4 * i + static_cast<std::size_t>(c)];
-  return rgb;
-}
-}  // namespace
-
-std::vector<float> Presenter::read_display_rgb() const {
-  return drop_alpha(read_rgba(impl_->display_fbo, GL_COLOR_ATTACHMENT0, width_, height_));
-}
+std::vector<float> Presenter::read_display_rgb() const { return impl_->targets->shading.read_display_rgb(); }
 std::vector<float> Presenter::read_hdr_rgb() const {
   if (!impl_->hdr_written) throw Error("the last frame was rendered without HDR output (Presenter::hdr_output)");
-  return drop_alpha(read_rgba(impl_->hdr_fbo, GL_COLOR_ATTACHMENT0, width_, height_));
+  return impl_->targets->shading.read_hdr_rgb();
 }
-std::vector<float> Presenter::read_weight_channel(int target) const {
-  std::vector<float> values(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->accum_fbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(target));
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, values.data());
-  return values;
-}
-std::vector<std::uint8_t> Presenter::read_coverage() const {
-  const std::vector<float> weight = read_weight_channel(0);
-  std::vector<std::uint8_t> mask(weight.size());
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = weight[i] > 0.0f ? 1 : 0;
-  return mask;
-}
-std::vector<float> Presenter::read_view_z() const {
-  // Σw·z / Σw, the division the shading does; 0 where no splat covers the pixel.
-  std::vector<float> z = read_weight_channel(1);
-  const std::vector<float> weight = read_weight_channel(0);
-  for (std::size_t i = 0; i < z.size(); ++i) z[i] = weight[i] > 0.0f ? z[i] / weight[i] : 0.0f;
-  return z;
-}
-std::vector<float> Presenter::read_normals() const {
-  const auto z_normal = read_rgba(impl_->accum_fbo, GL_COLOR_ATTACHMENT1, width_, height_);
-  std::vector<float> normals(z_normal.size() / 4 * 3, 0.0f);
-  for (std::size_t i = 0; i < normals.size() / 3; ++i) {
-    const glm::vec3 sum(z_normal[4 * i + 1], z_normal[4 * i + 2], z_normal[4 * i + 3]);
-    if (glm::dot(sum, sum) <= 0.0f) continue;
-    const glm::vec3 n = glm::normalize(sum);
-    std::copy(&n.x, &n.x + 3, normals.begin() + static_cast<std::ptrdiff_t>(3 * i));
-  }
-  return normals;
-}
+std::vector<std::uint8_t> Presenter::read_coverage() const { return impl_->targets->gbuffer.read_coverage(); }
+std::vector<float> Presenter::read_view_z() const { return impl_->targets->gbuffer.read_view_z(); }
+std::vector<float> Presenter::read_normals() const { return impl_->targets->gbuffer.read_normals(); }
 
 std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
   Impl& g = *impl_;
@@ -1420,29 +1277,27 @@ std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
   const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width_) / static_cast<float>(height_),
                                           cam.near_plane, cam.far_plane);
   glViewport(0, 0, width_, height_);
-  glBindFramebuffer(GL_FRAMEBUFFER, g.mesh_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, g.targets->mesh.framebuffer());
   const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
   glDepthMask(GL_TRUE);
   glClearBufferfv(GL_COLOR, 0, zero);
   glClearBufferfv(GL_DEPTH, 0, &one);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glUseProgram(g.mesh_program);
-  glUniformMatrix4fv(glGetUniformLocation(g.mesh_program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
-  glUniformMatrix4fv(glGetUniformLocation(g.mesh_program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
+  const GLuint mesh_program = g.mesh_program.get();
+  glUseProgram(mesh_program);
+  glUniformMatrix4fv(glGetUniformLocation(mesh_program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
+  glUniformMatrix4fv(glGetUniformLocation(mesh_program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
-    glUniformMatrix4fv(glGetUniformLocation(g.mesh_program, "u_model"), 1, GL_FALSE,
+    glUniformMatrix4fv(glGetUniformLocation(mesh_program, "u_model"), 1, GL_FALSE,
                        glm::value_ptr(scene_.objects[i].placement(time)));
-    glBindVertexArray(g.mesh_vaos[i]);
+    glBindVertexArray(g.mesh_vaos[i].get());
     glDrawArrays(GL_TRIANGLES, 0, g.mesh_vertices[i]);
   }
   glDisable(GL_DEPTH_TEST);
-  const auto rgba = read_rgba(g.mesh_fbo, GL_COLOR_ATTACHMENT0, width_, height_);
-  std::vector<std::uint8_t> mask(rgba.size() / 4);
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = rgba[4 * i] > 0.5f ? 1 : 0;
-  return mask;
+  return g.targets->mesh.read_mask();
 }
 
-unsigned Presenter::display_framebuffer() const { return impl_->display_fbo; }
+unsigned Presenter::display_framebuffer() const { return impl_->targets->shading.display_framebuffer(); }
 
 }  // namespace splatcl::present

@@ -109,7 +109,6 @@ class Presenter {
   std::vector<ObjectRange> objects_;  // scene objects then the floor
   std::vector<ObjectAssets> assets_;
   std::vector<glm::vec4> splat_ao_;
-  std::vector<float> read_weight_channel(int target) const;  // red channel of an accumulation target
   std::string lighting_settings() const;  // what the per-splat lighting rows depend on besides placements
   void update_splat_lighting(const std::vector<glm::mat4>& placements, FrameStats& stats);
 };
