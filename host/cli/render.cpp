@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "cli/scene_figures.hpp"
 #include "cli/scene_options.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
@@ -125,7 +126,11 @@ int run_render(const RenderOptions& o) {
                                     {"gl_pass_clock", o.wall_passes ? "wall" : "timer queries"},
                                     {"frame_ms", frame_ms},          {"fps", 1000.0 / frame_ms},
                                     {"stages_ms", stages},           {"device", runtime->info().name},
-                                    {"renderer", context->renderer()}};
+                                    {"renderer", context->renderer()},
+                                    {"clusters", last.clusters},     {"light_indices", last.light_indices},
+                                    // The figures of splatcl view's panel: its modes and toggles, and each object's.
+                                    {"settings", settings_json(scene, presenter.debug_view, presenter.ambient_occlusion, presenter.pixel_ao)},
+                                    {"objects", to_json(object_figures(presenter, scene))}};
     outputs.write(o.json, [&](const std::string& path) { write_file_atomically(path, summary.dump(2) + "\n"); });
   }
   outputs.commit();

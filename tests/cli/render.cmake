@@ -7,6 +7,11 @@ set(RENDER_FRAME "^frame +[0-9.]+ ms = [0-9.]+ fps$")
 add_test(NAME cli.render_default_scene COMMAND ${EXPECT_OUTPUT} --match "^scene +default scene .*: 3 objects, [1-9][0-9]* splats, 1024 lights \\(clustered shading, splats mode\\), 160x120$"
          --match "^clusters +[1-9][0-9]* with [1-9][0-9]* light indices" --match "${RENDER_FRAME}" --png ${CMAKE_CURRENT_BINARY_DIR}/render-default.png 160 120
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"frames_measured\": 2,"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"name\": \"torus\","
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"csm_maps\": 1024,"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"csm_segments\": [1-9][0-9]*,"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"debug_view\": \"final\","
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"splat_scale\": 1(\\.0)?,?$"
          -- $<TARGET_FILE:splatcl> render --size 160x120 --frames 3 --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-default.png
          --json ${CMAKE_CURRENT_BINARY_DIR}/render-default.json)
 add_test(NAME cli.render_tiled_points_exr COMMAND ${EXPECT_OUTPUT} --match "\\(tiled shading, points mode\\), 120x90$" --exr ${CMAKE_CURRENT_BINARY_DIR}/render-points.exr
@@ -44,5 +49,12 @@ find_program(XVFB_RUN xvfb-run)
 if(XVFB_RUN)
   add_test(NAME cli.view_window COMMAND ${EXPECT_OUTPUT} --match "^keys: left drag orbit" -- ${XVFB_RUN} -a $<TARGET_FILE:splatcl> view --size 160x120
            --seconds 2 --cache ${PRESENT_CACHE})
-  set_tests_properties(cli.view_window PROPERTIES FIXTURES_REQUIRED present_cache)
+  add_test(NAME cli.view_panel_leaves_the_image COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/view_panel_test.sh $<TARGET_FILE:splatcl>
+           ${PRESENT_CACHE} ${CMAKE_CURRENT_BINARY_DIR}/view-panel)
+  set_tests_properties(cli.view_window cli.view_panel_leaves_the_image PROPERTIES FIXTURES_REQUIRED present_cache)
 endif()
+add_test(NAME cli.error_view_screenshot_on_exit_needs_seconds COMMAND ${EXPECT_ERROR} "--screenshot-on-exit needs --seconds"
+         $<TARGET_FILE:splatcl> view --screenshot-on-exit)
+add_test(NAME cli.error_view_bad_seconds COMMAND ${EXPECT_ERROR} "--seconds -1 is not a duration" $<TARGET_FILE:splatcl> view --seconds -1)
+add_test(NAME cli.error_view_missing_screenshots_dir COMMAND ${EXPECT_ERROR} "--screenshots no-such-dir: not a directory"
+         $<TARGET_FILE:splatcl> view --screenshots no-such-dir)

@@ -1,0 +1,69 @@
+#include "cli/scene_figures.hpp"
+
+namespace splatcl::cli {
+
+std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, const present::Scene& scene) {
+  std::vector<ObjectFigures> out;
+  for (std::size_t i = 0; i < scene.objects.size() && i < presenter.object_count(); ++i) {
+    const present::ObjectAssets& a = presenter.assets(i);
+    ObjectFigures f;
+    f.name = scene.objects[i].name;
+    f.occluder = scene.objects[i].occluder;
+    f.vertices = a.mesh.vertices.size();
+    f.faces = a.mesh.face_count();
+    f.splats = a.splats.size();
+    f.lod_entries = a.tree.size();
+    f.csm_maps = a.csm.info.maps;
+    f.csm_resolution = a.csm.info.resolution;
+    f.csm_segments = a.csm.segments();
+    const double pixels = static_cast<double>(f.csm_maps) * f.csm_resolution * f.csm_resolution;
+    f.csm_segments_per_pixel = pixels > 0 ? static_cast<double>(f.csm_segments) / pixels : 0;
+    f.csm_bytes = sizeof(std::uint32_t) * a.csm.offsets.size() + sizeof(float) * a.csm.depth.size() +
+                  sizeof(std::uint32_t) * a.csm.end.size();
+    f.splats_cached = a.splats_cached, f.tree_cached = a.tree_cached, f.csm_cached = a.csm_cached;
+    f.build_ms = a.build_ms;
+    f.key = a.key;
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
+nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ObjectFigures& f : objects)
+    list.push_back({{"name", f.name},
+                    {"occluder", f.occluder},
+                    {"vertices", f.vertices},
+                    {"faces", f.faces},
+                    {"splats", f.splats},
+                    {"lod_entries", f.lod_entries},
+                    {"csm_maps", f.csm_maps},
+                    {"csm_resolution", f.csm_resolution},
+                    {"csm_segments", f.csm_segments},
+                    {"csm_segments_per_pixel", f.csm_segments_per_pixel},
+                    {"csm_bytes", f.csm_bytes},
+                    {"splats_cached", f.splats_cached},
+                    {"tree_cached", f.tree_cached},
+                    {"csm_cached", f.csm_cached},
+                    {"build_ms", f.build_ms},
+                    {"cache_key", f.key}});
+  return list;
+}
+
+nlohmann::json settings_json(const present::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao) {
+  const present::Quality& q = scene.quality;
+  return {{"shading", q.shading},
+          {"mode", q.mode},
+          {"shadows", q.shadows},
+          {"ambient_occlusion", ambient_occlusion},
+          {"pixel_ao", pixel_ao},
+          {"lod_error", q.lod_error},
+          {"specular", q.specular},
+          {"debug_view", present::to_string(view)},
+          {"splat_scale", q.splat_scale},
+          {"depth_offset", q.depth_offset},
+          {"lights", scene.lights.size()},
+          {"key_lights", scene.key_lights.size()}};
+}
+
+}  // namespace splatcl::cli

@@ -1,0 +1,224 @@
+#include "cli/viewer_panel.hpp"
+
+#include "present/gl.hpp"  // before GLFW, which must not pull in the legacy GL header
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <fmt/format.h>
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+#include "cluster/test_scene.hpp"
+
+namespace splatcl::cli::viewer {
+
+glm::vec3 heat_color(float t) {
+  // present/shaders.cpp's heat(): the same expression.
+  t = std::clamp(t, 0.0f, 1.0f);
+  return glm::clamp(glm::vec3(1.5f * t - 0.25f, 1.5f - std::abs(2.0f * t - 1.0f) * 1.5f, 1.25f - 1.5f * t), 0.0f, 1.0f);
+}
+
+namespace {
+
+ImU32 color_u32(const glm::vec3& c) { return ImGui::ColorConvertFloat4ToU32(ImVec4(c.x, c.y, c.z, 1.0f)); }
+
+// Radio buttons over a sequence of strings; true when one was chosen.
+bool choice(const char* label, std::string& value, std::initializer_list<const char*> values) {
+  bool changed = false;
+  ImGui::TextUnformatted(label);
+  for (const char* v : values) {
+    ImGui::SameLine();
+    if (ImGui::RadioButton(fmt::format("{}##{}", v, label).c_str(), value == v)) value = v, changed = true;
+  }
+  return changed;
+}
+
+// A checkbox for "value > 0" (on sets `on`, off sets 0) and, while on, a slider for the value.
+void toggle_with_slider(const char* label, const char* slider, float& value, float on, float lo, float hi) {
+  bool enabled = value > 0;
+  if (ImGui::Checkbox(label, &enabled)) value = enabled ? on : 0.0f;
+  if (!enabled) return;
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(120);
+  ImGui::SliderFloat(slider, &value, lo, hi, "%.2f", ImGuiSliderFlags_Logarithmic);
+}
+
+void heat_legend(const present::FrameStats& stats) {
+  ImGui::TextUnformatted("lights per cluster (view 5, clusters):");
+  const ImVec2 p = ImGui::GetCursorScreenPos();
+  const float width = std::max(120.0f, ImGui::GetContentRegionAvail().x), height = 14;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  constexpr int kSteps = 32;
+  for (int i = 0; i < kSteps; ++i) {
+    const float t0 = static_cast<float>(i) / kSteps, t1 = static_cast<float>(i + 1) / kSteps;
+    const ImU32 a = color_u32(heat_color(t0)), b = color_u32(heat_color(t1));
+    draw->AddRectFilledMultiColor(ImVec2(p.x + t0 * width, p.y), ImVec2(p.x + t1 * width, p.y + height), a, b, b, a);
+  }
+  ImGui::Dummy(ImVec2(width, height));
+  ImGui::TextUnformatted("0");
+  ImGui::SameLine(width * 0.5f - 20);
+  ImGui::TextUnformatted("half");
+  ImGui::SameLine(std::max(width - 70, width * 0.5f + 20));
+  ImGui::TextUnformatted("frame max");
+  if (stats.clusters > 0)
+    ImGui::Text("mean %.1f lights in each of %u clusters", static_cast<double>(stats.light_indices) / stats.clusters, stats.clusters);
+}
+
+}  // namespace
+
+Panel::Panel(GLFWwindow* window) : window_(window) {
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;  // no imgui.ini in the working directory
+  ImGui::StyleColorsDark();
+  ImGui::GetStyle().Alpha = 0.92f;
+  ImGui_ImplGlfw_InitForOpenGL(window_, false);
+  ImGui_ImplOpenGL3_Init("#version 410");
+}
+
+Panel::~Panel() {
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+}
+
+GlfwInput::Hooks Panel::hooks() const {
+  GlfwInput::Hooks h;
+  h.key = [](GLFWwindow* w, int key, int scancode, int action, int mods) { ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods); };
+  h.character = [](GLFWwindow* w, unsigned c) { ImGui_ImplGlfw_CharCallback(w, c); };
+  h.button = [](GLFWwindow* w, int button, int action, int mods) { ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods); };
+  h.scroll = [](GLFWwindow* w, double dx, double dy) { ImGui_ImplGlfw_ScrollCallback(w, dx, dy); };
+  h.enter = [](GLFWwindow* w, int entered) { ImGui_ImplGlfw_CursorEnterCallback(w, entered); };
+  h.focus = [](GLFWwindow* w, int focused) { ImGui_ImplGlfw_WindowFocusCallback(w, focused); };
+  // ImGui's flags of its last frame (draw() clears them while the panel is hidden).
+  h.captured = [](bool keyboard) {
+    const ImGuiIO& io = ImGui::GetIO();
+    return keyboard ? io.WantCaptureKeyboard : io.WantCaptureMouse;
+  };
+  return h;
+}
+
+void Panel::draw(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time) {
+  if (!controls.state().panel) {
+    // Hidden: no frame, and nothing captured from then on.
+    ImGuiIO& io = ImGui::GetIO();
+    io.WantCaptureKeyboard = io.WantCaptureMouse = false;
+    last_ms_ = 0;
+    return;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  ViewState& v = controls.state();
+  present::Scene& s = controls.scene();
+  present::Quality& q = s.quality;
+
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("splatcl view (F1 hides)", nullptr, ImGuiWindowFlags_NoSavedSettings);
+
+  ImGui::Text("%.1f fps  %.1f ms/frame  panel %.2f ms", stats.frame_ms > 0 ? 1000.0 / stats.frame_ms : 0.0, stats.frame_ms, last_ms_);
+  ImGui::Text("%u splats drawn, %zu lights, %u clusters, %u light indices", stats.splats, s.lights.size(), stats.clusters,
+              stats.light_indices);
+  if (!v.message.empty()) ImGui::TextUnformatted(v.message.c_str());
+
+  if (ImGui::CollapsingHeader("stages (ms)", ImGuiTreeNodeFlags_DefaultOpen) &&
+      ImGui::BeginTable("stages", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
+    double total = 0;
+    for (const auto& st : stats.stages) total += st.ms;
+    for (const auto& st : stats.stages) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(st.name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%8.2f", st.ms);
+      ImGui::TableNextColumn();
+      ImGui::ProgressBar(total > 0 ? static_cast<float>(st.ms / total) : 0.0f, ImVec2(-1, 0), "");
+    }
+    ImGui::EndTable();
+  }
+
+  if (ImGui::CollapsingHeader("modes and toggles", ImGuiTreeNodeFlags_DefaultOpen)) {
+    choice("shading [C]", q.shading, {"clustered", "tiled", "brute"});
+    choice("mode    [M]", q.mode, {"splats", "points"});
+    choice("shadows [H]", q.shadows, {"splat", "pixel", "off"});
+    ImGui::Checkbox("ambient occlusion [O]", &v.ambient_occlusion);
+    ImGui::SameLine();
+    ImGui::Checkbox("per pixel [A]", &v.pixel_ao);
+    toggle_with_slider("level of detail [L]", "px##lod", q.lod_error, 1.0f, 0.1f, 16.0f);
+    toggle_with_slider("Blinn-Phong [B]", "strength", q.specular, 0.5f, 0.01f, 4.0f);
+    static constexpr std::array<const char*, 8> kViews = {"1 final",    "2 albedo",  "3 normals", "4 ao",
+                                                          "5 clusters", "6 shadows", "7 depth",   "8 footprints"};
+    int view = static_cast<int>(v.debug_view);
+    if (ImGui::Combo("debug view [1-8]", &view, kViews.data(), static_cast<int>(kViews.size())))
+      v.debug_view = static_cast<present::DebugView>(view);
+    ImGui::Checkbox("paused [Space]", &v.paused);
+    ImGui::SliderFloat("splat scale k", &q.splat_scale, 0.25f, 3.0f, "%.3f");
+    ImGui::SliderFloat("depth offset eps", &q.depth_offset, 0.0f, 0.2f, "%.4f");
+    int lights = static_cast<int>(s.generated.count);
+    const int explicit_lights = static_cast<int>(s.lights.size() - s.generated.count);
+    if (ImGui::SliderInt("generated lights", &lights, 0, static_cast<int>(present::kMaxLights) - explicit_lights, "%d",
+                         ImGuiSliderFlags_Logarithmic))
+      present::set_generated_light_count(s, static_cast<std::uint32_t>(std::max(lights, 0)));
+    ImGui::Text("%zu lights (%d listed), %zu key lights", s.lights.size(), explicit_lights, s.key_lights.size());
+  }
+
+  if (ImGui::CollapsingHeader("heat map legend", v.debug_view == present::DebugView::LightsPerCluster ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+    heat_legend(stats);
+
+  if (ImGui::CollapsingHeader("camera", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const Orbit& o = controls.orbit();
+    ImGui::Text("distance %.2f  target (%.2f, %.2f, %.2f)", o.distance, o.target.x, o.target.y, o.target.z);
+    if (ImGui::Button("fit [F]")) controls.fit(time);
+    ImGui::SameLine();
+    if (ImGui::Button("reset [R]")) controls.reset_camera();
+    ImGui::SameLine();
+    if (ImGui::Button("reset objects [Shift+R]")) controls.reset_objects();
+  }
+
+  if (ImGui::CollapsingHeader("objects (click one, or Tab)", ImGuiTreeNodeFlags_DefaultOpen) &&
+      ImGui::BeginTable("objects", 6, ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
+    ImGui::TableSetupColumn("object");
+    ImGui::TableSetupColumn("faces");
+    ImGui::TableSetupColumn("splats");
+    ImGui::TableSetupColumn("LOD");
+    ImGui::TableSetupColumn("CSM maps x res^2");
+    ImGui::TableSetupColumn("segments, MiB");
+    ImGui::TableHeadersRow();
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      const ObjectFigures& f = objects[i];
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      if (ImGui::Selectable(fmt::format("{}##object{}", f.name, i).c_str(), v.selected == i, ImGuiSelectableFlags_SpanAllColumns))
+        v.selected = i;
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("%s, %zu vertices; splats %s, LOD tree %s, CSM %s; assets %.0f ms; cache key %s",
+                          f.occluder ? "occluder" : "not an occluder", f.vertices, f.splats_cached ? "cached" : "built",
+                          f.tree_cached ? "cached" : "built", f.csm_cached ? "cached" : "built", f.build_ms, f.key.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%zu", f.faces);
+      ImGui::TableNextColumn();
+      ImGui::Text("%zu", f.splats);
+      ImGui::TableNextColumn();
+      ImGui::Text("%zu", f.lod_entries);
+      ImGui::TableNextColumn();
+      ImGui::Text("%u x %u^2", f.csm_maps, f.csm_resolution);
+      ImGui::TableNextColumn();
+      ImGui::Text("%zu (%.2f/px), %.1f", f.csm_segments, f.csm_segments_per_pixel, static_cast<double>(f.csm_bytes) / (1 << 20));
+    }
+    ImGui::EndTable();
+  }
+  ImGui::End();
+  ImGui::Render();
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  last_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace splatcl::cli::viewer
