@@ -13,7 +13,7 @@ packages=(
   build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo oclgrind python3-pip unzip
   libglfw3-dev libglm-dev libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri xvfb xauth
-  libimgui-dev  # the viewer's panel (Dear ImGui with its GLFW and OpenGL 3 backends)
+  libimgui-dev xdotool  # the viewer's panel (Dear ImGui with its GLFW and OpenGL 3 backends); X input for its test
   libopenmesh-dev libopenimageio-dev libflann-dev liblz4-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev

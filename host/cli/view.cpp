@@ -69,7 +69,7 @@ int run_view(const ViewOptions& o) {
 
   viewer::Panel panel(window);
   viewer::GlfwInput input(window, panel.hooks());
-  double time = s.time, last_clock = glfwGetTime();
+  double time = s.time, last_clock = glfwGetTime(), panel_refreshed = -1;
   unsigned shots = 0;
   std::size_t frames = 0, panel_frames = 0;
   double frame_ms_total = 0, panel_ms_total = 0;
@@ -83,7 +83,9 @@ int run_view(const ViewOptions& o) {
     if (last && !o.screenshot_on_exit) break;
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);
-    controls.apply(input.queue().take(), now, {ww, wh}, static_cast<float>(time));
+    std::vector<viewer::Event> events = input.queue().take();
+    const bool input_came = !events.empty();
+    controls.apply(events, now, {ww, wh}, static_cast<float>(time));
     viewer::ViewState& v = controls.state();
     if (v.quit) break;
     if (!v.paused) time += now - last_clock;
@@ -107,7 +109,11 @@ int run_view(const ViewOptions& o) {
       write_image_rgb(path, presenter.width(), presenter.height(), presenter.read_display_rgb());
       std::fprintf(stderr, "screenshot %s\n", path.c_str());
     }
-    panel.draw(controls, stats, figures, static_cast<float>(time));
+    // The panel's ImGui frame runs when input came (its widgets stay live) and 4 times a second for
+    // the readouts; the frames between composite its last image.
+    const bool refresh = input_came || now - panel_refreshed >= 0.25;
+    panel.draw(controls, stats, figures, static_cast<float>(time), fw, fh, refresh);
+    if (panel.refreshed()) panel_refreshed = now;
     if (v.panel) ++panel_frames, panel_ms_total += panel.last_ms();
     if (last) {
       // The window as shown, panel included (the back buffer before the swap).
@@ -131,6 +137,14 @@ int run_view(const ViewOptions& o) {
   const double n = static_cast<double>(frames), np = static_cast<double>(panel_frames);
   fmt::print(stderr, "view: {} frames, {:.2f} ms per frame; panel {}\n", frames, frames ? frame_ms_total / n : 0.0,
              panel_frames ? fmt::format("on {} frames, {:.3f} ms per frame", panel_frames, panel_ms_total / np) : "hidden");
+  // The state the input left (scripted runs and tests read it).
+  const viewer::ViewState& v = controls.state();
+  fmt::print(stderr, "view: state shading {}, mode {}, shadows {}, view {}, ao {}, pixel ao {}, lod {}, specular {}, selected {}, "
+                     "distance {:.4f} (start {:.4f}), panel {}, paused {}\n",
+             s.quality.shading, s.quality.mode, s.quality.shadows, present::to_string(v.debug_view), v.ambient_occlusion ? "on" : "off",
+             v.pixel_ao ? "on" : "off", s.quality.lod_error, s.quality.specular,
+             s.objects.empty() ? "-" : s.objects[v.selected % s.objects.size()].name, controls.orbit().distance,
+             viewer::Orbit::from_camera(scene.camera).distance, v.panel ? "on" : "off", v.paused ? "yes" : "no");
   return 0;
 }
 

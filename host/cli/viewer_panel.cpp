@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "cluster/test_scene.hpp"
+#include "runtime/error.hpp"
 
 namespace splatcl::cli::viewer {
 
@@ -77,12 +78,41 @@ Panel::Panel(GLFWwindow* window) : window_(window) {
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // no imgui.ini in the working directory
   ImGui::StyleColorsDark();
-  ImGui::GetStyle().Alpha = 0.92f;
+  // Opaque and square: the panel window's rectangle is then copied into the window (a blit),
+  // which llvmpipe does far faster than blending it.
+  ImGuiStyle& style = ImGui::GetStyle();
+  style.WindowRounding = 0;
+  style.Colors[ImGuiCol_WindowBg].w = 1.0f;
   ImGui_ImplGlfw_InitForOpenGL(window_, false);
   ImGui_ImplOpenGL3_Init("#version 410");
+  // The compositing program: a triangle over the whole frame that reads the layer texel by texel.
+  const char* vs = "#version 450 core\nvoid main() { vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);\n"
+                   "gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0); }\n";
+  const char* fs = "#version 450 core\nlayout(binding = 0) uniform sampler2D u_layer; out vec4 o_color;\n"
+                   "void main() { o_color = texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0); }\n";
+  program_ = glCreateProgram();
+  for (const auto& [type, text] : {std::pair{GL_VERTEX_SHADER, vs}, std::pair{GL_FRAGMENT_SHADER, fs}}) {
+    const GLuint shader = glCreateShader(type);
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) throw Error("the viewer panel's compositing shader does not compile");
+    glAttachShader(program_, shader);
+    glDeleteShader(shader);
+  }
+  glLinkProgram(program_);
+  GLint linked = 0;
+  glGetProgramiv(program_, GL_LINK_STATUS, &linked);
+  if (!linked) throw Error("the viewer panel's compositing program does not link");
+  glCreateVertexArrays(1, &vertex_array_);
 }
 
 Panel::~Panel() {
+  if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
+  if (texture_) glDeleteTextures(1, &texture_);
+  if (vertex_array_) glDeleteVertexArrays(1, &vertex_array_);
+  if (program_) glDeleteProgram(program_);
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
@@ -104,15 +134,8 @@ GlfwInput::Hooks Panel::hooks() const {
   return h;
 }
 
-void Panel::draw(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time) {
-  if (!controls.state().panel) {
-    // Hidden: no frame, and nothing captured from then on.
-    ImGuiIO& io = ImGui::GetIO();
-    io.WantCaptureKeyboard = io.WantCaptureMouse = false;
-    last_ms_ = 0;
-    return;
-  }
-  const auto start = std::chrono::steady_clock::now();
+void Panel::build(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time) {
+  tooltip_ = false;
   ViewState& v = controls.state();
   present::Scene& s = controls.scene();
   present::Quality& q = s.quality;
@@ -198,10 +221,12 @@ void Panel::draw(Controls& controls, const present::FrameStats& stats, const std
       ImGui::TableNextColumn();
       if (ImGui::Selectable(fmt::format("{}##object{}", f.name, i).c_str(), v.selected == i, ImGuiSelectableFlags_SpanAllColumns))
         v.selected = i;
-      if (ImGui::IsItemHovered())
+      if (ImGui::IsItemHovered()) {
+        tooltip_ = true;
         ImGui::SetTooltip("%s, %zu vertices; splats %s, LOD tree %s, CSM %s; assets %.0f ms; cache key %s",
                           f.occluder ? "occluder" : "not an occluder", f.vertices, f.splats_cached ? "cached" : "built",
                           f.tree_cached ? "cached" : "built", f.csm_cached ? "cached" : "built", f.build_ms, f.key.c_str());
+      }
       ImGui::TableNextColumn();
       ImGui::Text("%zu", f.faces);
       ImGui::TableNextColumn();
@@ -215,9 +240,91 @@ void Panel::draw(Controls& controls, const present::FrameStats& stats, const std
     }
     ImGui::EndTable();
   }
+  const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+  window_min_[0] = pos.x, window_min_[1] = pos.y, window_max_[0] = pos.x + size.x, window_max_[1] = pos.y + size.y;
   ImGui::End();
   ImGui::Render();
-  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+void Panel::resize_layer(int width, int height) {
+  if (texture_ && width == layer_width_ && height == layer_height_) return;
+  if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
+  if (texture_) glDeleteTextures(1, &texture_);
+  glCreateTextures(GL_TEXTURE_2D, 1, &texture_);
+  glTextureStorage2D(texture_, 1, GL_RGBA8, width, height);
+  glCreateFramebuffers(1, &framebuffer_);
+  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, texture_, 0);
+  layer_width_ = width, layer_height_ = height, have_layer_ = false;
+}
+
+void Panel::draw(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time, int width,
+                 int height, bool refresh) {
+  refreshed_ = false;
+  if (!controls.state().panel || width <= 0 || height <= 0) {
+    // Hidden: no frame, and nothing captured from then on.
+    ImGuiIO& io = ImGui::GetIO();
+    io.WantCaptureKeyboard = io.WantCaptureMouse = false;
+    last_ms_ = 0;
+    have_layer_ = false;  // shown again: a fresh frame first
+    return;
+  }
+  // Timed with the GL work it queues: the blit before it finished first, its own drawing after
+  // (llvmpipe would otherwise rasterise it inside the buffer swap, out of sight).
+  glFinish();
+  const auto start = std::chrono::steady_clock::now();
+  resize_layer(width, height);
+  if (refresh || !have_layer_) {
+    build(controls, stats, objects, time);
+    // The layer: premultiplied colour and coverage (the backend blends colour by alpha and alpha
+    // by one minus alpha), transparent where the panel is not.
+    // The layer holds pixels only inside rect_ (the last refresh's): clearing that clears it.
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+    const float clear[4] = {0, 0, 0, 0};
+    glEnable(GL_SCISSOR_TEST);
+    if (have_layer_) glScissor(rect_[0], rect_[1], rect_[2], rect_[3]);
+    else glScissor(0, 0, width, height);
+    glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, clear);
+    glDisable(GL_SCISSOR_TEST);
+    ImDrawData* data = ImGui::GetDrawData();
+    ImGui_ImplOpenGL3_RenderDrawData(data);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    // The panel window's rectangle in framebuffer pixels (bottom-left origin); the whole frame
+    // while a tooltip, which lies outside it, is up.
+    const ImVec2 scale = data->FramebufferScale, origin = data->DisplayPos;
+    const float x0 = tooltip_ ? origin.x : window_min_[0], y0 = tooltip_ ? origin.y : window_min_[1];
+    const float x1 = tooltip_ ? origin.x + data->DisplaySize.x : window_max_[0], y1 = tooltip_ ? origin.y + data->DisplaySize.y : window_max_[1];
+    const int left = std::clamp(static_cast<int>(std::floor((x0 - origin.x) * scale.x)), 0, width);
+    const int right = std::clamp(static_cast<int>(std::ceil((x1 - origin.x) * scale.x)) + 1, 0, width);
+    const int top = std::clamp(static_cast<int>(std::floor((y0 - origin.y) * scale.y)), 0, height);
+    const int bottom = std::clamp(static_cast<int>(std::ceil((y1 - origin.y) * scale.y)) + 1, 0, height);
+    rect_[0] = left, rect_[1] = height - bottom, rect_[2] = std::max(0, right - left), rect_[3] = std::max(0, bottom - top);
+    have_layer_ = true, refreshed_ = true;
+  }
+  if (rect_[2] > 0 && rect_[3] > 0 && !tooltip_) {
+    // The opaque panel window: copied.
+    glBlitNamedFramebuffer(framebuffer_, 0, rect_[0], rect_[1], rect_[0] + rect_[2], rect_[1] + rect_[3], rect_[0], rect_[1],
+                           rect_[0] + rect_[2], rect_[1] + rect_[3], GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  } else if (rect_[2] > 0 && rect_[3] > 0) {
+    // With a tooltip outside the window: the whole layer blended over the frame (premultiplied alpha).
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glViewport(0, 0, width, height);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(rect_[0], rect_[1], rect_[2], rect_[3]);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(program_);
+    glBindTextureUnit(0, texture_);
+    glBindVertexArray(vertex_array_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+  }
+  glFinish();
   last_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 

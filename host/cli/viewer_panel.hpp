@@ -28,15 +28,28 @@ class Panel {
   // Forwarding of GLFW's callbacks to ImGui, and whether ImGui holds the keyboard or the mouse.
   GlfwInput::Hooks hooks() const;
 
-  // Builds and draws one frame of the panel into the bound framebuffer (the window's). Widgets
-  // change `controls` (its scene's quality, its view state) for the next frame. With the panel
-  // hidden it draws nothing and takes no time.
-  void draw(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time);
-  double last_ms() const { return last_ms_; }  // the last draw's CPU time
+  // Draws the panel over the window's default framebuffer (width × height pixels). With `refresh`
+  // (input came, or the readouts are due: view.cpp asks 4 times a second) it first runs an ImGui
+  // frame, whose widgets change `controls` (its scene's quality, its view state), and renders it
+  // into the panel's own layer; every frame it copies the panel window's rectangle of that layer
+  // into the window (blends the whole layer while a tooltip is up). With the panel hidden it draws
+  // nothing and takes no time.
+  void draw(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time, int width,
+            int height, bool refresh);
+  double last_ms() const { return last_ms_; }  // the last draw's time, its GL work finished included
+  bool refreshed() const { return refreshed_; }  // the last draw ran an ImGui frame
 
  private:
   GLFWwindow* window_;
   double last_ms_ = 0;
+  bool refreshed_ = false, have_layer_ = false;
+  unsigned framebuffer_ = 0, texture_ = 0, program_ = 0, vertex_array_ = 0;
+  int layer_width_ = 0, layer_height_ = 0;
+  int rect_[4] = {0, 0, 0, 0};
+  float window_min_[2] = {0, 0}, window_max_[2] = {0, 0};  // the panel window in ImGui's coordinates
+  bool tooltip_ = false;                                  // a tooltip was up in the last ImGui frame  // the layer's drawn rectangle: x, y (bottom left), width, height
+  void build(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time);
+  void resize_layer(int width, int height);
 };
 
 // The heat map's colours (the clusters view: lights per cluster over the frame's maximum): the

@@ -51,7 +51,9 @@ if(XVFB_RUN)
            --seconds 2 --cache ${PRESENT_CACHE})
   add_test(NAME cli.view_panel_leaves_the_image COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/view_panel_test.sh $<TARGET_FILE:splatcl>
            ${PRESENT_CACHE} ${CMAKE_CURRENT_BINARY_DIR}/view-panel)
-  set_tests_properties(cli.view_window cli.view_panel_leaves_the_image PROPERTIES FIXTURES_REQUIRED present_cache)
+  add_test(NAME cli.view_input_xvfb COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/view_input_test.sh $<TARGET_FILE:splatcl> ${PRESENT_CACHE})
+  set_tests_properties(cli.view_window cli.view_panel_leaves_the_image cli.view_input_xvfb PROPERTIES FIXTURES_REQUIRED present_cache)
+  set_tests_properties(cli.view_input_xvfb PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
 endif()
 add_test(NAME cli.error_view_screenshot_on_exit_needs_seconds COMMAND ${EXPECT_ERROR} "--screenshot-on-exit needs --seconds"
          $<TARGET_FILE:splatcl> view --screenshot-on-exit)
