@@ -6,6 +6,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <future>
 #include <map>
@@ -21,13 +22,18 @@
 #include "present/gbuffer.hpp"
 #include "present/gl_objects.hpp"
 #include "present/shaders.hpp"
+#include "present/shaders/layout.h"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 
 namespace splatcl::present {
 namespace {
 
-constexpr int kMaxKeyLights = 4;
+constexpr int kMaxKeyLights = MAX_KEY_LIGHTS;
+// Floats per lighting row, and where its key-light visibility starts.
+constexpr std::size_t kLightingRow = layout::kLightingRowFloats;
+constexpr std::size_t kVisibilityAt = offsetof(layout::LightingRow, visibility) / sizeof(float);
+static_assert(NO_LIGHT_LIST == cluster::kNoCluster);
 constexpr std::uint32_t kAoPatterns = 256;
 constexpr std::uint32_t kAoSeed = 1;
 
@@ -302,7 +308,7 @@ std::vector<glm::vec3> sky_sh(const Sky& sky) {
   return sh;
 }
 
-// The compile-time modes of the final shading shader (shaders::kShade).
+// The compile-time modes of the final shading shader (shade.frag.glsl).
 struct ShadeVariant {
   int debug = 0;  // DebugView, footprints drawn as albedo
   bool brute_force = false, pixel_shadows = false, pixel_ao = false, hdr_output = true, specular = false;
@@ -386,12 +392,13 @@ struct Presenter::Impl {
   const gl::Program& shade_program(const ShadeVariant& v) {
     const auto found = shade_programs.find(v.key());
     if (found != shade_programs.end()) return found->second;
-    const std::string source = fmt::format(
-        "#version 450 core\n#define DEBUG_VIEW {}\n#define BRUTE_FORCE {}\n#define PIXEL_SHADOWS {}\n"
-        "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n{}",
+    const std::string defines = fmt::format(
+        "#define DEBUG_VIEW {}\n#define BRUTE_FORCE {}\n#define PIXEL_SHADOWS {}\n"
+        "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n",
         v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.hdr_output ? 1 : 0, v.key_count,
-        v.specular ? 1 : 0, shaders::kShade);
-    return shade_programs.emplace(v.key(), gl::Program(shaders::kFullscreenVertex, source, "shading")).first->second;
+        v.specular ? 1 : 0);
+    gl::Program program(shaders::source("fullscreen.vert.glsl"), shaders::source("shade.frag.glsl", defines), "shading");
+    return shade_programs.emplace(v.key(), std::move(program)).first->second;
   }
 };
 
@@ -404,12 +411,19 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   // Assets and the splat arrays: objects in scene order, then the floor, then every object's LOD
   // sequence (originals and tree nodes sorted by e_max). Per instance: centre, normal, major and
   // minor semi-axes, linear albedo, LOD interval [e_min, e_max).
-  constexpr std::size_t kRow = 17;
+  constexpr std::size_t kRow = SPLAT_ROW_FLOATS;
   std::vector<float> statics;
   const auto push_splat = [&](glm::vec3 c, glm::vec3 n, glm::vec3 u, glm::vec3 v, glm::vec3 albedo,
                               glm::vec2 lod = {0.0f, FLT_MAX}) {
-    for (const glm::vec3& x : {c, n, u, v, albedo}) statics.insert(statics.end(), {x.x, x.y, x.z});
-    statics.insert(statics.end(), {lod.x, lod.y});
+    layout::SplatRow row{};
+    std::copy(&c.x, &c.x + 3, row.center);
+    std::copy(&n.x, &n.x + 3, row.normal);
+    std::copy(&u.x, &u.x + 3, row.major);
+    std::copy(&v.x, &v.x + 3, row.minor);
+    std::copy(&albedo.x, &albedo.x + 3, row.albedo);
+    row.lod[0] = lod.x, row.lod[1] = lod.y;
+    statics.resize(statics.size() + kRow);
+    std::memcpy(&statics[statics.size() - kRow], &row, sizeof row);
   };
   const auto g3 = [](splats::Vec3 a) { return glm::vec3(a.x, a.y, a.z); };
   // Per-splat colours are sRGB bytes; the shading works on linear albedo.
@@ -462,17 +476,19 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   }
   const std::size_t instance_count = statics.size() / kRow;  // originals and LOD entries
 
-  g.visibility_program = gl::Program(shaders::kSplatVisibilityVertex, shaders::kSplatVisibility, "splat visibility");
-  g.accumulate_program = gl::Program(shaders::kSplatVertex, shaders::kSplatAccumulate, "splat accumulation");
-  g.point_program = gl::Program(shaders::kPointVertex, shaders::kPointFragment, "points");
-  g.mesh_program = gl::Program(shaders::kMeshVertex, shaders::kMeshFragment, "mesh");
+  g.visibility_program = gl::Program(shaders::source("splat.vert.glsl", "#define VISIBILITY_PASS 1\n"),
+                                     shaders::source("splat_visibility.frag.glsl"), "splat visibility");
+  g.accumulate_program =
+      gl::Program(shaders::source("splat.vert.glsl"), shaders::source("splat_accumulate.frag.glsl"), "splat accumulation");
+  g.point_program = gl::Program(shaders::source("point.vert.glsl"), shaders::source("point.frag.glsl"), "points");
+  g.mesh_program = gl::Program(shaders::source("mesh.vert.glsl"), shaders::source("mesh.frag.glsl"), "mesh");
 
   g.empty_vao = gl::make_vertex_array();
   g.static_vbo = gl::make_buffer();
   g.dynamic_vbo = gl::make_buffer();
   glNamedBufferStorage(g.static_vbo.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(statics.size(), 1) * sizeof(float)),
                        statics.empty() ? nullptr : statics.data(), 0);
-  glNamedBufferStorage(g.dynamic_vbo.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * 8 * sizeof(float)),
+  glNamedBufferStorage(g.dynamic_vbo.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * kLightingRow * sizeof(float)),
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
   // The splat shaders pull their rows from static_vbo and dynamic_vbo (storage buffers 4 and 5);
   // the vertices of splat s are 3s..3s+2, one triangle around its ellipse (points: vertex s).
@@ -601,7 +617,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   // answer "occluded" (Cone); a splat whose set of lit AO directions changed gets its row from that
   // set (csm_ao_finish, as the AO kernel does). Both give the same rows bit for bit, and the same as
   // the AO kernel and one visibility batch through all instances (key_light_visibility).
-  const bool incremental = incremental_lighting && g.lighting_rows.size() == n * 8 && g.lighting_signature == signature &&
+  const bool incremental = incremental_lighting && g.lighting_rows.size() == n * kLightingRow && g.lighting_signature == signature &&
                            g.lit_placements.size() == placements.size() && filter != csm::Filter::CrossMap &&
                            q.ao_bias >= 0;
   // Set again when the update completes: one that fails half way forces a full update next time.
@@ -615,7 +631,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
         std::fill(kernel_receiver.begin() + static_cast<std::ptrdiff_t>(objects_[i].first),
                   kernel_receiver.begin() + static_cast<std::ptrdiff_t>(objects_[i].first + objects_[i].count), 1);
   }
-  std::vector<float> dynamic = incremental ? g.lighting_rows : std::vector<float>(n * 8, 1.0f);
+  std::vector<float> dynamic = incremental ? g.lighting_rows : std::vector<float>(n * kLightingRow, 1.0f);
   std::vector<std::uint32_t> ao_subset, shadow_subset;
   for (std::size_t s = 0; s < n; ++s)
     if (kernel_receiver[s]) ao_subset.push_back(static_cast<std::uint32_t>(s)), shadow_subset.push_back(static_cast<std::uint32_t>(s));
@@ -738,7 +754,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
         const std::size_t bit = s * words * 64 + j;
         if (mask[bit / 64] >> (bit % 64) & 1) csm::device::csm_ao_add(sum, d[j].x, d[j].y, d[j].z);
       }
-      csm::device::csm_ao_finish(sum, normals[s].x, normals[s].y, normals[s].z, samples, &dynamic[8 * s]);
+      csm::device::csm_ao_finish(sum, normals[s].x, normals[s].y, normals[s].z, samples, &dynamic[kLightingRow * s]);
       ++stats.lighting_receivers;
     }
     g.lit_mask = std::move(mask);
@@ -766,7 +782,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       for (std::size_t k = 0; k < keys; ++k) {
         float sum = 0.0f;
         for (std::size_t j = 0; j < light_points[k].size(); ++j) sum += shadow[(s * keys + k) * points + j];
-        dynamic[8 * s + 4 + k] = sum / static_cast<float>(light_points[k].size());
+        dynamic[kLightingRow * s + kVisibilityAt + k] = sum / static_cast<float>(light_points[k].size());
       }
     }
     stats.stages.push_back({rebuild ? "cl: static occluder cache" : "cl: moved occluder queries", clock.elapsed_ms()});
@@ -774,10 +790,10 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   stats.lighting_receivers += static_cast<std::uint32_t>(ao_subset.size());
   // Rows to recompute start as "unoccluded": bent normal = normal, AO 1, every key light visible.
   for (const std::uint32_t s : ao_subset) {
-    float* row = &dynamic[8 * std::size_t{s}];
+    float* row = &dynamic[kLightingRow * std::size_t{s}];
     row[0] = normals[s].x, row[1] = normals[s].y, row[2] = normals[s].z, row[3] = 1.0f;
   }
-  for (const std::uint32_t s : shadow_subset) std::fill(&dynamic[8 * std::size_t{s} + 4], &dynamic[8 * std::size_t{s} + 8], 1.0f);
+  for (const std::uint32_t s : shadow_subset) std::fill(&dynamic[kLightingRow * std::size_t{s} + kVisibilityAt], &dynamic[kLightingRow * (std::size_t{s} + 1)], 1.0f);
 
   if (!instances.empty() && ((do_ao && !ao_subset.empty()) || (do_shadows && !shadow_subset.empty()))) {
     if (do_ao && !ao_subset.empty()) {
@@ -814,7 +830,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
           const splats::Vec4& d = receiver_directions[r * samples + j];
           if (unblocked[r * samples + j]) csm::device::csm_ao_add(sum, d.x, d.y, d.z);
         }
-        csm::device::csm_ao_finish(sum, nrm.x, nrm.y, nrm.z, samples, &dynamic[8 * std::size_t{ao_subset[r]}]);
+        csm::device::csm_ao_finish(sum, nrm.x, nrm.y, nrm.z, samples, &dynamic[kLightingRow * std::size_t{ao_subset[r]}]);
       }
       stats.stages.push_back({"cl: splat AO", clock.elapsed_ms()});
     }
@@ -852,7 +868,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
         for (std::size_t k = 0; k < light_points.size(); ++k) {
           float sum = 0.0f;
           for (std::size_t j = 0; j < light_points[k].size(); ++j) sum += product[light_base[k] + j * m + r];
-          dynamic[8 * std::size_t{shadow_subset[r]} + 4 + k] = sum / static_cast<float>(light_points[k].size());
+          dynamic[kLightingRow * std::size_t{shadow_subset[r]} + kVisibilityAt + k] = sum / static_cast<float>(light_points[k].size());
         }
       stats.stages.push_back({"cl: splat shadows", clock.elapsed_ms()});
     }
@@ -862,11 +878,11 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   g.lit_placements = placements;
   if (!incremental) g.cached_movers.clear();
   for (std::size_t s = 0; s < n; ++s)
-    splat_ao_[s] = {dynamic[8 * s], dynamic[8 * s + 1], dynamic[8 * s + 2], dynamic[8 * s + 3]};
+    splat_ao_[s] = {dynamic[kLightingRow * s], dynamic[kLightingRow * s + 1], dynamic[kLightingRow * s + 2], dynamic[kLightingRow * s + 3]};
   // LOD sequences: an original splat's entry takes its row, a tree node the mean of the rows of the
   // splats under it.
   for (std::size_t i = 0; i < g.lod_ranges.size(); ++i) {
-    const std::vector<float> rows = gather_tree_rows(assets_[i].tree, dynamic.data() + objects_[i].first * 8, 8);
+    const std::vector<float> rows = gather_tree_rows(assets_[i].tree, dynamic.data() + objects_[i].first * kLightingRow, kLightingRow);
     dynamic.insert(dynamic.end(), rows.begin(), rows.end());
   }
   g.upload_rows = std::move(dynamic);  // render() uploads them: this may run beside the GL thread
@@ -951,8 +967,8 @@ FrameStats Presenter::render(float time) {
 
   glViewport(0, 0, width_, height_);
   glBindVertexArray(g.empty_vao.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.static_vbo.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, g.dynamic_vbo.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_STATICS, g.static_vbo.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_LIGHTING, g.dynamic_vbo.get());
   const auto set_common = [&](const gl::Program& pass) {
     const GLuint program = pass.get();
     glUseProgram(program);
@@ -1039,13 +1055,13 @@ FrameStats Presenter::render(float time) {
   // Lights in view space.
   const cluster::ViewFrame frame = cluster::view_frame(cam);
   std::vector<cluster::PointLight> lights(scene_.lights.size());
-  std::vector<float> light_data(std::max<std::size_t>(lights.size(), 1) * 8, 0.0f);
+  std::vector<float> light_data(std::max<std::size_t>(lights.size(), 1) * layout::kLightRowFloats, 0.0f);
   for (std::size_t i = 0; i < lights.size(); ++i) {
     const Light& l = scene_.lights[i];
     lights[i] = {frame.point_to_view({l.position.x, l.position.y, l.position.z}), l.radius, {l.color.x, l.color.y, l.color.z}};
-    const float row[8] = {lights[i].center.x, lights[i].center.y, lights[i].center.z, 1.0f / (l.radius * l.radius),
+    const float row[layout::kLightRowFloats] = {lights[i].center.x, lights[i].center.y, lights[i].center.z, 1.0f / (l.radius * l.radius),
                           l.color.x, l.color.y, l.color.z, 0};
-    std::copy(row, row + 8, light_data.begin() + static_cast<std::ptrdiff_t>(8 * i));
+    std::copy(row, row + layout::kLightRowFloats, light_data.begin() + static_cast<std::ptrdiff_t>(layout::kLightRowFloats * i));
   }
 
   std::vector<std::uint32_t> pixel_list(view_z.size(), cluster::kNoCluster);
@@ -1218,7 +1234,8 @@ FrameStats Presenter::render(float time) {
 
   // Final shading.
   g.timers.begin("gl: shading");
-  for (GLuint i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, g.ssbo[i].get());
+  const GLuint bindings[4] = {BINDING_LIGHTS, BINDING_LIST_OFFSETS, BINDING_LIST_COUNTS, BINDING_LIST_INDICES};
+  for (std::size_t i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bindings[i], g.ssbo[i].get());
   glBindFramebuffer(GL_FRAMEBUFFER, g.targets->shading.framebuffer(hdr_output));
   const int keys = static_cast<int>(scene_.key_lights.size());
   ShadeVariant variant;
@@ -1231,9 +1248,15 @@ FrameStats Presenter::render(float time) {
   variant.specular = q.specular > 0;
   const GLuint sp = g.shade_program(variant).get();
   glUseProgram(sp);
-  const GLuint textures[8] = {gbuffer.texture(0), gbuffer.texture(1), gbuffer.texture(2), gbuffer.texture(3),
-                              0,                  pixel.light_list.get(), pixel.shadow.get(), pixel.ao.get()};
-  glBindTextures(0, 8, textures);
+  GLuint textures[SHADING_UNITS] = {};
+  textures[UNIT_WEIGHT_ALBEDO] = gbuffer.texture(GBuffer::WeightAlbedo);
+  textures[UNIT_Z_NORMAL] = gbuffer.texture(GBuffer::ZNormal);
+  textures[UNIT_SHADOW_AMBIENT] = gbuffer.texture(GBuffer::ShadowAmbient);
+  textures[UNIT_SHADOWS] = gbuffer.texture(GBuffer::Shadows);
+  textures[UNIT_PIXEL_LIST] = pixel.light_list.get();
+  textures[UNIT_PIXEL_SHADOW] = pixel.shadow.get();
+  textures[UNIT_PIXEL_AO] = pixel.ao.get();
+  glBindTextures(0, SHADING_UNITS, textures);
   glUniformMatrix4fv(glGetUniformLocation(sp, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
   glUniform2f(glGetUniformLocation(sp, "u_tan_half"), layout.tan_half_x, layout.tan_half_y);
   glUniform2f(glGetUniformLocation(sp, "u_viewport"), static_cast<float>(width_), static_cast<float>(height_));

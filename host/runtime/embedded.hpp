@@ -9,5 +9,7 @@ namespace splatcl {
 const std::map<std::string_view, std::string_view>& embedded_kernels();
 // data/*.json by file name.
 const std::map<std::string_view, std::string_view>& embedded_data();
+// present/shaders/*.glsl and present/shaders/layout.h by file name.
+const std::map<std::string_view, std::string_view>& embedded_shaders();
 
 }  // namespace splatcl

@@ -1,0 +1,86 @@
+/* The layouts the presenter's host code and its shaders share: included by the presenter's C++ as
+   a header and by the GLSL sources beside this file (whose #include lines the presenter resolves),
+   so a row's size or a field's offset is written once. Only preprocessor lines and comments
+   outside the __cplusplus block, which GLSL reads too. */
+#ifndef SPLATCL_PRESENT_SHADER_LAYOUT_H
+#define SPLATCL_PRESENT_SHADER_LAYOUT_H
+
+/* Static splat row (floats, model space): centre, normal, the major and minor semi-axis vectors,
+   linear albedo, the LOD interval [e_min, e_max) in model units. */
+#define SPLAT_CENTER 0u
+#define SPLAT_NORMAL 3u
+#define SPLAT_MAJOR 6u
+#define SPLAT_MINOR 9u
+#define SPLAT_ALBEDO 12u
+#define SPLAT_LOD_MIN 15u
+#define SPLAT_LOD_MAX 16u
+#define SPLAT_ROW_FLOATS 17u
+
+/* Lighting row (world space), the per-splat CL results: vec4 bent normal xyz + AO, then vec4
+   visibility of key lights 0-3. */
+#define LIGHTING_AO 0u
+#define LIGHTING_SHADOW 1u
+#define LIGHTING_ROW_VEC4S 2u
+#define MAX_KEY_LIGHTS 4
+
+/* Point light row: vec4 view-space centre + 1/r², vec4 colour (w unused). */
+#define LIGHT_ROW_VEC4S 2u
+
+/* A pixel's light-list index where no list covers it (cluster::kNoCluster). */
+#define NO_LIGHT_LIST 0xFFFFFFFFu
+
+/* Storage buffer binding points. */
+#define BINDING_LIGHTS 0
+#define BINDING_LIST_OFFSETS 1
+#define BINDING_LIST_COUNTS 2
+#define BINDING_LIST_INDICES 3
+#define BINDING_SPLAT_STATICS 4
+#define BINDING_SPLAT_LIGHTING 5
+
+/* Texture units of the shading pass: the G-buffer's four targets, then the per-pixel inputs. */
+#define UNIT_WEIGHT_ALBEDO 0
+#define UNIT_Z_NORMAL 1
+#define UNIT_SHADOW_AMBIENT 2
+#define UNIT_SHADOWS 3
+#define UNIT_PIXEL_LIST 5
+#define UNIT_PIXEL_SHADOW 6
+#define UNIT_PIXEL_AO 7
+#define SHADING_UNITS 8
+
+#ifdef __cplusplus
+#include <cstddef>
+
+namespace splatcl::present::layout {
+
+struct SplatRow {
+  float center[3], normal[3], major[3], minor[3], albedo[3], lod[2];
+};
+static_assert(sizeof(SplatRow) == SPLAT_ROW_FLOATS * sizeof(float));
+static_assert(offsetof(SplatRow, center) == SPLAT_CENTER * sizeof(float));
+static_assert(offsetof(SplatRow, normal) == SPLAT_NORMAL * sizeof(float));
+static_assert(offsetof(SplatRow, major) == SPLAT_MAJOR * sizeof(float));
+static_assert(offsetof(SplatRow, minor) == SPLAT_MINOR * sizeof(float));
+static_assert(offsetof(SplatRow, albedo) == SPLAT_ALBEDO * sizeof(float));
+static_assert(offsetof(SplatRow, lod) == SPLAT_LOD_MIN * sizeof(float));
+static_assert(SPLAT_LOD_MAX == SPLAT_LOD_MIN + 1u);
+
+struct LightingRow {
+  float bent_ao[4];     // bent normal xyz, AO
+  float visibility[MAX_KEY_LIGHTS];  // key lights 0-3
+};
+static_assert(sizeof(LightingRow) == LIGHTING_ROW_VEC4S * 4 * sizeof(float));
+static_assert(offsetof(LightingRow, bent_ao) == LIGHTING_AO * 4 * sizeof(float));
+static_assert(offsetof(LightingRow, visibility) == LIGHTING_SHADOW * 4 * sizeof(float));
+constexpr std::size_t kLightingRowFloats = sizeof(LightingRow) / sizeof(float);
+
+struct LightRow {
+  float center_inv_r2[4];  // view-space centre, 1/r²
+  float color[4];          // w unused
+};
+static_assert(sizeof(LightRow) == LIGHT_ROW_VEC4S * 4 * sizeof(float));
+constexpr std::size_t kLightRowFloats = sizeof(LightRow) / sizeof(float);
+
+}  // namespace splatcl::present::layout
+#endif
+
+#endif

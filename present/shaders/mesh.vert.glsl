@@ -1,0 +1,4 @@
+// Triangle mesh, for the coverage test.
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_model, u_view, u_proj;
+void main() { gl_Position = u_proj * u_view * u_model * vec4(a_position, 1.0); }

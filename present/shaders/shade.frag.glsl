@@ -1,0 +1,141 @@
+// Final shading and debug views: HDR and tone-mapped 8-bit. Compiled once per variant: the
+// presenter puts the defines DEBUG_VIEW (0 final, 1 albedo, 2 normals, 3 AO, 4 lights per cluster,
+// 5 shadows, 6 depth), BRUTE_FORCE, PIXEL_SHADOWS, PIXEL_AO, KEY_COUNT, SPECULAR and HDR_OUTPUT
+// after the version line. On llvmpipe every branch on a uniform runs both sides under a mask, so
+// the modes are constants and the dead paths are compiled out. The G-buffer is the accumulation
+// targets: every attribute is a Σw-weighted sum divided here.
+#include "layout.h"
+#include "sh_irradiance.glsl"
+// center_inv_r2: view-space centre and 1/r² (the falloff needs (d/r)² only, so no root per light).
+struct Light { vec4 center_inv_r2; vec4 color; };
+layout(std430, binding = BINDING_LIGHTS) readonly buffer Lights { Light lights[]; };
+layout(std430, binding = BINDING_LIST_OFFSETS) readonly buffer Offsets { uint list_offsets[]; };
+layout(std430, binding = BINDING_LIST_COUNTS) readonly buffer Counts { uint list_counts[]; };
+layout(std430, binding = BINDING_LIST_INDICES) readonly buffer Indices { uint list_indices[]; };
+layout(binding = UNIT_WEIGHT_ALBEDO) uniform sampler2D g_weight_albedo;
+layout(binding = UNIT_Z_NORMAL) uniform sampler2D g_z_normal;
+layout(binding = UNIT_SHADOW_AMBIENT) uniform sampler2D g_shadow_ambient;
+layout(binding = UNIT_SHADOWS) uniform sampler2D g_shadows;
+layout(binding = UNIT_PIXEL_LIST) uniform usampler2D u_pixel_list;
+layout(binding = UNIT_PIXEL_SHADOW) uniform sampler2D u_pixel_shadow;
+layout(binding = UNIT_PIXEL_AO) uniform sampler2D u_pixel_ao_texture;
+uniform mat4 u_view;
+uniform vec2 u_tan_half;       // tan of half the field of view, x and y
+uniform vec2 u_viewport;
+uniform int u_light_count;
+uniform vec4 u_key_center[MAX_KEY_LIGHTS];  // view space, 1/r² in w
+uniform vec3 u_key_color[MAX_KEY_LIGHTS];
+uniform float u_heat_max;
+uniform float u_specular;      // Blinn-Phong: white highlight strength (SPECULAR only)
+uniform float u_shininess;     // Blinn-Phong exponent (SPECULAR only)
+#if HDR_OUTPUT
+layout(location = 0) out vec4 o_hdr;
+layout(location = 1) out vec4 o_display;
+#else
+layout(location = 0) out vec4 o_display;
+#endif
+
+vec3 heat(float t) {
+  t = clamp(t, 0.0, 1.0);
+  return clamp(vec3(1.5 * t - 0.25, 1.5 - abs(2.0 * t - 1.0) * 1.5, 1.25 - 1.5 * t), 0.0, 1.0);
+}
+
+// One light: c · f(d) · max(0, n·l) with the corrected falloff f(d) = clamp(1 − (d/r)², 0, 1), and
+// with SPECULAR also c · f · max(0, n·l) · max(0, n·h)^s (Blinn-Phong, h the half vector).
+// Branch-free: a light out of range has f = 0; d = 0 gives n·l = 0.
+void add_light(vec4 center_inv_r2, vec3 color, vec3 position, vec3 n, vec3 to_eye, float visibility,
+               inout vec3 diffuse, inout vec3 specular) {
+  vec3 to_light = center_inv_r2.xyz - position;
+  float d2 = dot(to_light, to_light);
+  float inv_d = inversesqrt(max(d2, 1e-30));
+  float f = clamp(1.0 - d2 * center_inv_r2.w, 0.0, 1.0) * visibility;
+  float n_dot_l = max(0.0, dot(n, to_light) * inv_d);
+  diffuse += color * (f * n_dot_l);
+#if SPECULAR
+  vec3 h = normalize(to_light * inv_d + to_eye);
+  specular += color * (f * n_dot_l * pow(max(0.0, dot(n, h)), u_shininess));
+#endif
+}
+
+// Key-light visibility per key light, from the splats or per pixel.
+vec4 key_visibility(ivec2 p, float inv_weight) {
+#if PIXEL_SHADOWS
+  return texelFetch(u_pixel_shadow, p, 0);
+#elif KEY_COUNT > 1
+  return vec4(texelFetch(g_shadow_ambient, p, 0).x, texelFetch(g_shadows, p, 0).xyz) * inv_weight;
+#else
+  return vec4(texelFetch(g_shadow_ambient, p, 0).x * inv_weight, 1.0, 1.0, 1.0);
+#endif
+}
+
+vec4 shade(ivec2 p) {
+  vec4 weight_albedo = texelFetch(g_weight_albedo, p, 0);
+  if (weight_albedo.x <= 0.0) return vec4(DEBUG_VIEW == 0 ? sh_irradiance(vec3(0.0, 0.3, 1.0)) / 3.14159265 * 0.6 : vec3(0.0), 1.0);
+  float inv_weight = 1.0 / weight_albedo.x;
+  vec3 albedo = weight_albedo.yzw * inv_weight;
+  vec4 z_normal = texelFetch(g_z_normal, p, 0);
+  vec3 n_world = normalize(z_normal.yzw);
+#if DEBUG_VIEW == 1
+  return vec4(albedo, 1.0);
+#elif DEBUG_VIEW == 2
+  return vec4(0.5 * n_world + 0.5, 1.0);
+#elif DEBUG_VIEW == 3
+  // The splat passes carry the AO itself in the ambient channels for this view.
+  return vec4(vec3(PIXEL_AO != 0 ? texelFetch(u_pixel_ao_texture, p, 0).w : texelFetch(g_shadow_ambient, p, 0).y * inv_weight), 1.0);
+#elif DEBUG_VIEW == 4
+  uint list = texelFetch(u_pixel_list, p, 0).x;
+  float count = BRUTE_FORCE != 0 ? float(u_light_count) : (list == NO_LIGHT_LIST ? 0.0 : float(list_counts[list]));
+  return vec4(heat(count / u_heat_max), 1.0);
+#elif DEBUG_VIEW == 5
+  vec4 shadow = key_visibility(p, inv_weight);
+  float v = 1.0;  // the darkest key light's visibility
+  for (int k = 0; k < KEY_COUNT; ++k) v = min(v, shadow[k]);
+  return vec4(vec3(v), 1.0);
+#elif DEBUG_VIEW == 6
+  return vec4(vec3(-z_normal.x * inv_weight / 20.0), 1.0);
+#else
+  // Same reconstruction as cluster::pixel_view_position, from the same Σw·z / Σw as the cluster stage.
+  float d = -(z_normal.x / weight_albedo.x);
+  vec2 ndc = (vec2(p) + 0.5) * 2.0 / u_viewport - 1.0;
+  vec3 position = vec3(ndc * d * u_tan_half, -d);
+  vec3 n = normalize(mat3(u_view) * n_world);
+  vec3 to_eye = normalize(-position);
+  vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+#if BRUTE_FORCE
+  for (int i = 0; i < u_light_count; ++i)
+    add_light(lights[i].center_inv_r2, lights[i].color.rgb, position, n, to_eye, 1.0, diffuse, specular);
+#else
+  uint list = texelFetch(u_pixel_list, p, 0).x;
+  if (list != NO_LIGHT_LIST) {
+    uint begin = list_offsets[list], end = begin + list_counts[list];
+    for (uint k = begin; k < end; ++k) {
+      uint i = list_indices[k];
+      add_light(lights[i].center_inv_r2, lights[i].color.rgb, position, n, to_eye, 1.0, diffuse, specular);
+    }
+  }
+#endif
+#if KEY_COUNT > 0
+  vec4 shadow = key_visibility(p, inv_weight);
+  for (int k = 0; k < KEY_COUNT; ++k)
+    add_light(u_key_center[k], u_key_color[k], position, n, to_eye, shadow[k], diffuse, specular);
+#endif
+  // Ambient: sky irradiance around the bent normal times AO (albedo/π · E), evaluated per splat by
+  // the splat passes, or per pixel in the pixel-AO mode.
+#if PIXEL_AO
+  vec4 ao = texelFetch(u_pixel_ao_texture, p, 0);
+  vec3 ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
+#else
+  vec3 ambient = texelFetch(g_shadow_ambient, p, 0).yzw * inv_weight;
+#endif
+  return vec4(albedo * (diffuse + ambient) + u_specular * specular, 1.0);
+#endif
+}
+
+void main() {
+  vec4 color = shade(ivec2(gl_FragCoord.xy));
+#if HDR_OUTPUT
+  o_hdr = color;
+#endif
+  vec3 c = DEBUG_VIEW == 0 ? vec3(1.0) - exp(-color.rgb) : color.rgb;  // exposure curve keeps many lights in range
+  o_display = vec4(pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
+}

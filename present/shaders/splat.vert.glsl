@@ -1,0 +1,25 @@
+// The splat passes' vertex shader: one triangle around each splat's ellipse. Compiled with
+// VISIBILITY_PASS defined for pass 1, which reads no lighting rows.
+#include "splat_head.glsl"
+out vec2 v_local;
+out vec3 v_view_pos;
+uniform float u_depth_offset;  // ε of the visibility pass, 0 in the accumulation pass
+void main() {
+  vec3 c, n;
+  mat3 m;
+  // Culled splats (back-facing, or outside their LOD interval) are moved outside the clip volume.
+  // The splat passes cost per primitive on llvmpipe more than per pixel: one triangle circumscribing
+  // the ellipse (inradius 1 in ellipse coordinates) is cheaper than a quad of two.
+  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); return; }
+  int j = gl_VertexID % 3;
+  vec2 corner = j == 0 ? vec2(0.0, 2.0) : vec2(j == 1 ? -1.7320508 : 1.7320508, -1.0);
+  // The triangle lies in the splat's plane, so the rasterised depth is the ray-cast depth of that plane
+  // at every pixel (perspective correct), and v_local is the pixel's ellipse coordinate.
+  vec3 p = c + u_scale * (corner.x * (m * a_major) + corner.y * (m * a_minor));
+  v_local = corner;
+  v_view_pos = (u_view * vec4(p, 1.0)).xyz;
+  // The visibility pass pushes each corner back by ε along its view ray. Done per vertex rather than
+  // per pixel, the fragment shader writes no depth and llvmpipe keeps its early depth test; across
+  // a splat the offset differs from ε by a second-order amount in the splat's angular size.
+  gl_Position = u_proj * vec4(v_view_pos * (1.0 + u_depth_offset / length(v_view_pos)), 1.0);
+}

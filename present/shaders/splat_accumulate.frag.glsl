@@ -1,0 +1,10 @@
+// Pass 2: Gaussian-weighted attribute sums into the G-buffer.
+#include "accumulation_targets.glsl"
+in vec2 v_local;
+in vec3 v_view_pos;
+uniform float u_beta;
+void main() {
+  float r2 = dot(v_local, v_local);
+  if (r2 > 1.0) discard;
+  write_splat(exp(-u_beta * r2), v_view_pos.z);
+}

@@ -1,0 +1,55 @@
+// The head both splat vertex shaders share. Per-splat attributes are pulled from storage buffers
+// by splat index (gl_VertexID: 3 per splat, 1 for points): llvmpipe runs an instanced draw as one
+// small vertex batch per instance, a plain draw shades its vertices 8 at a time.
+// Static rows (SPLAT_ROW_FLOATS floats, model space) and lighting rows (LIGHTING_ROW_VEC4S vec4,
+// world space) as layout.h lays them out.
+// splat_head gives the world centre c, normal n and model rotation m, sets the flat outputs, and
+// tells whether the splat is drawn (it faces the eye and, with LOD on, the eye distance puts its
+// error in its interval: the point-rendering thesis's sequential point tree test, §5.3.1). The
+// ambient term is evaluated per splat, where the AO is known: irradiance of the sky around the bent
+// normal times AO (u_ambient 0), around the normal without AO (1), or the AO itself as grey (2,
+// the AO view).
+#include "layout.h"
+#include "sh_irradiance.glsl"
+layout(std430, binding = BINDING_SPLAT_STATICS) readonly buffer SplatStatics { float splat_statics[]; };
+layout(std430, binding = BINDING_SPLAT_LIGHTING) readonly buffer SplatLighting { vec4 splat_lighting[]; };
+uniform mat4 u_model, u_view, u_proj;
+uniform vec3 u_eye;
+uniform float u_scale;
+uniform float u_lod;  // LOD error per model unit of eye distance; 0 = off
+uniform int u_ambient;
+flat out vec3 v_albedo;
+flat out vec3 v_normal;
+flat out vec3 v_ambient;
+flat out vec4 v_shadow;
+flat out uint v_id;
+vec3 a_major, a_minor;
+vec3 static3(uint o) { return vec3(splat_statics[o], splat_statics[o + 1u], splat_statics[o + 2u]); }
+bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
+  uint o = SPLAT_ROW_FLOATS * s;
+  m = mat3(u_model);
+  c = (u_model * vec4(static3(o + SPLAT_CENTER), 1.0)).xyz;
+  n = normalize(m * static3(o + SPLAT_NORMAL));
+  a_major = static3(o + SPLAT_MAJOR);
+  a_minor = static3(o + SPLAT_MINOR);
+  v_albedo = static3(o + SPLAT_ALBEDO);
+  v_normal = n;
+#ifdef VISIBILITY_PASS
+  // The visibility pass reads no lighting rows: they may still be in the making (Presenter::render).
+  v_ambient = vec3(0.0);
+  v_shadow = vec4(1.0);
+#else
+  vec4 ao = splat_lighting[LIGHTING_ROW_VEC4S * s + LIGHTING_AO];
+  vec3 bent = length(ao.xyz) > 0.0 ? normalize(ao.xyz) : n;
+  v_ambient = u_ambient == 2 ? vec3(ao.w)
+            : u_ambient == 1 ? max(sh_irradiance(n), vec3(0.0)) / 3.14159265
+                             : max(sh_irradiance(bent), vec3(0.0)) / 3.14159265 * ao.w;
+  v_shadow = splat_lighting[LIGHTING_ROW_VEC4S * s + LIGHTING_SHADOW];
+#endif
+  v_id = s;
+  if (u_lod > 0.0) {
+    float e = length(u_eye - c) * u_lod;
+    if (e < splat_statics[o + SPLAT_LOD_MIN] || e >= splat_statics[o + SPLAT_LOD_MAX]) return false;
+  }
+  return dot(n, u_eye - c) > 0.0;
+}
