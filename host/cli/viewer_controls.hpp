@@ -129,6 +129,9 @@ class Controls {
   // World bounds of the objects' meshes at `time` (the floor square when there are none).
   Bounds scene_bounds(float time) const;
 
+  // The values L and B switch on: the scene's LOD threshold and Blinn-Phong strength, or 1 pixel and 0.5.
+  float lod_on() const { return lod_on_; }
+  float specular_on() const { return specular_on_; }
   const Orbit& orbit() const { return orbit_; }
   Orbit& orbit() { return orbit_; }
   ViewState& state() { return state_; }
