@@ -69,24 +69,24 @@ std::uint32_t BoxTree::ancestor(std::uint32_t item, int levels) const {
   return node;
 }
 
-DVec3 closest_point(const SurfaceTriangle& t, DVec3 p) {
-  const DVec3 ab = t.b - t.a, ac = t.c - t.a, ap = p - t.a;
+DVec3 closest_point(DVec3 a, DVec3 b, DVec3 c, DVec3 p) {
+  const DVec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return t.a;
-  const DVec3 bp = p - t.b;
+  if (d1 <= 0 && d2 <= 0) return a;
+  const DVec3 bp = p - b;
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return t.b;
+  if (d3 >= 0 && d4 <= d3) return b;
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return t.a + (d1 / (d1 - d3)) * ab;
-  const DVec3 cp = p - t.c;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const DVec3 cp = p - c;
   const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return t.c;
+  if (d6 >= 0 && d5 <= d6) return c;
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return t.a + (d2 / (d2 - d6)) * ac;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return t.b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (t.c - t.b);
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
   const double denom = 1.0 / (va + vb + vc);
-  return t.a + (vb * denom) * ab + (vc * denom) * ac;
+  return a + (vb * denom) * ab + (vc * denom) * ac;
 }
 
 std::vector<SurfaceTriangle> surface_triangles(const Mesh& mesh) {
@@ -102,6 +102,9 @@ std::vector<SurfaceTriangle> surface_triangles(const Mesh& mesh) {
       t.area = 0.5 * length(n);
       if (!(t.area > 0) || !std::isfinite(t.area)) continue;
       t.normal = normalized(n);
+      t.centroid = (1.0 / 3.0) * (t.a + t.b + t.c);
+      t.reach = std::sqrt(std::max({dot(t.a - t.centroid, t.a - t.centroid), dot(t.b - t.centroid, t.b - t.centroid),
+                                    dot(t.c - t.centroid, t.c - t.centroid)}));
       t.face = static_cast<std::uint32_t>(f);
       t.corners[0] = begin, t.corners[1] = c, t.corners[2] = c + 1;
       out.push_back(t);
@@ -119,32 +122,52 @@ Surface::Surface(const Mesh& mesh) : triangles_(surface_triangles(mesh)) {
     cumulative_area_[t] = area_;
   }
   tree_ = BoxTree(boxes);
+  slot_triangles_.resize(triangles_.size());
+  for (std::uint32_t slot = 0; slot < triangles_.size(); ++slot) {
+    const SurfaceTriangle& t = triangles_[tree_.slot_item(slot)];
+    slot_triangles_[slot] = {t.a, t.b, t.c, t.normal, t.centroid, t.reach};
+  }
 }
 
 namespace {
 // How far above the answer's leaf a Recent's region lies: 2^4 leaves of up to 4 triangles.
 constexpr int kRegionLevels = 4;
+
+// Whether p lies farther than r from every point of the ball of the triangle's corners (and so
+// from the triangle), with a margin that leaves the rounding of the exact distance to decide ties.
+template <class Triangle>
+bool beyond_reach(const Triangle& t, DVec3 p, double r) {
+  const DVec3 w = p - t.centroid;
+  const double reach = (t.reach + r) * (1 + 1e-9);
+  return dot(w, w) > reach * reach;
+}
 }  // namespace
 
 Surface::Nearest Surface::nearest(DVec3 p, double limit, Recent* recent) const {
   Nearest best;
   double radius = limit;
-  const auto consider = [&](std::uint32_t t, double& r) {
-    const double d = length(closest_point(triangles_[t], p) - p);
+  const auto consider = [&](std::uint32_t t, const auto& tri, double& r) {
+    // Farther than r from the plane or from the corners' ball is farther from the triangle: no
+    // closest point needed.
+    if (std::fabs(dot(p - tri.a, tri.normal)) > r || beyond_reach(tri, p, r)) return false;
+    const double d = length(closest_point(tri.a, tri.b, tri.c, p) - p);
     if (d <= r && (d < best.distance || (d == best.distance && t < best.triangle))) {
       best = {d, t};
       r = d;
     }
     return false;
   };
+  const auto consider_slot = [&](std::uint32_t slot, double& r) {
+    return consider(tree_.slot_item(slot), slot_triangles_[slot], r);
+  };
   if (recent) {
     // The recent triangles and the region bound the radius, so the walk from the root prunes
     // nearly everything.
     for (const std::uint32_t t : recent->triangles)
-      if (t < triangles_.size()) consider(t, radius);
-    if (recent->region != 0) tree_.visit(p, radius, consider, recent->region);
+      if (t < triangles_.size()) consider(t, triangles_[t], radius);
+    if (recent->region != 0) tree_.visit_slots(p, radius, consider_slot, recent->region);
   }
-  tree_.visit(p, radius, consider);
+  tree_.visit_slots(p, radius, consider_slot);
   if (recent && best.triangle != UINT32_MAX) {
     recent->remember(best.triangle);
     recent->region = tree_.ancestor(best.triangle, kRegionLevels);
@@ -160,22 +183,22 @@ void Surface::Recent::remember(std::uint32_t t) {
 }
 
 bool Surface::within(DVec3 p, double radius, Recent* recent) const {
-  const auto near = [&](std::uint32_t t) {
-    const SurfaceTriangle& tri = triangles_[t];
-    if (std::fabs(dot(p - tri.a, tri.normal)) > radius) return false;  // the plane is nearer than the triangle
-    const DVec3 d = closest_point(tri, p) - p;
+  const auto near = [&](const auto& tri) {
+    if (std::fabs(dot(p - tri.a, tri.normal)) > radius || beyond_reach(tri, p, radius)) return false;
+    const DVec3 d = closest_point(tri.a, tri.b, tri.c, p) - p;
     return dot(d, d) <= radius * radius;
   };
   std::uint32_t answer = UINT32_MAX;
   const auto search = [&](std::uint32_t start) {
     double r = radius;
-    tree_.visit(p, r, [&](std::uint32_t t, double&) { return near(t) && (answer = t, true); }, start);
+    tree_.visit_slots(
+        p, r, [&](std::uint32_t slot, double&) { return near(slot_triangles_[slot]) && (answer = tree_.slot_item(slot), true); }, start);
     return answer != UINT32_MAX;
   };
   if (!recent) return search(0);
   for (const std::uint32_t t : recent->triangles) {
     if (t >= triangles_.size()) break;
-    if (!near(t)) continue;
+    if (!near(triangles_[t])) continue;
     recent->remember(t);
     return true;
   }

@@ -141,7 +141,15 @@ bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::v
 // Whether every corner of the parallelogram centre ± hu ± hv lies within ε of triangle t: the
 // distance to a triangle is convex, so then all of the parallelogram does.
 bool parallelogram_within(const SurfaceTriangle& t, DVec3 centre, DVec3 hu, DVec3 hv, double eps) {
-  for (const DVec3 corner : {centre - hu - hv, centre - hu + hv, centre + hu - hv, centre + hu + hv}) {
+  const DVec3 corners[4] = {centre - hu - hv, centre - hu + hv, centre + hu - hv, centre + hu + hv};
+  // A corner farther than ε from the ball of the triangle's corners or from its plane is farther
+  // from the triangle: the cheap tests first, for all four, since most candidates fail.
+  const double reach = t.reach + eps;
+  for (const DVec3& corner : corners) {
+    const DVec3 w = corner - t.centroid;
+    if (!(dot(w, w) <= reach * reach) || !(std::fabs(dot(corner - t.a, t.normal)) <= eps)) return false;
+  }
+  for (const DVec3& corner : corners) {
     const DVec3 d = closest_point(t, corner) - corner;
     if (!(dot(d, d) <= eps * eps)) return false;
   }
@@ -150,10 +158,11 @@ bool parallelogram_within(const SurfaceTriangle& t, DVec3 centre, DVec3 hu, DVec
 
 bool certified_within_surface(const Surface& surface, const Ellipse& e, double eps) {
   if (!(e.a > 0 && e.b > 0)) return true;
-  // Rectangles of the ellipse's parameter domain [-1, 1]², split across their longer side in
-  // space; one maps to a parallelogram of circumradius r around its centre q. The distance to the
-  // surface is 1-Lipschitz, so D(q) + r <= ε certifies the whole rectangle; so does one triangle
-  // within ε of all four corners (the distance to one triangle is convex).
+  // Rectangles of the ellipse's parameter domain [-1, 1]², split in four while roughly square in
+  // space (fewer rectangles tested on the way down than halving), else across their longer side;
+  // one maps to a parallelogram of circumradius r around its centre q. The distance to the surface
+  // is 1-Lipschitz, so D(q) + r <= ε certifies the whole rectangle; so does one triangle within ε
+  // of all four corners (the distance to one triangle is convex).
   struct Rect {
     double s, t, hs, ht;
   };
@@ -178,12 +187,14 @@ bool certified_within_surface(const Surface& surface, const Ellipse& e, double e
     const DVec3 hu = (e.a * q.hs) * e.u, hv = (e.b * q.ht) * e.v;
     // The recent answers first (neighbouring rectangles mostly lie over the same triangles), then
     // the nearest triangle.
+    // The Lipschitz test can pass only for a rectangle smaller than ε around an inside centre.
+    const bool lipschitz = centre_inside && radius <= eps;
     const auto certifies = [&](std::uint32_t t, double distance) {
-      return (centre_inside && distance + radius <= eps) || parallelogram_within(triangles[t], centre, hu, hv, eps);
+      return (lipschitz && distance + radius <= eps) || parallelogram_within(triangles[t], centre, hu, hv, eps);
     };
     bool done = false;
     for (const std::uint32_t t : recent.triangles)
-      if (t != UINT32_MAX && !done) done = certifies(t, length(closest_point(triangles[t], centre) - centre));
+      if (t != UINT32_MAX && !done) done = certifies(t, lipschitz ? length(closest_point(triangles[t], centre) - centre) : INFINITY);
     if (done) continue;
     const Surface::Nearest nearest = surface.nearest(centre, eps, &recent);
     if (nearest.triangle != UINT32_MAX) {
@@ -199,7 +210,10 @@ bool certified_within_surface(const Surface& surface, const Ellipse& e, double e
       if (!surface.within(p, eps - 2 * radius, &recent)) return false;
       continue;
     }
-    if (e.a * q.hs >= e.b * q.ht) {
+    if (e.a * q.hs <= 2 * e.b * q.ht && e.b * q.ht <= 2 * e.a * q.hs) {
+      for (const double ds : {-0.5, 0.5})
+        for (const double dt : {-0.5, 0.5}) stack.push_back({q.s + ds * q.hs, q.t + dt * q.ht, q.hs / 2, q.ht / 2});
+    } else if (e.a * q.hs >= e.b * q.ht) {
       stack.push_back({q.s - q.hs / 2, q.t, q.hs / 2, q.ht});
       stack.push_back({q.s + q.hs / 2, q.t, q.hs / 2, q.ht});
     } else {
