@@ -109,9 +109,9 @@ int run_view(const ViewOptions& o) {
       write_image_rgb(path, presenter.width(), presenter.height(), presenter.read_display_rgb());
       std::fprintf(stderr, "screenshot %s\n", path.c_str());
     }
-    // The panel's ImGui frame runs when input came (its widgets stay live) and 4 times a second for
+    // The panel's ImGui frame runs when input came (its widgets stay live) and twice a second for
     // the readouts; the frames between composite its last image.
-    const bool refresh = input_came || now - panel_refreshed >= 0.25;
+    const bool refresh = input_came || now - panel_refreshed >= 0.5;
     panel.draw(controls, stats, figures, static_cast<float>(time), fw, fh, refresh);
     if (panel.refreshed()) panel_refreshed = now;
     if (v.panel) ++panel_frames, panel_ms_total += panel.last_ms();

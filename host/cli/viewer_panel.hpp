@@ -29,7 +29,7 @@ class Panel {
   GlfwInput::Hooks hooks() const;
 
   // Draws the panel over the window's default framebuffer (width × height pixels). With `refresh`
-  // (input came, or the readouts are due: view.cpp asks 4 times a second) it first runs an ImGui
+  // (input came, or the readouts are due: view.cpp asks twice a second) it first runs an ImGui
   // frame, whose widgets change `controls` (its scene's quality, its view state), and renders it
   // into the panel's own layer; every frame it copies the panel window's rectangle of that layer
   // into the window (blends the whole layer while a tooltip is up). With the panel hidden it draws
