@@ -21,6 +21,8 @@
 #include "csm/visibility.hpp"
 #include "present/gbuffer.hpp"
 #include "present/gl_objects.hpp"
+#include "present/passes.hpp"
+#include "present/settings.hpp"
 #include "present/shaders.hpp"
 #include "present/shaders/layout.h"
 #include "runtime/error.hpp"
@@ -308,21 +310,13 @@ std::vector<glm::vec3> sky_sh(const Sky& sky) {
   return sh;
 }
 
-// The compile-time modes of the final shading shader (shade.frag.glsl).
-struct ShadeVariant {
-  int debug = 0;  // DebugView, footprints drawn as albedo
-  bool brute_force = false, pixel_shadows = false, pixel_ao = false, hdr_output = true, specular = false;
-  int key_count = 0;
-  std::uint32_t key() const {
-    return static_cast<std::uint32_t>(debug) | (brute_force ? 1u : 0u) << 3 | (pixel_shadows ? 1u : 0u) << 4 |
-           (pixel_ao ? 1u : 0u) << 5 | (hdr_output ? 1u : 0u) << 6 | (specular ? 1u : 0u) << 7 |
-           static_cast<std::uint32_t>(key_count) << 8;
-  }
-};
-
 struct Presenter::Impl {
-  gl::Program visibility_program, accumulate_program, point_program, mesh_program;
-  std::map<std::uint32_t, gl::Program> shade_programs;  // final shading, one per variant (shade_program)
+  // The passes (present/passes.hpp), made when the presenter is.
+  std::unique_ptr<VisibilityPass> visibility_pass;
+  std::unique_ptr<AccumulationPass> accumulation_pass;
+  std::unique_ptr<PointPass> point_pass;
+  std::unique_ptr<MeshMaskPass> mesh_pass;
+  ShadingPass shading_pass;
   gl::Buffer static_vbo, dynamic_vbo;
   gl::VertexArray empty_vao;
   // Everything sized by the frame, made again by resize().
@@ -387,19 +381,6 @@ struct Presenter::Impl {
   };
   std::vector<LodRange> lod_ranges;
   std::vector<glm::vec3> lod_centers;  // model-space centre of every LOD entry, in instance order
-
-  // The shading program of a variant, compiled on first use.
-  const gl::Program& shade_program(const ShadeVariant& v) {
-    const auto found = shade_programs.find(v.key());
-    if (found != shade_programs.end()) return found->second;
-    const std::string defines = fmt::format(
-        "#define DEBUG_VIEW {}\n#define BRUTE_FORCE {}\n#define PIXEL_SHADOWS {}\n"
-        "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n",
-        v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.hdr_output ? 1 : 0, v.key_count,
-        v.specular ? 1 : 0);
-    gl::Program program(shaders::source("fullscreen.vert.glsl"), shaders::source("shade.frag.glsl", defines), "shading");
-    return shade_programs.emplace(v.key(), std::move(program)).first->second;
-  }
 };
 
 Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const std::string& cache_dir,
@@ -476,12 +457,10 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   }
   const std::size_t instance_count = statics.size() / kRow;  // originals and LOD entries
 
-  g.visibility_program = gl::Program(shaders::source("splat.vert.glsl", "#define VISIBILITY_PASS 1\n"),
-                                     shaders::source("splat_visibility.frag.glsl"), "splat visibility");
-  g.accumulate_program =
-      gl::Program(shaders::source("splat.vert.glsl"), shaders::source("splat_accumulate.frag.glsl"), "splat accumulation");
-  g.point_program = gl::Program(shaders::source("point.vert.glsl"), shaders::source("point.frag.glsl"), "points");
-  g.mesh_program = gl::Program(shaders::source("mesh.vert.glsl"), shaders::source("mesh.frag.glsl"), "mesh");
+  g.visibility_pass = std::make_unique<VisibilityPass>();
+  g.accumulation_pass = std::make_unique<AccumulationPass>();
+  g.point_pass = std::make_unique<PointPass>();
+  g.mesh_pass = std::make_unique<MeshMaskPass>();
 
   g.empty_vao = gl::make_vertex_array();
   g.static_vbo = gl::make_buffer();
@@ -569,14 +548,15 @@ glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
   throw Error(fmt::format("splat {} out of range", splat));
 }
 
-std::string Presenter::lighting_settings() const {
+std::string Presenter::lighting_settings(const FrameSettings& settings) const {
   const Quality& q = scene_.quality;
-  const bool do_shadows = q.shadows == "splat" && !scene_.key_lights.empty();
-  return fmt::format("{} {} {} {} {} {} {} {} {}", ambient_occlusion, do_shadows, q.filter, splat_ao_.size(), q.ao_samples,
+  const bool do_shadows = settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
+  return fmt::format("{} {} {} {} {} {} {} {} {}", ambient_occlusion, do_shadows, static_cast<int>(settings.filter), splat_ao_.size(), q.ao_samples,
                      q.shadow_samples, q.ao_bias, scene_.key_lights.size(), scene_.floor.enabled);
 }
 
-void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, FrameStats& stats) {
+void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, const FrameSettings& settings,
+                                      FrameStats& stats) {
   Impl& g = *impl_;
   const std::size_t n = splat_ao_.size();
   std::vector<splats::Vec4> positions(n), normals(n);
@@ -599,14 +579,14 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   }
   const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
   const Quality& q = scene_.quality;
-  const csm::Filter filter = csm::parse_filter(q.filter);
+  const csm::Filter filter = settings.filter;
   // Receivers lifted off their own surface by the bias, so a splat does not shadow itself.
   std::vector<splats::Vec4> lifted(n);
   for (std::size_t s = 0; s < n; ++s)
     lifted[s] = {positions[s].x + q.ao_bias * normals[s].x, positions[s].y + q.ao_bias * normals[s].y,
                  positions[s].z + q.ao_bias * normals[s].z, 1.0f};
-  const bool do_ao = ambient_occlusion, do_shadows = q.shadows == "splat" && !scene_.key_lights.empty();
-  const std::string signature = lighting_settings();
+  const bool do_ao = ambient_occlusion, do_shadows = settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
+  const std::string signature = lighting_settings(settings);
   std::vector<std::vector<glm::vec3>> light_points;  // per key light
   for (const Light& light : scene_.key_lights) light_points.push_back(key_light_points(light, q.shadow_samples));
 
@@ -892,6 +872,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
 FrameStats Presenter::render(float time) {
   Impl& g = *impl_;
   const Quality& q = scene_.quality;
+  const FrameSettings settings = FrameSettings::parse(q);
   g.timers.wall = wall_clock_passes;
   FrameStats stats;
   Stopwatch frame_clock;
@@ -908,13 +889,13 @@ FrameStats Presenter::render(float time) {
   // shaders, and both would then use LLVM at once.
   std::future<FrameStats> lighting;
   // Also when a lighting setting changed (the viewer's AO and shadow toggles), moving or not.
-  const bool relight = !g.have_lighting || placements != g.last_placements || g.lighting_signature != lighting_settings();
-  const bool overlap = overlap_lighting && !wall_clock_passes && g.have_lighting && q.mode != "points";
+  const bool relight = !g.have_lighting || placements != g.last_placements || g.lighting_signature != lighting_settings(settings);
+  const bool overlap = overlap_lighting && !wall_clock_passes && g.have_lighting && settings.mode != RenderMode::Points;
   if (relight) {
     lighting = std::async(overlap ? std::launch::async : std::launch::deferred,
-                          [this, placements] {
+                          [this, placements, settings] {
                             FrameStats worker;
-                            update_splat_lighting(placements, worker);
+                            update_splat_lighting(placements, settings, worker);
                             return worker;
                           });
   }
@@ -931,7 +912,7 @@ FrameStats Presenter::render(float time) {
     g.last_placements = placements;
     g.have_lighting = true;
   };
-  if (q.mode == "points") finish_lighting();
+  if (settings.mode == RenderMode::Points) finish_lighting();
 
   const cluster::Camera& cam = scene_.camera;
   const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
@@ -969,80 +950,44 @@ FrameStats Presenter::render(float time) {
   glBindVertexArray(g.empty_vao.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_STATICS, g.static_vbo.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_LIGHTING, g.dynamic_vbo.get());
-  const auto set_common = [&](const gl::Program& pass) {
-    const GLuint program = pass.get();
-    glUseProgram(program);
-    glUniformMatrix4fv(glGetUniformLocation(program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
-    glUniformMatrix4fv(glGetUniformLocation(program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
-    glUniform3fv(glGetUniformLocation(program, "u_eye"), 1, glm::value_ptr(eye));
-    glUniform1f(glGetUniformLocation(program, "u_scale"), q.splat_scale);
-    // The per-splat ambient term (SPLAT_HEAD): 2 = the AO itself for the AO view.
-    const int ambient = debug_view == DebugView::AmbientOcclusion ? 2 : ambient_occlusion ? 0 : 1;
-    glUniform1i(glGetUniformLocation(program, "u_ambient"), ambient);
-    glUniform3fv(glGetUniformLocation(program, "u_sh"), 9, glm::value_ptr(g.sh[0]));
-  };
-  const auto draw_objects = [&](const gl::Program& pass, bool points) {
-    const GLuint program = pass.get();
-    const GLint model = glGetUniformLocation(program, "u_model");
-    for (std::size_t i = 0; i < objects_.size(); ++i) {
-      const ObjectRange& r = objects_[i];
-      if (r.count == 0) continue;
-      const glm::mat4 m = r.asset < 0 ? glm::mat4(1.0f) : placements[i];
-      glUniformMatrix4fv(model, 1, GL_FALSE, glm::value_ptr(m));
-      std::size_t first = r.first, count = r.count;
-      float lod_scale = 0.0f;
-      if (lod && r.asset >= 0) {
-        first = g.lod_ranges[i].first;
-        count = lod_prefix[i];
-        lod_scale = lod_angle / scene_.objects[i].scale;
-      }
-      if (count == 0) continue;
-      glUniform1f(glGetUniformLocation(program, "u_lod"), lod_scale);
-      if (points)
-        glDrawArrays(GL_POINTS, static_cast<GLint>(first), static_cast<GLsizei>(count));
-      else
-        glDrawArrays(GL_TRIANGLES, static_cast<GLint>(3 * first), static_cast<GLsizei>(3 * count));
+  SplatFrame splat_frame;
+  splat_frame.view = view;
+  splat_frame.proj = proj;
+  splat_frame.eye = eye;
+  splat_frame.scale = q.splat_scale;
+  // The per-splat ambient term (splat_head.glsl): 2 = the AO itself for the AO view.
+  splat_frame.ambient = debug_view == DebugView::AmbientOcclusion ? 2 : ambient_occlusion ? 0 : 1;
+  splat_frame.sh = g.sh.data();
+  std::vector<SplatDraw> draws;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectRange& r = objects_[i];
+    if (r.count == 0) continue;
+    SplatDraw d{r.asset < 0 ? glm::mat4(1.0f) : placements[i], r.first, r.count, 0.0f};
+    if (lod && r.asset >= 0) {
+      d.first = g.lod_ranges[i].first;
+      d.count = lod_prefix[i];
+      d.lod = lod_angle / scene_.objects[i].scale;
     }
-  };
+    if (d.count > 0) draws.push_back(d);
+  }
   glDisable(GL_CULL_FACE);
   // The accumulation targets are the G-buffer; the fourth holds key lights 1-3 only.
   const GBuffer& gbuffer = g.targets->gbuffer;
   gbuffer.bind_and_clear(scene_.key_lights.size() > 1 ? 4 : 3);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  if (q.mode == "points") {
+  if (settings.mode == RenderMode::Points) {
     g.timers.begin("gl: points");
-    glEnable(GL_PROGRAM_POINT_SIZE);
-    set_common(g.point_program);
-    glUniform1f(glGetUniformLocation(g.point_program.get(), "u_viewport_height"), static_cast<float>(height_));
-    glUniform1i(glGetUniformLocation(g.point_program.get(), "u_footprints"), footprints ? 1 : 0);
-    draw_objects(g.point_program, true);
+    g.point_pass->run(splat_frame, draws, height_, footprints);
     g.timers.end();
   } else {
-    // Pass 1: visibility (depth only, pushed back by ε).
     g.timers.begin("gl: splat visibility");
-    glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.visibility_framebuffer());
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    set_common(g.visibility_program);
-    glUniform1f(glGetUniformLocation(g.visibility_program.get(), "u_depth_offset"), q.depth_offset);
-    draw_objects(g.visibility_program, false);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    g.visibility_pass->run(gbuffer, splat_frame, draws, q.depth_offset);
     g.timers.end();
     glFlush();  // llvmpipe rasterises the binned pass while this thread waits for the lighting
     finish_lighting();
-    // Pass 2: Gaussian-weighted accumulation of the splats within ε of the front.
     g.timers.begin("gl: splat accumulation");
-    glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.accumulation_framebuffer());
-    glDepthMask(GL_FALSE);
-    glDepthFunc(GL_LEQUAL);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    set_common(g.accumulate_program);
-    glUniform1f(glGetUniformLocation(g.accumulate_program.get(), "u_beta"), q.gaussian);
-    glUniform1i(glGetUniformLocation(g.accumulate_program.get(), "u_footprints"), footprints ? 1 : 0);
-    draw_objects(g.accumulate_program, false);
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
+    g.accumulation_pass->run(gbuffer, splat_frame, draws, q.gaussian, footprints);
     g.timers.end();
   }
   glDisable(GL_DEPTH_TEST);
@@ -1066,9 +1011,9 @@ FrameStats Presenter::render(float time) {
 
   std::vector<std::uint32_t> pixel_list(view_z.size(), cluster::kNoCluster);
   cluster::LightLists lists;
-  const bool brute = q.shading == "brute" || lights.empty();
+  const bool brute = settings.shading == ShadingMethod::Brute || lights.empty();
   const cluster::ClusterLayout& layout = g.clusters->layout();
-  if (!brute && q.shading == "clustered") {
+  if (!brute && settings.shading == ShadingMethod::Clustered) {
     cluster::ClusterPipeline& p = *g.clusters;
     const auto timed = [&](const char* name, auto&& body) {
       Stopwatch c;
@@ -1138,7 +1083,7 @@ FrameStats Presenter::render(float time) {
 
   // Per-pixel key-light shadows (quality mode).
   std::vector<float> pixel_shadow;
-  if (q.shadows == "pixel" && !scene_.key_lights.empty()) {
+  if (settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty()) {
     Stopwatch c;
     std::vector<splats::Vec4> receivers;
     std::vector<std::size_t> where;
@@ -1161,7 +1106,7 @@ FrameStats Presenter::render(float time) {
       queries.place(instances);
       for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
         const auto visible = key_light_visibility(queries, receivers, scene_.key_lights[k], q.shadow_samples,
-                                                  csm::parse_filter(q.filter), q.ao_bias);
+                                                  settings.filter, q.ao_bias);
         for (std::size_t r = 0; r < where.size(); ++r) pixel_shadow[4 * where[r] + k] = visible[r];
       }
     }
@@ -1236,7 +1181,6 @@ FrameStats Presenter::render(float time) {
   g.timers.begin("gl: shading");
   const GLuint bindings[4] = {BINDING_LIGHTS, BINDING_LIST_OFFSETS, BINDING_LIST_COUNTS, BINDING_LIST_INDICES};
   for (std::size_t i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bindings[i], g.ssbo[i].get());
-  glBindFramebuffer(GL_FRAMEBUFFER, g.targets->shading.framebuffer(hdr_output));
   const int keys = static_cast<int>(scene_.key_lights.size());
   ShadeVariant variant;
   variant.debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
@@ -1244,36 +1188,25 @@ FrameStats Presenter::render(float time) {
   variant.pixel_shadows = !pixel_shadow.empty();
   variant.pixel_ao = !pixel_ao_values.empty();
   variant.hdr_output = hdr_output;
-  variant.key_count = q.shadows == "off" ? 0 : keys;
+  variant.key_count = settings.shadows == ShadowMode::Off ? 0 : keys;
   variant.specular = q.specular > 0;
-  const GLuint sp = g.shade_program(variant).get();
-  glUseProgram(sp);
-  GLuint textures[SHADING_UNITS] = {};
-  textures[UNIT_WEIGHT_ALBEDO] = gbuffer.texture(GBuffer::WeightAlbedo);
-  textures[UNIT_Z_NORMAL] = gbuffer.texture(GBuffer::ZNormal);
-  textures[UNIT_SHADOW_AMBIENT] = gbuffer.texture(GBuffer::ShadowAmbient);
-  textures[UNIT_SHADOWS] = gbuffer.texture(GBuffer::Shadows);
-  textures[UNIT_PIXEL_LIST] = pixel.light_list.get();
-  textures[UNIT_PIXEL_SHADOW] = pixel.shadow.get();
-  textures[UNIT_PIXEL_AO] = pixel.ao.get();
-  glBindTextures(0, SHADING_UNITS, textures);
-  glUniformMatrix4fv(glGetUniformLocation(sp, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
-  glUniform2f(glGetUniformLocation(sp, "u_tan_half"), layout.tan_half_x, layout.tan_half_y);
-  glUniform2f(glGetUniformLocation(sp, "u_viewport"), static_cast<float>(width_), static_cast<float>(height_));
-  glUniform1i(glGetUniformLocation(sp, "u_light_count"), static_cast<GLint>(lights.size()));
+  ShadeFrame shade_frame;
+  shade_frame.view = view;
+  shade_frame.tan_half = {layout.tan_half_x, layout.tan_half_y};
+  shade_frame.viewport = {static_cast<float>(width_), static_cast<float>(height_)};
+  shade_frame.light_count = static_cast<int>(lights.size());
   for (int k = 0; k < variant.key_count; ++k) {
     const Light& l = scene_.key_lights[static_cast<std::size_t>(k)];
     const cluster::Vec3 c = frame.point_to_view({l.position.x, l.position.y, l.position.z});
-    glUniform4f(glGetUniformLocation(sp, fmt::format("u_key_center[{}]", k).c_str()), c.x, c.y, c.z,
-                1.0f / (l.radius * l.radius));
-    glUniform3f(glGetUniformLocation(sp, fmt::format("u_key_color[{}]", k).c_str()), l.color.x, l.color.y, l.color.z);
+    shade_frame.key_center[k] = {c.x, c.y, c.z, 1.0f / (l.radius * l.radius)};
+    shade_frame.key_color[k] = l.color;
   }
-  glUniform3fv(glGetUniformLocation(sp, "u_sh"), 9, glm::value_ptr(g.sh[0]));
-  glUniform1f(glGetUniformLocation(sp, "u_heat_max"), static_cast<float>(g.heat_max));
-  glUniform1f(glGetUniformLocation(sp, "u_specular"), q.specular);
-  glUniform1f(glGetUniformLocation(sp, "u_shininess"), q.shininess);
+  shade_frame.sh = g.sh.data();
+  shade_frame.heat_max = static_cast<float>(g.heat_max);
+  shade_frame.specular = q.specular;
+  shade_frame.shininess = q.shininess;
   glBindVertexArray(g.empty_vao.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  g.shading_pass.run(g.targets->shading.framebuffer(hdr_output), gbuffer, pixel, variant, shade_frame);
   g.hdr_written = hdr_output;
   g.timers.end();
   g.timers.collect(stats.stages);
@@ -1307,16 +1240,13 @@ std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
   glClearBufferfv(GL_DEPTH, 0, &one);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  const GLuint mesh_program = g.mesh_program.get();
-  glUseProgram(mesh_program);
-  glUniformMatrix4fv(glGetUniformLocation(mesh_program, "u_view"), 1, GL_FALSE, glm::value_ptr(view));
-  glUniformMatrix4fv(glGetUniformLocation(mesh_program, "u_proj"), 1, GL_FALSE, glm::value_ptr(proj));
+  std::vector<glm::mat4> models;
+  std::vector<GLuint> vertex_arrays;
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
-    glUniformMatrix4fv(glGetUniformLocation(mesh_program, "u_model"), 1, GL_FALSE,
-                       glm::value_ptr(scene_.objects[i].placement(time)));
-    glBindVertexArray(g.mesh_vaos[i].get());
-    glDrawArrays(GL_TRIANGLES, 0, g.mesh_vertices[i]);
+    models.push_back(scene_.objects[i].placement(time));
+    vertex_arrays.push_back(g.mesh_vaos[i].get());
   }
+  g.mesh_pass->run(view, proj, models, vertex_arrays, g.mesh_vertices);
   glDisable(GL_DEPTH_TEST);
   return g.targets->mesh.read_mask();
 }

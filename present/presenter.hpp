@@ -41,6 +41,8 @@ struct FrameStats {
   std::uint32_t lighting_receivers = 0;  // splats whose AO and shadows the last update recomputed
 };
 
+struct FrameSettings;  // present/settings.hpp
+
 class Presenter {
  public:
   // Needs a current GL 4.5 context. Builds or loads every object's assets (progress per object).
@@ -109,8 +111,9 @@ class Presenter {
   std::vector<ObjectRange> objects_;  // scene objects then the floor
   std::vector<ObjectAssets> assets_;
   std::vector<glm::vec4> splat_ao_;
-  std::string lighting_settings() const;  // what the per-splat lighting rows depend on besides placements
-  void update_splat_lighting(const std::vector<glm::mat4>& placements, FrameStats& stats);
+  // What the per-splat lighting rows depend on besides placements.
+  std::string lighting_settings(const FrameSettings& settings) const;
+  void update_splat_lighting(const std::vector<glm::mat4>& placements, const FrameSettings& settings, FrameStats& stats);
 };
 
 // Irradiance SH (9 RGB coefficients) of the sky's radiance, by numerical projection.

@@ -1,0 +1,179 @@
+#include "present/passes.hpp"
+
+#include <fmt/format.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "present/shaders.hpp"
+
+namespace splatcl::present {
+
+SplatPass::SplatPass(gl::Program program)
+    : program_(std::move(program)),
+      model_(program_.uniform("u_model")),
+      view_(program_.uniform("u_view")),
+      proj_(program_.uniform("u_proj")),
+      eye_(program_.uniform("u_eye")),
+      scale_(program_.uniform("u_scale")),
+      lod_(program_.uniform("u_lod")),
+      ambient_(program_.uniform("u_ambient")),
+      sh_(program_.uniform("u_sh")) {}
+
+void SplatPass::begin(const SplatFrame& frame) const {
+  program_.use();
+  glUniformMatrix4fv(view_, 1, GL_FALSE, glm::value_ptr(frame.view));
+  glUniformMatrix4fv(proj_, 1, GL_FALSE, glm::value_ptr(frame.proj));
+  glUniform3fv(eye_, 1, glm::value_ptr(frame.eye));
+  glUniform1f(scale_, frame.scale);
+  glUniform1i(ambient_, frame.ambient);
+  glUniform3fv(sh_, 9, glm::value_ptr(frame.sh[0]));
+}
+
+void SplatPass::draw(const std::vector<SplatDraw>& draws, bool points) const {
+  for (const SplatDraw& d : draws) {
+    glUniformMatrix4fv(model_, 1, GL_FALSE, glm::value_ptr(d.model));
+    glUniform1f(lod_, d.lod);
+    if (points)
+      glDrawArrays(GL_POINTS, static_cast<GLint>(d.first), static_cast<GLsizei>(d.count));
+    else
+      glDrawArrays(GL_TRIANGLES, static_cast<GLint>(3 * d.first), static_cast<GLsizei>(3 * d.count));
+  }
+}
+
+VisibilityPass::VisibilityPass()
+    : SplatPass(gl::Program(shaders::source("splat.vert.glsl", "#define VISIBILITY_PASS 1\n"),
+                            shaders::source("splat_visibility.frag.glsl"), "splat visibility")),
+      depth_offset_(program().uniform("u_depth_offset")) {}
+
+void VisibilityPass::run(const GBuffer& gbuffer, const SplatFrame& frame, const std::vector<SplatDraw>& draws,
+                         float depth_offset) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.visibility_framebuffer());
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  begin(frame);
+  glUniform1f(depth_offset_, depth_offset);
+  draw(draws, false);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+AccumulationPass::AccumulationPass()
+    : SplatPass(gl::Program(shaders::source("splat.vert.glsl"), shaders::source("splat_accumulate.frag.glsl"),
+                            "splat accumulation")),
+      beta_(program().uniform("u_beta")),
+      footprints_(program().uniform("u_footprints")) {}
+
+void AccumulationPass::run(const GBuffer& gbuffer, const SplatFrame& frame, const std::vector<SplatDraw>& draws,
+                           float beta, bool footprints) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.accumulation_framebuffer());
+  glDepthMask(GL_FALSE);
+  glDepthFunc(GL_LEQUAL);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  begin(frame);
+  glUniform1f(beta_, beta);
+  glUniform1i(footprints_, footprints ? 1 : 0);
+  draw(draws, false);
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+}
+
+PointPass::PointPass()
+    : SplatPass(gl::Program(shaders::source("point.vert.glsl"), shaders::source("point.frag.glsl"), "points")),
+      viewport_height_(program().uniform("u_viewport_height")),
+      footprints_(program().uniform("u_footprints")) {}
+
+void PointPass::run(const SplatFrame& frame, const std::vector<SplatDraw>& draws, int viewport_height,
+                    bool footprints) const {
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  begin(frame);
+  glUniform1f(viewport_height_, static_cast<float>(viewport_height));
+  glUniform1i(footprints_, footprints ? 1 : 0);
+  draw(draws, true);
+}
+
+std::uint32_t ShadeVariant::key() const {
+  return static_cast<std::uint32_t>(debug) | (brute_force ? 1u : 0u) << 3 | (pixel_shadows ? 1u : 0u) << 4 |
+         (pixel_ao ? 1u : 0u) << 5 | (hdr_output ? 1u : 0u) << 6 | (specular ? 1u : 0u) << 7 |
+         static_cast<std::uint32_t>(key_count) << 8;
+}
+
+namespace {
+std::string shade_defines(const ShadeVariant& v) {
+  return fmt::format(
+      "#define DEBUG_VIEW {}\n#define BRUTE_FORCE {}\n#define PIXEL_SHADOWS {}\n"
+      "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n",
+      v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.hdr_output ? 1 : 0, v.key_count,
+      v.specular ? 1 : 0);
+}
+}  // namespace
+
+ShadingPass::Program::Program(const ShadeVariant& variant)
+    : program(shaders::source("fullscreen.vert.glsl"), shaders::source("shade.frag.glsl", shade_defines(variant)),
+              "shading"),
+      view(program.uniform("u_view")),
+      tan_half(program.uniform("u_tan_half")),
+      viewport(program.uniform("u_viewport")),
+      light_count(program.uniform("u_light_count")),
+      sh(program.uniform("u_sh")),
+      heat_max(program.uniform("u_heat_max")),
+      specular(program.uniform("u_specular")),
+      shininess(program.uniform("u_shininess")) {
+  for (int k = 0; k < MAX_KEY_LIGHTS; ++k) {
+    key_center[k] = program.uniform(fmt::format("u_key_center[{}]", k).c_str());
+    key_color[k] = program.uniform(fmt::format("u_key_color[{}]", k).c_str());
+  }
+}
+
+const ShadingPass::Program& ShadingPass::program(const ShadeVariant& variant) {
+  const auto found = programs_.find(variant.key());
+  if (found != programs_.end()) return found->second;
+  return programs_.emplace(variant.key(), Program(variant)).first->second;
+}
+
+void ShadingPass::run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInputs& pixel, const ShadeVariant& variant,
+                      const ShadeFrame& frame) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  const Program& p = program(variant);
+  p.program.use();
+  GLuint textures[SHADING_UNITS] = {};
+  textures[UNIT_WEIGHT_ALBEDO] = gbuffer.texture(GBuffer::WeightAlbedo);
+  textures[UNIT_Z_NORMAL] = gbuffer.texture(GBuffer::ZNormal);
+  textures[UNIT_SHADOW_AMBIENT] = gbuffer.texture(GBuffer::ShadowAmbient);
+  textures[UNIT_SHADOWS] = gbuffer.texture(GBuffer::Shadows);
+  textures[UNIT_PIXEL_LIST] = pixel.light_list.get();
+  textures[UNIT_PIXEL_SHADOW] = pixel.shadow.get();
+  textures[UNIT_PIXEL_AO] = pixel.ao.get();
+  glBindTextures(0, SHADING_UNITS, textures);
+  glUniformMatrix4fv(p.view, 1, GL_FALSE, glm::value_ptr(frame.view));
+  glUniform2f(p.tan_half, frame.tan_half.x, frame.tan_half.y);
+  glUniform2f(p.viewport, frame.viewport.x, frame.viewport.y);
+  glUniform1i(p.light_count, frame.light_count);
+  for (int k = 0; k < variant.key_count; ++k) {
+    glUniform4fv(p.key_center[k], 1, glm::value_ptr(frame.key_center[k]));
+    glUniform3fv(p.key_color[k], 1, glm::value_ptr(frame.key_color[k]));
+  }
+  glUniform3fv(p.sh, 9, glm::value_ptr(frame.sh[0]));
+  glUniform1f(p.heat_max, frame.heat_max);
+  glUniform1f(p.specular, frame.specular);
+  glUniform1f(p.shininess, frame.shininess);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+MeshMaskPass::MeshMaskPass()
+    : program_(shaders::source("mesh.vert.glsl"), shaders::source("mesh.frag.glsl"), "mesh"),
+      model_(program_.uniform("u_model")),
+      view_(program_.uniform("u_view")),
+      proj_(program_.uniform("u_proj")) {}
+
+void MeshMaskPass::run(const glm::mat4& view, const glm::mat4& proj, const std::vector<glm::mat4>& models,
+                       const std::vector<GLuint>& vertex_arrays, const std::vector<GLsizei>& vertices) const {
+  program_.use();
+  glUniformMatrix4fv(view_, 1, GL_FALSE, glm::value_ptr(view));
+  glUniformMatrix4fv(proj_, 1, GL_FALSE, glm::value_ptr(proj));
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    glUniformMatrix4fv(model_, 1, GL_FALSE, glm::value_ptr(models[i]));
+    glBindVertexArray(vertex_arrays[i]);
+    glDrawArrays(GL_TRIANGLES, 0, vertices[i]);
+  }
+}
+
+}  // namespace splatcl::present

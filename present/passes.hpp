@@ -1,0 +1,134 @@
+#pragma once
+// The presenter's GL passes, each with its program and the uniform locations it sets, looked up
+// once when the program is linked:
+//   VisibilityPass: splat depth only, pushed back by ε (the splat-mode pass 1)
+//   AccumulationPass: Gaussian-weighted attribute sums of the splats within ε of the front into
+//     the G-buffer (pass 2)
+//   PointPass: the low-quality mode's one pass, a square point per splat with weight 1
+//   ShadingPass: the final shading and debug views, one program per ShadeVariant
+//   MeshMaskPass: the objects' triangle meshes, for the coverage test
+// A pass sets the GL state it needs and draws; the presenter's render() orders them.
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "present/gbuffer.hpp"
+#include "present/gl_objects.hpp"
+#include "present/shaders/layout.h"
+
+namespace splatcl::present {
+
+// What the splat passes share in a frame.
+struct SplatFrame {
+  glm::mat4 view{1.0f}, proj{1.0f};
+  glm::vec3 eye{0.0f};
+  float scale = 1.0f;    // k: multiplies every splat's axes
+  int ambient = 0;       // the per-splat ambient term (splat_head.glsl): 0 sky × AO, 1 sky, 2 the AO itself
+  const glm::vec3* sh = nullptr;  // 9 irradiance SH coefficients of the sky
+};
+
+// One object's draw: its placement and a run of splat instances (static and lighting rows).
+struct SplatDraw {
+  glm::mat4 model{1.0f};
+  std::size_t first = 0, count = 0;
+  float lod = 0.0f;  // LOD error per model unit of eye distance; 0 = off
+};
+
+class SplatPass {
+ protected:
+  explicit SplatPass(gl::Program program);
+  // Uses the program and sets the frame's uniforms.
+  void begin(const SplatFrame& frame) const;
+  // Draws each run: 3 vertices per splat (one triangle around its ellipse), or 1 as points.
+  void draw(const std::vector<SplatDraw>& draws, bool points) const;
+  const gl::Program& program() const { return program_; }
+
+ private:
+  gl::Program program_;
+  GLint model_, view_, proj_, eye_, scale_, lod_, ambient_, sh_;
+};
+
+class VisibilityPass : SplatPass {
+ public:
+  VisibilityPass();
+  void run(const GBuffer& gbuffer, const SplatFrame& frame, const std::vector<SplatDraw>& draws, float depth_offset) const;
+
+ private:
+  GLint depth_offset_;
+};
+
+class AccumulationPass : SplatPass {
+ public:
+  AccumulationPass();
+  // Into the G-buffer, depth tested against the visibility pass's; `footprints` colours each
+  // splat by its index.
+  void run(const GBuffer& gbuffer, const SplatFrame& frame, const std::vector<SplatDraw>& draws, float beta,
+           bool footprints) const;
+
+ private:
+  GLint beta_, footprints_;
+};
+
+class PointPass : SplatPass {
+ public:
+  PointPass();
+  // Into the bound G-buffer with its depth test.
+  void run(const SplatFrame& frame, const std::vector<SplatDraw>& draws, int viewport_height, bool footprints) const;
+
+ private:
+  GLint viewport_height_, footprints_;
+};
+
+// The compile-time modes of the final shading shader (shade.frag.glsl).
+struct ShadeVariant {
+  int debug = 0;  // DebugView, footprints drawn as albedo
+  bool brute_force = false, pixel_shadows = false, pixel_ao = false, hdr_output = true, specular = false;
+  int key_count = 0;
+  std::uint32_t key() const;
+};
+
+// What the shading reads besides the G-buffer and the pixel inputs.
+struct ShadeFrame {
+  glm::mat4 view{1.0f};
+  glm::vec2 tan_half{0.0f}, viewport{0.0f};
+  int light_count = 0;
+  glm::vec4 key_center[MAX_KEY_LIGHTS] = {};  // view space, 1/r² in w
+  glm::vec3 key_color[MAX_KEY_LIGHTS] = {};
+  const glm::vec3* sh = nullptr;
+  float heat_max = 1, specular = 0, shininess = 32;
+};
+
+class ShadingPass {
+ public:
+  // One full-screen triangle into `framebuffer`, reading the G-buffer, the pixel inputs and the
+  // storage buffers bound at BINDING_LIGHTS … BINDING_LIST_INDICES; the variant's program is
+  // compiled on first use.
+  void run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInputs& pixel, const ShadeVariant& variant,
+           const ShadeFrame& frame);
+
+ private:
+  struct Program {
+    explicit Program(const ShadeVariant& variant);
+    gl::Program program;
+    GLint view, tan_half, viewport, light_count, sh, heat_max, specular, shininess;
+    GLint key_center[MAX_KEY_LIGHTS], key_color[MAX_KEY_LIGHTS];
+  };
+  const Program& program(const ShadeVariant& variant);
+  std::map<std::uint32_t, Program> programs_;
+};
+
+class MeshMaskPass {
+ public:
+  MeshMaskPass();
+  // Draws each (vertex array, vertex count) with its model matrix into the bound framebuffer.
+  void run(const glm::mat4& view, const glm::mat4& proj, const std::vector<glm::mat4>& models,
+           const std::vector<GLuint>& vertex_arrays, const std::vector<GLsizei>& vertices) const;
+
+ private:
+  gl::Program program_;
+  GLint model_, view_, proj_;
+};
+
+}  // namespace splatcl::present
