@@ -140,11 +140,12 @@ int run_view(const ViewOptions& o) {
   // The state the input left (scripted runs and tests read it).
   const viewer::ViewState& v = controls.state();
   fmt::print(stderr, "view: state shading {}, mode {}, shadows {}, view {}, ao {}, pixel ao {}, lod {}, specular {}, selected {}, "
-                     "distance {:.4f} (start {:.4f}), panel {}, paused {}\n",
+                     "distance {:.4f} (start {:.4f}), panel {}, paused {}, last pick: {}\n",
              s.quality.shading, s.quality.mode, s.quality.shadows, present::to_string(v.debug_view), v.ambient_occlusion ? "on" : "off",
              v.pixel_ao ? "on" : "off", s.quality.lod_error, s.quality.specular,
              s.objects.empty() ? "-" : s.objects[v.selected % s.objects.size()].name, controls.orbit().distance,
-             viewer::Orbit::from_camera(scene.camera).distance, v.panel ? "on" : "off", v.paused ? "yes" : "no");
+             viewer::Orbit::from_camera(scene.camera).distance, v.panel ? "on" : "off", v.paused ? "yes" : "no",
+             v.message.empty() ? "-" : v.message);
   return 0;
 }
 
