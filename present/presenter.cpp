@@ -21,6 +21,7 @@
 #include "csm/visibility.hpp"
 #include "present/gbuffer.hpp"
 #include "present/gl_objects.hpp"
+#include "present/light_lists.hpp"
 #include "present/passes.hpp"
 #include "present/settings.hpp"
 #include "present/shaders.hpp"
@@ -333,7 +334,10 @@ struct Presenter::Impl {
   std::vector<gl::VertexArray> mesh_vaos;
   std::vector<GLsizei> mesh_vertices;
   GpuTimers timers;
-  std::unique_ptr<cluster::ClusterPipeline> clusters;
+  // The light-list stages (present/light_lists.hpp), sized by the frame.
+  std::unique_ptr<ClusteredLightLists> clustered_lists;
+  std::unique_ptr<TiledLightLists> tiled_lists;
+  std::unique_ptr<BruteForceLights> brute_force_lights;
   std::vector<glm::mat4> last_placements;
   bool have_lighting = false;
   bool hdr_written = false;  // the last frame wrote the HDR target
@@ -520,7 +524,9 @@ void Presenter::resize(int width, int height) {
   const cluster::ClusterConfig config = cluster::cluster_config(scene_.camera, static_cast<std::uint32_t>(width),
                                                                 static_cast<std::uint32_t>(height), scene_.quality.tile,
                                                                 scene_.quality.tile);
-  g.clusters = std::make_unique<cluster::ClusterPipeline>(runtime_, config);
+  g.clustered_lists = std::make_unique<ClusteredLightLists>(runtime_, config);
+  g.tiled_lists = std::make_unique<TiledLightLists>(g.clustered_lists->layout());
+  g.brute_force_lights = std::make_unique<BruteForceLights>(g.clustered_lists->layout());
 }
 
 std::pair<std::size_t, std::size_t> Presenter::object_splats(std::size_t object) const {
@@ -1009,77 +1015,17 @@ FrameStats Presenter::render(float time) {
     std::copy(row, row + layout::kLightRowFloats, light_data.begin() + static_cast<std::ptrdiff_t>(layout::kLightRowFloats * i));
   }
 
-  std::vector<std::uint32_t> pixel_list(view_z.size(), cluster::kNoCluster);
-  cluster::LightLists lists;
-  const bool brute = settings.shading == ShadingMethod::Brute || lights.empty();
-  const cluster::ClusterLayout& layout = g.clusters->layout();
-  if (!brute && settings.shading == ShadingMethod::Clustered) {
-    cluster::ClusterPipeline& p = *g.clusters;
-    const auto timed = [&](const char* name, auto&& body) {
-      Stopwatch c;
-      body();
-      p.finish();
-      stats.stages.push_back({name, c.elapsed_ms()});
-    };
-    timed("cl: upload depth+lights", [&] {
-      p.upload_depth(view_z, cluster::DepthFormat::ViewZ);
-      p.upload_lights(lights);
-    });
-    timed("cl: cluster keys", [&] { p.compute_keys(); });
-    timed("cl: compaction", [&] { stats.clusters = p.compact(cluster::Compaction::TileBitmask); });
-    timed("cl: cluster bounds", [&] { p.compute_bounds(); });
-    timed("cl: light assignment", [&] {
-      stats.light_indices =
-          p.assign_lights(lights.size() >= 4096 ? cluster::Assignment::Hierarchy : cluster::Assignment::BruteForce);
-    });
-    timed("cl: download lists", [&] {
-      pixel_list = p.download_clusters().pixel_cluster;
-      lists = p.download_light_lists();
-    });
-  } else if (!brute) {
-    // Tiled baseline: one list per screen tile over its depth range, on the host.
-    Stopwatch c;
-    const std::uint32_t tiles = layout.tile_count;
-    std::vector<float> near_d(tiles, INFINITY), far_d(tiles, 0.0f);
-    for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
-      for (std::uint32_t x = 0; x < static_cast<std::uint32_t>(width_); ++x) {
-        const std::size_t p = std::size_t{y} * static_cast<std::size_t>(width_) + x;
-        const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
-        if (!d) continue;
-        const std::uint32_t t = layout.tile_of_pixel(x, y);
-        near_d[t] = std::min(near_d[t], *d);
-        far_d[t] = std::max(far_d[t], *d);
-        pixel_list[p] = t;
-      }
-    lists.offsets.assign(tiles, 0);
-    lists.counts.assign(tiles, 0);
-    for (std::uint32_t t = 0; t < tiles; ++t) {
-      lists.offsets[t] = static_cast<std::uint32_t>(lists.indices.size());
-      if (!(near_d[t] <= far_d[t])) continue;
-      const std::uint32_t tx = t % layout.tiles_x, ty = t / layout.tiles_x;
-      const float x0 = static_cast<float>(tx * q.tile) * layout.two_over_width - 1.0f;
-      const float x1 = std::min(static_cast<float>((tx + 1) * q.tile) * layout.two_over_width - 1.0f, 1.0f);
-      const float y0 = static_cast<float>(ty * q.tile) * layout.two_over_height - 1.0f;
-      const float y1 = std::min(static_cast<float>((ty + 1) * q.tile) * layout.two_over_height - 1.0f, 1.0f);
-      cluster::ClusterBox box{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-      for (const float d : {near_d[t], far_d[t]})
-        for (const float nx : {x0, x1})
-          for (const float ny : {y0, y1}) {
-            const cluster::Vec3 v{nx * d * layout.tan_half_x, ny * d * layout.tan_half_y, -d};
-            box.min = {std::min(box.min.x, v.x), std::min(box.min.y, v.y), std::min(box.min.z, v.z)};
-            box.max = {std::max(box.max.x, v.x), std::max(box.max.y, v.y), std::max(box.max.z, v.z)};
-          }
-      const float pad = 1e-4f * far_d[t];  // float rounding of reconstructed positions
-      box.min = box.min - cluster::Vec3{pad, pad, pad};
-      box.max = box.max + cluster::Vec3{pad, pad, pad};
-      for (std::uint32_t i = 0; i < lights.size(); ++i)
-        if (cluster::light_touches_box(lights[i], box)) lists.indices.push_back(i);
-      lists.counts[t] = static_cast<std::uint32_t>(lists.indices.size()) - lists.offsets[t];
-    }
-    stats.clusters = tiles;
-    stats.light_indices = static_cast<std::uint32_t>(lists.indices.size());
-    stats.stages.push_back({"host: tile light lists", c.elapsed_ms()});
-  }
+  LightListBuilder& builder = settings.shading == ShadingMethod::Brute || lights.empty()
+                                  ? static_cast<LightListBuilder&>(*g.brute_force_lights)
+                              : settings.shading == ShadingMethod::Clustered ? static_cast<LightListBuilder&>(*g.clustered_lists)
+                                                                              : *g.tiled_lists;
+  const bool brute = builder.brute_force();
+  const cluster::ClusterLayout& layout = builder.layout();
+  FrameLightLists frame_lists = builder.build(view_z, lights, stats.stages);
+  stats.clusters = frame_lists.clusters;
+  stats.light_indices = frame_lists.light_indices;
+  const std::vector<std::uint32_t>& pixel_list = frame_lists.pixel_list;
+  const cluster::LightLists& lists = frame_lists.lists;
 
   // Per-pixel key-light shadows (quality mode).
   std::vector<float> pixel_shadow;
