@@ -17,6 +17,7 @@
 
 #include "cluster/cluster.hpp"
 #include "csm/ao.hpp"
+#include "csm/query_reach.hpp"
 #include "csm/sphere_grid.hpp"
 #include "csm/visibility.hpp"
 #include "present/gbuffer.hpp"
@@ -100,163 +101,6 @@ struct GpuTimers {
     used = 0;
   }
 };
-
-// Visibility of a key light from each receiver: PCF queries towards the light's centre, or for a
-// light of non-zero size the mean over `samples` points spread on its sphere (Fibonacci lattice),
-// which softens the shadow edge.
-std::vector<glm::vec3> key_light_points(const Light& light, std::uint32_t samples) {
-  const std::uint32_t count = light.size > 0 ? std::max(1u, samples) : 1u;
-  std::vector<glm::vec3> points;
-  for (std::uint32_t j = 0; j < count; ++j) {
-    glm::vec3 p = light.position;
-    if (count > 1) {
-      const float y = 1.0f - 2.0f * (static_cast<float>(j) + 0.5f) / static_cast<float>(count);
-      const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-      const float phi = static_cast<float>(j) * 2.39996323f;  // golden angle
-      p += light.size * glm::vec3(r * std::cos(phi), y, r * std::sin(phi));
-    }
-    points.push_back(p);
-  }
-  return points;
-}
-
-std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const std::vector<splats::Vec4>& receivers,
-                                        const Light& light, std::uint32_t samples, csm::Filter filter, float bias) {
-  const std::vector<glm::vec3> light_points = key_light_points(light, samples);
-  // One batch for all the light's points (point-major: each point's run of receivers stays as
-  // coherent as on its own), so one launch per instance instead of one per instance and point.
-  const std::size_t n = receivers.size();
-  std::vector<splats::Vec4> batch, points;
-  batch.reserve(n * light_points.size());
-  points.reserve(n * light_points.size());
-  for (const glm::vec3& p : light_points) {
-    batch.insert(batch.end(), receivers.begin(), receivers.end());
-    points.insert(points.end(), n, splats::Vec4{p.x, p.y, p.z, 1.0f});
-  }
-  const std::vector<float> visible = queries.run(batch, points, filter, bias);
-  std::vector<float> sum(n, 0.0f);
-  for (std::size_t j = 0; j < light_points.size(); ++j)
-    for (std::size_t i = 0; i < n; ++i) sum[i] += visible[j * n + i];
-  for (float& v : sum) v /= static_cast<float>(light_points.size());
-  return sum;
-}
-
-// Culling the per-splat lighting queries. A CSM query through one occluder instance (csm_query.h) is 1
-// exactly unless one of its taps reads a non-empty texel with a stored depth in front of the
-// receiver. Non-empty texels have their centres inside the disc of the bounding sphere's radius R;
-// taps (4 × 4 PCF at most) lie within 2.5·√2 texels of the receiver's projection; stored depths are
-// >= 0 and the bias >= 0, so an occluded receiver lies behind the plane at R from the centre,
-// towards the map's direction d. Hence, with R' = R + 5 texels: the receiver p can be occluded
-// through map d only if its distance to the line (centre, d) is <= R' and (p − centre)·d < R. The
-// map a query picks lies within `slack` radians of the query's direction w, so if no direction
-// within `slack` of w can satisfy both, the instance answers 1 for (p, w) at that placement.
-struct Cone {
-  bool always = false;   // p too close to the sphere: every direction may reach it
-  glm::vec3 to_centre{}; // centre − p
-  float distance = 0;    // |centre − p|
-  float cos_limit = 0;   // w may reach iff cos∠(w, centre − p) >= cos_limit
-  // w_length = |w|, computed once per direction for all the cones.
-  bool may_reach(glm::vec3 w, float w_length) const {
-    return always || glm::dot(w, to_centre) >= cos_limit * w_length * distance;
-  }
-};
-
-struct MovedReach {
-  glm::vec3 centre{};        // bounding sphere, world space
-  float radius = 0, reach = 0, slack = 0;
-  float cos_slack = 1, sin_slack = 0;
-  Cone cone_from(glm::vec3 p) const {
-    Cone cone;
-    cone.to_centre = centre - p;
-    const float d2 = glm::dot(cone.to_centre, cone.to_centre);
-    // Behind the sphere within the line's reach (the second case above), or inside it.
-    if (d2 <= radius * radius + reach * reach) return cone.always = true, cone;
-    cone.distance = std::sqrt(d2);
-    const float sin_reach = std::min(1.0f, reach / cone.distance);  // of the angle R' subtends from p
-    if (slack < 0.5f * std::numbers::pi_v<float>) {
-      // cos(asin(sin_reach) + slack) without trigonometric calls (both angles below π/2, their sum
-      // below π); its rounding is far inside the margins of R' and the slack.
-      cone.cos_limit = std::sqrt(1.0f - sin_reach * sin_reach) * cos_slack - sin_reach * sin_slack;
-      return cone;
-    }
-    const float limit = std::asin(sin_reach) + slack;
-    if (limit >= std::numbers::pi_v<float>) return cone.always = true, cone;
-    cone.cos_limit = std::cos(limit);
-    return cone;
-  }
-};
-
-// The largest angle between a direction and the map chosen for it, bounded by the largest angle
-// between a map's direction and its grid neighbours' (rows clamped, columns wrapped) and, for the
-// first and last rows, the pole; times 1.25 for float rounding. Angles carry over to the world
-// only through a similarity: any other object transform gets π (every query is made).
-float csm_map_slack(const csm::CsmInfo& info) {
-  const auto& t = info.object_transform;
-  const glm::vec3 x(t[0], t[4], t[8]), y(t[1], t[5], t[9]), z(t[2], t[6], t[10]);
-  const float scale = glm::length(x), tolerance = 1e-4f * scale;
-  if (!(scale > 0) || std::abs(glm::length(y) - scale) > tolerance || std::abs(glm::length(z) - scale) > tolerance ||
-      std::abs(glm::dot(x, y)) > tolerance * scale || std::abs(glm::dot(y, z)) > tolerance * scale ||
-      std::abs(glm::dot(x, z)) > tolerance * scale)
-    return std::numbers::pi_v<float>;
-  const csm::SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
-  const auto direction = [&](std::uint32_t a, std::uint32_t b) {
-    const csm::Camera c = grid.camera(grid.sequence_of({a, b}));
-    return glm::normalize(glm::vec3(c.d[0], c.d[1], c.d[2]));
-  };
-  const auto pole = csm::pole_frame(info.pole)[1];
-  const glm::vec3 up = glm::normalize(glm::vec3(pole.x, pole.y, pole.z));
-  const auto angle = [](glm::vec3 a, glm::vec3 b) { return std::acos(std::clamp(glm::dot(a, b), -1.0f, 1.0f)); };
-  const std::uint32_t rows = grid.rows(), cols = grid.cols();
-  float slack = 0;
-  for (std::uint32_t a = 0; a < rows; ++a)
-    for (std::uint32_t b = 0; b < cols; ++b) {
-      const glm::vec3 d = direction(a, b);
-      for (int da = -1; da <= 1; ++da)
-        for (int db = -1; db <= 1; ++db) {
-          const int na = std::clamp(static_cast<int>(a) + da, 0, static_cast<int>(rows) - 1);
-          const int nb = ((static_cast<int>(b) + db) % static_cast<int>(cols) + static_cast<int>(cols)) % static_cast<int>(cols);
-          slack = std::max(slack, angle(d, direction(static_cast<std::uint32_t>(na), static_cast<std::uint32_t>(nb))));
-        }
-      if (a == 0 || a + 1 == rows) slack = std::max(slack, std::min(angle(d, up), angle(d, -up)));
-    }
-  return 1.25f * slack;
-}
-
-// The bounding sphere of `info` placed by `placement` (model file → world), and its reach R'.
-MovedReach moved_reach(const csm::CsmInfo& info, const glm::mat4& placement, float slack) {
-  const csm::Transform to_object = csm::world_to_object(info, to_transform(placement));
-  glm::dmat4 m(1.0);
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) m[c][r] = to_object[static_cast<std::size_t>(4 * r + c)];
-  const glm::dmat4 to_world = glm::inverse(m);
-  const glm::dvec3 c(info.sphere.centre.x, info.sphere.centre.y, info.sphere.centre.z);
-  MovedReach reach;
-  reach.centre = glm::vec3(to_world * glm::dvec4(c, 1.0));
-  // Largest stretch of the linear part (rigid placements: the uniform scale).
-  double stretch = 0;
-  for (int k = 0; k < 3; ++k) stretch = std::max(stretch, glm::length(glm::dvec3(to_world[k])));
-  const double texel = 2.0 * info.sphere.radius / std::max(1u, info.resolution);
-  reach.radius = static_cast<float>(stretch * info.sphere.radius * 1.0001);
-  reach.reach = static_cast<float>(stretch * (info.sphere.radius + 5.0 * texel) * 1.0001);
-  reach.slack = slack;
-  reach.cos_slack = std::cos(slack);
-  reach.sin_slack = std::sin(slack);
-  return reach;
-}
-
-// The AO kernel's query directions for receiver normal n into out[0 .. samples) (the rotation
-// functions of kernels/csm_query.h, and neither side contracts them, so the vectors are
-// bit-identical); w = |d| for the Cone tests, or 0 for a direction below the floor, which the kernel
-// counts as occluded without a query.
-void ao_directions(const splats::Vec4& n, const splats::Vec4* pattern, std::uint32_t samples, bool ground, splats::Vec4* out) {
-  float h[3];
-  csm::device::csm_ao_rotation_axis(n.x, n.y, n.z, h);
-  for (std::uint32_t k = 0; k < samples; ++k) {
-    float d[3];
-    csm::device::csm_ao_rotate(h, pattern[k].x, pattern[k].y, pattern[k].z, d);
-    out[k] = {d[0], d[1], d[2], ground && d[1] < 0.0f ? 0.0f : glm::length(glm::vec3(d[0], d[1], d[2]))};
-  }
-}
 
 // A batch of (receiver, light) visibility queries and, per query, where its answer goes.
 struct QueryBatch {
@@ -370,7 +214,7 @@ struct Presenter::Impl {
   float map_slack(std::size_t object, const csm::CsmInfo& info) {
     const auto found = map_slacks.find(object);
     if (found != map_slacks.end()) return found->second;
-    return map_slacks[object] = csm_map_slack(info);
+    return map_slacks[object] = csm::map_slack(info);
   }
   std::vector<splats::Vec4> ao_patterns;
   std::vector<std::uint32_t> ao_pattern_of, pixel_pattern_of;
@@ -594,7 +438,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   const bool do_ao = ambient_occlusion, do_shadows = settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
   const std::string signature = lighting_settings(settings);
   std::vector<std::vector<glm::vec3>> light_points;  // per key light
-  for (const Light& light : scene_.key_lights) light_points.push_back(key_light_points(light, q.shadow_samples));
+  for (const Light& light : scene_.key_lights) light_points.push_back(csm::key_light_points({light.position, light.size}, q.shadow_samples));
 
   // Full update: every splat's AO directions and key-light points through each occluder instance,
   // where its Cone may reach. Incremental (occluders moved since the last update, same settings):
@@ -635,16 +479,17 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   // Where the queries through an instance may answer "occluded" (Cone): with the map choice of
   // Filter::None or SameMap and a bias >= 0 (CrossMap taps 4 maps; an unbounded slack there).
   const bool cull = filter != csm::Filter::CrossMap && q.ao_bias >= 0;
-  std::vector<MovedReach> instance_reaches;  // per entry of `instances`
+  std::vector<csm::MovedReach> instance_reaches;  // per entry of `instances`
   for (const csm::Instance& instance : instances) {
     const csm::CsmInfo& info = assets_[instance.occluder].csm.info;
-    instance_reaches.push_back(moved_reach(info, placements[instance.occluder], g.map_slack(instance.occluder, info)));
+    instance_reaches.push_back(
+        csm::moved_reach(info, to_transform(placements[instance.occluder]), g.map_slack(instance.occluder, info)));
   }
 
   // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
   const std::uint32_t samples = q.ao_samples;
   const auto directions_of = [&](std::size_t s, splats::Vec4* out) {
-    ao_directions(normals[s], &g.ao_patterns[std::size_t{g.ao_pattern_of[s]} * samples], samples, scene_.floor.enabled, out);
+    csm::ao_directions(normals[s], &g.ao_patterns[std::size_t{g.ao_pattern_of[s]} * samples], samples, scene_.floor.enabled, out);
   };
 
   if (incremental) {
@@ -655,7 +500,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
     for (const auto& p : light_points) points = std::max(points, p.size());
     const std::size_t keys = light_points.size();
     std::vector<csm::Instance> static_instances, moving_instances;
-    std::vector<MovedReach> reaches;
+    std::vector<csm::MovedReach> reaches;
     for (std::size_t k = 0; k < instances.size(); ++k) {
       const bool moving = moved[instances[k].occluder];
       (moving ? moving_instances : static_instances).push_back(instances[k]);
@@ -695,15 +540,15 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
     }
     // Queries through the moved occluders where they may answer "occluded".
     std::vector<std::uint64_t> mask = g.static_lit;
-    const auto cones_from = [&](glm::vec3 p, std::vector<Cone>& cones) {
+    const auto cones_from = [&](glm::vec3 p, std::vector<csm::Cone>& cones) {
       cones.clear();
-      for (const MovedReach& reach : reaches) cones.push_back(reach.cone_from(p));
+      for (const csm::MovedReach& reach : reaches) cones.push_back(reach.cone_from(p));
     };
-    const auto reached = [](const std::vector<Cone>& cones, glm::vec3 w, float length) {
-      return std::any_of(cones.begin(), cones.end(), [&](const Cone& c) { return c.may_reach(w, length); });
+    const auto reached = [](const std::vector<csm::Cone>& cones, glm::vec3 w, float length) {
+      return std::any_of(cones.begin(), cones.end(), [&](const csm::Cone& c) { return c.may_reach(w, length); });
     };
     QueryBatch ao_batch;
-    std::vector<Cone> cones;
+    std::vector<csm::Cone> cones;
     for (std::size_t s = 0; s < n && do_ao && !reaches.empty(); ++s) {
       if (kernel_receiver[s]) continue;
       // No lit direction left to test (all occluded by the static occluders or below the floor).
@@ -798,7 +643,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
         QueryBatch batch;
         for (std::size_t r = 0; r < m; ++r) {
           const splats::Vec4& p = positions[ao_subset[r]];
-          const Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : Cone{true};
+          const csm::Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : csm::Cone{true};
           for (std::uint32_t j = 0; j < samples; ++j) {
             const std::size_t at = r * samples + j;
             const splats::Vec4& d = receiver_directions[at];
@@ -830,13 +675,13 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       std::vector<std::size_t> light_base{0};  // first entry of each key light's points
       for (const auto& p : light_points) light_base.push_back(light_base.back() + p.size() * m);
       std::vector<float> product(light_base.back(), 1.0f);
-      std::vector<Cone> cones(m);
+      std::vector<csm::Cone> cones(m);
       const auto lift = [&](std::size_t r) {
         const splats::Vec4& p = lifted[shadow_subset[r]];
         return glm::vec3(p.x, p.y, p.z);
       };
       for (std::size_t i = 0; i < instances.size(); ++i) {
-        for (std::size_t r = 0; r < m; ++r) cones[r] = cull ? instance_reaches[i].cone_from(lift(r)) : Cone{true};
+        for (std::size_t r = 0; r < m; ++r) cones[r] = cull ? instance_reaches[i].cone_from(lift(r)) : csm::Cone{true};
         QueryBatch batch;
         for (std::size_t k = 0; k < light_points.size(); ++k)
           for (std::size_t j = 0; j < light_points[k].size(); ++j) {
@@ -1051,7 +896,8 @@ FrameStats Presenter::render(float time) {
       csm::VisibilityQueries& queries = g.csm_tables(runtime_, assets_).queries();
       queries.place(instances);
       for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
-        const auto visible = key_light_visibility(queries, receivers, scene_.key_lights[k], q.shadow_samples,
+        const Light& key = scene_.key_lights[k];
+        const auto visible = csm::key_light_visibility(queries, receivers, {key.position, key.size}, q.shadow_samples,
                                                   settings.filter, q.ao_bias);
         for (std::size_t r = 0; r < where.size(); ++r) pixel_shadow[4 * where[r] + k] = visible[r];
       }
