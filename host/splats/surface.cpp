@@ -165,9 +165,9 @@ Surface::Nearest Surface::nearest(DVec3 p, double limit, Recent* recent) const {
     // nearly everything.
     for (const std::uint32_t t : recent->triangles)
       if (t < triangles_.size()) consider(t, triangles_[t], radius);
-    if (recent->region != 0) tree_.visit_slots(p, radius, consider_slot, recent->region);
   }
-  tree_.visit_slots(p, radius, consider_slot);
+  // From the region outward: the region's triangles are not measured twice.
+  tree_.visit_slots_outward(p, radius, consider_slot, recent ? recent->region : 0);
   if (recent && best.triangle != UINT32_MAX) {
     recent->remember(best.triangle);
     recent->region = tree_.ancestor(best.triangle, kRegionLevels);
@@ -191,7 +191,7 @@ bool Surface::within(DVec3 p, double radius, Recent* recent) const {
   std::uint32_t answer = UINT32_MAX;
   const auto search = [&](std::uint32_t start) {
     double r = radius;
-    tree_.visit_slots(
+    tree_.visit_slots_outward(
         p, r, [&](std::uint32_t slot, double&) { return near(slot_triangles_[slot]) && (answer = tree_.slot_item(slot), true); }, start);
     return answer != UINT32_MAX;
   };
@@ -202,8 +202,9 @@ bool Surface::within(DVec3 p, double radius, Recent* recent) const {
     recent->remember(t);
     return true;
   }
-  // The region first: a query near the last one is mostly answered there, a few levels down.
-  if (!(recent->region != 0 && search(recent->region)) && !search(0)) return false;
+  // The region first (a query near the last one is mostly answered there, a few levels down), then
+  // outward from it.
+  if (!search(recent->region)) return false;
   recent->remember(answer);
   recent->region = tree_.ancestor(answer, kRegionLevels);
   return true;

@@ -79,6 +79,19 @@ class BoxTree {
     }
   }
 
+  // visit_slots() below `start`, then below each sibling on the way up to the root: every slot
+  // once, the subtrees around `start` first, without walking down from the root again.
+  template <class Visit>
+  void visit_slots_outward(DVec3 p, double& radius, Visit&& visit, std::uint32_t start) const {
+    bool stopped = false;
+    const auto watch = [&](std::uint32_t slot, double& r) { return stopped = visit(slot, r); };
+    visit_slots(p, radius, watch, start);
+    for (std::uint32_t node = start; !stopped && node != 0; node = parents_[node]) {
+      const std::uint32_t first = nodes_[parents_[node]].first;
+      visit_slots(p, radius, watch, node == first ? first + 1 : first);
+    }
+  }
+
   std::size_t size() const { return items_.size(); }
   std::uint32_t slot_item(std::uint32_t slot) const { return items_[slot]; }
   // The node `levels` above the leaf that holds `item` (the root at most): a region around the
@@ -138,7 +151,7 @@ class Surface {
     void remember(std::uint32_t t);
   };
   // Whether some triangle lies within `radius` of p (stops at the first one found). `recent`, when
-  // given, is tried first (its triangles, then its region of the tree) and updated.
+  // given, is tried first (its triangles, then the tree outward from its region) and updated.
   bool within(DVec3 p, double radius, Recent* recent = nullptr) const;
 
   struct Point {
