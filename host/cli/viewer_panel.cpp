@@ -126,10 +126,17 @@ GlfwInput::Hooks Panel::hooks() const {
   h.scroll = [](GLFWwindow* w, double dx, double dy) { ImGui_ImplGlfw_ScrollCallback(w, dx, dy); };
   h.enter = [](GLFWwindow* w, int entered) { ImGui_ImplGlfw_CursorEnterCallback(w, entered); };
   h.focus = [](GLFWwindow* w, int focused) { ImGui_ImplGlfw_WindowFocusCallback(w, focused); };
-  // ImGui's flags of its last frame (draw() clears them while the panel is hidden).
-  h.captured = [](bool keyboard) {
+  // The keyboard: ImGui's flag of its last frame (draw() clears it while the panel is hidden). The
+  // mouse: that flag (a slider dragged off the panel) or the cursor over the panel as last drawn,
+  // since a move onto the panel and a click can come within one frame, before ImGui sees the move.
+  h.captured = [this](bool keyboard) {
     const ImGuiIO& io = ImGui::GetIO();
-    return keyboard ? io.WantCaptureKeyboard : io.WantCaptureMouse;
+    if (keyboard) return io.WantCaptureKeyboard;
+    if (io.WantCaptureMouse) return true;
+    if (!have_layer_) return false;
+    double x = 0, y = 0;
+    glfwGetCursorPos(window_, &x, &y);
+    return x >= window_min_[0] && x < window_max_[0] && y >= window_min_[1] && y < window_max_[1];
   };
   return h;
 }
