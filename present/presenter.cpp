@@ -18,6 +18,7 @@
 #include "cluster/cluster.hpp"
 #include "csm/ao.hpp"
 #include "csm/query_reach.hpp"
+#include "csm/splat_lighting.hpp"
 #include "csm/sphere_grid.hpp"
 #include "csm/visibility.hpp"
 #include "present/gbuffer.hpp"
@@ -38,6 +39,8 @@ constexpr int kMaxKeyLights = MAX_KEY_LIGHTS;
 constexpr std::size_t kLightingRow = layout::kLightingRowFloats;
 constexpr std::size_t kVisibilityAt = offsetof(layout::LightingRow, visibility) / sizeof(float);
 static_assert(NO_LIGHT_LIST == cluster::kNoCluster);
+static_assert(kLightingRow == csm::SplatLighting::kRowFloats && kVisibilityAt == csm::SplatLighting::kVisibilityAt &&
+              kMaxKeyLights == csm::SplatLighting::kMaxKeyLights);
 constexpr std::uint32_t kAoPatterns = 256;
 constexpr std::uint32_t kAoSeed = 1;
 
@@ -102,16 +105,6 @@ struct GpuTimers {
   }
 };
 
-// A batch of (receiver, light) visibility queries and, per query, where its answer goes.
-struct QueryBatch {
-  std::vector<splats::Vec4> receivers, lights;
-  std::vector<std::size_t> where;
-  void add(const splats::Vec4& receiver, const splats::Vec4& light, std::size_t at) {
-    receivers.push_back(receiver);
-    lights.push_back(light);
-    where.push_back(at);
-  }
-};
 
 
 }  // namespace
@@ -186,38 +179,12 @@ struct Presenter::Impl {
   bool have_lighting = false;
   bool hdr_written = false;  // the last frame wrote the HDR target
   std::vector<float> upload_rows;  // lighting rows of every instance (LOD entries included) to upload
-  // The per-splat rows (bent normal + AO, key-light visibility) of the last lighting update, the
-  // settings and placements they were computed with: the incremental update starts from them.
-  std::vector<float> lighting_rows;
+  // The per-splat lighting through the CSMs (csm/splat_lighting.hpp) and the settings text its
+  // last update was made with (render() updates again when it differs).
+  std::unique_ptr<csm::SplatLighting> lighting;
   std::string lighting_signature;
-  std::vector<glm::mat4> lit_placements;
-  std::map<std::size_t, float> map_slacks;  // per object: map_slack of its CSM
-  // The incremental update's cache, for the objects marked in cached_movers as moving: per splat,
-  // the AO directions lit through the static occluders and through all of them at the last update
-  // (bit masks), and per splat, key light and light point the PCF visibility through the static ones.
-  std::vector<char> cached_movers;
-  std::vector<std::uint64_t> static_lit, lit_mask;
-  std::vector<float> static_shadow;
-  std::vector<splats::Vec4> static_directions;  // per splat and sample: its AO direction, w = |d| (0: below the floor)
-  // Every object's CSM on the CL device (csm_tables), uploaded on first use; each query run places
-  // the instances it goes through, which uploads only the instance table.
-  std::unique_ptr<csm::AmbientOcclusion> csm_device;
-  csm::AmbientOcclusion& csm_tables(Runtime& runtime, const std::vector<ObjectAssets>& assets) {
-    if (!csm_device) {
-      std::vector<const csm::Csm*> csms;
-      for (const ObjectAssets& a : assets) csms.push_back(&a.csm);
-      csm_device = std::make_unique<csm::AmbientOcclusion>(runtime, csm::VisibilityScene(csms, {}));
-    }
-    return *csm_device;
-  }
-
-  float map_slack(std::size_t object, const csm::CsmInfo& info) {
-    const auto found = map_slacks.find(object);
-    if (found != map_slacks.end()) return found->second;
-    return map_slacks[object] = csm::map_slack(info);
-  }
   std::vector<splats::Vec4> ao_patterns;
-  std::vector<std::uint32_t> ao_pattern_of, pixel_pattern_of;
+  std::vector<std::uint32_t> pixel_pattern_of;
   std::vector<glm::vec3> sh;
   std::uint32_t heat_max = 1;
   // Per scene object: its LOD sequence's instances (after all original splats) and the bounding
@@ -347,7 +314,10 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   }
 
   g.ao_patterns = csm::make_patterns(csm::PatternSet::HammersleyScrambled, kAoPatterns, scene_.quality.ao_samples, kAoSeed);
-  g.ao_pattern_of = csm::choose_patterns(splat_count, kAoPatterns, kAoSeed);
+  std::vector<const csm::Csm*> csms;
+  for (const ObjectAssets& a : assets_) csms.push_back(&a.csm);
+  g.lighting = std::make_unique<csm::SplatLighting>(runtime_, csms, g.ao_patterns,
+                                                    csm::choose_patterns(splat_count, kAoPatterns, kAoSeed));
   g.sh = sky_sh(scene_.sky);
   ambient_occlusion = scene_.quality.ambient_occlusion;
   pixel_ao = scene_.quality.pixel_ao;
@@ -379,7 +349,7 @@ std::pair<std::size_t, std::size_t> Presenter::object_splats(std::size_t object)
 
 const ObjectAssets& Presenter::assets(std::size_t object) const { return assets_.at(object); }
 
-const std::vector<float>& Presenter::splat_lighting() const { return impl_->lighting_rows; }
+const std::vector<float>& Presenter::splat_lighting() const { return impl_->lighting->rows(); }
 
 glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
   for (std::size_t i = 0; i < objects_.size(); ++i) {
@@ -427,287 +397,29 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       normals[r.first + s] = vec4(nrm);
     }
   }
-  const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
+  csm::SplatLighting::Receivers receivers{std::move(positions), std::move(normals), {}};
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i)
+    receivers.objects.push_back({objects_[i].first, objects_[i].count, scene_.objects[i].occluder});
+  std::vector<csm::Transform> transforms;
+  for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
   const Quality& q = scene_.quality;
-  const csm::Filter filter = settings.filter;
-  // Receivers lifted off their own surface by the bias, so a splat does not shadow itself.
-  std::vector<splats::Vec4> lifted(n);
-  for (std::size_t s = 0; s < n; ++s)
-    lifted[s] = {positions[s].x + q.ao_bias * normals[s].x, positions[s].y + q.ao_bias * normals[s].y,
-                 positions[s].z + q.ao_bias * normals[s].z, 1.0f};
-  const bool do_ao = ambient_occlusion, do_shadows = settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
+  csm::SplatLighting::Settings lighting;
+  lighting.ao = ambient_occlusion;
+  lighting.shadows = settings.shadows == ShadowMode::Splat;
+  lighting.filter = settings.filter;
+  lighting.ao_samples = q.ao_samples;
+  lighting.shadow_samples = q.shadow_samples;
+  lighting.bias = q.ao_bias;
+  lighting.ground = scene_.floor.enabled;
+  for (const Light& light : scene_.key_lights) lighting.key_lights.push_back({light.position, light.size});
   const std::string signature = lighting_settings(settings);
-  std::vector<std::vector<glm::vec3>> light_points;  // per key light
-  for (const Light& light : scene_.key_lights) light_points.push_back(csm::key_light_points({light.position, light.size}, q.shadow_samples));
-
-  // Full update: every splat's AO directions and key-light points through each occluder instance,
-  // where its Cone may reach. Incremental (occluders moved since the last update, same settings):
-  // the moved objects' splats as in the full update; every other splat from its cached visibility
-  // through the static occluders and new queries through the moved ones, only where those can
-  // answer "occluded" (Cone); a splat whose set of lit AO directions changed gets its row from that
-  // set (csm_ao_finish, as the AO kernel does). Both give the same rows bit for bit, and the same as
-  // the AO kernel and one visibility batch through all instances (key_light_visibility).
-  const bool incremental = incremental_lighting && g.lighting_rows.size() == n * kLightingRow && g.lighting_signature == signature &&
-                           g.lit_placements.size() == placements.size() && filter != csm::Filter::CrossMap &&
-                           q.ao_bias >= 0;
   // Set again when the update completes: one that fails half way forces a full update next time.
   g.lighting_signature.clear();
-  std::vector<char> moved(scene_.objects.size(), 1), kernel_receiver(n, 1);
-  if (incremental) {
-    for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = placements[i] != g.lit_placements[i];
-    std::fill(kernel_receiver.begin(), kernel_receiver.end(), 0);
-    for (std::size_t i = 0; i < moved.size(); ++i)
-      if (moved[i])
-        std::fill(kernel_receiver.begin() + static_cast<std::ptrdiff_t>(objects_[i].first),
-                  kernel_receiver.begin() + static_cast<std::ptrdiff_t>(objects_[i].first + objects_[i].count), 1);
-  }
-  std::vector<float> dynamic = incremental ? g.lighting_rows : std::vector<float>(n * kLightingRow, 1.0f);
-  std::vector<std::uint32_t> ao_subset, shadow_subset;
-  for (std::size_t s = 0; s < n; ++s)
-    if (kernel_receiver[s]) ao_subset.push_back(static_cast<std::uint32_t>(s)), shadow_subset.push_back(static_cast<std::uint32_t>(s));
-
-  // Runs (receiver, light) queries through `through` (the CSM tables stay on the device, only the
-  // instances are placed); no instances: all lit. Batches of any size: the chunked kernel's
-  // work-group size is fixed on the CPU, so PoCL compiles it once, not once per batch size.
-  const auto run_queries = [&](const std::vector<csm::Instance>& through, const std::vector<splats::Vec4>& receivers,
-                               const std::vector<splats::Vec4>& lights, csm::Filter f) {
-    if (through.empty() || receivers.empty()) return std::vector<float>(receivers.size(), 1.0f);
-    csm::VisibilityQueries& queries = g.csm_tables(runtime_, assets_).queries();
-    queries.place(through);
-    return queries.run(receivers, lights, f, q.ao_bias);
-  };
-  // Where the queries through an instance may answer "occluded" (Cone): with the map choice of
-  // Filter::None or SameMap and a bias >= 0 (CrossMap taps 4 maps; an unbounded slack there).
-  const bool cull = filter != csm::Filter::CrossMap && q.ao_bias >= 0;
-  std::vector<csm::MovedReach> instance_reaches;  // per entry of `instances`
-  for (const csm::Instance& instance : instances) {
-    const csm::CsmInfo& info = assets_[instance.occluder].csm.info;
-    instance_reaches.push_back(
-        csm::moved_reach(info, to_transform(placements[instance.occluder]), g.map_slack(instance.occluder, info)));
-  }
-
-  // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
-  const std::uint32_t samples = q.ao_samples;
-  const auto directions_of = [&](std::size_t s, splats::Vec4* out) {
-    csm::ao_directions(normals[s], &g.ao_patterns[std::size_t{g.ao_pattern_of[s]} * samples], samples, scene_.floor.enabled, out);
-  };
-
-  if (incremental) {
-    Stopwatch clock;
-    const std::uint32_t words = (samples + 63) / 64;
-    // Slots per key light: its points (a light of size 0 has one, others shadow_samples).
-    std::size_t points = 0;
-    for (const auto& p : light_points) points = std::max(points, p.size());
-    const std::size_t keys = light_points.size();
-    std::vector<csm::Instance> static_instances, moving_instances;
-    std::vector<csm::MovedReach> reaches;
-    for (std::size_t k = 0; k < instances.size(); ++k) {
-      const bool moving = moved[instances[k].occluder];
-      (moving ? moving_instances : static_instances).push_back(instances[k]);
-      if (moving) reaches.push_back(instance_reaches[k]);
-    }
-    // The cache of visibility through the static occluders, rebuilt when the moving set changes.
-    const bool rebuild = g.cached_movers != moved;
-    if (rebuild) {
-      g.static_lit.assign(do_ao ? n * words : 0, 0);
-      g.lit_mask.assign(g.static_lit.size(), 0);
-      g.static_shadow.assign(do_shadows ? n * keys * points : 0, 1.0f);
-      g.static_directions.assign(do_ao ? n * samples : 0, splats::Vec4{});
-      QueryBatch ao_batch;
-      for (std::size_t s = 0; s < n && do_ao; ++s) {
-        if (kernel_receiver[s]) continue;
-        splats::Vec4* d = &g.static_directions[s * samples];
-        directions_of(s, d);
-        for (std::uint32_t j = 0; j < samples; ++j)
-          if (d[j].w != 0) ao_batch.add(positions[s], {d[j].x, d[j].y, d[j].z, 0.0f}, s * words * 64 + j);
-      }
-      const std::vector<float> lit = run_queries(static_instances, ao_batch.receivers, ao_batch.lights, csm::Filter::None);
-      for (std::size_t k = 0; k < ao_batch.where.size(); ++k) {
-        const std::size_t bit = ao_batch.where[k];
-        if (lit[k] > 0.0f) g.static_lit[bit / 64] |= std::uint64_t{1} << (bit % 64);
-      }
-      QueryBatch shadow_batch;
-      for (std::size_t s = 0; s < n && do_shadows; ++s) {
-        if (kernel_receiver[s]) continue;
-        for (std::size_t k = 0; k < keys; ++k)
-          for (std::size_t j = 0; j < light_points[k].size(); ++j)
-            shadow_batch.add(lifted[s], {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f},
-                             (s * keys + k) * points + j);
-      }
-      const std::vector<float> visible = run_queries(static_instances, shadow_batch.receivers, shadow_batch.lights, filter);
-      for (std::size_t k = 0; k < shadow_batch.where.size(); ++k) g.static_shadow[shadow_batch.where[k]] = visible[k];
-      g.cached_movers = moved;
-    }
-    // Queries through the moved occluders where they may answer "occluded".
-    std::vector<std::uint64_t> mask = g.static_lit;
-    const auto cones_from = [&](glm::vec3 p, std::vector<csm::Cone>& cones) {
-      cones.clear();
-      for (const csm::MovedReach& reach : reaches) cones.push_back(reach.cone_from(p));
-    };
-    const auto reached = [](const std::vector<csm::Cone>& cones, glm::vec3 w, float length) {
-      return std::any_of(cones.begin(), cones.end(), [&](const csm::Cone& c) { return c.may_reach(w, length); });
-    };
-    QueryBatch ao_batch;
-    std::vector<csm::Cone> cones;
-    for (std::size_t s = 0; s < n && do_ao && !reaches.empty(); ++s) {
-      if (kernel_receiver[s]) continue;
-      // No lit direction left to test (all occluded by the static occluders or below the floor).
-      if (std::all_of(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
-                      mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words), [](std::uint64_t w) { return w == 0; }))
-        continue;
-      cones_from({positions[s].x, positions[s].y, positions[s].z}, cones);
-      const splats::Vec4* d = &g.static_directions[s * samples];
-      for (std::uint32_t j = 0; j < samples; ++j) {
-        const std::size_t bit = s * words * 64 + j;
-        if ((mask[bit / 64] >> (bit % 64) & 1) && reached(cones, {d[j].x, d[j].y, d[j].z}, d[j].w))
-          ao_batch.add(positions[s], {d[j].x, d[j].y, d[j].z, 0.0f}, bit);
-      }
-    }
-    const std::vector<float> lit = run_queries(moving_instances, ao_batch.receivers, ao_batch.lights, csm::Filter::None);
-    for (std::size_t k = 0; k < ao_batch.where.size(); ++k) {
-      const std::size_t bit = ao_batch.where[k];
-      if (!(lit[k] > 0.0f)) mask[bit / 64] &= ~(std::uint64_t{1} << (bit % 64));
-    }
-    for (std::size_t s = 0; s < n && do_ao; ++s) {
-      if (kernel_receiver[s]) continue;
-      const bool changed = rebuild || !std::equal(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
-                                                  mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words),
-                                                  g.lit_mask.begin() + static_cast<std::ptrdiff_t>(s * words));
-      if (!changed) continue;
-      if (instances.empty()) {
-        ao_subset.push_back(static_cast<std::uint32_t>(s));  // no occluder: the row of the full update
-        continue;
-      }
-      // The mask holds the kernel's answer for every direction: its row without the kernel.
-      const splats::Vec4* d = &g.static_directions[s * samples];
-      float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-      for (std::uint32_t j = 0; j < samples; ++j) {
-        const std::size_t bit = s * words * 64 + j;
-        if (mask[bit / 64] >> (bit % 64) & 1) csm::device::csm_ao_add(sum, d[j].x, d[j].y, d[j].z);
-      }
-      csm::device::csm_ao_finish(sum, normals[s].x, normals[s].y, normals[s].z, samples, &dynamic[kLightingRow * s]);
-      ++stats.lighting_receivers;
-    }
-    g.lit_mask = std::move(mask);
-    // Key-light visibility: per light point the product of the instances' PCF fractions, which are
-    // multiples of 1/16, so static × moved is exact; then the mean over the points as in
-    // key_light_visibility.
-    std::vector<float> shadow = g.static_shadow;
-    QueryBatch shadow_batch;
-    for (std::size_t s = 0; s < n && do_shadows && !reaches.empty(); ++s) {
-      if (kernel_receiver[s]) continue;
-      const glm::vec3 lift(lifted[s].x, lifted[s].y, lifted[s].z);
-      cones_from(lift, cones);
-      for (std::size_t k = 0; k < keys; ++k)
-        for (std::size_t j = 0; j < light_points[k].size(); ++j) {
-          const std::size_t at = (s * keys + k) * points + j;
-          const glm::vec3 w = light_points[k][j] - lift;
-          if (shadow[at] != 0.0f && reached(cones, w, glm::length(w)))
-            shadow_batch.add(lifted[s], {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f}, at);
-        }
-    }
-    const std::vector<float> visible = run_queries(moving_instances, shadow_batch.receivers, shadow_batch.lights, filter);
-    for (std::size_t k = 0; k < shadow_batch.where.size(); ++k) shadow[shadow_batch.where[k]] *= visible[k];
-    for (std::size_t s = 0; s < n && do_shadows; ++s) {
-      if (kernel_receiver[s]) continue;
-      for (std::size_t k = 0; k < keys; ++k) {
-        float sum = 0.0f;
-        for (std::size_t j = 0; j < light_points[k].size(); ++j) sum += shadow[(s * keys + k) * points + j];
-        dynamic[kLightingRow * s + kVisibilityAt + k] = sum / static_cast<float>(light_points[k].size());
-      }
-    }
-    stats.stages.push_back({rebuild ? "cl: static occluder cache" : "cl: moved occluder queries", clock.elapsed_ms()});
-  }
-  stats.lighting_receivers += static_cast<std::uint32_t>(ao_subset.size());
-  // Rows to recompute start as "unoccluded": bent normal = normal, AO 1, every key light visible.
-  for (const std::uint32_t s : ao_subset) {
-    float* row = &dynamic[kLightingRow * std::size_t{s}];
-    row[0] = normals[s].x, row[1] = normals[s].y, row[2] = normals[s].z, row[3] = 1.0f;
-  }
-  for (const std::uint32_t s : shadow_subset) std::fill(&dynamic[kLightingRow * std::size_t{s} + kVisibilityAt], &dynamic[kLightingRow * (std::size_t{s} + 1)], 1.0f);
-
-  if (!instances.empty() && ((do_ao && !ao_subset.empty()) || (do_shadows && !shadow_subset.empty()))) {
-    if (do_ao && !ao_subset.empty()) {
-      Stopwatch clock;
-      // Per (receiver, direction) the lit flag through every instance (Filter::None: 0 or 1, as the AO
-      // kernel's csm_visibility), each instance queried only where its Cone may reach and the
-      // direction is still lit; then the rows from the lit directions as the AO kernel makes them.
-      const std::size_t m = ao_subset.size();
-      std::vector<splats::Vec4> receiver_directions(m * samples);
-      std::vector<char> unblocked(m * samples);  // direction above the floor and lit so far
-      for (std::size_t r = 0; r < m; ++r) {
-        directions_of(ao_subset[r], &receiver_directions[r * samples]);
-        for (std::uint32_t j = 0; j < samples; ++j) unblocked[r * samples + j] = receiver_directions[r * samples + j].w != 0;
-      }
-      for (std::size_t i = 0; i < instances.size(); ++i) {
-        QueryBatch batch;
-        for (std::size_t r = 0; r < m; ++r) {
-          const splats::Vec4& p = positions[ao_subset[r]];
-          const csm::Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : csm::Cone{true};
-          for (std::uint32_t j = 0; j < samples; ++j) {
-            const std::size_t at = r * samples + j;
-            const splats::Vec4& d = receiver_directions[at];
-            if (unblocked[at] && cone.may_reach({d.x, d.y, d.z}, d.w)) batch.add(p, {d.x, d.y, d.z, 0.0f}, at);
-          }
-        }
-        const std::vector<float> visible = run_queries({instances[i]}, batch.receivers, batch.lights, csm::Filter::None);
-        for (std::size_t x = 0; x < batch.where.size(); ++x)
-          if (!(visible[x] > 0.0f)) unblocked[batch.where[x]] = 0;
-      }
-      for (std::size_t r = 0; r < m; ++r) {
-        const splats::Vec4& nrm = normals[ao_subset[r]];
-        float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (std::uint32_t j = 0; j < samples; ++j) {
-          const splats::Vec4& d = receiver_directions[r * samples + j];
-          if (unblocked[r * samples + j]) csm::device::csm_ao_add(sum, d.x, d.y, d.z);
-        }
-        csm::device::csm_ao_finish(sum, nrm.x, nrm.y, nrm.z, samples, &dynamic[kLightingRow * std::size_t{ao_subset[r]}]);
-      }
-      stats.stages.push_back({"cl: splat AO", clock.elapsed_ms()});
-    }
-    if (do_shadows && !shadow_subset.empty()) {
-      Stopwatch clock;
-      // Per (key light, point, receiver), point-major as in key_light_visibility, the product of the
-      // instances' PCF fractions; each instance is queried only where its Cone may reach and the
-      // product is not 0 yet: a skipped answer is 1 or meets a 0, and products of multiples of 1/16
-      // are exact in any order. Then, as there, the mean over each light's points.
-      const std::size_t m = shadow_subset.size();
-      std::vector<std::size_t> light_base{0};  // first entry of each key light's points
-      for (const auto& p : light_points) light_base.push_back(light_base.back() + p.size() * m);
-      std::vector<float> product(light_base.back(), 1.0f);
-      std::vector<csm::Cone> cones(m);
-      const auto lift = [&](std::size_t r) {
-        const splats::Vec4& p = lifted[shadow_subset[r]];
-        return glm::vec3(p.x, p.y, p.z);
-      };
-      for (std::size_t i = 0; i < instances.size(); ++i) {
-        for (std::size_t r = 0; r < m; ++r) cones[r] = cull ? instance_reaches[i].cone_from(lift(r)) : csm::Cone{true};
-        QueryBatch batch;
-        for (std::size_t k = 0; k < light_points.size(); ++k)
-          for (std::size_t j = 0; j < light_points[k].size(); ++j) {
-            const splats::Vec4 point{light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f};
-            for (std::size_t r = 0; r < m; ++r) {
-              const std::size_t at = light_base[k] + j * m + r;
-              const glm::vec3 w = light_points[k][j] - lift(r);
-              if (product[at] != 0.0f && cones[r].may_reach(w, glm::length(w))) batch.add(lifted[shadow_subset[r]], point, at);
-            }
-          }
-        const std::vector<float> visible = run_queries({instances[i]}, batch.receivers, batch.lights, filter);
-        for (std::size_t x = 0; x < batch.where.size(); ++x) product[batch.where[x]] *= visible[x];
-      }
-      for (std::size_t r = 0; r < m; ++r)
-        for (std::size_t k = 0; k < light_points.size(); ++k) {
-          float sum = 0.0f;
-          for (std::size_t j = 0; j < light_points[k].size(); ++j) sum += product[light_base[k] + j * m + r];
-          dynamic[kLightingRow * std::size_t{shadow_subset[r]} + kVisibilityAt + k] = sum / static_cast<float>(light_points[k].size());
-        }
-      stats.stages.push_back({"cl: splat shadows", clock.elapsed_ms()});
-    }
-  }
-  g.lighting_rows = dynamic;
+  const csm::SplatLighting::Update update = g.lighting->update(receivers, transforms, lighting, incremental_lighting);
+  for (const auto& [name, ms] : update.stages) stats.stages.push_back({name, ms});
+  stats.lighting_receivers = update.receivers;
+  std::vector<float> dynamic = g.lighting->rows();
   g.lighting_signature = signature;
-  g.lit_placements = placements;
-  if (!incremental) g.cached_movers.clear();
   for (std::size_t s = 0; s < n; ++s)
     splat_ao_[s] = {dynamic[kLightingRow * s], dynamic[kLightingRow * s + 1], dynamic[kLightingRow * s + 2], dynamic[kLightingRow * s + 3]};
   // LOD sequences: an original splat's entry takes its row, a tree node the mean of the rows of the
@@ -893,7 +605,7 @@ FrameStats Presenter::render(float time) {
     pixel_shadow.assign(view_z.size() * 4, 1.0f);
     const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
     if (!instances.empty() && !receivers.empty()) {
-      csm::VisibilityQueries& queries = g.csm_tables(runtime_, assets_).queries();
+      csm::VisibilityQueries& queries = g.lighting->device().queries();
       queries.place(instances);
       for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
         const Light& key = scene_.key_lights[k];
@@ -932,7 +644,7 @@ FrameStats Presenter::render(float time) {
     pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, 1});
     const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
     if (!instances.empty() && !where.empty()) {
-      csm::AmbientOcclusion& ao = g.csm_tables(runtime_, assets_);
+      csm::AmbientOcclusion& ao = g.lighting->device();
       ao.place(instances);
       const std::vector<splats::Vec4> out = ao.run(request);
       for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = out[r];
