@@ -22,6 +22,8 @@
 #define csm_sqrt std::sqrt
 #endif
 
+#include "csm_inline.h"
+
 #define CSM_FILTER_NONE 0u
 #define CSM_FILTER_SAME_MAP 1u   // 4 × 4 texels of the selected map (16 taps)
 #define CSM_FILTER_CROSS_MAP 2u  // 2 × 2 texels in each of the 4 nearest maps (16 taps)
@@ -70,13 +72,13 @@ typedef struct {
 } CsmScene;
 
 // floor() for |v| well inside the int range.
-inline int csm_floor(float v) {
+CSM_INLINE int csm_floor(float v) {
   const int i = (int)v;
   return v < (float)i ? i - 1 : i;
 }
 
 // atan2 from basic operations only (Cephes atanf after reduction to [0, tan π/8]); about 1e-7 rad.
-inline float csm_atan2(float y, float x) {
+CSM_INLINE float csm_atan2(float y, float x) {
   const float ax = x < 0.0f ? -x : x, ay = y < 0.0f ? -y : y;
   if (ax == 0.0f && ay == 0.0f) return 0.0f;
   const int swapped = ay > ax;
@@ -96,7 +98,7 @@ inline float csm_atan2(float y, float x) {
 // Continuous grid coordinates of a sphere-frame direction (Talpe §4.3, the inverse
 // of the distribution): sr = s·rows, tc = t·cols with t = φ/2π ∈ [0, 1). Returns 0 for a zero or
 // non-finite direction (a light at the receiver), which the callers treat as lit.
-inline int csm_grid_coords(CSM_GLOBAL const CsmOccluder* oc, float x, float y, float z, float* sr, float* tc) {
+CSM_INLINE int csm_grid_coords(CSM_GLOBAL const CsmOccluder* oc, float x, float y, float z, float* sr, float* tc) {
   const float rho2 = x * x + z * z, len2 = rho2 + y * y;
   if (!(len2 > 0.0f) || !(len2 < INFINITY)) return 0;
   const float s = oc->uniform ? (1.0f - y / csm_sqrt(len2)) * 0.5f : csm_atan2(csm_sqrt(rho2), y) * 0.318309886f;
@@ -107,13 +109,13 @@ inline int csm_grid_coords(CSM_GLOBAL const CsmOccluder* oc, float x, float y, f
   return 1;
 }
 
-inline uint csm_clamp_row(CSM_GLOBAL const CsmOccluder* oc, int a) {
+CSM_INLINE uint csm_clamp_row(CSM_GLOBAL const CsmOccluder* oc, int a) {
   return a < 0 ? 0u : (a >= (int)oc->rows ? oc->rows - 1u : (uint)a);
 }
 
 // Column b of a φ grid coordinate in [−1, cols + 1] (t ∈ [0, 1] rounded, ± one cell), wrapped to
 // [0, cols); a comparison instead of an integer division.
-inline uint csm_wrap_col(CSM_GLOBAL const CsmOccluder* oc, int b) {
+CSM_INLINE uint csm_wrap_col(CSM_GLOBAL const CsmOccluder* oc, int b) {
   const int cols = (int)oc->cols;
   return (uint)(b < 0 ? b + cols : (b >= cols ? b - cols : b));
 }
@@ -122,14 +124,14 @@ inline uint csm_wrap_col(CSM_GLOBAL const CsmOccluder* oc, int b) {
 // it is monotone in sc (float rounding is monotone): true for one sc, true for every larger one. So
 // over a sorted list of boundaries it flips once, and the cell found by walking along the list does
 // not depend on where the walk starts (csm_walk_cell).
-inline int csm_at_most(float y, float len2, float sc) {
+CSM_INLINE int csm_at_most(float y, float len2, float sc) {
   if (sc > 0.0f) return y <= 0.0f || y * y <= sc * len2;
   if (sc < 0.0f) return y < 0.0f && y * y >= -sc * len2;
   return y <= 0.0f;
 }
 
 // Is y < c·sqrt(len2)? The same form and the same monotony.
-inline int csm_below(float y, float len2, float sc) {
+CSM_INLINE int csm_below(float y, float len2, float sc) {
   if (sc > 0.0f) return y < 0.0f || y * y < sc * len2;
   if (sc < 0.0f) return y < 0.0f && y * y > -sc * len2;
   return y < 0.0f;
@@ -137,7 +139,7 @@ inline int csm_below(float y, float len2, float sc) {
 
 // Squared lengths of a sphere-frame direction: rho2 = x² + z², len2 = rho2 + y². 0 for a zero or
 // non-finite direction (a light at the receiver), which the callers treat as lit.
-inline int csm_direction(float x, float y, float z, float* rho2, float* len2) {
+CSM_INLINE int csm_direction(float x, float y, float z, float* rho2, float* len2) {
   *rho2 = x * x + z * z;
   *len2 = *rho2 + y * y;
   return *len2 > 0.0f && *len2 < INFINITY;
@@ -150,7 +152,7 @@ inline int csm_direction(float x, float y, float z, float* rho2, float* len2) {
 // the walk's start on entry and the cell on return; b is unwrapped (the ao grid's b = cols is
 // column 0), so the next coherent query starts next to it. A direction on the pole axis (ρ² = 0)
 // takes column 0. Requires csm_direction(x, y, z) to hold.
-inline void csm_walk_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const float* bounds, float x, float y, float z,
+CSM_INLINE void csm_walk_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const float* bounds, float x, float y, float z,
                           float rho2, float len2, uint* a, uint* b) {
   CSM_GLOBAL const float* row_bounds = bounds + oc->bound_base;            // θ_k at [k − 1]
   CSM_GLOBAL const float* col_bounds = row_bounds + (oc->rows - 1u);      // β_k at [k − 1]
@@ -175,13 +177,13 @@ inline void csm_walk_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const flo
 }
 
 // Grid entry (a·cols + b) of the cell found by csm_walk_cell.
-inline uint csm_cell_entry(CSM_GLOBAL const CsmOccluder* oc, uint a, uint b) {
+CSM_INLINE uint csm_cell_entry(CSM_GLOBAL const CsmOccluder* oc, uint a, uint b) {
   return a * oc->cols + (b < oc->cols ? b : 0u);
 }
 
 // The nearest map's grid entry for a sphere-frame direction: csm_walk_cell started at the rounded
 // continuous coordinates (which are within a cell of the answer). Returns 0 when csm_direction fails.
-inline int csm_select_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const float* bounds, float x, float y, float z,
+CSM_INLINE int csm_select_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const float* bounds, float x, float y, float z,
                            uint* entry) {
   float rho2 = 0.0f, len2 = 0.0f, sr = 0.0f, tc = 0.0f;
   if (!csm_direction(x, y, z, &rho2, &len2) || !csm_grid_coords(oc, x, y, z, &sr, &tc)) return 0;
@@ -195,7 +197,7 @@ inline int csm_select_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const fl
 }
 
 // Stored depth of (pixel, map at `sequence`): the first segment whose inclusive end is >= sequence.
-inline float csm_fetch(const CsmScene* scene, uint pixel_entry, uint sequence) {
+CSM_INLINE float csm_fetch(const CsmScene* scene, uint pixel_entry, uint sequence) {
   uint lo = scene->offsets[pixel_entry], hi = scene->offsets[pixel_entry + 1u] - 1u;
   while (lo < hi) {
     const uint mid = (lo + hi) >> 1;
@@ -209,7 +211,7 @@ inline float csm_fetch(const CsmScene* scene, uint pixel_entry, uint sequence) {
 // width × width window of taps: the window's first texel (*i0, *j0) and the depth limit (receiver
 // depth − bias) below which a stored depth occludes. width 1: the texel containing the receiver;
 // width 2 or 4: the texels whose centres surround it.
-inline float csm_window(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell, float rx, float ry, float rz, int width,
+CSM_INLINE float csm_window(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell, float rx, float ry, float rz, int width,
                         float bias, int* i0, int* j0) {
   const float x = rx * cell->u[0] + ry * cell->u[1] + rz * cell->u[2];
   const float y = rx * cell->v[0] + ry * cell->v[1] + rz * cell->v[2];
@@ -228,7 +230,7 @@ inline float csm_window(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCe
 
 // Lit taps among the width × width window of one map around the receiver. Texels outside the map
 // are lit (the occluder cannot block there).
-inline float csm_map_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell,
+CSM_INLINE float csm_map_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell,
                           float rx, float ry, float rz, int width, float bias) {
   int i0 = 0, j0 = 0;
   const float limit = csm_window(oc, cell, rx, ry, rz, width, bias, &i0, &j0);
@@ -256,7 +258,7 @@ typedef struct {
 } CsmWindow;
 
 // csm_map_taps(scene, oc, scene->cells + cell, ...), exactly, through `window`.
-inline float csm_window_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, uint cell, float rx, float ry, float rz,
+CSM_INLINE float csm_window_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, uint cell, float rx, float ry, float rz,
                              int width, float bias, CsmWindow* window) {
   CSM_GLOBAL const CsmCell* c = scene->cells + cell;
   int i0 = 0, j0 = 0;
@@ -283,7 +285,7 @@ inline float csm_window_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder
 }
 
 // Fraction of lit taps for one instance: receiver p (world), light vector w = q − p (world).
-inline float csm_instance_visibility(const CsmScene* scene, uint k, float px, float py, float pz, float wx, float wy,
+CSM_INLINE float csm_instance_visibility(const CsmScene* scene, uint k, float px, float py, float pz, float wx, float wy,
                                      float wz, uint filter, float bias) {
   CSM_GLOBAL const CsmInstance* in = scene->instances + k;
   CSM_GLOBAL const CsmOccluder* oc = scene->occluders + in->occluder;
@@ -318,7 +320,7 @@ inline float csm_instance_visibility(const CsmScene* scene, uint k, float px, fl
 // Visibility of light vector w from receiver p through every instance: the product of the
 // instances' lit fractions (Talpe §4.3: lit only if every test passes; with PCF each
 // instance contributes its fraction). Stops at the first fully occluding instance.
-inline float csm_visibility(const CsmScene* scene, float px, float py, float pz, float wx, float wy, float wz, uint filter,
+CSM_INLINE float csm_visibility(const CsmScene* scene, float px, float py, float pz, float wx, float wy, float wz, uint filter,
                             float bias) {
   float lit = 1.0f;
   for (uint k = 0; k < scene->instance_count && lit > 0.0f; ++k)
@@ -344,7 +346,7 @@ typedef struct {
   CsmWindow windows[4];  // PCF: the tap windows (same map: windows[0]; cross map: one per map)
 } CsmQueryCache;
 
-inline void csm_cache_reset(CsmQueryCache* cache) {
+CSM_INLINE void csm_cache_reset(CsmQueryCache* cache) {
   cache->valid = 0;
   cache->placed = 0;
   cache->row = 0u;
@@ -354,7 +356,7 @@ inline void csm_cache_reset(CsmQueryCache* cache) {
 }
 
 // The map choice of csm_instance_visibility for light vector w (world), into `cache`.
-inline void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInstance* in, CSM_GLOBAL const CsmOccluder* oc, float wx,
+CSM_INLINE void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInstance* in, CSM_GLOBAL const CsmOccluder* oc, float wx,
                              float wy, float wz, uint filter, CsmQueryCache* cache) {
   if (cache->valid && wx == cache->wx && wy == cache->wy && wz == cache->wz) return;
   CSM_GLOBAL const float* f = in->to_frame;
@@ -392,7 +394,7 @@ inline void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInstance
 
 // csm_instance_visibility(scene, k, p, w, filter, bias), exactly, reusing `cache` (one cache per
 // instance and filter: a run of queries through the same instance with the same filter).
-inline float csm_instance_visibility_cached(const CsmScene* scene, uint k, float px, float py, float pz, float wx, float wy,
+CSM_INLINE float csm_instance_visibility_cached(const CsmScene* scene, uint k, float px, float py, float pz, float wx, float wy,
                                             float wz, uint filter, float bias, CsmQueryCache* cache) {
   CSM_GLOBAL const CsmInstance* in = scene->instances + k;
   CSM_GLOBAL const CsmOccluder* oc = scene->occluders + in->occluder;
@@ -430,7 +432,7 @@ inline float csm_instance_visibility_cached(const CsmScene* scene, uint k, float
 // out = (bent normal xyz, AO = lit fraction); the bent normal is n when nothing is lit.
 // The rotation's axis h = normalize(n + o), o = +y; h = (1, 0, 0) when n = −o. Also used by the
 // presenter's incremental AO, which must produce bit-identical directions.
-inline void csm_ao_rotation_axis(float nx, float ny, float nz, float* h) {
+CSM_INLINE void csm_ao_rotation_axis(float nx, float ny, float nz, float* h) {
   float hx = nx, hy = ny + 1.0f, hz = nz;
   const float hlen = csm_sqrt(hx * hx + hy * hy + hz * hz);
   if (hlen > 1e-6f) {
@@ -448,7 +450,7 @@ inline void csm_ao_rotation_axis(float nx, float ny, float nz, float* h) {
 }
 
 // Pattern direction s rotated about h: d = 2(h·s)h − s.
-inline void csm_ao_rotate(const float* h, float sx, float sy, float sz, float* d) {
+CSM_INLINE void csm_ao_rotate(const float* h, float sx, float sy, float sz, float* d) {
   const float twice = 2.0f * (h[0] * sx + h[1] * sy + h[2] * sz);
   d[0] = twice * h[0] - sx;
   d[1] = twice * h[1] - sy;
@@ -458,14 +460,14 @@ inline void csm_ao_rotate(const float* h, float sx, float sy, float sz, float* d
 // The AO of a receiver from its lit directions: sum = (lit count, Σ dx, Σ dy, Σ dz), starting at 0 and
 // adding the lit directions in pattern order (csm_ao_add); out as csm_ambient_occlusion. Shared with
 // the presenter's incremental AO, which knows the lit directions without running the kernel.
-inline void csm_ao_add(float* sum, float dx, float dy, float dz) {
+CSM_INLINE void csm_ao_add(float* sum, float dx, float dy, float dz) {
   sum[0] += 1.0f;
   sum[1] += dx;
   sum[2] += dy;
   sum[3] += dz;
 }
 
-inline void csm_ao_finish(const float* sum, float nx, float ny, float nz, uint samples, float* out) {
+CSM_INLINE void csm_ao_finish(const float* sum, float nx, float ny, float nz, uint samples, float* out) {
   const float lit = sum[0], bx = sum[1], by = sum[2], bz = sum[3];
   const float blen = csm_sqrt(bx * bx + by * by + bz * bz);
   if (lit > 0.0f && blen > 0.0f) {
@@ -480,7 +482,7 @@ inline void csm_ao_finish(const float* sum, float nx, float ny, float nz, uint s
   out[3] = lit / (float)samples;
 }
 
-inline void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
+CSM_INLINE void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
                                   float pz, float nx, float ny, float nz, uint ground, float bias, float* out) {
   float h[3];
   csm_ao_rotation_axis(nx, ny, nz, h);

@@ -30,6 +30,8 @@
 #define csm_rnext_up(v) std::nextafter(v, CSM_RINF)
 #endif
 
+#include "csm_inline.h"
+
 // One map's camera as the raster needs it (the sphere-grid camera without the inverse direction).
 typedef struct {
   float dx, dy, dz, ux, uy, uz, vx, vy, vz;
@@ -46,7 +48,7 @@ typedef struct {
 } CsmRasterParams;
 
 // Vertices (relative to the sphere centre, xyz) → pixel coordinates and depth (x, y, z, unused).
-inline void csm_raster_project(CSM_RGLOBAL const float* vertices, uint count, CsmRasterCamera c, CsmRasterParams p,
+CSM_INLINE void csm_raster_project(CSM_RGLOBAL const float* vertices, uint count, CsmRasterCamera c, CsmRasterParams p,
                                CSM_RGLOBAL float* out) {
   for (uint k = 0; k < count; ++k) {
     const float x = vertices[3u * k], y = vertices[3u * k + 1u], z = vertices[3u * k + 2u];
@@ -57,11 +59,11 @@ inline void csm_raster_project(CSM_RGLOBAL const float* vertices, uint count, Cs
   }
 }
 
-inline float csm_rmin(float a, float b) { return a < b ? a : b; }
-inline float csm_rmax(float a, float b) { return a > b ? a : b; }
+CSM_INLINE float csm_rmin(float a, float b) { return a < b ? a : b; }
+CSM_INLINE float csm_rmax(float a, float b) { return a > b ? a : b; }
 
 // Smallest integer >= v and largest integer <= v for 0 <= v < 2^23.
-inline int csm_rceil(float v) {
+CSM_INLINE int csm_rceil(float v) {
   const int i = (int)v;
   return (float)i < v ? i + 1 : i;
 }
@@ -72,7 +74,7 @@ typedef struct {
   float ox, oy, ex, ey, sign, tie;
 } CsmEdge;
 
-inline CsmEdge csm_edge(uint ia, uint ib, CSM_RGLOBAL const float* a, CSM_RGLOBAL const float* b) {
+CSM_INLINE CsmEdge csm_edge(uint ia, uint ib, CSM_RGLOBAL const float* a, CSM_RGLOBAL const float* b) {
   CsmEdge e;
   const int forward = ia < ib;
   CSM_RGLOBAL const float* lo = forward ? a : b;
@@ -87,17 +89,17 @@ inline CsmEdge csm_edge(uint ia, uint ib, CSM_RGLOBAL const float* a, CSM_RGLOBA
   return e;
 }
 
-inline float csm_edge_value(CsmEdge e, float px, float py) { return e.ex * (py - e.oy) - e.ey * (px - e.ox); }
+CSM_INLINE float csm_edge_value(CsmEdge e, float px, float py) { return e.ex * (py - e.oy) - e.ey * (px - e.ox); }
 
 // Whether the centre is on the triangle's side of the edge (orientation = ±1, the triangle's
 // winding sign); `value` is the canonical edge function at the centre.
-inline int csm_edge_inside(CsmEdge e, float value, float orientation) {
+CSM_INLINE int csm_edge_inside(CsmEdge e, float value, float orientation) {
   const float side = e.sign * orientation;
   return value * side > 0.0f || (value == 0.0f && e.tie * side > 0.0f);
 }
 
 // The two-layer update of the ray-cast capture (csm_first_two_hits) in depth units.
-inline void csm_raster_keep(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, float z, float eps) {
+CSM_INLINE void csm_raster_keep(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, float z, float eps) {
   const float t1 = *z1;
   if (z < t1 - eps) {
     *z2 = t1;
@@ -111,7 +113,7 @@ inline void csm_raster_keep(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, float 
 
 // Rasterizes triangles (vertex index triples) with projected vertices `proj` (csm_raster_project)
 // into z1/z2 (M² each, cleared to +inf beforehand).
-inline void csm_raster_triangles(CSM_RGLOBAL const uint* tris, uint count, CSM_RGLOBAL const float* proj, CsmRasterParams p,
+CSM_INLINE void csm_raster_triangles(CSM_RGLOBAL const uint* tris, uint count, CSM_RGLOBAL const float* proj, CsmRasterParams p,
                                  CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2) {
   const float top = (float)p.resolution - 1.0f;
   for (uint t = 0; t < count; ++t) {
@@ -151,7 +153,7 @@ inline void csm_raster_triangles(CSM_RGLOBAL const uint* tris, uint count, CSM_R
   }
 }
 
-inline void csm_raster_clear(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, uint pixels) {
+CSM_INLINE void csm_raster_clear(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, uint pixels) {
   for (uint k = 0; k < pixels; ++k) {
     z1[k] = CSM_RINF;
     z2[k] = CSM_RINF;
@@ -159,7 +161,7 @@ inline void csm_raster_clear(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, uint 
 }
 
 // The ray-cast capture's rules for empty and single-surface pixels (csm_capture.cl).
-inline void csm_raster_finish(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, CsmRasterParams p) {
+CSM_INLINE void csm_raster_finish(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, CsmRasterParams p) {
   for (uint j = 0; j < p.resolution; ++j) {
     const float y = (float)(2u * j + 1u) * p.half_pixel - p.radius;
     for (uint i = 0; i < p.resolution; ++i) {

@@ -15,6 +15,8 @@
 #define csm_tfmin std::fmin
 #endif
 
+#include "csm_inline.h"
+
 // The deepest BVH the builder makes; the traversal stack has this many entries.
 #define CSM_MAX_DEPTH 64
 
@@ -36,11 +38,11 @@ typedef struct {
 } CsmCamera;
 
 // Plain comparisons rather than fmin/fmax: inverse directions are finite (1e30 stands in for 1/0).
-inline float csm_min(float a, float b) { return a < b ? a : b; }
-inline float csm_max(float a, float b) { return a > b ? a : b; }
+CSM_INLINE float csm_min(float a, float b) { return a < b ? a : b; }
+CSM_INLINE float csm_max(float a, float b) { return a > b ? a : b; }
 
 // Entry distance of the ray into the node's box, or INFINITY when it misses or enters beyond `limit`.
-inline float csm_box_entry(CSM_TGLOBAL const CsmNode* n, const float* o, const float* inv, float limit) {
+CSM_INLINE float csm_box_entry(CSM_TGLOBAL const CsmNode* n, const float* o, const float* inv, float limit) {
   const float ax = (n->lo[0] - o[0]) * inv[0], bx = (n->hi[0] - o[0]) * inv[0];
   const float ay = (n->lo[1] - o[1]) * inv[1], by = (n->hi[1] - o[1]) * inv[1];
   const float az = (n->lo[2] - o[2]) * inv[2], bz = (n->hi[2] - o[2]) * inv[2];
@@ -50,7 +52,7 @@ inline float csm_box_entry(CSM_TGLOBAL const CsmNode* n, const float* o, const f
 }
 
 // Ray-triangle distance (Möller–Trumbore, edges inclusive), INFINITY on a miss.
-inline float csm_triangle_hit(CSM_TGLOBAL const CsmTriangle* tri, const float* o, const float* dir) {
+CSM_INLINE float csm_triangle_hit(CSM_TGLOBAL const CsmTriangle* tri, const float* o, const float* dir) {
   const float e1x = tri->e1[0], e1y = tri->e1[1], e1z = tri->e1[2];
   const float e2x = tri->e2[0], e2y = tri->e2[1], e2z = tri->e2[2];
   const float px = dir[1] * e2z - dir[2] * e2y, py = dir[2] * e2x - dir[0] * e2z, pz = dir[0] * e2y - dir[1] * e2x;
@@ -78,7 +80,7 @@ typedef struct {
 // Depth-first walk along o + t·dir (t > 0), nearer child first, skipping nodes entered beyond the
 // current limit (t2 for CSM_TRACE_FIRST_TWO, t_max for CSM_TRACE_ANY). Hits within `eps` of t1
 // count as the same surface (shared edges and vertices). INFINITY where there is none.
-inline CsmHits csm_trace(CSM_TGLOBAL const CsmNode* nodes, CSM_TGLOBAL const CsmTriangle* tris, const float* o,
+CSM_INLINE CsmHits csm_trace(CSM_TGLOBAL const CsmNode* nodes, CSM_TGLOBAL const CsmTriangle* tris, const float* o,
                          const float* dir, const float* inv, float eps, int mode, float t_max) {
   CsmHits hits;
   hits.t1 = INFINITY;
