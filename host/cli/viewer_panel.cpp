@@ -157,23 +157,8 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
   ImGui::Text("%.1f fps  %.1f ms/frame  panel %.2f ms", stats.frame_ms > 0 ? 1000.0 / stats.frame_ms : 0.0, stats.frame_ms, last_ms_);
   ImGui::Text("%u splats drawn, %zu lights, %u clusters, %u light indices", stats.splats, s.lights.size(), stats.clusters,
               stats.light_indices);
-  if (!v.message.empty()) ImGui::TextUnformatted(v.message.c_str());
-
-  if (ImGui::CollapsingHeader("stages (ms)", ImGuiTreeNodeFlags_DefaultOpen) &&
-      ImGui::BeginTable("stages", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
-    double total = 0;
-    for (const auto& st : stats.stages) total += st.ms;
-    for (const auto& st : stats.stages) {
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      ImGui::TextUnformatted(st.name.c_str());
-      ImGui::TableNextColumn();
-      ImGui::Text("%8.2f", st.ms);
-      ImGui::TableNextColumn();
-      ImGui::ProgressBar(total > 0 ? static_cast<float>(st.ms / total) : 0.0f, ImVec2(-1, 0), "");
-    }
-    ImGui::EndTable();
-  }
+  // Always one line, so the widgets below keep their places.
+  ImGui::TextUnformatted(v.message.empty() ? "click an object to select it" : v.message.c_str());
 
   if (ImGui::CollapsingHeader("modes and toggles", ImGuiTreeNodeFlags_DefaultOpen)) {
     choice("shading [C]", q.shading, {"clustered", "tiled", "brute"});
@@ -198,6 +183,22 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
                          ImGuiSliderFlags_Logarithmic))
       present::set_generated_light_count(s, static_cast<std::uint32_t>(std::max(lights, 0)));
     ImGui::Text("%zu lights (%d listed), %zu key lights", s.lights.size(), explicit_lights, s.key_lights.size());
+  }
+
+  if (ImGui::CollapsingHeader("stages (ms)", ImGuiTreeNodeFlags_DefaultOpen) &&
+      ImGui::BeginTable("stages", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
+    double total = 0;
+    for (const auto& st : stats.stages) total += st.ms;
+    for (const auto& st : stats.stages) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(st.name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%8.2f", st.ms);
+      ImGui::TableNextColumn();
+      ImGui::ProgressBar(total > 0 ? static_cast<float>(st.ms / total) : 0.0f, ImVec2(-1, 0), "");
+    }
+    ImGui::EndTable();
   }
 
   if (ImGui::CollapsingHeader("heat map legend", v.debug_view == present::DebugView::LightsPerCluster ? ImGuiTreeNodeFlags_DefaultOpen : 0))

@@ -10,8 +10,9 @@
 #    picks the nearest object (torus), four Tabs on from it select the sphere, the distance is
 #    0.85^3 of the start.
 # 2. The panel (640x480, started hidden): a wheel step over the scene, F1, a move off the panel,
-#    then a move onto its "tiled" radio button and a click at once (before any frame sees the
-#    move), two wheel steps over the panel, Esc: the first step zooms; the panel's button sets
+#    then a move onto its "tiled" radio button (pixel 205, 118: the panel's first section, below
+#    three lines of readouts) and a click at once (before any frame sees the move), two wheel
+#    steps over the panel, Esc: the first step zooms; the panel's button sets
 #    tiled shading, and its click picks nothing and its wheel steps zoom nothing.
 set -u
 splatcl=$1 cache=$2
@@ -56,12 +57,12 @@ echo "ok: $line"
 
 line=$(run_view 640x480 '
   sleep 2
-  xdotool mousemove --window "$wid" 205 381 click 4
+  xdotool mousemove --window "$wid" 205 118 click 4
   sleep 0.5
   xdotool key F1
   xdotool mousemove --window "$wid" 600 50
   sleep 1.5
-  xdotool mousemove --window "$wid" 205 381 click 1
+  xdotool mousemove --window "$wid" 205 118 click 1
   sleep 1.5
   xdotool click --repeat 2 --delay 25 4
   sleep 1
