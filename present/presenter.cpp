@@ -107,6 +107,81 @@ struct GpuTimers {
 
 
 
+// The pixels a splat covers (view z from the G-buffer, 0 = none): index and world position.
+struct CoveredPixel {
+  std::size_t index;
+  cluster::Vec3 world;
+};
+std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, const cluster::ViewFrame& frame,
+                                         const std::vector<float>& view_z) {
+  std::vector<CoveredPixel> covered;
+  for (std::uint32_t y = 0; y < layout.config.height; ++y)
+    for (std::uint32_t x = 0; x < layout.config.width; ++x) {
+      const std::size_t p = std::size_t{y} * std::size_t{layout.config.width} + x;
+      const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
+      if (d) covered.push_back({p, frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, *d))});
+    }
+  return covered;
+}
+
+// Per-pixel key-light visibility (the quality mode's shadows): 4 per pixel, 1 where uncovered.
+std::vector<float> pixel_shadows(const Scene& scene, const cluster::ClusterLayout& layout, const cluster::ViewFrame& frame,
+                                 const std::vector<float>& view_z, const std::vector<float>& normals,
+                                 const std::vector<glm::mat4>& placements, csm::Filter filter, csm::SplatLighting& lighting) {
+  std::vector<splats::Vec4> receivers;
+  std::vector<std::size_t> where;
+  for (const auto& [p, w] : covered_pixels(layout, frame, view_z)) {
+    const float b = scene.quality.ao_bias;
+    receivers.push_back({w.x + b * normals[3 * p], w.y + b * normals[3 * p + 1], w.z + b * normals[3 * p + 2], 1});
+    where.push_back(p);
+  }
+  std::vector<float> pixel_shadow(view_z.size() * 4, 1.0f);
+  const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
+  if (!instances.empty() && !receivers.empty()) {
+    csm::VisibilityQueries& queries = lighting.device().queries();
+    queries.place(instances);
+    for (std::size_t k = 0; k < scene.key_lights.size(); ++k) {
+      const Light& key = scene.key_lights[k];
+      const auto visible = csm::key_light_visibility(queries, receivers, {key.position, key.size}, scene.quality.shadow_samples,
+                                                filter, scene.quality.ao_bias);
+      for (std::size_t r = 0; r < where.size(); ++r) pixel_shadow[4 * where[r] + k] = visible[r];
+    }
+  }
+  return pixel_shadow;
+}
+
+// Per-pixel AO with bent normal (the pixel-AO mode): the AO kernel on the G-buffer's world
+// positions and normals, (0, 1, 0, 1) where uncovered.
+std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const cluster::ClusterLayout& layout,
+                                          const cluster::ViewFrame& frame, const std::vector<float>& view_z,
+                                          const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
+                                          const std::vector<splats::Vec4>& patterns,
+                                          const std::vector<std::uint32_t>& pattern_of, csm::SplatLighting& lighting) {
+  csm::AoRequest request;
+  std::vector<std::size_t> where;
+  for (const auto& [p, w] : covered_pixels(layout, frame, view_z)) {
+    request.positions.push_back({w.x, w.y, w.z, 0});
+    request.normals.push_back({normals[3 * p], normals[3 * p + 1], normals[3 * p + 2], 0});
+    where.push_back(p);
+  }
+  for (const std::size_t p : where) request.pattern_of.push_back(pattern_of[p]);
+  request.patterns = patterns;
+  request.samples = scene.quality.ao_samples;
+  request.ground = scene.floor.enabled;
+  request.bias = scene.quality.ao_bias;
+  std::vector<splats::Vec4> pixel_ao_values(view_z.size(), splats::Vec4{0, 1, 0, 1});
+  const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
+  if (!instances.empty() && !where.empty()) {
+    csm::AmbientOcclusion& ao = lighting.device();
+    ao.place(instances);
+    const std::vector<splats::Vec4> out = ao.run(request);
+    for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = out[r];
+  } else {
+    for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = {request.normals[r].x, request.normals[r].y, request.normals[r].z, 1};
+  }
+  return pixel_ao_values;
+}
+
 }  // namespace
 
 const char* to_string(DebugView view) { return kDebugNames[static_cast<int>(view)]; }
@@ -584,73 +659,20 @@ FrameStats Presenter::render(float time) {
   const std::vector<std::uint32_t>& pixel_list = frame_lists.pixel_list;
   const cluster::LightLists& lists = frame_lists.lists;
 
-  // Per-pixel key-light shadows (quality mode).
+  // The quality modes' per-pixel key-light shadows and AO, through the same CSM tables.
   std::vector<float> pixel_shadow;
   if (settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty()) {
     Stopwatch c;
-    std::vector<splats::Vec4> receivers;
-    std::vector<std::size_t> where;
-    const std::vector<float> normals = read_normals();
-    for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
-      for (std::uint32_t x = 0; x < static_cast<std::uint32_t>(width_); ++x) {
-        const std::size_t p = std::size_t{y} * static_cast<std::size_t>(width_) + x;
-        const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
-        if (!d) continue;
-        const cluster::Vec3 v = cluster::pixel_view_position(layout, x, y, *d);
-        const cluster::Vec3 w = frame.eye + frame.direction_to_world(v);
-        const float b = q.ao_bias;
-        receivers.push_back({w.x + b * normals[3 * p], w.y + b * normals[3 * p + 1], w.z + b * normals[3 * p + 2], 1});
-        where.push_back(p);
-      }
-    pixel_shadow.assign(view_z.size() * 4, 1.0f);
-    const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
-    if (!instances.empty() && !receivers.empty()) {
-      csm::VisibilityQueries& queries = g.lighting->device().queries();
-      queries.place(instances);
-      for (std::size_t k = 0; k < scene_.key_lights.size(); ++k) {
-        const Light& key = scene_.key_lights[k];
-        const auto visible = csm::key_light_visibility(queries, receivers, {key.position, key.size}, q.shadow_samples,
-                                                  settings.filter, q.ao_bias);
-        for (std::size_t r = 0; r < where.size(); ++r) pixel_shadow[4 * where[r] + k] = visible[r];
-      }
-    }
+    pixel_shadow = pixel_shadows(scene_, layout, frame, view_z, read_normals(), placements, settings.filter, *g.lighting);
     stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
   }
-
-  // Per-pixel AO (quality mode): the AO kernel on the G-buffer's world positions and normals.
   std::vector<splats::Vec4> pixel_ao_values;
   if (pixel_ao && ambient_occlusion) {
     Stopwatch c;
-    const std::vector<float> normals = read_normals();
-    csm::AoRequest request;
-    std::vector<std::size_t> where;
-    for (std::uint32_t y = 0; y < static_cast<std::uint32_t>(height_); ++y)
-      for (std::uint32_t x = 0; x < static_cast<std::uint32_t>(width_); ++x) {
-        const std::size_t p = std::size_t{y} * static_cast<std::size_t>(width_) + x;
-        const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
-        if (!d) continue;
-        const cluster::Vec3 w = frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, *d));
-        request.positions.push_back({w.x, w.y, w.z, 0});
-        request.normals.push_back({normals[3 * p], normals[3 * p + 1], normals[3 * p + 2], 0});
-        where.push_back(p);
-      }
     // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
     if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
-    for (const std::size_t p : where) request.pattern_of.push_back(g.pixel_pattern_of[p]);
-    request.patterns = g.ao_patterns;
-    request.samples = q.ao_samples;
-    request.ground = scene_.floor.enabled;
-    request.bias = q.ao_bias;
-    pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, 1});
-    const std::vector<csm::Instance> instances = occluder_instances(scene_, placements);
-    if (!instances.empty() && !where.empty()) {
-      csm::AmbientOcclusion& ao = g.lighting->device();
-      ao.place(instances);
-      const std::vector<splats::Vec4> out = ao.run(request);
-      for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = out[r];
-    } else {
-      for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = {request.normals[r].x, request.normals[r].y, request.normals[r].z, 1};
-    }
+    pixel_ao_values = pixel_occlusion(scene_, layout, frame, view_z, read_normals(), placements, g.ao_patterns,
+                                      g.pixel_pattern_of, *g.lighting);
     stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
   }
 
