@@ -507,6 +507,51 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   stats.ao_updated = true;
 }
 
+std::vector<SplatDraw> Presenter::splat_draws(const std::vector<glm::mat4>& placements, glm::vec3 eye,
+                                              std::uint32_t& drawn) const {
+  const Impl& g = *impl_;
+  const Quality& q = scene_.quality;
+  const cluster::Camera& cam = scene_.camera;
+  // LOD (off at lod_error 0): an entry's error budget is its eye distance in model units times the
+  // angle of lod_error pixels. Per object the CPU sends the prefix of the sequence whose e_max
+  // exceeds the budget at the nearest point of the object's bounding sphere; the vertex shader
+  // keeps the entries whose interval holds their own budget. The same test counts them here.
+  const bool lod = q.lod_error > 0;
+  const float lod_angle = q.lod_error * 2.0f * std::tan(0.5f * cam.fov_y) / static_cast<float>(height_);
+  std::vector<std::size_t> lod_prefix(g.lod_ranges.size(), 0);
+  if (lod) {
+    std::size_t selected = objects_.size() > scene_.objects.size() ? objects_.back().count : 0;  // the floor
+    for (std::size_t i = 0; i < g.lod_ranges.size(); ++i) {
+      const Impl::LodRange& range = g.lod_ranges[i];
+      const SplatTree& tree = assets_[i].tree;
+      const float scale = scene_.objects[i].scale;
+      const glm::vec3 center(placements[i] * glm::vec4(range.center, 1.0f));
+      const float nearest = std::max(0.0f, glm::length(eye - center) / scale - range.radius);
+      lod_prefix[i] = tree.prefix(nearest * lod_angle);
+      for (std::size_t e = 0; e < lod_prefix[i]; ++e) {
+        const glm::vec3 c(placements[i] * glm::vec4(g.lod_centers[range.first - g.lod_ranges[0].first + e], 1.0f));
+        const float budget = glm::length(eye - c) * (lod_angle / scale);
+        selected += budget >= tree.error_min[e] && budget < tree.error_max[e] ? 1 : 0;
+      }
+    }
+    drawn = static_cast<std::uint32_t>(selected);
+  }
+
+  std::vector<SplatDraw> draws;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectRange& r = objects_[i];
+    if (r.count == 0) continue;
+    SplatDraw d{r.asset < 0 ? glm::mat4(1.0f) : placements[i], r.first, r.count, 0.0f};
+    if (lod && r.asset >= 0) {
+      d.first = g.lod_ranges[i].first;
+      d.count = lod_prefix[i];
+      d.lod = lod_angle / scene_.objects[i].scale;
+    }
+    if (d.count > 0) draws.push_back(d);
+  }
+  return draws;
+}
+
 FrameStats Presenter::render(float time) {
   Impl& g = *impl_;
   const Quality& q = scene_.quality;
@@ -559,31 +604,6 @@ FrameStats Presenter::render(float time) {
   const glm::mat4 proj = glm::perspective(cam.fov_y, aspect, cam.near_plane, cam.far_plane);
   const bool footprints = debug_view == DebugView::Footprints;
 
-  // LOD (off at lod_error 0): an entry's error budget is its eye distance in model units times the
-  // angle of lod_error pixels. Per object the CPU sends the prefix of the sequence whose e_max
-  // exceeds the budget at the nearest point of the object's bounding sphere; the vertex shader
-  // keeps the entries whose interval holds their own budget. The same test counts them here.
-  const bool lod = q.lod_error > 0;
-  const float lod_angle = q.lod_error * 2.0f * std::tan(0.5f * cam.fov_y) / static_cast<float>(height_);
-  std::vector<std::size_t> lod_prefix(g.lod_ranges.size(), 0);
-  if (lod) {
-    std::size_t selected = objects_.size() > scene_.objects.size() ? objects_.back().count : 0;  // the floor
-    for (std::size_t i = 0; i < g.lod_ranges.size(); ++i) {
-      const Impl::LodRange& range = g.lod_ranges[i];
-      const SplatTree& tree = assets_[i].tree;
-      const float scale = scene_.objects[i].scale;
-      const glm::vec3 center(placements[i] * glm::vec4(range.center, 1.0f));
-      const float nearest = std::max(0.0f, glm::length(eye - center) / scale - range.radius);
-      lod_prefix[i] = tree.prefix(nearest * lod_angle);
-      for (std::size_t e = 0; e < lod_prefix[i]; ++e) {
-        const glm::vec3 c(placements[i] * glm::vec4(g.lod_centers[range.first - g.lod_ranges[0].first + e], 1.0f));
-        const float budget = glm::length(eye - c) * (lod_angle / scale);
-        selected += budget >= tree.error_min[e] && budget < tree.error_max[e] ? 1 : 0;
-      }
-    }
-    stats.splats = static_cast<std::uint32_t>(selected);
-  }
-
   glViewport(0, 0, width_, height_);
   glBindVertexArray(g.empty_vao.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_STATICS, g.static_vbo.get());
@@ -596,18 +616,7 @@ FrameStats Presenter::render(float time) {
   // The per-splat ambient term (splat_head.glsl): 2 = the AO itself for the AO view.
   splat_frame.ambient = debug_view == DebugView::AmbientOcclusion ? 2 : ambient_occlusion ? 0 : 1;
   splat_frame.sh = g.sh.data();
-  std::vector<SplatDraw> draws;
-  for (std::size_t i = 0; i < objects_.size(); ++i) {
-    const ObjectRange& r = objects_[i];
-    if (r.count == 0) continue;
-    SplatDraw d{r.asset < 0 ? glm::mat4(1.0f) : placements[i], r.first, r.count, 0.0f};
-    if (lod && r.asset >= 0) {
-      d.first = g.lod_ranges[i].first;
-      d.count = lod_prefix[i];
-      d.lod = lod_angle / scene_.objects[i].scale;
-    }
-    if (d.count > 0) draws.push_back(d);
-  }
+  const std::vector<SplatDraw> draws = splat_draws(placements, eye, stats.splats);
   glDisable(GL_CULL_FACE);
   // The accumulation targets are the G-buffer; the fourth holds key lights 1-3 only.
   const GBuffer& gbuffer = g.targets->gbuffer;

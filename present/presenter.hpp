@@ -42,6 +42,7 @@ struct FrameStats {
 };
 
 struct FrameSettings;  // present/settings.hpp
+struct SplatDraw;      // present/passes.hpp
 
 class Presenter {
  public:
@@ -114,6 +115,10 @@ class Presenter {
   // What the per-splat lighting rows depend on besides placements.
   std::string lighting_settings(const FrameSettings& settings) const;
   void update_splat_lighting(const std::vector<glm::mat4>& placements, const FrameSettings& settings, FrameStats& stats);
+  // Per object its run of splats to draw at `placements` seen from `eye`: the originals, or with
+  // LOD on the prefix of its LOD sequence that may hold entries in their interval; `drawn` counts
+  // the splats the vertex shader keeps (unchanged with LOD off).
+  std::vector<SplatDraw> splat_draws(const std::vector<glm::mat4>& placements, glm::vec3 eye, std::uint32_t& drawn) const;
 };
 
 // Irradiance SH (9 RGB coefficients) of the sky's radiance, by numerical projection.
