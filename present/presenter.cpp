@@ -710,6 +710,7 @@ FrameStats Presenter::render(float time) {
     glTextureSubImage2D(pixel.shadow.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_shadow.data());
   g.heat_max = 1;
   for (const std::uint32_t c : lists.counts) g.heat_max = std::max(g.heat_max, c);
+  stats.heat_max = g.heat_max;
   stats.stages.push_back({"upload: lights+lists", clock.elapsed_ms()});
 
   // Final shading.

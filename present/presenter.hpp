@@ -37,6 +37,7 @@ struct FrameStats {
   std::vector<StageTime> stages;
   double frame_ms = 0;
   std::uint32_t clusters = 0, light_indices = 0, splats = 0;
+  std::uint32_t heat_max = 0;  // lights in the fullest list: the top of the lights-per-cluster heat map
   bool ao_updated = false;
   std::uint32_t lighting_receivers = 0;  // splats whose AO and shadows the last update recomputed
 };

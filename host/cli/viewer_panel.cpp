@@ -19,7 +19,7 @@
 namespace splatcl::cli::viewer {
 
 glm::vec3 heat_color(float t) {
-  // present/shaders.cpp's heat(): the same expression.
+  // heat() of present/shaders/shade.frag.glsl: the same expression.
   t = std::clamp(t, 0.0f, 1.0f);
   return glm::clamp(glm::vec3(1.5f * t - 0.25f, 1.5f - std::abs(2.0f * t - 1.0f) * 1.5f, 1.25f - 1.5f * t), 0.0f, 1.0f);
 }
@@ -63,9 +63,9 @@ void heat_legend(const present::FrameStats& stats) {
   ImGui::Dummy(ImVec2(width, height));
   ImGui::TextUnformatted("0");
   ImGui::SameLine(width * 0.5f - 20);
-  ImGui::TextUnformatted("half");
+  ImGui::Text("%.1f", 0.5 * stats.heat_max);
   ImGui::SameLine(std::max(width - 70, width * 0.5f + 20));
-  ImGui::TextUnformatted("frame max");
+  ImGui::Text("%u (max)", stats.heat_max);
   if (stats.clusters > 0)
     ImGui::Text("mean %.1f lights in each of %u clusters", static_cast<double>(stats.light_indices) / stats.clusters, stats.clusters);
 }
