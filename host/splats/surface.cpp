@@ -69,24 +69,24 @@ std::uint32_t BoxTree::ancestor(std::uint32_t item, int levels) const {
   return node;
 }
 
-DVec3 closest_point(DVec3 a, DVec3 b, DVec3 c, DVec3 p) {
-  const DVec3 ab = b - a, ac = c - a, ap = p - a;
+DVec3 closest_point(const SurfaceTriangle& t, DVec3 p) {
+  const DVec3 ab = t.b - t.a, ac = t.c - t.a, ap = p - t.a;
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const DVec3 bp = p - b;
+  if (d1 <= 0 && d2 <= 0) return t.a;
+  const DVec3 bp = p - t.b;
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return b;
+  if (d3 >= 0 && d4 <= d3) return t.b;
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const DVec3 cp = p - c;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return t.a + (d1 / (d1 - d3)) * ab;
+  const DVec3 cp = p - t.c;
   const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return c;
+  if (d6 >= 0 && d5 <= d6) return t.c;
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return t.a + (d2 / (d2 - d6)) * ac;
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return t.b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (t.c - t.b);
   const double denom = 1.0 / (va + vb + vc);
-  return a + (vb * denom) * ab + (vc * denom) * ac;
+  return t.a + (vb * denom) * ab + (vc * denom) * ac;
 }
 
 std::vector<SurfaceTriangle> surface_triangles(const Mesh& mesh) {
@@ -122,11 +122,6 @@ Surface::Surface(const Mesh& mesh) : triangles_(surface_triangles(mesh)) {
     cumulative_area_[t] = area_;
   }
   tree_ = BoxTree(boxes);
-  slot_triangles_.resize(triangles_.size());
-  for (std::uint32_t slot = 0; slot < triangles_.size(); ++slot) {
-    const SurfaceTriangle& t = triangles_[tree_.slot_item(slot)];
-    slot_triangles_[slot] = {t.a, t.b, t.c, t.normal, t.centroid, t.reach};
-  }
 }
 
 namespace {
@@ -135,8 +130,7 @@ constexpr int kRegionLevels = 4;
 
 // Whether p lies farther than r from every point of the ball of the triangle's corners (and so
 // from the triangle), with a margin that leaves the rounding of the exact distance to decide ties.
-template <class Triangle>
-bool beyond_reach(const Triangle& t, DVec3 p, double r) {
+bool beyond_reach(const SurfaceTriangle& t, DVec3 p, double r) {
   const DVec3 w = p - t.centroid;
   const double reach = (t.reach + r) * (1 + 1e-9);
   return dot(w, w) > reach * reach;
@@ -146,28 +140,26 @@ bool beyond_reach(const Triangle& t, DVec3 p, double r) {
 Surface::Nearest Surface::nearest(DVec3 p, double limit, Recent* recent) const {
   Nearest best;
   double radius = limit;
-  const auto consider = [&](std::uint32_t t, const auto& tri, double& r) {
+  const auto consider = [&](std::uint32_t t, double& r) {
+    const SurfaceTriangle& tri = triangles_[t];
     // Farther than r from the plane or from the corners' ball is farther from the triangle: no
     // closest point needed.
     if (std::fabs(dot(p - tri.a, tri.normal)) > r || beyond_reach(tri, p, r)) return false;
-    const double d = length(closest_point(tri.a, tri.b, tri.c, p) - p);
+    const double d = length(closest_point(tri, p) - p);
     if (d <= r && (d < best.distance || (d == best.distance && t < best.triangle))) {
       best = {d, t};
       r = d;
     }
     return false;
   };
-  const auto consider_slot = [&](std::uint32_t slot, double& r) {
-    return consider(tree_.slot_item(slot), slot_triangles_[slot], r);
-  };
   if (recent) {
     // The recent triangles and the region bound the radius, so the walk from the root prunes
     // nearly everything.
     for (const std::uint32_t t : recent->triangles)
-      if (t < triangles_.size()) consider(t, triangles_[t], radius);
+      if (t < triangles_.size()) consider(t, radius);
   }
   // From the region outward: the region's triangles are not measured twice.
-  tree_.visit_slots_outward(p, radius, consider_slot, recent ? recent->region : 0);
+  tree_.visit_outward(p, radius, consider, recent ? recent->region : 0);
   if (recent && best.triangle != UINT32_MAX) {
     recent->remember(best.triangle);
     recent->region = tree_.ancestor(best.triangle, kRegionLevels);
@@ -183,16 +175,15 @@ void Surface::Recent::remember(std::uint32_t t) {
 }
 
 bool Surface::within(DVec3 p, double radius, Recent* recent) const {
-  const auto near = [&](const auto& tri) {
+  const auto near = [&](const SurfaceTriangle& tri) {
     if (std::fabs(dot(p - tri.a, tri.normal)) > radius || beyond_reach(tri, p, radius)) return false;
-    const DVec3 d = closest_point(tri.a, tri.b, tri.c, p) - p;
+    const DVec3 d = closest_point(tri, p) - p;
     return dot(d, d) <= radius * radius;
   };
   std::uint32_t answer = UINT32_MAX;
   const auto search = [&](std::uint32_t start) {
     double r = radius;
-    tree_.visit_slots_outward(
-        p, r, [&](std::uint32_t slot, double&) { return near(slot_triangles_[slot]) && (answer = tree_.slot_item(slot), true); }, start);
+    tree_.visit_outward(p, r, [&](std::uint32_t t, double&) { return near(triangles_[t]) && (answer = t, true); }, start);
     return answer != UINT32_MAX;
   };
   if (!recent) return search(0);

@@ -40,12 +40,6 @@ class BoxTree {
   // returning true ends the walk.
   template <class Visit>
   void visit(DVec3 p, double& radius, Visit&& visit, std::uint32_t start = 0) const {
-    visit_slots(p, radius, [&](std::uint32_t slot, double& r) { return visit(items_[slot], r); }, start);
-  }
-  // As visit(), but the visitor gets the item's slot: items lie in slots leaf by leaf, so data
-  // stored by slot (slot_item() maps back) is read contiguously within a leaf.
-  template <class Visit>
-  void visit_slots(DVec3 p, double& radius, Visit&& visit, std::uint32_t start = 0) const {
     if (nodes_.empty() || !(radius >= 0)) return;
     struct Entry {
       std::uint32_t node;
@@ -62,7 +56,7 @@ class BoxTree {
       const Node& node = nodes_[entry.node];
       if (node.count > 0) {
         for (std::uint32_t r = node.first; r < node.first + node.count; ++r)
-          if (visit(r, radius)) return;
+          if (visit(items_[r], radius)) return;
         continue;
       }
       const std::uint32_t a = node.first, b = node.first + 1;
@@ -79,21 +73,20 @@ class BoxTree {
     }
   }
 
-  // visit_slots() below `start`, then below each sibling on the way up to the root: every slot
-  // once, the subtrees around `start` first, without walking down from the root again.
+  // visit() below `start`, then below each sibling on the way up to the root: every item once,
+  // the subtrees around `start` first, without walking down from the root again.
   template <class Visit>
-  void visit_slots_outward(DVec3 p, double& radius, Visit&& visit, std::uint32_t start) const {
+  void visit_outward(DVec3 p, double& radius, Visit&& visit, std::uint32_t start) const {
     bool stopped = false;
-    const auto watch = [&](std::uint32_t slot, double& r) { return stopped = visit(slot, r); };
-    visit_slots(p, radius, watch, start);
+    const auto watch = [&](std::uint32_t item, double& r) { return stopped = visit(item, r); };
+    this->visit(p, radius, watch, start);
     for (std::uint32_t node = start; !stopped && node != 0; node = parents_[node]) {
       const std::uint32_t first = nodes_[parents_[node]].first;
-      visit_slots(p, radius, watch, node == first ? first + 1 : first);
+      this->visit(p, radius, watch, node == first ? first + 1 : first);
     }
   }
 
   std::size_t size() const { return items_.size(); }
-  std::uint32_t slot_item(std::uint32_t slot) const { return items_[slot]; }
   // The node `levels` above the leaf that holds `item` (the root at most): a region around the
   // item that a run of nearby queries can search before the whole tree.
   std::uint32_t ancestor(std::uint32_t item, int levels) const;
@@ -120,9 +113,8 @@ struct SurfaceTriangle {
   std::uint32_t corners[3] = {0, 0, 0};  // mesh corner indices (into Mesh::corners) of a, b, c
 };
 
-// The closest point of triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5, in double).
-DVec3 closest_point(DVec3 a, DVec3 b, DVec3 c, DVec3 p);
-inline DVec3 closest_point(const SurfaceTriangle& t, DVec3 p) { return closest_point(t.a, t.b, t.c, p); }
+// The closest point of triangle t to p (Ericson, Real-Time Collision Detection §5.1.5, in double).
+DVec3 closest_point(const SurfaceTriangle& t, DVec3 p);
 
 // The fan triangles of every face, without those of zero or non-finite area.
 std::vector<SurfaceTriangle> surface_triangles(const Mesh& mesh);
@@ -164,13 +156,6 @@ class Surface {
 
  private:
   std::vector<SurfaceTriangle> triangles_;
-  // What the queries read of each triangle, by tree slot: a leaf's triangles side by side (the
-  // queries are bound by these loads when the triangles lie scattered in mesh order).
-  struct SlotTriangle {
-    DVec3 a, b, c, normal, centroid;
-    double reach;
-  };
-  std::vector<SlotTriangle> slot_triangles_;
   std::vector<double> cumulative_area_;
   double area_ = 0;
   BoxTree tree_;

@@ -342,9 +342,6 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
     boxes.push_back(coverage_box(ellipses[j], eps_slack, slack));
   }
   const BoxTree coverage(boxes);
-  // The covering candidates by tree slot, so that a leaf's splats are read side by side.
-  std::vector<Ellipse> by_slot(coverage.size());
-  for (std::uint32_t slot = 0; slot < by_slot.size(); ++slot) by_slot[slot] = ellipses[valid[coverage.slot_item(slot)]];
 
   // (B) Surface points, generated and tested in sub-chunks seeded by their index (so the points
   // and the result do not depend on the thread count), a round of sub-chunks at a time.
@@ -363,8 +360,8 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
   const auto covered = [&](const Surface::Point& p) {
     double radius = 0;
     bool found = false;
-    coverage.visit_slots(p.position, radius, [&](std::uint32_t slot, double&) {
-      const Ellipse& e = by_slot[slot];
+    coverage.visit(p.position, radius, [&](std::uint32_t item, double&) {
+      const Ellipse& e = ellipses[valid[item]];
       const DVec3 d = p.position - e.c;
       if (!(std::fabs(dot(e.n, d)) <= eps_slack)) return false;
       const double x = dot(e.u, d), y = dot(e.v, d);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "splats/surface.hpp"
 #include "splats_test_support.hpp"
@@ -24,6 +25,17 @@ double brute_distance(const SurfaceTriangle& t, DVec3 p) {
   const auto side = [&](DVec3 a, DVec3 b) { return dot(cross(b - a, q - a), n); };
   if (side(t.a, t.b) >= 0 && side(t.b, t.c) >= 0 && side(t.c, t.a) >= 0) best = std::min(best, std::fabs(dot(p - t.a, n)));
   return best;
+}
+
+// `count` boxes of the given size at uniform random corners in the unit cube.
+std::vector<BoxTree::Box> random_boxes(std::size_t count, std::uint64_t seed, DVec3 size) {
+  std::vector<BoxTree::Box> boxes(count);
+  SplitMix64 random{seed};
+  for (auto& box : boxes) {
+    const DVec3 c{random.uniform(), random.uniform(), random.uniform()};
+    box.add(c), box.add(c + size);
+  }
+  return boxes;
 }
 
 TEST(Surface, ClosestPointMatchesBruteForce) {
@@ -90,12 +102,7 @@ TEST(Surface, RecentAnswersOnlySpeedQueriesUp) {
 TEST(Surface, TreeRegionsHoldTheirItems) {
   // ancestor(item, k) is a node whose subtree visit reaches the item; k = 0 is its leaf and a
   // large k the root (the whole tree).
-  std::vector<BoxTree::Box> boxes(1000);
-  SplitMix64 random{9};
-  for (auto& box : boxes) {
-    const DVec3 c{random.uniform(), random.uniform(), random.uniform()};
-    box.add(c), box.add(c + DVec3{0.01, 0.01, 0.01});
-  }
+  const std::vector<BoxTree::Box> boxes = random_boxes(1000, 9, {0.01, 0.01, 0.01});
   const BoxTree tree(boxes);
   EXPECT_EQ(tree.ancestor(17, 100), 0u);
   for (std::uint32_t item = 0; item < boxes.size(); item += 37)
@@ -106,6 +113,50 @@ TEST(Surface, TreeRegionsHoldTheirItems) {
       tree.visit(p, radius, [&](std::uint32_t j, double&) { return reached = j == item; }, tree.ancestor(item, levels));
       EXPECT_TRUE(reached) << item << " " << levels;
     }
+}
+
+TEST(Surface, OutwardVisitReachesEveryItemOnceFromAnyStart) {
+  const std::vector<BoxTree::Box> boxes = random_boxes(500, 13, {0.02, 0.01, 0.03});
+  const BoxTree tree(boxes);
+  for (std::uint32_t item = 0; item < boxes.size(); item += 23)
+    for (const int levels : {0, 2, 5, 100}) {
+      std::vector<int> seen(boxes.size(), 0);
+      double radius = INFINITY;
+      tree.visit_outward({0.5, 0.5, 0.5}, radius, [&](std::uint32_t j, double&) { return ++seen[j], false; }, tree.ancestor(item, levels));
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(boxes.size())) << item << " " << levels;
+    }
+}
+
+TEST(Surface, RecentWalksMatchBruteForceOnSliversAndMixedSizes) {
+  // A soup of triangles from 1e-4 to 1 across, a third of them slivers (a corner near the midpoint
+  // of the opposite edge), so the corner-ball and plane rejections and the outward walk meet both
+  // needle-shaped and tiny triangles: every answer is the brute-force one.
+  SplitMix64 random{17};
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (std::uint32_t f = 0; f < 600; ++f) {
+    const double size = std::pow(10.0, -4 * random.uniform());
+    const DVec3 c{random.uniform(), random.uniform(), 0.2 * random.uniform()};
+    const auto corner = [&] { return c + size * DVec3{random.uniform() - 0.5, random.uniform() - 0.5, random.uniform() - 0.5}; };
+    const DVec3 a = corner(), b = corner();
+    const DVec3 d = f % 3 == 0 ? 0.5 * (a + b) + 1e-3 * size * DVec3{random.uniform(), random.uniform(), random.uniform()} : corner();
+    for (const DVec3 v : {a, b, d}) vertices.push_back(to_float(v));
+    faces.push_back({3 * f, 3 * f + 1, 3 * f + 2});
+  }
+  const Surface surface(make_mesh(vertices, faces, "soup"));
+  ASSERT_GT(surface.triangles().size(), 550u);
+  Surface::Recent recent;
+  DVec3 p{0.5, 0.5, 0.1};
+  for (int step = 0; step < 3000; ++step) {
+    const double jump = step % 40 == 0 ? 0.5 : 0.01;
+    p = p + DVec3{jump * (random.uniform() - 0.5), jump * (random.uniform() - 0.5), jump * (random.uniform() - 0.5)};
+    double best = INFINITY;
+    for (const SurfaceTriangle& t : surface.triangles()) best = std::min(best, brute_distance(t, p));
+    const Surface::Nearest nearest = surface.nearest(p, INFINITY, &recent);
+    ASSERT_NEAR(nearest.distance, best, 1e-9) << step;
+    const double radius = best * (step % 2 == 0 ? 1.001 : 0.999) + (step % 2 == 0 ? 1e-12 : -1e-12);
+    ASSERT_EQ(surface.within(p, radius, &recent), step % 2 == 0) << step;
+  }
 }
 
 TEST(Surface, NonPlanarQuadIsItsTwoTriangles) {
