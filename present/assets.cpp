@@ -2,15 +2,19 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <numbers>
 
 #include "csm/build.hpp"
 #include "io/checksum.hpp"
+#include "io/text_file.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "splats/pipeline.hpp"
 #include "splats/pipeline_options.hpp"
+#include "splats/gaussian_file.hpp"
 
 namespace splatcl::present {
 namespace {
@@ -36,25 +40,93 @@ std::string asset_key(const splats::Mesh& mesh, const std::string& parameters) {
   return checksum_hex(fnv1a64(parameters, h));
 }
 
+std::vector<splats::SplatRecord> read_splat_object(const std::string& path) {
+  const std::string bytes = read_text_file(path, "splat file");
+  // splatcl's own files say so in their first comment; anything else is read as a 3DGS file.
+  if (bytes.find("\ncomment splatcl_version ") != std::string::npos && bytes.find("\ncomment splatcl_version ") < bytes.find("end_header"))
+    return splats::decode_splat_file(bytes, path).splats;
+  return splats::decode_gaussian_file(bytes, path);
+}
+
+splats::Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what) {
+  std::vector<splats::Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  vertices.reserve(6 * splats.size());
+  faces.reserve(splats.size());
+  for (const splats::SplatRecord& s : splats) {
+    if (!(splats::length(splats::cross(s.major, s.minor)) > 0)) continue;
+    const auto first = static_cast<std::uint32_t>(vertices.size());
+    for (int k = 0; k < 6; ++k) {
+      const float angle = static_cast<float>(k) * std::numbers::pi_v<float> / 3.0f;
+      vertices.push_back(s.center + std::cos(angle) * s.major + std::sin(angle) * s.minor);
+    }
+    // Wound so that the hexagon's normal is the splat's: the CSM capture is two-sided, the mesh's
+    // normals are what a viewer of the mesh would see.
+    const bool flip = splats::dot(splats::cross(s.major, s.minor), s.normal) < 0;
+    faces.push_back(flip ? std::vector<std::uint32_t>{first + 5, first + 4, first + 3, first + 2, first + 1, first}
+                         : std::vector<std::uint32_t>{first, first + 1, first + 2, first + 3, first + 4, first + 5});
+  }
+  if (faces.empty()) throw Error(fmt::format("{}: no splat has an area", what));
+  return splats::make_mesh(vertices, faces, what + " (splat discs)");
+}
+
+namespace {
+
+// Applies a fit to splats: the same scale and offset as the mesh's vertices.
+void fit_splats(std::vector<splats::SplatRecord>& splats, const FitTransform& t) {
+  const auto apply = [&](splats::Vec3 p) {
+    const glm::vec3 q = t.apply({p.x, p.y, p.z});
+    return splats::Vec3{q.x, q.y, q.z};
+  };
+  for (splats::SplatRecord& s : splats) {
+    s.center = apply(s.center);
+    s.major = t.scale * s.major;
+    s.minor = t.scale * s.minor;
+  }
+}
+
+std::string seconds(double ms) { return fmt::format("{:.1f} s", ms / 1000.0); }
+
+}  // namespace
+
 ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, const std::string& cache_dir,
                                 Runtime& runtime, const AssetProgress& progress) {
-  const Quality& q = scene.quality;
+  const Quality q = object_quality(scene.quality, object);
   const Stopwatch clock;
+  const auto report = [&](const std::string& what, bool finished = false) {
+    if (progress) progress(fmt::format("{}: {}", object.name, what), finished);
+  };
   ObjectAssets assets;
-  assets.mesh = make_object_mesh(object.mesh, scene.directory);
-  // Colour sources enter the key only when used, so grey objects keep their cache entries.
-  std::string splat_parameters = fmt::format("splats v1 sampling={} eps_diagonal={:.9g}", q.sampling, q.eps_diagonal);
-  if (q.splat_bound != "thesis") splat_parameters += " bound=" + q.splat_bound;
+  std::string splat_parameters;
   std::string texture_path;
-  if (object.splat_colors) {
-    if (!object.texture.empty()) {
-      const std::filesystem::path t(object.texture);
-      texture_path = t.is_absolute() || scene.directory.empty() ? t.string() : (std::filesystem::path(scene.directory) / t).string();
-      splat_parameters += fmt::format(" texture={}", checksum_of_file(texture_path));
-    } else {
-      splat_parameters += " field=" + object.color_field;
+  const bool splat_file = !object.mesh.splat_path.empty();
+  if (splat_file) {
+    const std::string path = scene_path(object.mesh.splat_path, scene.directory);
+    report("reading " + path);
+    assets.splats = read_splat_object(path);
+    assets.mesh = splat_disc_mesh(assets.splats, path);
+    if (object.fit.enabled()) {
+      const FitTransform t = fit_transform(assets.mesh.vertices, object.fit, object.rotation_degrees, object.name);
+      fit_splats(assets.splats, t);
+      assets.mesh = splat_disc_mesh(assets.splats, path);
     }
-    if (object.color_tolerance < 255) splat_parameters += fmt::format(" tolerance={}", object.color_tolerance);
+    assets.splats_cached = true;  // nothing to build
+    splat_parameters = fmt::format("splat file {}", checksum_of_file(path));
+  } else {
+    report("loading the mesh");
+    assets.mesh = make_fitted_mesh(object, scene.directory);
+    // Colour sources enter the key only when used, so grey objects keep their cache entries.
+    splat_parameters = fmt::format("splats v1 sampling={} eps_diagonal={:.9g}", q.sampling, q.eps_diagonal);
+    if (q.splat_bound != "thesis") splat_parameters += " bound=" + q.splat_bound;
+    if (object.splat_colors) {
+      if (!object.texture.empty()) {
+        texture_path = scene_path(object.texture, scene.directory);
+        splat_parameters += fmt::format(" texture={}", checksum_of_file(texture_path));
+      } else {
+        splat_parameters += " field=" + object.color_field;
+      }
+      if (object.color_tolerance < 255) splat_parameters += fmt::format(" tolerance={}", object.color_tolerance);
+    }
   }
   const LodOptions lod_options{q.lod_leaf, 32, 0.1f};
   const std::string tree_parameters = fmt::format("{}|tree v1 leaf={} grid={} overlap={:.9g}", splat_parameters,
@@ -70,7 +142,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
 
   // A cache entry that cannot be read (truncated, corrupted, written by an older version) is
   // rebuilt and overwritten rather than failing the render.
-  if (std::filesystem::exists(splat_path)) {
+  if (!splat_file && std::filesystem::exists(splat_path)) {
     try {
       assets.splats = splats::read_splat_file(splat_path).splats;
       assets.splats_cached = true;
@@ -78,7 +150,8 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     }
   }
   if (!assets.splats_cached) {
-    if (progress) progress(fmt::format("{}: splats", object.name));
+    const Stopwatch step;
+    report("splats");
     // The scene's quality settings and colour source as the splat stage's shared parameter list.
     splats::SplatParameters params;
     params.samples = q.sampling;
@@ -92,9 +165,11 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
         params.color_field = object.color_field;
     }
     const splats::SplatSetup setup = splats::splat_setup(params, assets.mesh, fmt::format("{}: {}", scene.source, object.name));
-    const splats::SplatRun run = splats::generate_splats(assets.mesh, setup.colors, setup.options, &runtime);
+    const splats::SplatRun run =
+        splats::generate_splats(assets.mesh, setup.colors, setup.options, &runtime, [&](const std::string& phase) { report("splats: " + phase); });
     assets.splats = run.records();
     splats::write_splat_file(splat_path, assets.splats, splats::splat_file_info(setup, run, assets.mesh.source));
+    report(fmt::format("{} splats from {} faces in {}", assets.splats.size(), assets.mesh.face_count(), seconds(step.elapsed_ms())), true);
   }
   if (assets.splats_cached && std::filesystem::exists(tree_path)) {
     try {
@@ -104,9 +179,11 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     }
   }
   if (!assets.tree_cached) {
-    if (progress) progress(fmt::format("{}: LOD tree", object.name));
+    const Stopwatch step;
+    report("LOD tree");
     assets.tree = build_splat_tree(assets.splats, lod_options);
     write_splat_tree(tree_path, assets.tree);
+    report(fmt::format("LOD tree of {} splats in {}", assets.splats.size(), seconds(step.elapsed_ms())), true);
   }
   if (std::filesystem::exists(csm_path)) {
     try {
@@ -116,15 +193,19 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     }
   }
   if (!assets.csm_cached) {
-    if (progress) progress(fmt::format("{}: coherent shadow map", object.name));
+    const Stopwatch step;
+    report("coherent shadow map");
     csm::BuildOptions options;
     options.maps = q.csm_maps;
     options.resolution = q.csm_resolution;
-    csm::BuildResult built = csm::build_csm(assets.mesh, options, &runtime);
+    csm::BuildResult built = csm::build_csm(assets.mesh, options, &runtime, [&](std::uint32_t done, std::uint32_t total) {
+      report(fmt::format("coherent shadow map {}/{}", done, total));
+    });
     csm::write_csm(csm_path, built.csm, csm::Encoding::Compact, &built.segments);
     // Read back what was cached: the compact encoding stores other (equally lossless) depths than
     // the build's midpoints, and a first render must see the same shadows as every later one.
     assets.csm = csm::read_csm(csm_path);
+    report(fmt::format("coherent shadow map of {} maps of {}² in {}", q.csm_maps, q.csm_resolution, seconds(step.elapsed_ms())), true);
   }
   assets.build_ms = clock.elapsed_ms();
   return assets;

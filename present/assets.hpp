@@ -1,6 +1,7 @@
 #pragma once
 // Per-object assets built on first use and cached on disk: the splat set (splatcl splats) and the
-// coherent shadow map (splatcl csm build) of a mesh, and the splats' LOD tree (present/lod.hpp). Cache files are named by an FNV-1a hash of the
+// coherent shadow map (splatcl csm build) of a mesh, or a splat file read as it is with the shadow
+// map of its splats' discs, and the splats' LOD tree (present/lod.hpp). Cache files are named by an FNV-1a hash of the
 // mesh content (vertices and faces) and of every parameter that shapes the result, and written
 // atomically by the splat and CSM writers, so a stale or half-written entry is never read.
 #include <functional>
@@ -17,7 +18,7 @@
 namespace splatcl::present {
 
 struct ObjectAssets {
-  splats::Mesh mesh;
+  splats::Mesh mesh;  // the fitted mesh; for a splat file, its splats as hexagonal discs (the CSM's geometry)
   std::vector<splats::SplatRecord> splats;
   SplatTree tree;  // level-of-detail hierarchy over `splats`
   csm::Csm csm;
@@ -33,7 +34,18 @@ std::string default_cache_dir();
 // The hash of a mesh's content and the parameter text, as 16 hex digits.
 std::string asset_key(const splats::Mesh& mesh, const std::string& parameters);
 
-using AssetProgress = std::function<void(const std::string& what)>;
+// Called as asset building goes: `what` names the object and the step ("bunny: splats: growing",
+// "bunny: coherent shadow map 300/1024"); `finished` is true once per built step, with what it made
+// and how long it took ("bunny: 15,318 splats in 4.2 s"), for a line that stays.
+using AssetProgress = std::function<void(const std::string& what, bool finished)>;
+
+// The splats of a splat file: splatcl's splat PLY, or a 3D Gaussian Splatting PLY (each Gaussian as
+// the ellipse of its two largest axes, docs/presenter.md). Throws Error naming the file.
+std::vector<splats::SplatRecord> read_splat_object(const std::string& path);
+
+// Each splat as a hexagon inscribed in its ellipse (clip lines ignored), as one mesh: the geometry a
+// splat file's shadow map is captured from. Throws Error naming `what` when no splat has area.
+splats::Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what);
 
 // Loads the object's assets from `cache_dir` or builds and stores them. Throws Error naming the
 // mesh or the cache file.

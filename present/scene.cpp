@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -109,6 +110,7 @@ MeshSpec read_mesh(const Reader& r, const json& j) {
   MeshSpec spec;
   if (j.is_string()) {
     spec.path = j.get<std::string>();
+    if (spec.path.empty()) r.fail("mesh", "must not be an empty file name");
     return spec;
   }
   if (!j.is_object()) r.fail("mesh", "must be a file name or an object");
@@ -124,15 +126,61 @@ MeshSpec read_mesh(const Reader& r, const json& j) {
   return spec;
 }
 
+// The quality settings that shape an object's assets (the scene's, or an object's overrides).
+void read_asset_quality(const Reader& r, const json& q, Quality& Q) {
+  Q.sampling = r.text(q, "sampling", Q.sampling);
+  if (Q.sampling.empty()) r.fail("sampling", "must not be empty (auto, vertices, grid:N or spacing:D)");
+  Q.splat_bound = r.text(q, "splat_bound", Q.splat_bound, {"thesis", "two-sided"});
+  Q.eps_diagonal = r.positive(q, "eps_diagonal", Q.eps_diagonal);
+  Q.csm_maps = r.count(q, "csm_maps", Q.csm_maps, 16, 65536);
+  try {
+    const csm::BuildOptions grid_of;  // the presenter's maps use the build's default distribution and order
+    (void)csm::SphereGrid(grid_of.distribution, grid_of.order, grid_of.pole, Q.csm_maps);
+  } catch (const Error&) {
+    r.fail("csm_maps", fmt::format("{} is not a perfect square (the maps lie on a uniform G x G grid, e.g. 1024 or 4096)", Q.csm_maps));
+  }
+  Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);
+}
+
 ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
   if (!j.is_object()) r.fail("objects", "entries must be objects");
   r.known_keys(j, fmt::format("objects[{}]", index),
                {"name", "mesh", "color", "color_field", "texture", "color_tolerance", "position", "rotation_degrees", "scale", "occluder",
-                "animation"});
+                "animation", "splats", "fit", "quality"});
   ObjectSpec o;
   o.name = r.text(j, "name", fmt::format("object {}", index));
-  if (!j.contains("mesh")) r.fail("mesh", fmt::format("is missing in {}", o.name));
-  o.mesh = read_mesh(r, j["mesh"]);
+  if (j.contains("mesh") == j.contains("splats"))
+    r.fail("mesh", fmt::format("{} in {}: give either \"mesh\" (a file or a procedural shape) or \"splats\" (a splat PLY)",
+                               j.contains("mesh") ? "and \"splats\" both" : "is missing", o.name));
+  if (j.contains("mesh")) {
+    o.mesh = read_mesh(r, j["mesh"]);
+  } else {
+    o.mesh.splat_path = r.text(j, "splats", "");
+    if (o.mesh.splat_path.empty()) r.fail("splats", "must be a file name (a splatcl splat PLY or a 3D Gaussian Splatting PLY)");
+  }
+  if (j.contains("fit")) {
+    const json& f = r.object(j, "fit");
+    r.known_keys(f, "fit", {"size", "on_floor"});
+    if (f.contains("size")) o.fit.size = r.positive(f, "size", 1.0f);
+    o.fit.on_floor = r.flag(f, "on_floor", o.fit.on_floor);
+  }
+  if (j.contains("quality")) {
+    // Only what shapes the object's own assets; the frame's settings stay the scene's.
+    const json& q = r.object(j, "quality");
+    r.known_keys(q, fmt::format("objects[{}].quality", index), {"sampling", "splat_bound", "eps_diagonal", "csm_maps", "csm_resolution"});
+    Quality read;
+    read_asset_quality(r, q, read);
+    AssetQualityOverrides& over = o.quality;
+    if (q.contains("sampling")) over.sampling = read.sampling;
+    if (q.contains("splat_bound")) over.splat_bound = read.splat_bound;
+    if (q.contains("eps_diagonal")) over.eps_diagonal = read.eps_diagonal;
+    if (q.contains("csm_maps")) over.csm_maps = read.csm_maps;
+    if (q.contains("csm_resolution")) over.csm_resolution = read.csm_resolution;
+    if (!o.mesh.splat_path.empty() && (over.sampling || over.splat_bound || over.eps_diagonal))
+      r.fail("quality", fmt::format("{}: a splat file's splats are used as they are (only csm_maps and csm_resolution apply)", o.name));
+  }
+  if (!o.mesh.splat_path.empty() && (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")))
+    r.fail("color_field", fmt::format("{}: a splat file brings its own colours (\"color\": \"splats\" uses them)", o.name));
   if (j.contains("color") && j["color"].is_string()) {
     if (j["color"].get<std::string>() != "splats") r.fail("color", "must be an RGB array, a number or \"splats\"");
     o.splat_colors = true;
@@ -143,6 +191,7 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
     o.color = r.vec3(j, "color", o.color);
     if (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")) r.fail("color_field", "needs \"color\": \"splats\"");
   }
+  if (!o.mesh.splat_path.empty() && !j.contains("color")) o.splat_colors = true;  // a splat file's own colours
   o.position = r.vec3(j, "position", o.position);
   o.rotation_degrees = r.vec3(j, "rotation_degrees", o.rotation_degrees);
   o.scale = r.positive(j, "scale", o.scale);
@@ -163,7 +212,26 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
   return o;
 }
 
+// Rotations about x, then y, then z (degrees), as the scene's "rotation_degrees".
+glm::mat4 rotation_matrix(glm::vec3 degrees) {
+  const glm::vec3 angles = glm::radians(degrees);
+  glm::mat4 m = glm::rotate(glm::mat4(1.0f), angles.z, {0, 0, 1});
+  m = glm::rotate(m, angles.y, {0, 1, 0});
+  return glm::rotate(m, angles.x, {1, 0, 0});
+}
+
 }  // namespace
+
+Quality object_quality(const Quality& scene_quality, const ObjectSpec& object) {
+  Quality q = scene_quality;
+  const AssetQualityOverrides& over = object.quality;
+  q.sampling = over.sampling.value_or(q.sampling);
+  q.splat_bound = over.splat_bound.value_or(q.splat_bound);
+  q.eps_diagonal = over.eps_diagonal.value_or(q.eps_diagonal);
+  q.csm_maps = over.csm_maps.value_or(q.csm_maps);
+  q.csm_resolution = over.csm_resolution.value_or(q.csm_resolution);
+  return q;
+}
 
 glm::mat4 ObjectSpec::placement(float time) const {
   glm::vec3 centre = position;
@@ -173,11 +241,7 @@ glm::mat4 ObjectSpec::placement(float time) const {
              glm::vec3(animation.orbit_radius * std::cos(angle), position.y - animation.orbit_center.y,
                        animation.orbit_radius * std::sin(angle));
   }
-  const glm::vec3 angles = glm::radians(rotation_degrees + animation.spin_degrees_per_second * time);
-  glm::mat4 m = glm::translate(glm::mat4(1.0f), centre);
-  m = glm::rotate(m, angles.z, {0, 0, 1});
-  m = glm::rotate(m, angles.y, {0, 1, 0});
-  m = glm::rotate(m, angles.x, {1, 0, 0});
+  const glm::mat4 m = glm::translate(glm::mat4(1.0f), centre) * rotation_matrix(rotation_degrees + animation.spin_degrees_per_second * time);
   return glm::scale(m, glm::vec3(scale));
 }
 
@@ -275,17 +339,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
                   "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "lod_error",
                   "lod_leaf", "specular", "shininess"});
     Quality& Q = scene.quality;
-    Q.sampling = r.text(q, "sampling", Q.sampling);
-    Q.splat_bound = r.text(q, "splat_bound", Q.splat_bound, {"thesis", "two-sided"});
-    Q.eps_diagonal = r.positive(q, "eps_diagonal", Q.eps_diagonal);
-    Q.csm_maps = r.count(q, "csm_maps", Q.csm_maps, 16, 65536);
-    try {
-      const csm::BuildOptions grid_of;  // the presenter's maps use the build's default distribution and order
-      (void)csm::SphereGrid(grid_of.distribution, grid_of.order, grid_of.pole, Q.csm_maps);
-    } catch (const Error&) {
-      r.fail("csm_maps", fmt::format("{} is not a perfect square (the maps lie on a uniform G x G grid, e.g. 1024 or 4096)", Q.csm_maps));
-    }
-    Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);
+    read_asset_quality(r, q, Q);
     Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
     Q.ao_bias = r.number(q, "ao_bias", Q.ao_bias);
     Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
@@ -321,11 +375,47 @@ const char* default_scene_name() { return "default scene (data/presenter-scene.j
 
 Scene default_scene() { return parse_scene(embedded_data().at("presenter-scene.json"), default_scene_name(), "."); }
 
-splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
-  if (!spec.path.empty()) {
-    const std::filesystem::path p(spec.path);
-    return splats::load_mesh(p.is_absolute() || directory.empty() ? p.string() : (std::filesystem::path(directory) / p).string());
+std::string scene_path(const std::string& path, const std::string& directory) {
+  const std::filesystem::path p(path);
+  return p.is_absolute() || directory.empty() ? p.string() : (std::filesystem::path(directory) / p).string();
+}
+
+FitTransform fit_transform(const std::vector<splats::Vec3>& points, const MeshFit& fit, glm::vec3 rotation_degrees,
+                           const std::string& what) {
+  FitTransform t;
+  if (!fit.enabled()) return t;
+  splats::Box box;
+  for (const splats::Vec3& p : points) box.add(p);
+  const glm::vec3 lo(box.lo.x, box.lo.y, box.lo.z), hi(box.hi.x, box.hi.y, box.hi.z);
+  const float largest = box.empty() ? 0.0f : std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  if (!(largest > 0) || !std::isfinite(largest)) throw Error(fmt::format("{}: cannot fit: its bounding box has no extent", what));
+  t.scale = fit.size > 0 ? fit.size / largest : 1.0f;
+  t.offset = -t.scale * 0.5f * (lo + hi);
+  if (fit.on_floor) {
+    // The lowest point of the rotated, centred points, moved to the origin's height: the shift is
+    // along the rotated frame's vertical, so it is R⁻¹ (0, −lowest, 0) in model space.
+    const glm::mat3 rotation(rotation_matrix(rotation_degrees));
+    float lowest = INFINITY;
+    for (const splats::Vec3& p : points) lowest = std::min(lowest, (rotation * t.apply({p.x, p.y, p.z})).y);
+    t.offset += glm::transpose(rotation) * glm::vec3(0.0f, -lowest, 0.0f);
   }
+  return t;
+}
+
+splats::Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory) {
+  splats::Mesh mesh = make_object_mesh(object.mesh, directory);
+  const FitTransform t = fit_transform(mesh.vertices, object.fit, object.rotation_degrees, object.name);
+  if (object.fit.enabled())
+    for (splats::Vec3& v : mesh.vertices) {
+      const glm::vec3 p = t.apply({v.x, v.y, v.z});
+      v = {p.x, p.y, p.z};
+    }
+  return mesh;
+}
+
+splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
+  if (!spec.splat_path.empty()) throw Error(fmt::format("{}: a splat file, not a mesh", spec.splat_path));
+  if (!spec.path.empty()) return splats::load_mesh(scene_path(spec.path, directory));
   std::vector<splats::Vec3> v;
   std::vector<std::vector<std::uint32_t>> f;
   const float pi = std::numbers::pi_v<float>;

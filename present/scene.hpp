@@ -18,9 +18,11 @@
 
 namespace splatcl::present {
 
-// A mesh file (path relative to the scene file) or one of the procedural shapes.
+// A mesh file (path relative to the scene file), one of the procedural shapes, or a ready-made
+// splat file (splatcl's splat PLY or a 3D Gaussian Splatting PLY) that is used as it is.
 struct MeshSpec {
   std::string path;        // non-empty: a mesh file
+  std::string splat_path;  // non-empty: a splat file instead of a mesh
   std::string procedural;  // "sphere", "torus", "box"
   float radius = 1.0f;     // sphere radius; torus major radius
   float tube = 0.35f;      // torus minor radius
@@ -38,9 +40,36 @@ struct Animation {
   float orbit_phase_degrees = 0.0f;
 };
 
+// How a mesh (or splat file) is fitted into the scene before its placement: uniformly scaled so that
+// its bounding box's largest side is `size` (0: kept), its bounding-box centre moved to the object's
+// origin, and with `on_floor` shifted so that its lowest point under `rotation_degrees` is at the
+// origin's height: "position" [x, floor.y, z] then rests it on the floor. A spin about +y keeps it
+// there; the fit is baked into the mesh, so `scale` still scales about the new origin.
+struct MeshFit {
+  float size = 0.0f;
+  bool on_floor = false;
+  bool enabled() const { return size > 0 || on_floor; }
+};
+
+// p' = scale · p + offset (model space).
+struct FitTransform {
+  float scale = 1.0f;
+  glm::vec3 offset{0.0f};
+  glm::vec3 apply(glm::vec3 p) const { return scale * p + offset; }
+};
+
+// Per-object overrides of the scene's quality settings that shape the cached assets.
+struct AssetQualityOverrides {
+  std::optional<std::string> sampling, splat_bound;
+  std::optional<float> eps_diagonal;
+  std::optional<std::uint32_t> csm_maps, csm_resolution;
+};
+
 struct ObjectSpec {
   std::string name;
   MeshSpec mesh;
+  MeshFit fit;
+  AssetQualityOverrides quality;
   glm::vec3 color{0.8f};
   // "color": "splats": albedo per splat from the splat file's colours (sRGB bytes), which the splat
   // pipeline takes from `texture` (through the mesh's texture coordinates) or else `color_field`.
@@ -87,12 +116,16 @@ struct GeneratedLights {
 };
 
 struct Quality {
-  std::string sampling = "grid:1.5";  // splat generation sampling (splatcl splats --samples)
-  // "thesis": the thesis's splat method alone (splatcl splats --thesis-only); "two-sided": the
-  // default of splatcl splats, splats within ε of the mesh and the mesh covered (more splats,
-  // faceted where ε is below the mesh's faceting).
-  std::string splat_bound = "thesis";
-  float eps_diagonal = 0.00025f;       // splat ε as a fraction of the mesh's bounding-box diagonal
+  // Splat generation sampling (splatcl splats --samples): "auto" sizes the sample grid to the mesh
+  // (its curvature and extent) within the splat stage's sample budget, so scanned meshes of tens of
+  // thousands of vertices prepare in seconds; "grid:N" asks for N samples along the shortest edge.
+  std::string sampling = "auto";
+  // "two-sided" (as splatcl splats): splats within ε of the mesh and the mesh covered, so no
+  // runaway splats (needles) on scans with holes and creases; "thesis": the thesis's splat method
+  // alone (splatcl splats --thesis-only), which the shipped default scene of smooth generated
+  // meshes uses at a finer ε.
+  std::string splat_bound = "two-sided";
+  float eps_diagonal = 0.001f;  // splat ε as a fraction of the mesh's bounding-box diagonal (splatcl splats --eps-diag)
   std::uint32_t csm_maps = 1024, csm_resolution = 64;
   std::uint32_t ao_samples = 16;
   float ao_bias = 0.02f;       // CSM depth bias of AO and shadow queries, world units
@@ -131,6 +164,9 @@ struct Scene {
   float time = 0.0f;  // scene time of a single rendered frame
 };
 
+// The scene's quality with the object's overrides applied: what its assets are built with.
+Quality object_quality(const Quality& scene_quality, const ObjectSpec& object);
+
 // Parses scene JSON; errors name `source` and the field. Generated lights are appended to lights.
 Scene parse_scene(std::string_view text, const std::string& source, const std::string& directory);
 // Reads a scene file ("cannot read scene FILE" when missing).
@@ -144,6 +180,15 @@ std::vector<Light> generate_lights(const GeneratedLights& spec, const FloorSpec&
 
 // The object's mesh: loaded from its file, or generated.
 splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory);
+
+// The transform that fits `points` (a mesh's vertices) as `fit` asks, under the object's rotation.
+// Throws Error naming `what` when the points span nothing to scale.
+FitTransform fit_transform(const std::vector<splats::Vec3>& points, const MeshFit& fit, glm::vec3 rotation_degrees,
+                           const std::string& what);
+// The object's mesh with its fit applied (make_object_mesh for a mesh object).
+splats::Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory);
+// A path of the scene (mesh, texture, splat file), relative to the scene file's directory.
+std::string scene_path(const std::string& path, const std::string& directory);
 
 }  // namespace splatcl::present
 

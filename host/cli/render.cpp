@@ -54,8 +54,7 @@ int run_render(const RenderOptions& o) {
   auto context = present::GlContext::offscreen();
   ProgressLine progress("render");
   Stopwatch setup;
-  present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir(),
-                               [&](const std::string& what) { progress.show("building " + what); });
+  present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir(), asset_progress(progress, "render"));
   // Linear radiance is written only for an .exr image: a PNG needs the tone-mapped target alone.
   const bool exr = o.output.size() > 4 && o.output.substr(o.output.size() - 4) == ".exr";
   presenter.hdr_output = exr;

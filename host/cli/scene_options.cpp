@@ -1,5 +1,9 @@
 #include "cli/scene_options.hpp"
 
+#include <fmt/format.h>
+
+#include <cstdio>
+
 namespace splatcl::cli {
 
 present::Scene SceneOptions::load() const {
@@ -9,6 +13,14 @@ present::Scene SceneOptions::load() const {
 }
 
 std::string SceneOptions::cache_dir() const { return cache.empty() ? present::default_cache_dir() : cache; }
+
+present::AssetProgress asset_progress(ProgressLine& line, const std::string& command) {
+  return [&line, command](const std::string& what, bool finished) {
+    if (!finished) return line.show("building " + what);
+    line.clear();
+    std::fprintf(stderr, "%s: built %s\n", command.c_str(), what.c_str());
+  };
+}
 
 void add_scene_options(CLI::App& app, SceneOptions& o) {
   app.add_option("scene", o.scene, "Scene JSON (default: the embedded data/presenter-scene.json)");

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
 #include "present/assets.hpp"
 #include "present/scene.hpp"
 
@@ -21,6 +22,11 @@ struct SceneOptions {
   present::Scene load() const;
   std::string cache_dir() const;
 };
+
+// Asset-building progress of `command`: the current step on the progress line (on a terminal), and
+// one line on stderr per built step with what it made and its time (always, so a log shows where a
+// first run's minutes went).
+present::AssetProgress asset_progress(ProgressLine& line, const std::string& command);
 
 // Adds the positional scene, --shading, --mode, --shadows, --lights, --lod, --cache and --device.
 void add_scene_options(CLI::App& app, SceneOptions& options);

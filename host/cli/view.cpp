@@ -50,7 +50,10 @@ int run_view(const ViewOptions& o) {
   auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::window(width, height, "splatcl view");
   GLFWwindow* window = context->glfw_window();
-  present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir());
+  present::Presenter presenter = [&] {
+    ProgressLine progress("view");
+    return present::Presenter(scene, *runtime, width, height, o.scene.cache_dir(), asset_progress(progress, "view"));
+  }();
   presenter.hdr_output = false;  // the window and screenshots show the tone-mapped image
   std::fprintf(stderr, "%s\n", kHelpKeys);
 

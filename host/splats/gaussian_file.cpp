@@ -9,6 +9,8 @@
 #include "io/atomic_file.hpp"
 #include "io/binary.hpp"
 #include "math/dvec3.hpp"
+#include "runtime/error.hpp"
+#include "splats/mesh_readers.hpp"
 
 namespace splatcl::splats {
 namespace {
@@ -113,6 +115,76 @@ std::size_t write_gaussian_file(const std::string& path, const std::vector<Splat
   }
   write_file_atomically(path, out);
   return clipped;
+}
+
+std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const std::string& name) {
+  const std::string what = "3D Gaussian Splatting file";
+  const detail::PlyHeader header = detail::parse_ply_header(name, bytes, what.c_str());
+  const auto fail = [&](const std::string& why) { return Error(fmt::format("cannot read {} {}: {}", what, name, why)); };
+  const auto vertices = std::find_if(header.elements.begin(), header.elements.end(), [](const auto& e) { return e.name == "vertex"; });
+  if (vertices == header.elements.end()) throw fail("no vertex element");
+  const auto index = [&](const char* property, bool required) {
+    const int i = vertices->find(property);
+    if (i < 0 && required) throw fail(fmt::format("the vertex element has no '{}' property", property));
+    if (i >= 0 && vertices->properties[static_cast<std::size_t>(i)].list) throw fail(fmt::format("'{}' is a list, not a number", property));
+    return i;
+  };
+  const int x = index("x", true), y = index("y", true), z = index("z", true);
+  const int scale[3] = {index("scale_0", true), index("scale_1", true), index("scale_2", true)};
+  const int rot[4] = {index("rot_0", true), index("rot_1", true), index("rot_2", true), index("rot_3", true)};
+  const int dc[3] = {index("f_dc_0", false), index("f_dc_1", false), index("f_dc_2", false)};
+  const int normal[3] = {index("nx", false), index("ny", false), index("nz", false)};
+  const int opacity = index("opacity", false);
+  for (const auto& e : header.elements)
+    if (&e != &*vertices && e.count > 0) throw fail(fmt::format("element '{}' after or beside the Gaussians is not understood", e.name));
+
+  detail::PlyBody body(header.body, header.format);
+  std::vector<double> v(vertices->properties.size());
+  std::vector<SplatRecord> splats;
+  splats.reserve(vertices->count);
+  for (std::uint64_t r = 0; r < vertices->count; ++r) {
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const auto result = body.next(vertices->properties[k].type, v[k]);
+      if (result == detail::PlyBody::End) throw fail(fmt::format("truncated: the file ends in Gaussian {} of {}", r + 1, vertices->count));
+      if (result == detail::PlyBody::Malformed) throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, vertices->properties[k].name));
+    }
+    const auto at = [&](int i) { return v[static_cast<std::size_t>(i)]; };
+    if (opacity >= 0 && 1.0 / (1.0 + std::exp(-at(opacity))) < kGaussianMinReadAlpha) continue;
+    double q[4] = {at(rot[0]), at(rot[1]), at(rot[2]), at(rot[3])};
+    const double q_len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (!(q_len > 1e-30) || !std::isfinite(q_len)) throw fail(fmt::format("Gaussian {}: its rotation quaternion is zero or not finite", r + 1));
+    for (double& c : q) c /= q_len;
+    const double w = q[0], qx = q[1], qy = q[2], qz = q[3];
+    // The rotation's columns: the Gaussian's local x, y, z axes.
+    const DVec3 axes[3] = {{1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy + w * qz), 2 * (qx * qz - w * qy)},
+                           {2 * (qx * qy - w * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz + w * qx)},
+                           {2 * (qx * qz + w * qy), 2 * (qy * qz - w * qx), 1 - 2 * (qx * qx + qy * qy)}};
+    double sigma[3];
+    for (int c = 0; c < 3; ++c) {
+      sigma[c] = std::exp(at(scale[c]));
+      if (!std::isfinite(sigma[c])) throw fail(fmt::format("Gaussian {}: scale_{} is not finite", r + 1, c));
+    }
+    int order[3] = {0, 1, 2};  // by σ, largest first; ties keep the file's order
+    std::stable_sort(order, order + 3, [&](int a, int b) { return sigma[a] > sigma[b]; });
+    DVec3 n = axes[order[2]];
+    if (normal[0] >= 0 && normal[1] >= 0 && normal[2] >= 0 && dot(n, DVec3{at(normal[0]), at(normal[1]), at(normal[2])}) < 0) n = -1.0 * n;
+    SplatRecord s;
+    s.center = {static_cast<float>(at(x)), static_cast<float>(at(y)), static_cast<float>(at(z))};
+    if (!finite(s.center)) throw fail(fmt::format("Gaussian {}: its centre is not finite", r + 1));
+    const DVec3 major = (sigma[order[0]] / kGaussianSigmaPerSemiAxis) * axes[order[0]];
+    const DVec3 minor = (sigma[order[1]] / kGaussianSigmaPerSemiAxis) * axes[order[1]];
+    s.normal = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
+    s.major = {static_cast<float>(major.x), static_cast<float>(major.y), static_cast<float>(major.z)};
+    s.minor = {static_cast<float>(minor.x), static_cast<float>(minor.y), static_cast<float>(minor.z)};
+    if (dc[0] >= 0 && dc[1] >= 0 && dc[2] >= 0) {
+      std::uint8_t rgb[3];
+      for (int c = 0; c < 3; ++c) rgb[c] = static_cast<std::uint8_t>(std::lround(std::clamp(255.0 * (0.5 + kShC0 * at(dc[c])), 0.0, 255.0)));
+      s.color = {rgb[0], rgb[1], rgb[2], 255};
+    }
+    splats.push_back(s);
+  }
+  if (splats.empty()) throw fail(vertices->count == 0 ? "it has no Gaussians" : "every Gaussian is fainter than the opacity kept on reading");
+  return splats;
 }
 
 }  // namespace splatcl::splats

@@ -45,4 +45,17 @@ void rotation_quaternion(const double c0[3], const double c1[3], const double c2
 // were written unclipped.
 std::size_t write_gaussian_file(const std::string& path, const std::vector<SplatRecord>& splats);
 
+// Gaussians fainter than this peak opacity are dropped on reading: in a trained 3DGS scene they are
+// the faint floaters and fill-in that an opaque splat would turn into clutter.
+inline constexpr double kGaussianMinReadAlpha = 0.1;
+
+// The splats of a 3DGS PLY's bytes (ours, or any tool's: any property order and scalar types,
+// f_rest_* and other properties ignored; x y z, scale_0..2 and rot_0..3 required, f_dc_0..2 and
+// opacity optional). Each Gaussian becomes the flat splat of its two largest axes: semi-axes
+// σ / kGaussianSigmaPerSemiAxis, normal the axis of the smallest σ (turned to the file's nx ny nz
+// where those are given and non-zero), colour 0.5 + C0 · f_dc (grey without it). Inverts
+// write_gaussian_file up to float rounding (and the sign of v). Throws Error naming `name` and the
+// record for a missing property, a list property, a zero or non-finite quaternion or scale.
+std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const std::string& name);
+
 }  // namespace splatcl::splats

@@ -25,6 +25,7 @@ constexpr std::int64_t kBad = -1;                                       // an un
 constexpr std::int64_t kNone = std::numeric_limits<std::int64_t>::min();  // no index given
 
 [[noreturn]] void refuse(const std::string& path, const std::string& why) { throw Error("cannot read mesh " + path + ": " + why); }
+[[noreturn]] void refuse_ply(const std::string& prefix, const std::string& why) { throw Error(prefix + ": " + why); }
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
@@ -466,179 +467,13 @@ RawMesh read_off(const std::string& path, std::string_view text) {
 
 // ---------------------------------------------------------------------------------------------- PLY
 
-enum class PlyType : std::uint8_t { I8, U8, I16, U16, I32, U32, F32, F64 };
-
-bool ply_type(std::string_view name, PlyType& type) {
-  static const std::pair<const char*, PlyType> names[] = {
-      {"char", PlyType::I8},   {"int8", PlyType::I8},     {"uchar", PlyType::U8},   {"uint8", PlyType::U8},
-      {"short", PlyType::I16}, {"int16", PlyType::I16},   {"ushort", PlyType::U16}, {"uint16", PlyType::U16},
-      {"int", PlyType::I32},   {"int32", PlyType::I32},   {"uint", PlyType::U32},   {"uint32", PlyType::U32},
-      {"float", PlyType::F32}, {"float32", PlyType::F32}, {"double", PlyType::F64}, {"float64", PlyType::F64}};
-  for (const auto& [n, t] : names)
-    if (name == n) {
-      type = t;
-      return true;
-    }
-  return false;
-}
-
-std::size_t size_of(PlyType t) {
-  switch (t) {
-    case PlyType::I8:
-    case PlyType::U8: return 1;
-    case PlyType::I16:
-    case PlyType::U16: return 2;
-    case PlyType::I32:
-    case PlyType::U32:
-    case PlyType::F32: return 4;
-    case PlyType::F64: return 8;
-  }
-  return 1;
-}
-
-struct PlyProperty {
-  std::string name;
-  bool list = false;
-  PlyType count_type = PlyType::U8, type = PlyType::F32;
-};
-
-struct PlyElement {
-  std::string name;
-  std::uint64_t count = 0;
-  std::vector<PlyProperty> properties;
-  int find(std::string_view n) const {
-    for (std::size_t i = 0; i < properties.size(); ++i)
-      if (properties[i].name == n) return static_cast<int>(i);
-    return -1;
-  }
-};
-
-enum class PlyFormat { Ascii, BinaryLittle, BinaryBig };
-
-// The values after end_header, one at a time in the file's encoding.
-class PlyBody {
- public:
-  enum Result { Ok, Malformed, End };
-  PlyBody(std::string_view body, PlyFormat format) : body_(body), format_(format) {}
-
-  Result next(PlyType type, double& value) {
-    if (format_ == PlyFormat::Ascii) {
-      while (pos_ < body_.size() && is_space(body_[pos_])) ++pos_;
-      if (pos_ >= body_.size()) return End;
-      const std::size_t begin = pos_;
-      while (pos_ < body_.size() && !is_space(body_[pos_])) ++pos_;
-      return parse_number(body_.substr(begin, pos_ - begin), value) ? Ok : Malformed;
-    }
-    const std::size_t size = size_of(type);
-    if (body_.size() - pos_ < size) return End;
-    unsigned char bytes[8];
-    std::memcpy(bytes, body_.data() + pos_, size);
-    pos_ += size;
-    if ((format_ == PlyFormat::BinaryBig) != (std::endian::native == std::endian::big)) std::reverse(bytes, bytes + size);
-    value = decode(type, bytes);
-    return Ok;
-  }
-  std::size_t remaining() const { return body_.size() - pos_; }
-  bool binary() const { return format_ != PlyFormat::Ascii; }
-
- private:
-  static double decode(PlyType type, const unsigned char* b) {
-    switch (type) {
-      case PlyType::I8: return static_cast<std::int8_t>(b[0]);
-      case PlyType::U8: return b[0];
-      case PlyType::I16: return copy<std::int16_t>(b);
-      case PlyType::U16: return copy<std::uint16_t>(b);
-      case PlyType::I32: return copy<std::int32_t>(b);
-      case PlyType::U32: return copy<std::uint32_t>(b);
-      case PlyType::F32: return copy<float>(b);
-      case PlyType::F64: return copy<double>(b);
-    }
-    return 0;
-  }
-  template <typename T>
-  static T copy(const unsigned char* b) {
-    T v;
-    std::memcpy(&v, b, sizeof v);
-    return v;
-  }
-  std::string_view body_;
-  PlyFormat format_;
-  std::size_t pos_ = 0;
-};
-
 constexpr std::size_t kPlyHeaderLimit = std::size_t{1} << 20;  // a sane PLY header is a few hundred bytes
 
 RawMesh read_ply(const std::string& path, std::string_view text) {
-  // The header: must end with end_header within the limit (OpenMesh's reader hangs without one).
-  Lines lines(text);
-  std::string_view line;
-  if (!lines.next(line) || line.substr(0, line.find_last_not_of(" \t") + 1) != "ply") refuse(path, "not a PLY file (no 'ply' first line)");
-  std::vector<std::string> header;
-  bool ended = false;
-  while (lines.position() <= kPlyHeaderLimit && lines.next(line)) {
-    std::vector<std::string_view> tokens;
-    split(line, tokens);
-    if (tokens.size() == 1 && tokens[0] == "end_header") {
-      ended = true;
-      break;
-    }
-    header.emplace_back(line);
-  }
-  if (!ended)
-    refuse(path, text.size() > kPlyHeaderLimit ? "PLY header has no end_header in its first MiB" : "PLY header has no end_header");
-  const std::string_view body_text = text.substr(std::min(lines.position(), text.size()));
-  PlyFormat format = PlyFormat::Ascii;
-  bool has_format = false;
-  std::vector<PlyElement> elements;
-  std::vector<std::string_view> tokens;
-  for (const std::string& h : header) {
-    split(h, tokens);
-    if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info") continue;
-    if (tokens[0] == "format" && tokens.size() >= 2) {
-      has_format = true;
-      if (tokens[1] == "ascii")
-        format = PlyFormat::Ascii;
-      else if (tokens[1] == "binary_little_endian")
-        format = PlyFormat::BinaryLittle;
-      else if (tokens[1] == "binary_big_endian")
-        format = PlyFormat::BinaryBig;
-      else
-        refuse(path, fmt::format("unknown PLY format '{}'", tokens[1]));
-    } else if (tokens[0] == "element" && tokens.size() == 3) {
-      PlyElement e;
-      e.name = tokens[1];
-      const auto [end, ec] = std::from_chars(tokens[2].data(), tokens[2].data() + tokens[2].size(), e.count);
-      if (ec != std::errc() || end != tokens[2].data() + tokens[2].size())
-        refuse(path, fmt::format("PLY element {} has count '{}', not a number", e.name, tokens[2]));
-      elements.push_back(std::move(e));
-    } else if (tokens[0] == "property" && !elements.empty()) {
-      PlyProperty p;
-      bool ok = false;
-      if (tokens.size() == 5 && tokens[1] == "list") {
-        p.list = true;
-        ok = ply_type(tokens[2], p.count_type) && ply_type(tokens[3], p.type);
-        p.name = tokens[4];
-      } else if (tokens.size() == 3) {
-        ok = ply_type(tokens[1], p.type);
-        p.name = tokens[2];
-      }
-      if (!ok) refuse(path, fmt::format("PLY header line '{}' is not a property of a known type", h));
-      elements.back().properties.push_back(std::move(p));
-    } else {
-      refuse(path, fmt::format("PLY header line '{}' is not understood", h));
-    }
-  }
-  if (!has_format) refuse(path, "PLY header has no format line");
-  // Every record takes at least a byte per scalar (binary) or a value and a separator (ASCII), so a
-  // header claiming more records than that is refused before anything is allocated.
-  for (const PlyElement& e : elements) {
-    std::uint64_t least = 0;
-    for (const PlyProperty& p : e.properties) least += format == PlyFormat::Ascii ? 2 : size_of(p.list ? p.count_type : p.type);
-    least = std::max<std::uint64_t>(least, 1);
-    if (e.count > (body_text.size() + 1) / least)
-      refuse(path, fmt::format("PLY header declares {} {} records, more than the {} after end_header can hold", e.count, e.name,
-                               plural(body_text.size(), "byte", "bytes")));
-  }
+  const PlyHeader header = parse_ply_header(path, text, "mesh");
+  const PlyFormat format = header.format;
+  const std::vector<PlyElement>& elements = header.elements;
+  const std::string_view body_text = header.body;
   const auto vertex_element = std::find_if(elements.begin(), elements.end(), [](const PlyElement& e) { return e.name == "vertex"; });
   if (vertex_element == elements.end()) refuse(path, "PLY file has no vertex element");
   if (vertex_element->count > std::numeric_limits<std::uint32_t>::max()) refuse(path, "PLY file has more than 2^32 vertices");
@@ -880,6 +715,127 @@ std::string read_file(const std::string& path) {
 }
 
 }  // namespace
+
+bool ply_type(std::string_view name, PlyType& type) {
+  static const std::pair<const char*, PlyType> names[] = {
+      {"char", PlyType::I8},   {"int8", PlyType::I8},     {"uchar", PlyType::U8},   {"uint8", PlyType::U8},
+      {"short", PlyType::I16}, {"int16", PlyType::I16},   {"ushort", PlyType::U16}, {"uint16", PlyType::U16},
+      {"int", PlyType::I32},   {"int32", PlyType::I32},   {"uint", PlyType::U32},   {"uint32", PlyType::U32},
+      {"float", PlyType::F32}, {"float32", PlyType::F32}, {"double", PlyType::F64}, {"float64", PlyType::F64}};
+  for (const auto& [n, t] : names)
+    if (name == n) {
+      type = t;
+      return true;
+    }
+  return false;
+}
+
+std::size_t size_of(PlyType t) {
+  switch (t) {
+    case PlyType::I8:
+    case PlyType::U8: return 1;
+    case PlyType::I16:
+    case PlyType::U16: return 2;
+    case PlyType::I32:
+    case PlyType::U32:
+    case PlyType::F32: return 4;
+    case PlyType::F64: return 8;
+  }
+  return 1;
+}
+
+PlyBody::Result PlyBody::next(PlyType type, double& value) {
+  if (format_ == PlyFormat::Ascii) {
+    while (pos_ < body_.size() && is_space(body_[pos_])) ++pos_;
+    if (pos_ >= body_.size()) return End;
+    const std::size_t begin = pos_;
+    while (pos_ < body_.size() && !is_space(body_[pos_])) ++pos_;
+    return parse_number(body_.substr(begin, pos_ - begin), value) ? Ok : Malformed;
+  }
+  const std::size_t size = size_of(type);
+  if (body_.size() - pos_ < size) return End;
+  unsigned char bytes[8];
+  std::memcpy(bytes, body_.data() + pos_, size);
+  pos_ += size;
+  if ((format_ == PlyFormat::BinaryBig) != (std::endian::native == std::endian::big)) std::reverse(bytes, bytes + size);
+  value = decode(type, bytes);
+  return Ok;
+}
+
+PlyHeader parse_ply_header(const std::string& path, std::string_view text, const char* what) {
+  const std::string prefix = fmt::format("cannot read {} {}", what, path);
+  // The header: must end with end_header within the limit (OpenMesh's reader hangs without one).
+  Lines lines(text);
+  std::string_view line;
+  if (!lines.next(line) || line.substr(0, line.find_last_not_of(" \t") + 1) != "ply") refuse_ply(prefix, "not a PLY file (no 'ply' first line)");
+  std::vector<std::string> header;
+  bool ended = false;
+  while (lines.position() <= kPlyHeaderLimit && lines.next(line)) {
+    std::vector<std::string_view> tokens;
+    split(line, tokens);
+    if (tokens.size() == 1 && tokens[0] == "end_header") {
+      ended = true;
+      break;
+    }
+    header.emplace_back(line);
+  }
+  if (!ended)
+    refuse_ply(prefix, text.size() > kPlyHeaderLimit ? "PLY header has no end_header in its first MiB" : "PLY header has no end_header");
+  const std::string_view body_text = text.substr(std::min(lines.position(), text.size()));
+  PlyFormat format = PlyFormat::Ascii;
+  bool has_format = false;
+  std::vector<PlyElement> elements;
+  std::vector<std::string_view> tokens;
+  for (const std::string& h : header) {
+    split(h, tokens);
+    if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info") continue;
+    if (tokens[0] == "format" && tokens.size() >= 2) {
+      has_format = true;
+      if (tokens[1] == "ascii")
+        format = PlyFormat::Ascii;
+      else if (tokens[1] == "binary_little_endian")
+        format = PlyFormat::BinaryLittle;
+      else if (tokens[1] == "binary_big_endian")
+        format = PlyFormat::BinaryBig;
+      else
+        refuse_ply(prefix, fmt::format("unknown PLY format '{}'", tokens[1]));
+    } else if (tokens[0] == "element" && tokens.size() == 3) {
+      PlyElement e;
+      e.name = tokens[1];
+      const auto [end, ec] = std::from_chars(tokens[2].data(), tokens[2].data() + tokens[2].size(), e.count);
+      if (ec != std::errc() || end != tokens[2].data() + tokens[2].size())
+        refuse_ply(prefix, fmt::format("PLY element {} has count '{}', not a number", e.name, tokens[2]));
+      elements.push_back(std::move(e));
+    } else if (tokens[0] == "property" && !elements.empty()) {
+      PlyProperty p;
+      bool ok = false;
+      if (tokens.size() == 5 && tokens[1] == "list") {
+        p.list = true;
+        ok = ply_type(tokens[2], p.count_type) && ply_type(tokens[3], p.type);
+        p.name = tokens[4];
+      } else if (tokens.size() == 3) {
+        ok = ply_type(tokens[1], p.type);
+        p.name = tokens[2];
+      }
+      if (!ok) refuse_ply(prefix, fmt::format("PLY header line '{}' is not a property of a known type", h));
+      elements.back().properties.push_back(std::move(p));
+    } else {
+      refuse_ply(prefix, fmt::format("PLY header line '{}' is not understood", h));
+    }
+  }
+  if (!has_format) refuse_ply(prefix, "PLY header has no format line");
+  // Every record takes at least a byte per scalar (binary) or a value and a separator (ASCII), so a
+  // header claiming more records than that is refused before anything is allocated.
+  for (const PlyElement& e : elements) {
+    std::uint64_t least = 0;
+    for (const PlyProperty& p : e.properties) least += format == PlyFormat::Ascii ? 2 : size_of(p.list ? p.count_type : p.type);
+    least = std::max<std::uint64_t>(least, 1);
+    if (e.count > (body_text.size() + 1) / least)
+      refuse_ply(prefix, fmt::format("PLY header declares {} {} records, more than the {} after end_header can hold", e.count, e.name,
+                               plural(body_text.size(), "byte", "bytes")));
+  }
+  return {format, std::move(elements), body_text};
+}
 
 bool parse_number(std::string_view token, double& value) {
   if (token.size() > 1 && token[0] == '+' && token[1] != '-' && token[1] != '+') token.remove_prefix(1);

@@ -60,3 +60,31 @@ add_test(NAME cli.error_view_screenshot_on_exit_needs_seconds COMMAND ${EXPECT_E
 add_test(NAME cli.error_view_bad_seconds COMMAND ${EXPECT_ERROR} "--seconds -1 is not a duration" $<TARGET_FILE:splatcl> view --seconds -1)
 add_test(NAME cli.error_view_missing_screenshots_dir COMMAND ${EXPECT_ERROR} "--screenshots no-such-dir: not a directory"
          $<TARGET_FILE:splatcl> view --screenshots no-such-dir)
+# The shipped scene of scanned models (data/scans-scene.json) with the test models linked beside a
+# copy of it, as a user links them into data/models: each scan built with the scene's defaults, a
+# line per built step, and both objects in the figures. Skipped without the test models.
+set(SCANS_DIR ${CMAKE_CURRENT_BINARY_DIR}/scans-scene)
+file(MAKE_DIRECTORY ${SCANS_DIR})
+configure_file(${PROJECT_SOURCE_DIR}/data/scans-scene.json ${SCANS_DIR}/scans-scene.json COPYONLY)
+if(EXISTS ${SPLATCL_MODELS_DIR} AND NOT EXISTS ${SCANS_DIR}/models)
+  file(CREATE_LINK ${SPLATCL_MODELS_DIR} ${SCANS_DIR}/models SYMBOLIC)
+endif()
+add_test(NAME cli.render_scans_scene COMMAND ${NEEDS_FILE} ${SPLATCL_MODELS_DIR}/nefertiti.obj ${EXPECT_OUTPUT}
+         --match "^render: built bunny: [1-9][0-9]* splats from 69451 faces in [0-9.]+ s$"
+         --match "^render: built nefertiti: coherent shadow map of 1024 maps of 64² in [0-9.]+ s$"
+         --match "^scene .*scans-scene.json: 3 objects, [1-9][0-9]* splats, 256 lights"
+         --file ${SCANS_DIR}/render.json "\"name\": \"nefertiti\","
+         --png ${SCANS_DIR}/render.png 160 120
+         -- $<TARGET_FILE:splatcl> render ${SCANS_DIR}/scans-scene.json --size 160x120 --frames 2 --cache ${SCANS_DIR}/cache
+         -o ${SCANS_DIR}/render.png --json ${SCANS_DIR}/render.json)
+# A cold cache each run, so the build lines are there to check.
+add_test(NAME cli.render_scans_scene_cold_cache COMMAND ${CMAKE_COMMAND} -E rm -rf ${SCANS_DIR}/cache)
+set_tests_properties(cli.render_scans_scene_cold_cache PROPERTIES FIXTURES_SETUP scans_cold_cache)
+set_tests_properties(cli.render_scans_scene PROPERTIES SKIP_RETURN_CODE 77 FIXTURES_REQUIRED scans_cold_cache)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-missing-splats.json "{\"objects\": [{\"splats\": \"no-such.ply\"}]}")
+add_test(NAME cli.error_render_missing_splat_file COMMAND ${EXPECT_ERROR} "cannot read splat file .*no-such.ply"
+         $<TARGET_FILE:splatcl> render ${CMAKE_CURRENT_BINARY_DIR}/present-missing-splats.json)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-not-splats.ply "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-not-splats.json "{\"objects\": [{\"splats\": \"present-not-splats.ply\"}]}")
+add_test(NAME cli.error_render_point_cloud_as_splats COMMAND ${EXPECT_ERROR} "cannot read 3D Gaussian Splatting file .*present-not-splats.ply: the vertex element has no 'scale_0' property"
+         $<TARGET_FILE:splatcl> render ${CMAKE_CURRENT_BINARY_DIR}/present-not-splats.json)

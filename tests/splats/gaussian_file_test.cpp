@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/error.hpp"
 #include "splats/gaussian_file.hpp"
 #include "splats/pipeline.hpp"
 #include "splats_test_support.hpp"
@@ -196,7 +197,7 @@ SplatRecord rotated_splat(V axis, double angle, bool left_handed, double a = 0.5
 
 TEST(GaussianFile, PropertiesInTheDeFactoOrder) { EXPECT_EQ(gaussian_properties(), kExpectedNames); }
 
-TEST(GaussianFile, RandomFramesReadBackByAnIndependentParser) {
+std::vector<SplatRecord> random_splats() {
   std::mt19937 rng(20240611);
   std::normal_distribution<double> gauss;
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -212,7 +213,115 @@ TEST(GaussianFile, RandomFramesReadBackByAnIndependentParser) {
                            {static_cast<std::uint8_t>(byte(rng)), static_cast<std::uint8_t>(byte(rng)),
                             static_cast<std::uint8_t>(byte(rng)), 255}));
   }
-  write_and_check(splats, "random.ply");
+  return splats;
+}
+
+TEST(GaussianFile, RandomFramesReadBackByAnIndependentParser) { write_and_check(random_splats(), "random.ply"); }
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Reading our export back gives the splats: the same centre and colour, the normal, and each
+// semi-axis up to its sign (v = n × u) and float rounding of ln σ and the quaternion.
+TEST(GaussianFile, ReadingInvertsTheExport) {
+  const std::vector<SplatRecord> splats = random_splats();
+  const std::string path = temp_path("round-trip.ply");
+  write_gaussian_file(path, splats);
+  const std::vector<SplatRecord> read = decode_gaussian_file(file_bytes(path), path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(read.size(), splats.size());
+  const auto parallel_same_length = [](Vec3 a, Vec3 b) {
+    const double la = std::sqrt(dot3(v(a), v(a))), lb = std::sqrt(dot3(v(b), v(b)));
+    EXPECT_NEAR(la / lb, 1.0, 2e-6);
+    EXPECT_NEAR(std::abs(dot3(v(a), v(b))) / (la * lb), 1.0, 2e-6);
+  };
+  for (std::size_t i = 0; i < splats.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(read[i].center, splats[i].center);
+    EXPECT_TRUE(read[i].color == splats[i].color);
+    EXPECT_NEAR(dot3(v(read[i].normal), v(splats[i].normal)), 1.0, 1e-6);
+    parallel_same_length(read[i].major, splats[i].major);
+    parallel_same_length(read[i].minor, splats[i].minor);
+  }
+}
+
+// A file as 3DGS training tools write it, by hand: other property order, doubles, f_rest_* and a
+// faint Gaussian; and the same in ASCII. Gaussian 0: identity rotation, σ = (0.1, 0.2, 0.001), so
+// the major axis is y (0.2 / 0.5 = 0.4 long), the minor x (0.2), the normal z. Gaussian 1: a quarter
+// turn about z (x → y, y → −x), σ = (0.3, 0.05, 0.01): major along y, 0.6 long. Gaussian 2: opacity
+// logit −5 (α 0.007), dropped.
+TEST(GaussianFile, FilesOfOtherToolsInAnyOrderTypeAndEncoding) {
+  const double s2 = std::sqrt(0.5);
+  const std::vector<std::vector<double>> rows = {
+      // opacity, rot_0..3, scale_0..2, x, y, z, f_dc_0..2, f_rest_0
+      {4.0, 1, 0, 0, 0, std::log(0.1), std::log(0.2), std::log(0.001), 1, 2, 3, 0, 0, 0, 0.3},
+      {4.0, 2 * s2, 0, 0, 2 * s2, std::log(0.3), std::log(0.05), std::log(0.01), -1, 0, 0.5, 1.0, -1.0, 0.2, 0.3},
+      {-5.0, 1, 0, 0, 0, std::log(0.1), std::log(0.2), std::log(0.001), 9, 9, 9, 0, 0, 0, 0.3}};
+  const char* names[] = {"opacity", "rot_0", "rot_1", "rot_2", "rot_3", "scale_0", "scale_1", "scale_2",
+                         "x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "f_rest_0"};
+  for (const bool ascii : {false, true}) {
+    SCOPED_TRACE(ascii ? "ascii" : "binary doubles");
+    std::string text = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") + " 1.0\nelement vertex 3\n";
+    for (const char* name : names) text += std::string("property double ") + name + "\n";
+    text += "end_header\n";
+    for (const auto& row : rows) {
+      for (const double x : row) {
+        if (ascii) {
+          text += std::to_string(x) + " ";
+        } else {
+          char bytes[8];
+          std::memcpy(bytes, &x, 8);
+          text.append(bytes, 8);
+        }
+      }
+      if (ascii) text += "\n";
+    }
+    const std::vector<SplatRecord> read = decode_gaussian_file(text, "trained.ply");
+    ASSERT_EQ(read.size(), 2u) << "the faint Gaussian is dropped";
+    const auto near = [](Vec3 a, V b, double tolerance) {
+      EXPECT_NEAR(a.x, b.x, tolerance);
+      EXPECT_NEAR(a.y, b.y, tolerance);
+      EXPECT_NEAR(a.z, b.z, tolerance);
+    };
+    near(read[0].center, {1, 2, 3}, 1e-6);
+    near(read[0].major, {0, 0.4, 0}, 1e-5);
+    near(read[0].minor, {0.2, 0, 0}, 1e-5);
+    near(read[0].normal, {0, 0, 1}, 1e-6);
+    EXPECT_EQ(read[0].color.r, 128);  // 0.5 + C0 · 0 = 0.5
+    near(read[1].center, {-1, 0, 0.5}, 1e-6);
+    near(read[1].major, {0, 0.6, 0}, 1e-5);  // local x (σ 0.3) turned onto y
+    near(read[1].minor, {-0.1, 0, 0}, 1e-5);
+    EXPECT_EQ(read[1].color.r, static_cast<int>(std::lround(255 * (0.5 + 0.28209479177387814))));
+    EXPECT_EQ(read[1].color.g, static_cast<int>(std::lround(255 * (0.5 - 0.28209479177387814))));
+  }
+}
+
+TEST(GaussianFile, ReadingRefusesWhatIsNotAGaussianFile) {
+  const auto refused = [](const std::string& text, const std::string& expected) {
+    try {
+      decode_gaussian_file(text, "g.ply");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("g.ply"), std::string::npos) << e.what();
+    }
+  };
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 1\n";
+  std::string all;
+  for (const char* p : {"x", "y", "z", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2"}) all += std::string("property float ") + p + "\n";
+  refused(head + all + "end_header\n0 0 0 0 0 0 1 0 0\n", "no 'rot_3' property");
+  all += "property float rot_3\n";
+  refused(head + all + "end_header\n0 0 0 0 0 0 0 0 0 0\n", "quaternion is zero");
+  refused(head + all + "end_header\n0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 1.0000 0.0000 0.0000\n", "truncated");
+  refused("ply\nformat binary_little_endian 1.0\nelement vertex 1\n" + all + "end_header\n" + std::string(36, '\0'),
+          "more than the 36 bytes after end_header can hold");
+  refused(head + all + "end_header\n0 0 0 800 0 0 1 0 0 0\n", "scale_0 is not finite");
+  refused(head + all + "end_header\n0 0 x 0 0 0 1 0 0 0\n", "'z' is not a number");
+  refused("ply\nformat ascii 1.0\nelement vertex 0\n" + all + "end_header\n", "no Gaussians");
+  refused("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n", "no vertex element");
+  refused("not a ply", "not a PLY file");
 }
 
 TEST(GaussianFile, ZeroSplats) {

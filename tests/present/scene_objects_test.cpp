@@ -1,0 +1,220 @@
+// Scene objects as users bring them: a mesh fitted to a size and rested on the floor, quality set
+// per object, and ready-made splat files (splatcl's PLY and the 3D Gaussian Splatting export) as
+// objects. Fits are checked against the object's placement matrix (not the fit's own arithmetic);
+// splat-file objects against the mesh object whose splats they hold, rendered side by side.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "io/text_file.hpp"
+#include "splats/gaussian_file.hpp"
+#include "splats/splat_file.hpp"
+
+#include "presenter_test_support.hpp"
+
+namespace splatcl::present::testing {
+namespace {
+
+std::string temp_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("splatcl-scene-objects-" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+Scene one_object_scene(const std::string& object_json, const std::string& directory = ".") {
+  return parse_scene("{\"objects\": [" + object_json + "], \"lights\": {\"count\": 16}}", "s.json", directory);
+}
+
+struct Extent {
+  glm::vec3 lo{INFINITY}, hi{-INFINITY};
+  void add(glm::vec3 p) { lo = glm::min(lo, p), hi = glm::max(hi, p); }
+  float largest() const { return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}); }
+};
+
+TEST(SceneObjects, FitScalesToTheSizeAndRestsOnTheFloorUnderTheRotation) {
+  const std::string torus = R"({"mesh": {"procedural": "torus", "radius": 0.9, "tube": 0.35, "segments": 24, "rings": 12},)";
+  for (const char* rotation : {"[0, 0, 0]", "[70, 0, 0]", "[30, 45, -60]"}) {
+    SCOPED_TRACE(rotation);
+    const ObjectSpec plain = one_object_scene(torus + R"("rotation_degrees": )" + rotation + "}").objects[0];
+    const ObjectSpec fitted = one_object_scene(torus + R"("fit": {"size": 3, "on_floor": true}, "position": [0.5, 0.25, -2], "rotation_degrees": )" +
+                                               rotation + "}")
+                                  .objects[0];
+    const splats::Mesh original = make_fitted_mesh(plain, ".");
+    const splats::Mesh mesh = make_fitted_mesh(fitted, ".");
+    ASSERT_EQ(mesh.vertices.size(), original.vertices.size());
+    // A uniform scale and a shift: every difference of two vertices scales by the same factor.
+    Extent model, world;
+    const float factor = 3.0f / [&] {
+      Extent e;
+      for (const auto& v : original.vertices) e.add({v.x, v.y, v.z});
+      return e.largest();
+    }();
+    const glm::mat4 placement = fitted.placement(0.0f);
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const glm::vec3 p(mesh.vertices[i].x, mesh.vertices[i].y, mesh.vertices[i].z);
+      const glm::vec3 d = p - glm::vec3(mesh.vertices[0].x, mesh.vertices[0].y, mesh.vertices[0].z);
+      const splats::Vec3 o = original.vertices[i] - original.vertices[0];
+      EXPECT_NEAR(glm::length(d - factor * glm::vec3(o.x, o.y, o.z)), 0.0f, 2e-5f) << "vertex " << i;
+      model.add(p);
+      world.add(glm::vec3(placement * glm::vec4(p, 1.0f)));
+    }
+    EXPECT_NEAR(model.largest(), 3.0f, 1e-5f);
+    EXPECT_NEAR(world.lo.y, 0.25f, 1e-5f) << "the lowest point is at position.y";
+  }
+  // Without on_floor: the bounding box is centred on the object's origin.
+  const ObjectSpec centred = one_object_scene(R"({"mesh": {"procedural": "box", "size": [2, 1, 0.5]}, "fit": {"size": 1}})").objects[0];
+  Extent box;
+  for (const auto& v : make_fitted_mesh(centred, ".").vertices) box.add({v.x, v.y, v.z});
+  EXPECT_NEAR(box.largest(), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(box.lo + box.hi), 0.0f, 1e-6f);
+}
+
+TEST(SceneObjects, FitAndObjectQualityAreCheckedLikeEveryOtherKey) {
+  const auto refused = [](const std::string& object, const std::string& expected) {
+    try {
+      one_object_scene(object);
+      ADD_FAILURE() << "accepted " << object;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  const std::string box = R"("mesh": {"procedural": "box"})";
+  refused("{" + box + R"(, "fit": {"size": 0}})", "'size' must be positive");
+  refused("{" + box + R"(, "fit": {"sise": 2}})", "'sise' is not a key of fit");
+  refused("{" + box + R"(, "fit": 2})", "'fit' must be an object");
+  refused("{" + box + R"(, "fit": {"on_floor": 1}})", "'on_floor' must be true or false");
+  refused("{" + box + R"(, "quality": {"shading": "tiled"}})", "'shading' is not a key of objects[0].quality");
+  refused("{" + box + R"(, "quality": {"eps_diagonal": -1}})", "'eps_diagonal' must be positive");
+  refused("{" + box + R"(, "quality": {"csm_maps": 1000}})", "'csm_maps' 1000 is not a perfect square");
+  refused("{" + box + R"(, "splats": "a.ply"})", "give either \"mesh\"");
+  refused(R"({"name": "x"})", "'mesh' is missing in x");
+  refused(R"({"splats": "a.ply", "texture": "t.png"})", "a splat file brings its own colours");
+  refused(R"({"splats": "a.ply", "quality": {"sampling": "auto"}})", "a splat file's splats are used as they are");
+  refused(R"({"splats": ""})", "'splats' must be a file name");
+}
+
+TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
+  const Scene scene = parse_scene(R"({"objects": [
+      {"name": "a", "mesh": {"procedural": "sphere", "segments": 12, "rings": 6}},
+      {"name": "b", "mesh": {"procedural": "sphere", "segments": 12, "rings": 6},
+       "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004, "splat_bound": "thesis", "sampling": "grid:1"}}],
+      "quality": {"eps_diagonal": 0.002, "csm_maps": 1024, "csm_resolution": 16}})",
+                                  "s.json", ".");
+  const Quality a = object_quality(scene.quality, scene.objects[0]), b = object_quality(scene.quality, scene.objects[1]);
+  EXPECT_EQ(a.csm_maps, 1024u);
+  EXPECT_EQ(a.csm_resolution, 16u);
+  EXPECT_FLOAT_EQ(a.eps_diagonal, 0.002f);
+  EXPECT_EQ(a.splat_bound, "two-sided");
+  EXPECT_EQ(a.sampling, "auto");
+  EXPECT_EQ(b.csm_maps, 256u);
+  EXPECT_EQ(b.csm_resolution, 32u);
+  EXPECT_FLOAT_EQ(b.eps_diagonal, 0.004f);
+  EXPECT_EQ(b.splat_bound, "thesis");
+  EXPECT_EQ(b.sampling, "grid:1");
+  EXPECT_EQ(b.shading, scene.quality.shading);  // the frame's settings stay the scene's
+}
+
+class SceneObjectsRender : public PresenterTest {};
+
+TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
+  const Scene scene = parse_scene(R"({"objects": [
+      {"name": "a", "mesh": {"procedural": "box", "rings": 4}},
+      {"name": "b", "mesh": {"procedural": "box", "rings": 4}, "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004}}],
+      "quality": {"eps_diagonal": 0.002, "csm_resolution": 16}})",
+                                  "s.json", ".");
+  const ObjectAssets a = load_object_assets(scene.objects[0], scene, SPLATCL_TEST_CACHE, *runtime_);
+  const ObjectAssets b = load_object_assets(scene.objects[1], scene, SPLATCL_TEST_CACHE, *runtime_);
+  EXPECT_EQ(a.csm.info.resolution, 16u);
+  EXPECT_EQ(a.csm.info.maps, 1024u);
+  EXPECT_EQ(b.csm.info.resolution, 32u);
+  EXPECT_EQ(b.csm.info.maps, 256u);
+  EXPECT_NE(a.key, b.key);
+}
+
+// A mesh object, and the same splats read from a splatcl splat file and from a 3DGS export, drawn
+// alone with the same camera: the splat file gives the very same image (same splat rows); the 3DGS
+// export the same within its float round trip; the discs' shadow map shades the floor as the mesh's.
+TEST_F(SceneObjectsRender, SplatFilesDrawAsTheMeshObjectTheyCameFrom) {
+  const std::string dir = temp_dir("splat-files");
+  const std::string sphere = R"("mesh": {"procedural": "sphere", "radius": 1, "segments": 24, "rings": 12}, "quality": {"eps_diagonal": 0.004})";
+  const std::string place = R"("color": [0.8, 0.5, 0.3], "position": [0, 1.1, 0])";
+  const auto scene_of = [&](const std::string& object) {
+    Scene s = parse_scene(R"({"objects": [)" + object + R"(], "lights": {"count": 32, "seed": 3},
+        "key_lights": [{"position": [3, 6, 4], "radius": 20, "color": [0.7, 0.65, 0.55]}],
+        "camera": {"eye": [0, 2.5, 4.5], "target": [0, 0.8, 0], "up": [0, 1, 0], "fov_y_degrees": 45, "near": 0.1, "far": 30}})",
+                          "s.json", dir);
+    s.floor.splats_per_side = 48;
+    return s;
+  };
+  const Scene mesh_scene = scene_of("{" + sphere + ", " + place + "}");
+  const ObjectAssets built = load_object_assets(mesh_scene.objects[0], mesh_scene, SPLATCL_TEST_CACHE, *runtime_);
+  splats::write_splat_file(dir + "/sphere.splats.ply", built.splats, splats::SplatFileInfo{"sphere", "auto", 0.01f, 10, 255, "grey", false});
+  splats::write_gaussian_file(dir + "/sphere.3dgs.ply", built.splats);
+
+  const Scene ours = scene_of(R"({"splats": "sphere.splats.ply", )" + place + "}");
+  const Scene gaussian = scene_of(R"({"splats": "sphere.3dgs.ply", )" + place + "}");
+  const ObjectAssets from_file = load_object_assets(ours.objects[0], ours, SPLATCL_TEST_CACHE, *runtime_);
+  ASSERT_EQ(from_file.splats.size(), built.splats.size());
+  EXPECT_EQ(from_file.mesh.face_count(), built.splats.size()) << "one disc per splat";
+  for (std::size_t i = 0; i < built.splats.size(); ++i) {
+    EXPECT_EQ(from_file.splats[i].center, built.splats[i].center);
+    EXPECT_EQ(from_file.splats[i].major, built.splats[i].major);
+  }
+
+  const auto render = [&](const Scene& scene, bool shadows) {
+    Presenter presenter(scene, *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+    presenter.scene().quality.shadows = shadows ? "splat" : "off";
+    presenter.ambient_occlusion = shadows;
+    presenter.render(0.0f);
+    return presenter.read_display_rgb();
+  };
+  const auto mean_difference = [](const std::vector<float>& a, const std::vector<float>& b) {
+    double sum = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) sum += std::abs(a[i] - b[i]);
+    return sum / static_cast<double>(a.size());
+  };
+  const std::vector<float> reference = render(mesh_scene, false);
+  EXPECT_EQ(render(ours, false), reference) << "the same splats, the same image";
+  EXPECT_LT(mean_difference(render(gaussian, false), reference), 1.0 / 255.0);
+  // Shadows and AO from the discs' CSM instead of the mesh's: the sphere's own shading and its
+  // shadow on the floor agree to a few levels.
+  const double lit = mean_difference(render(ours, true), render(mesh_scene, true));
+  EXPECT_LT(lit, 4.0 / 255.0) << "mean difference " << lit * 255 << "/255";
+  std::filesystem::remove_all(dir);
+}
+
+// The shipped scene of scanned models (data/scans-scene.json), when the test models are present:
+// each scan fitted to its size and resting on the floor.
+TEST(SceneObjects, ScansSceneRestsEachScanOnTheFloor) {
+  const std::string models = SPLATCL_MODELS_DIR;
+  if (!std::filesystem::exists(models + "/stanford-bunny.obj") || !std::filesystem::exists(models + "/nefertiti.obj"))
+    GTEST_SKIP() << "the test models are not in " << models << " (link them into data/models)";
+  const std::string dir = temp_dir("scans");
+  std::filesystem::create_directory_symlink(models, dir + "/models");
+  const std::string path = std::string(SPLATCL_DATA_DIR) + "/scans-scene.json";
+  const Scene scene = parse_scene(read_text_file(path, "scene"), path, dir);
+  std::size_t scans = 0;
+  for (const ObjectSpec& object : scene.objects) {
+    if (object.mesh.path.empty()) continue;
+    ++scans;
+    SCOPED_TRACE(object.name);
+    const splats::Mesh mesh = make_fitted_mesh(object, scene.directory);
+    Extent model, world;
+    const glm::mat4 placement = object.placement(0.0f);
+    for (const auto& v : mesh.vertices) {
+      model.add({v.x, v.y, v.z});
+      world.add(glm::vec3(placement * glm::vec4(v.x, v.y, v.z, 1.0f)));
+    }
+    EXPECT_NEAR(model.largest(), object.fit.size, 1e-5f * object.fit.size);
+    EXPECT_NEAR(world.lo.y, scene.floor.y, 1e-4f);
+    EXPECT_LT(std::max(std::abs(world.lo.x), std::abs(world.hi.x)), 0.5f * scene.floor.size) << "on the floor square";
+  }
+  EXPECT_EQ(scans, 2u);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace splatcl::present::testing
