@@ -182,7 +182,9 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
     if (ImGui::SliderInt("generated lights", &lights, 0, static_cast<int>(present::kMaxLights) - explicit_lights, "%d",
                          ImGuiSliderFlags_Logarithmic))
       present::set_generated_light_count(s, static_cast<std::uint32_t>(std::max(lights, 0)));
-    ImGui::Text("%zu lights (%d listed), %zu key lights", s.lights.size(), explicit_lights, s.key_lights.size());
+    // Generated lights come from "lights": {"count": N}; listed ones from an explicit array.
+    ImGui::Text("%zu point lights (%u generated, %d listed), %zu key lights", s.lights.size(), s.generated.count, explicit_lights,
+                s.key_lights.size());
   }
 
   if (ImGui::CollapsingHeader("stages (ms)", ImGuiTreeNodeFlags_DefaultOpen) &&

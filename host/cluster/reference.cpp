@@ -1,9 +1,8 @@
 #include "cluster/reference.hpp"
 
 #include <algorithm>
-#include <thread>
 
-#include "io/cpu_set.hpp"
+#include "core/parallel.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cluster {
@@ -55,17 +54,10 @@ std::vector<ClusterBox> reference_bounds(const ClusterLayout& layout, const std:
 LightLists reference_assign(const std::vector<ClusterBox>& boxes, const std::vector<PointLight>& lights) {
   const std::size_t clusters = boxes.size();
   std::vector<std::vector<std::uint32_t>> per_cluster(clusters);
-  const std::size_t threads =
-      std::clamp<std::size_t>(usable_cpus(), 1, std::max<std::size_t>(1, clusters / 64));
-  std::vector<std::thread> workers;
-  for (std::size_t t = 0; t < threads; ++t) {
-    workers.emplace_back([&, t] {
-      for (std::size_t c = t; c < clusters; c += threads)
-        for (std::uint32_t l = 0; l < lights.size(); ++l)
-          if (light_touches_box(lights[l], boxes[c])) per_cluster[c].push_back(l);
-    });
-  }
-  for (auto& worker : workers) worker.join();
+  parallel_for(clusters, 64, [&](std::size_t c, std::size_t) {
+    for (std::uint32_t l = 0; l < lights.size(); ++l)
+      if (light_touches_box(lights[l], boxes[c])) per_cluster[c].push_back(l);
+  });
 
   LightLists lists;
   lists.offsets.resize(clusters);

@@ -4,9 +4,8 @@
 #include <cmath>
 #include <numbers>
 #include <span>
-#include <thread>
 
-#include "io/cpu_set.hpp"
+#include "core/parallel.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cluster {
@@ -44,11 +43,9 @@ std::vector<float> shade_rows(const ClusterLayout& layout, const std::vector<flo
         rgb[3 * p + 2] = albedo.z * sum.z;
       }
   };
-  const unsigned threads = std::max(1u, std::min(usable_cpus(), height));
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t)
-    pool.emplace_back(shade_range, height * t / threads, height * (t + 1) / threads);
-  for (auto& thread : pool) thread.join();
+  parallel_for(height, 4, [&](std::size_t y, std::size_t) {
+    shade_range(static_cast<std::uint32_t>(y), static_cast<std::uint32_t>(y + 1));
+  });
   return rgb;
 }
 

@@ -4,9 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <thread>
 
-#include "io/cpu_set.hpp"
+#include "core/parallel.hpp"
 #include "io/json_keys.hpp"
 #include "runtime/error.hpp"
 
@@ -205,13 +204,7 @@ DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t heigh
       result.normals[p] = {dot(normal, frame.right), dot(normal, frame.up), dot(normal, frame.back)};
     }
   };
-  const unsigned workers = std::clamp(threads ? threads : usable_cpus(), 1u, height);
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < workers; ++t)
-    pool.emplace_back([&, t] {
-      for (std::uint32_t y = t; y < height; y += workers) cast_row(y);
-    });
-  for (auto& thread : pool) thread.join();
+  parallel_for(height, 1, [&](std::size_t y, std::size_t) { cast_row(static_cast<std::uint32_t>(y)); }, threads);
   return result;
 }
 

@@ -99,7 +99,7 @@ struct DepthFrame {
   std::vector<float> view_z;
   std::vector<Vec3> normals;
 };
-// Ray casts the scene with `threads` std::threads (0 = hardware concurrency).
+// Ray casts the scene on at most `threads` threads of parallel_for (0 = every usable CPU).
 DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t height, unsigned threads = 0);
 
 // The scene's lights in view space: explicit lights transformed; random lights placed around

@@ -10,7 +10,7 @@
 
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 namespace {
@@ -78,7 +78,7 @@ class ModeCompressor {
     if (options_.mode == CompressionMode::PerMap) {
       std::vector<Segments> per_map(count);
       std::vector<std::uint64_t> violations(count, 0);
-      splats::parallel_for(count, 4, [&](std::size_t k, std::size_t) {
+      parallel_for(count, 4, [&](std::size_t k, std::size_t) {
         Segments& s = per_map[k];
         s.end.clear();
         s.offsets.clear();
@@ -125,8 +125,8 @@ class ModeCompressor {
     }
     scan.close();
     account(result, s, 1);
-    std::vector<std::uint64_t> violations(splats::worker_count(count, 1), 0);
-    splats::parallel_for(count, 1, [&](std::size_t k, std::size_t w) {
+    std::vector<std::uint64_t> violations(worker_count(count, 1), 0);
+    parallel_for(count, 1, [&](std::size_t k, std::size_t w) {
       std::uint32_t q[4];
       for (std::size_t p = 0; p < pixels; ++p) {
         std::uint64_t h = 0;
@@ -376,7 +376,7 @@ std::vector<KMeansResult> kmeans_analysis(const std::vector<float>& z1, const st
     for (r.iterations = 0; r.iterations < max_iterations;) {
       ++r.iterations;
       std::vector<std::uint8_t> changed(maps, 0);
-      splats::parallel_for(maps, 4, [&](std::size_t m, std::size_t) {
+      parallel_for(maps, 4, [&](std::size_t m, std::size_t) {
         double best = INFINITY;
         std::uint32_t best_j = 0;
         for (std::uint32_t j = 0; j < k; ++j) {
@@ -426,8 +426,8 @@ std::vector<KMeansResult> kmeans_analysis(const std::vector<float>& z1, const st
     r.segments = s.size();
     r.plain_bytes = 256 + 4 * (pixels + 1) + 8 * s.size();
     r.samples = std::uint64_t{maps} * pixels;
-    std::vector<std::uint64_t> wrong(splats::worker_count(pixels, 64), 0);
-    splats::parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
+    std::vector<std::uint64_t> wrong(worker_count(pixels, 64), 0);
+    parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
       std::size_t at = s.offsets[p];
       for (std::uint32_t m = 0; m < maps; ++m) {
         while (s.end[at] < m) ++at;
@@ -448,8 +448,8 @@ WaveletResult wavelet_analysis(const Csm& csm) {
   WaveletResult result;
   for (std::size_t p = 0; p < pixels; ++p) result.layers = std::max(result.layers, csm.offsets[p + 1] - csm.offsets[p]);
   const std::uint32_t layer_images = 2 * result.layers;
-  std::vector<std::uint64_t> zeros(splats::worker_count(layer_images, 1), 0);
-  splats::parallel_for(layer_images, 1, [&](std::size_t image, std::size_t w) {
+  std::vector<std::uint64_t> zeros(worker_count(layer_images, 1), 0);
+  parallel_for(layer_images, 1, [&](std::size_t image, std::size_t w) {
     const std::uint32_t layer = static_cast<std::uint32_t>(image / 2);
     const bool ends = image % 2 == 1;
     std::vector<float> v(pixels), scratch(m);

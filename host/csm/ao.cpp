@@ -10,7 +10,7 @@
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 namespace {
@@ -126,7 +126,7 @@ void ambient_occlusion_reference(const VisibilityScene& scene, const AoRequest& 
   request.validate();
   out.resize(request.positions.size());
   const device::CsmScene view = scene.view();
-  splats::parallel_for(out.size(), 64, [&](std::size_t r, std::size_t) {
+  parallel_for(out.size(), 64, [&](std::size_t r, std::size_t) {
     const Vec4 p = request.positions[r], n = request.normals[r];
     const float* pattern = &request.patterns[std::size_t{request.pattern_of[r]} * request.samples].x;
     float result[4];

@@ -14,7 +14,7 @@
 #include "csm/capture.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 
@@ -112,7 +112,7 @@ std::vector<float> raycast_ambient_occlusion(const splats::Mesh& receiver, const
   const Bvh bvh = build_bvh(mesh_triangles(occluder, c));
   const float eps = 1e-4f * sphere.radius;
   std::vector<float> out(n);
-  splats::parallel_for(n, 64, [&](std::size_t v, std::size_t) {
+  parallel_for(n, 64, [&](std::size_t v, std::size_t) {
     const Vec3 p = receiver.vertices[v], nrm = receiver_normal(receiver, v);
     float h[3];
     device::csm_ao_rotation_axis(nrm.x, nrm.y, nrm.z, h);

@@ -5,7 +5,7 @@
 
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 namespace {
@@ -130,10 +130,10 @@ LosslessReport check_lossless(const Csm& csm, const splats::Mesh& model, Runtime
   // Each pixel walks its segment list forward as the maps go by: no search needed.
   std::vector<std::uint32_t> cursor(csm.offsets.begin(), csm.offsets.end() - 1);
   LosslessReport report;
-  std::vector<LosslessReport> per_worker(splats::worker_count(pixels, 64));
+  std::vector<LosslessReport> per_worker(worker_count(pixels, 64));
   for_each_batch(info.maps, batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
     capture.get(first, count, z1, z2);
-    splats::parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
+    parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
       LosslessReport& r = per_worker[w];
       for (std::uint32_t k = 0; k < count; ++k) {
         const std::uint32_t map = first + k;

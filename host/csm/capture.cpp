@@ -5,7 +5,7 @@
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 namespace {
@@ -137,7 +137,7 @@ void capture_reference(const CaptureScene& scene, const SphereGrid& grid, std::u
   const std::size_t m = scene.resolution, pixels = scene.pixels();
   z1.assign(count * pixels, 0.0f);
   z2.assign(count * pixels, 0.0f);
-  splats::parallel_for(std::size_t{count} * m, 4, [&](std::size_t item, std::size_t) {
+  parallel_for(std::size_t{count} * m, 4, [&](std::size_t item, std::size_t) {
     const std::size_t map = item / m, row = item % m;
     const std::size_t base = map * pixels + row * m;
     pixel_depths(scene, table[map], static_cast<std::uint32_t>(row), z1.data() + base, z2.data() + base);

@@ -6,7 +6,7 @@
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 
@@ -27,7 +27,7 @@ bool lossless(float g, float z1, float z2) {
 Segments compress_reference(const std::vector<float>& z1, const std::vector<float>& z2, std::size_t pixels, std::uint32_t maps) {
   if (z1.size() != pixels * maps || z2.size() != pixels * maps) throw Error("compress_reference: depth arrays do not hold maps x pixels values");
   std::vector<Segments> per_pixel(pixels);
-  splats::parallel_for(pixels, 256, [&](std::size_t p, std::size_t) {
+  parallel_for(pixels, 256, [&](std::size_t p, std::size_t) {
     Segments& s = per_pixel[p];
     std::uint32_t k = 0;
     while (k < maps) {
@@ -127,7 +127,7 @@ Segments StreamingCompressor::finish() {
   out.lo.resize(total);
   out.hi.resize(total);
   out.end.resize(total);
-  splats::parallel_for(pixels_, 512, [&](std::size_t p, std::size_t) {
+  parallel_for(pixels_, 512, [&](std::size_t p, std::size_t) {
     std::size_t at = out.offsets[p];
     for (const Chunk& c : chunks_)
       for (std::uint32_t k = c.offsets[p]; k < c.offsets[p + 1]; ++k, ++at) {

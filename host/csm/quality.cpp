@@ -9,7 +9,7 @@
 
 #include "csm/bvh.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 
@@ -96,7 +96,7 @@ QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const Qu
     std::vector<Vec4> receivers, lights;
     std::vector<std::uint8_t> exact_lit, facing;
     std::vector<Vec4> hit(std::size_t{w} * w), normal(hit.size());
-    splats::parallel_for(hit.size(), 256, [&](std::size_t p, std::size_t) {
+    parallel_for(hit.size(), 256, [&](std::size_t p, std::size_t) {
       const float x = (2 * (static_cast<float>(p % w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
       const float y = (2 * (static_cast<float>(p / w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
       const Vec3 d = splats::normalized(forward + x * right + y * up);
@@ -119,7 +119,7 @@ QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const Qu
         facing.push_back(dot(n, to_light) > 0);
       }
     exact_lit.resize(receivers.size());
-    splats::parallel_for(receivers.size(), 256, [&](std::size_t k, std::size_t) {
+    parallel_for(receivers.size(), 256, [&](std::size_t k, std::size_t) {
       const Vec3 p{receivers[k].x, receivers[k].y, receivers[k].z};
       const Vec3 to_light = light - p;
       const float len = length(to_light);

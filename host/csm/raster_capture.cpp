@@ -6,7 +6,7 @@
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 
@@ -98,9 +98,9 @@ void raster_capture_reference(const CaptureScene& scene, const RasterMesh& mesh,
   z1.assign(std::size_t{count} * pixels, 0.0f);
   z2.assign(z1.size(), 0.0f);
   const device_raster::CsmRasterParams params = raster_params(scene);
-  const std::size_t workers = splats::worker_count(count, 1);
+  const std::size_t workers = worker_count(count, 1);
   std::vector<std::vector<float>> scratch(workers);
-  splats::parallel_for(count, 1, [&](std::size_t map, std::size_t worker) {
+  parallel_for(count, 1, [&](std::size_t map, std::size_t worker) {
     std::vector<float>& proj = scratch[worker];
     proj.resize(4 * std::size_t{mesh.vertex_count()});
     float* a = z1.data() + map * pixels;

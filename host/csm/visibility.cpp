@@ -7,7 +7,7 @@
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::csm {
 
@@ -166,7 +166,7 @@ void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>&
   if (receivers.size() != lights.size()) throw Error("visibility queries need one light per receiver");
   out.resize(receivers.size());
   const device::CsmScene view = scene.view();
-  splats::parallel_for(receivers.size(), 4096, [&](std::size_t q, std::size_t) {
+  parallel_for(receivers.size(), 4096, [&](std::size_t q, std::size_t) {
     const Vec4 p = receivers[q], l = lights[q];
     const float wx = l.x - l.w * p.x, wy = l.y - l.w * p.y, wz = l.z - l.w * p.z;
     out[q] = device::csm_visibility(&view, p.x, p.y, p.z, wx, wy, wz, static_cast<std::uint32_t>(filter), bias);

@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <thread>
 
 #include <flann/flann.hpp>
 
-#include "io/cpu_set.hpp"
+#include "core/parallel.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::splats {
@@ -26,40 +25,36 @@ Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k) {
   flann::Matrix<float> data(const_cast<float*>(&positions[0].x), n, 3, sizeof(Vec4));
   flann::Index<flann::L2_Simple<float>> index(data, flann::KDTreeSingleIndexParams(10));
   index.buildIndex();
-  const std::size_t threads = usable_cpus();
-  const std::size_t chunk = (n + threads - 1) / threads;
-  auto work = [&](std::size_t begin, std::size_t end) {
-    const std::size_t want = kk + 1;
-    std::vector<std::size_t> ids(want);
-    std::vector<float> distances(want);
-    std::vector<std::pair<float, std::uint32_t>> found(want);
-    flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
-    params.sorted = true;
-    for (std::size_t i = begin; i < end; ++i) {
-      flann::Matrix<float> query(const_cast<float*>(&positions[i].x), 1, 3, sizeof(Vec4));
-      flann::Matrix<std::size_t> id_row(ids.data(), 1, want);
-      flann::Matrix<float> distance_row(distances.data(), 1, want);
-      index.knnSearch(query, id_row, distance_row, want, params);
-      // Ties broken by index so the graph does not depend on the tree's visiting order.
-      for (std::size_t r = 0; r < want; ++r) found[r] = {distances[r], static_cast<std::uint32_t>(ids[r])};
-      std::sort(found.begin(), found.end());
-      // Drop the sample itself by index (duplicates have equal distance); if it is missing, the farthest.
-      auto self = std::find_if(found.begin(), found.end(), [&](const auto& f) { return f.second == i; });
-      if (self == found.end()) self = found.end() - 1;
-      found.erase(self);
-      for (std::size_t r = 0; r < kk; ++r) result.indices[i * kk + r] = found[r].second;
-      const float d = std::sqrt(found[kk - 1].first);
-      result.kth_distance[i] = d;
-      result.weight[i] = std::numbers::pi * static_cast<double>(d) * static_cast<double>(d);
-      found.resize(want);
-    }
+  const std::size_t want = kk + 1;
+  constexpr std::size_t kBlock = 256;
+  struct Scratch {
+    std::vector<std::size_t> ids;
+    std::vector<float> distances;
+    std::vector<std::pair<float, std::uint32_t>> found;
   };
-  std::vector<std::thread> pool;
-  for (std::size_t t = 0; t < threads; ++t) {
-    const std::size_t begin = t * chunk, end = std::min(n, begin + chunk);
-    if (begin < end) pool.emplace_back(work, begin, end);
-  }
-  for (auto& t : pool) t.join();
+  std::vector<Scratch> scratch(worker_count(n, kBlock));
+  for (Scratch& s : scratch) s = {std::vector<std::size_t>(want), std::vector<float>(want), {}};
+  flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+  params.sorted = true;
+  parallel_for(n, kBlock, [&](std::size_t i, std::size_t w) {
+    auto& [ids, distances, found] = scratch[w];
+    flann::Matrix<float> query(const_cast<float*>(&positions[i].x), 1, 3, sizeof(Vec4));
+    flann::Matrix<std::size_t> id_row(ids.data(), 1, want);
+    flann::Matrix<float> distance_row(distances.data(), 1, want);
+    index.knnSearch(query, id_row, distance_row, want, params);
+    // Ties broken by index so the graph does not depend on the tree's visiting order.
+    found.resize(want);
+    for (std::size_t r = 0; r < want; ++r) found[r] = {distances[r], static_cast<std::uint32_t>(ids[r])};
+    std::sort(found.begin(), found.end());
+    // Drop the sample itself by index (duplicates have equal distance); if it is missing, the farthest.
+    auto self = std::find_if(found.begin(), found.end(), [&](const auto& f) { return f.second == i; });
+    if (self == found.end()) self = found.end() - 1;
+    found.erase(self);
+    for (std::size_t r = 0; r < kk; ++r) result.indices[i * kk + r] = found[r].second;
+    const float d = std::sqrt(found[kk - 1].first);
+    result.kth_distance[i] = d;
+    result.weight[i] = std::numbers::pi * static_cast<double>(d) * static_cast<double>(d);
+  });
   return result;
 }
 

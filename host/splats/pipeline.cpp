@@ -11,7 +11,7 @@
 
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 #include "splats/reference.hpp"
 
 namespace splatcl::splats {

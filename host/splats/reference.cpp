@@ -6,7 +6,7 @@
 #include <numeric>
 #include <tuple>
 
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace splatcl::splats::reference {
 

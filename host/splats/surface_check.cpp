@@ -8,7 +8,7 @@
 
 #include "math/dvec3.hpp"
 #include "runtime/error.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 #include "splats/surface.hpp"
 
 namespace splatcl::splats {

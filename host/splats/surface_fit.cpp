@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "runtime/profiling.hpp"
-#include "splats/parallel.hpp"
+#include "core/parallel.hpp"
 #include "splats/reference.hpp"
 
 namespace splatcl::splats {
