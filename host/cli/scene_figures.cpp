@@ -9,8 +9,11 @@ std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, c
     ObjectFigures f;
     f.name = scene.objects[i].name;
     f.occluder = scene.objects[i].occluder;
-    f.vertices = a.mesh.vertices.size();
-    f.faces = a.mesh.face_count();
+    const present::MeshSpec& mesh = scene.objects[i].mesh;
+    const bool splat_file = !mesh.splat_path.empty();
+    f.source = splat_file ? "splat file " + mesh.splat_path : mesh.path.empty() ? "procedural " + mesh.procedural : "mesh " + mesh.path;
+    f.vertices = splat_file ? 0 : a.mesh.vertices.size();
+    f.faces = splat_file ? 0 : a.mesh.face_count();
     f.splats = a.splats.size();
     f.lod_entries = a.tree.size();
     f.csm_maps = a.csm.info.maps;
@@ -33,6 +36,7 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
   for (const ObjectFigures& f : objects)
     list.push_back({{"name", f.name},
                     {"occluder", f.occluder},
+                    {"source", f.source},
                     {"vertices", f.vertices},
                     {"faces", f.faces},
                     {"splats", f.splats},

@@ -15,7 +15,8 @@ namespace splatcl::cli {
 struct ObjectFigures {
   std::string name;
   bool occluder = true;
-  std::size_t vertices = 0, faces = 0;
+  std::string source;  // "mesh FILE", "procedural SHAPE" or "splat file FILE"
+  std::size_t vertices = 0, faces = 0;  // of the mesh; 0 for a splat file (its CSM's discs are not a mesh)
   std::size_t splats = 0;       // the object's splats (LOD off)
   std::size_t lod_entries = 0;  // splats and octree nodes of its LOD tree
   std::uint32_t csm_maps = 0, csm_resolution = 0;

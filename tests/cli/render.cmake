@@ -74,6 +74,7 @@ add_test(NAME cli.render_scans_scene COMMAND ${NEEDS_FILE} ${SPLATCL_MODELS_DIR}
          --match "^render: built nefertiti: coherent shadow map of 1024 maps of 64² in [0-9.]+ s$"
          --match "^scene .*scans-scene.json: 3 objects, [1-9][0-9]* splats, 256 lights"
          --file ${SCANS_DIR}/render.json "\"name\": \"nefertiti\","
+         --file ${SCANS_DIR}/render.json "\"source\": \"mesh models/stanford-bunny.obj\","
          --png ${SCANS_DIR}/render.png 160 120
          -- $<TARGET_FILE:splatcl> render ${SCANS_DIR}/scans-scene.json --size 160x120 --frames 2 --cache ${SCANS_DIR}/cache
          -o ${SCANS_DIR}/render.png --json ${SCANS_DIR}/render.json)
