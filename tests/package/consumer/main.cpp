@@ -14,6 +14,11 @@
 #include <splatcl/splats/mesh.hpp>
 #include <splatcl/splats/pipeline.hpp>
 
+// Only the splatcl/ tree is visible: the sources' own include root (host/) stays inside the project.
+#if __has_include("runtime/runtime.hpp") || __has_include("splats/mesh.hpp")
+#error "splatcl's unprefixed headers are on the consumer's include path"
+#endif
+
 namespace {
 
 int fail(const char* what) {
