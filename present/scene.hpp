@@ -97,6 +97,10 @@ struct Quality {
   std::uint32_t ao_samples = 16;
   float ao_bias = 0.02f;       // CSM depth bias of AO and shadow queries, world units
   float splat_scale = 1.0f;    // k: multiplies every splat's axes
+  // Splats fitted to the mesh as loaded (splats::clip_to_surface): cut by a line where they overhang
+  // a sharp edge, their major axis shortened where they stand off a curved surface, by more than
+  // this × the mesh's bounding-box diagonal; 0 = drawn as in the splat file.
+  float surface_clip = 0.003f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse
   std::string mode = "splats";        // "splats" (three passes) or "points" (one pass, squares)
