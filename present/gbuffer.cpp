@@ -77,11 +77,13 @@ ShadingTargets::ShadingTargets(int width, int height)
       height_(height),
       hdr_(gl::make_texture(GL_RGBA32F, width, height)),
       display_(gl::make_texture(GL_RGBA8, width, height)),
+      resolved_(gl::make_texture(GL_RGBA8, width, height)),
       hdr_fbo_(gl::make_framebuffer({hdr_.get(), display_.get()}, 0, "shading")),
-      display_fbo_(gl::make_framebuffer({display_.get()}, 0, "display")) {}
+      display_fbo_(gl::make_framebuffer({display_.get()}, 0, "display")),
+      resolved_fbo_(gl::make_framebuffer({resolved_.get()}, 0, "resolved display")) {}
 
 std::vector<float> ShadingTargets::read_display_rgb() const {
-  return drop_alpha(gl::read_rgba(display_fbo_.get(), GL_COLOR_ATTACHMENT0, width_, height_));
+  return drop_alpha(gl::read_rgba(display_framebuffer(), GL_COLOR_ATTACHMENT0, width_, height_));
 }
 
 std::vector<float> ShadingTargets::read_hdr_rgb() const {

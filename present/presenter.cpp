@@ -230,6 +230,7 @@ struct Presenter::Impl {
   std::unique_ptr<AccumulationPass> accumulation_pass;
   std::unique_ptr<PointPass> point_pass;
   std::unique_ptr<MeshMaskPass> mesh_pass;
+  std::unique_ptr<ResolvePass> resolve_pass;
   ShadingPass shading_pass;
   gl::Buffer static_vbo, dynamic_vbo;
   gl::VertexArray empty_vao;
@@ -362,6 +363,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   g.accumulation_pass = std::make_unique<AccumulationPass>();
   g.point_pass = std::make_unique<PointPass>();
   g.mesh_pass = std::make_unique<MeshMaskPass>();
+  g.resolve_pass = std::make_unique<ResolvePass>();
 
   g.empty_vao = gl::make_vertex_array();
   g.static_vbo = gl::make_buffer();
@@ -753,9 +755,17 @@ FrameStats Presenter::render(float time) {
   shade_frame.specular = q.specular;
   shade_frame.shininess = q.shininess;
   glBindVertexArray(g.empty_vao.get());
-  g.shading_pass.run(g.targets->shading.framebuffer(hdr_output), gbuffer, pixel, variant, shade_frame);
+  ShadingTargets& shading = g.targets->shading;
+  g.shading_pass.run(shading.framebuffer(hdr_output), gbuffer, pixel, variant, shade_frame);
   g.hdr_written = hdr_output;
   g.timers.end();
+  // Debug views show the G-buffer's values as they are, unfiltered.
+  shading.resolved = q.antialias > 0 && debug_view == DebugView::Final;
+  if (shading.resolved) {
+    g.timers.begin("gl: silhouette resolve");
+    g.resolve_pass->run(shading.resolved_framebuffer(), shading.shaded_display(), gbuffer, q.antialias);
+    g.timers.end();
+  }
   g.timers.collect(stats.stages);
   if (const GLenum error = glGetError(); error != GL_NO_ERROR)
     throw Error(fmt::format("OpenGL error 0x{:x} while rendering a frame", error));

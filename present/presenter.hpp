@@ -9,7 +9,8 @@
 //   CL: cluster keys → compaction → bounds → light assignment (cluster::ClusterPipeline); or tile
 //       lists on the host (tiled baseline); or nothing (brute-force baseline)
 //   upload of the lights and lists → GL final shading (division by Σw, Lambert with the corrected
-//   falloff, shadowed key lights, per-splat SH sky with the bent normal × AO) → tone mapping.
+//   falloff, shadowed key lights, per-splat SH sky with the bent normal × AO) → tone mapping →
+//   silhouette resolve (anti-aliasing across object outlines, final view only).
 // Every stage is timed: GL passes with timer queries (or wall clocks, wall_clock_passes), CL
 // stages and transfers with wall clocks.
 #include <cstdint>

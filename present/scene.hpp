@@ -103,6 +103,10 @@ struct Quality {
   float surface_clip = 0.003f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse
+  // Silhouette anti-aliasing of the final view's tone-mapped image (ResolvePass in
+  // present/passes.hpp): a pixel is on an outline where its coverage differs from a neighbour's or
+  // the view depth changes by more than this share of the farther one; 0 = off.
+  float antialias = 0.1f;
   std::string mode = "splats";        // "splats" (three passes) or "points" (one pass, squares)
   std::string shading = "clustered";  // "clustered", "tiled" or "brute"
   std::uint32_t tile = 32;            // cluster / tile side in pixels

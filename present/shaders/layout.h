@@ -44,6 +44,7 @@
 #define UNIT_Z_NORMAL 1
 #define UNIT_SHADOW_AMBIENT 2
 #define UNIT_SHADOWS 3
+#define UNIT_DISPLAY 4  /* the silhouette resolve's input: the tone-mapped image */
 #define UNIT_PIXEL_LIST 5
 #define UNIT_PIXEL_SHADOW 6
 #define UNIT_PIXEL_AO 7

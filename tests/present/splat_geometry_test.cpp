@@ -2,9 +2,10 @@
 // stress it: the default camera, close-ups, and grazing views in which a flat part or the torus is
 // seen edge-on. Holes are mesh pixels whose 8 neighbours are mesh pixels too but that no splat
 // covers; overhangs (fins, splats past a sharp edge) are splat pixels more than 1 pixel from the
-// mesh's outline.
+// mesh's outline. And the silhouette anti-aliasing of the final image.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -117,6 +118,58 @@ TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
       }
     }
   }
+}
+
+// With quality.antialias, the sky pixels next to an object's outline take intermediate colours
+// between the sky and the object; without it every uncovered pixel is the sky's one colour. Only
+// outlines change: pixels with no splat in their 3 × 3 neighbourhood, and the linear (HDR) image,
+// are the same bit for bit.
+TEST_F(PresenterTest, SilhouettesAreAntialiased) {
+  Scene scene = test_scene();
+  const int w = 200, h = 150;
+  std::vector<float> images[2], hdr[2];
+  std::vector<std::uint8_t> covered;
+  for (const bool aa : {false, true}) {
+    scene.quality.antialias = aa ? 0.1f : 0.0f;
+    Presenter presenter(scene, *runtime_, w, h, SPLATCL_TEST_CACHE);
+    presenter.render(0.0f);
+    images[aa] = presenter.read_display_rgb();
+    hdr[aa] = presenter.read_hdr_rgb();
+    covered = presenter.read_coverage();
+  }
+  EXPECT_EQ(hdr[0], hdr[1]);
+  const auto at = [&](int x, int y) { return static_cast<std::size_t>(std::clamp(y, 0, h - 1)) * w + std::clamp(x, 0, w - 1); };
+  const std::size_t sky = at(0, h - 1);
+  ASSERT_FALSE(covered[sky]);
+  const auto is_sky = [&](const std::vector<float>& image, std::size_t p) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(image[3 * p + c] - images[0][3 * sky + c]) > 1.5f / 255.0f) return false;
+    return true;
+  };
+  std::size_t outline = 0, blended = 0, unchanged_sky = 0, changed_sky = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = at(x, y);
+      if (covered[p]) continue;
+      int near = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) near += covered[at(x + dx, y + dy)];
+      const bool edge = covered[at(x + 1, y)] || covered[at(x - 1, y)] || covered[at(x, y + 1)] || covered[at(x, y - 1)];
+      ASSERT_TRUE(is_sky(images[0], p)) << x << ", " << y;
+      if (edge) {
+        ++outline;
+        blended += !is_sky(images[1], p);
+      } else if (near == 0) {
+        const bool same = std::equal(&images[0][3 * p], &images[0][3 * p + 3], &images[1][3 * p]);
+        unchanged_sky += same, changed_sky += !same;
+      }
+    }
+  std::printf("outline pixels %zu, blended %zu; sky pixels away from outlines %zu, changed %zu\n", outline, blended,
+              unchanged_sky + changed_sky, changed_sky);
+  ASSERT_GT(outline, 100u);
+  EXPECT_GE(blended, outline * 9 / 10) << blended << " of " << outline << " outline pixels";
+  EXPECT_GT(unchanged_sky, 1000u);
+  EXPECT_EQ(changed_sky, 0u);
 }
 
 }  // namespace
