@@ -79,6 +79,7 @@ class MeshMaskTarget {
   MeshMaskTarget(int width, int height);
   GLuint framebuffer() const { return fbo_.get(); }
   std::vector<std::uint8_t> read_mask() const;  // 1 where a triangle covers the pixel
+  std::vector<float> read_view_z() const;       // view z of the nearest triangle, 0 where none
 
  private:
   int width_, height_;

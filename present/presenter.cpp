@@ -808,6 +808,8 @@ std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
   return g.targets->mesh.read_mask();
 }
 
+std::vector<float> Presenter::read_mesh_view_z() const { return impl_->targets->mesh.read_view_z(); }
+
 unsigned Presenter::display_framebuffer() const { return impl_->targets->shading.display_framebuffer(); }
 
 }  // namespace splatcl::present

@@ -87,6 +87,8 @@ class Presenter {
   std::vector<float> read_normals() const;          // world normal xyz per pixel, 0 where uncovered
   // Rasterises the objects' triangle meshes at `time` with the same camera: 1 where covered.
   std::vector<std::uint8_t> render_mesh_mask(float time);
+  // The view z of the last render_mesh_mask's nearest triangles, 0 where none covers the pixel.
+  std::vector<float> read_mesh_view_z() const;
   // The display framebuffer (for blitting into a window).
   unsigned display_framebuffer() const;
 

@@ -22,10 +22,19 @@ struct Outline {
   std::size_t mesh = 0, interior = 0, holes = 0, beyond = 0;
 };
 
+// Whether the splats' view z at a pixel lies behind the mesh's there by more than the faceting and
+// the visibility pass's ε explain: 4 ε plus 2 % of the distance.
+bool behind_the_mesh(float splat_z, float mesh_z, float depth_offset) {
+  return splat_z < mesh_z - 4 * depth_offset - 0.02f * -mesh_z;
+}
+
 // Compares the last render's splat coverage with the mesh mask at the same camera.
 Outline compare_with_mesh(Presenter& presenter) {
   const auto splat = presenter.read_coverage();
+  const auto splat_z = presenter.read_view_z();
   const auto mesh = presenter.render_mesh_mask(0.0f);
+  const auto mesh_z = presenter.read_mesh_view_z();
+  const float depth_offset = presenter.scene().quality.depth_offset;
   const int w = presenter.width(), h = presenter.height();
   const auto at = [&](const std::vector<std::uint8_t>& m, int x, int y) {
     return x >= 0 && y >= 0 && x < w && y < h && m[static_cast<std::size_t>(y) * w + x];
@@ -40,7 +49,9 @@ Outline compare_with_mesh(Presenter& presenter) {
         ++o.mesh;
         if (neighbours == 9) {
           ++o.interior;
-          o.holes += !at(splat, x, y);
+          // Uncovered, or covered only by a surface behind the mesh's (seen through a hole).
+          const std::size_t p = static_cast<std::size_t>(y) * w + x;
+          o.holes += !splat[p] || behind_the_mesh(splat_z[p], mesh_z[p], depth_offset);
         }
       } else if (at(splat, x, y) && neighbours == 0) {
         ++o.beyond;
@@ -82,7 +93,7 @@ TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
     const char* object;
     std::vector<View> views;
   } cases[] = {
-      {"torus", {{"edge-on", {4.0f, 0.0f, 0.0f}}, {"grazing", {4.0f, 0.35f, 0.0f}}, {"close-up", {0.0f, 0.9f, 1.6f}}}},
+      {"torus", {{"default", {-2.07f, 3.3f, 6.75f}}, {"edge-on", {4.0f, 0.0f, 0.0f}}, {"grazing", {4.0f, 0.35f, 0.0f}}, {"close-up", {0.0f, 0.9f, 1.6f}}}},
       {"sphere", {{"default", {1.6f, 3.5f, 8.9f}}, {"close-up", {0.0f, 0.4f, 1.9f}}, {"from above", {0.0f, 3.0f, 0.2f}}}},
       {"box", {{"face on, top edge-on", 3.0f * box_z + glm::vec3(0.0f, 0.02f, 0.0f)},
                {"two faces grazing", 3.0f * glm::normalize(box_z + 6.0f * box_x) + glm::vec3(0.0f, 0.3f, 0.0f)},
@@ -118,6 +129,32 @@ TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
       }
     }
   }
+}
+
+// The default scene at 640×480 against the meshes' depth: a mesh pixel is a hole where no splat
+// covers it or where the splats there lie well behind the mesh (the floor or the box seen through
+// the torus). At most 0.4 % of the mesh pixels: a guard against losing more cover, not yet the
+// 0.1 % wanted (measured: 94 of 32,130, 66 of them seen through; gaps in the thesis's splat cover,
+// most on the torus a few pixels inside its outline, and a column along the box's left edge; a
+// splat scale k of 1.1 leaves 52).
+TEST_F(PresenterTest, DefaultSceneHolesAgainstTheMeshDepth) {
+  const int w = 640, h = 480;
+  Presenter presenter(default_scene(), *runtime_, w, h, SPLATCL_TEST_CACHE);
+  presenter.render(0.0f);
+  const auto splat = presenter.read_coverage();
+  const auto splat_z = presenter.read_view_z();
+  presenter.render_mesh_mask(0.0f);
+  const auto mesh_z = presenter.read_mesh_view_z();
+  std::size_t mesh = 0, seen_through = 0, uncovered = 0;
+  for (std::size_t p = 0; p < mesh_z.size(); ++p) {
+    if (mesh_z[p] == 0) continue;
+    ++mesh;
+    uncovered += !splat[p];
+    seen_through += splat[p] && behind_the_mesh(splat_z[p], mesh_z[p], presenter.scene().quality.depth_offset);
+  }
+  std::printf("mesh pixels %zu, seen through %zu, uncovered %zu\n", mesh, seen_through, uncovered);
+  ASSERT_GT(mesh, 20000u);
+  EXPECT_LE(seen_through + uncovered, mesh / 250);
 }
 
 // With quality.antialias, the sky pixels next to an object's outline take intermediate colours
