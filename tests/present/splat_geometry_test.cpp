@@ -78,9 +78,9 @@ void look_at(Scene& scene, glm::vec3 eye, glm::vec3 target) {
   scene.camera.target = {target.x, target.y, target.z};
 }
 
-// Holes: at most 0.2 % of the interior mesh pixels uncovered in any view (the thesis's splats leave
-// single-pixel gaps where ellipses seen at grazing angles thin below a pixel; 9 of 8,018 in the
-// torus's grazing view, 31 of 23,870 where the box's top face is seen edge-on). Overhangs: the
+// Holes: at most 0.1 % of the interior mesh pixels in any view (with the splat scale k at 1 the
+// thesis's splats left single-pixel gaps between them in the grazing views: 9 of 8,018 in the
+// torus's, 31 of 23,870 where the box's top face is seen edge-on; k = 1.05 closes most). Overhangs: the
 // torus and the sphere, fitted to their meshes (quality.surface_clip), put at most 0.05 % of their
 // mesh pixels more than a pixel beyond the outline (without the fit, the sphere's close-up has
 // hundreds: elongated splats standing off the curved surface show as fins past its silhouette).
@@ -122,7 +122,7 @@ TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
           }
           continue;
         }
-        EXPECT_LE(o.holes, o.interior / 500) << what;
+        EXPECT_LE(o.holes, o.interior / 1000) << what;
         if (curved) {
           EXPECT_LE(o.beyond, o.mesh / 2000) << what;
         }
