@@ -1,7 +1,7 @@
 // The splats' geometry against the triangle meshes they stand for, per object and from views that
 // stress it: the default camera, close-ups, and grazing views in which a flat part or the torus is
 // seen edge-on. Holes are mesh pixels whose 8 neighbours are mesh pixels too but that no splat
-// covers; overhangs (fins, splats past a sharp edge) are splat pixels more than 1 pixel from the
+// covers, or only splats well behind the mesh (a surface seen through a gap); overhangs (fins, splats past a sharp edge) are splat pixels more than 1 pixel from the
 // mesh's outline. And the silhouette anti-aliasing of the final image.
 #include <gtest/gtest.h>
 
