@@ -77,11 +77,13 @@ ShadingTargets::ShadingTargets(int width, int height)
       height_(height),
       hdr_(gl::make_texture(GL_RGBA32F, width, height)),
       display_(gl::make_texture(GL_RGBA8, width, height)),
+      resolved_(gl::make_texture(GL_RGBA8, width, height)),
       hdr_fbo_(gl::make_framebuffer({hdr_.get(), display_.get()}, 0, "shading")),
-      display_fbo_(gl::make_framebuffer({display_.get()}, 0, "display")) {}
+      display_fbo_(gl::make_framebuffer({display_.get()}, 0, "display")),
+      resolved_fbo_(gl::make_framebuffer({resolved_.get()}, 0, "resolved display")) {}
 
 std::vector<float> ShadingTargets::read_display_rgb() const {
-  return drop_alpha(gl::read_rgba(display_fbo_.get(), GL_COLOR_ATTACHMENT0, width_, height_));
+  return drop_alpha(gl::read_rgba(display_framebuffer(), GL_COLOR_ATTACHMENT0, width_, height_));
 }
 
 std::vector<float> ShadingTargets::read_hdr_rgb() const {
@@ -96,15 +98,22 @@ PixelInputs::PixelInputs(int width, int height)
 MeshMaskTarget::MeshMaskTarget(int width, int height)
     : width_(width),
       height_(height),
-      color_(gl::make_texture(GL_R8, width, height)),
+      color_(gl::make_texture(GL_R32F, width, height)),
       depth_(gl::make_texture(GL_DEPTH_COMPONENT32F, width, height)),
       fbo_(gl::make_framebuffer({color_.get()}, depth_.get(), "mesh mask")) {}
 
 std::vector<std::uint8_t> MeshMaskTarget::read_mask() const {
   const auto rgba = gl::read_rgba(fbo_.get(), GL_COLOR_ATTACHMENT0, width_, height_);
   std::vector<std::uint8_t> mask(rgba.size() / 4);
-  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = rgba[4 * i] > 0.5f ? 1 : 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = rgba[4 * i] > 0.0f ? 1 : 0;
   return mask;
+}
+
+std::vector<float> MeshMaskTarget::read_view_z() const {
+  const auto rgba = gl::read_rgba(fbo_.get(), GL_COLOR_ATTACHMENT0, width_, height_);
+  std::vector<float> z(rgba.size() / 4);
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = -rgba[4 * i];
+  return z;
 }
 
 }  // namespace splatcl::present

@@ -4,7 +4,8 @@
 //     shading reads (Σw-weighted sums; the shading divides by Σw itself, so no normalisation pass
 //     writes a second set of full-screen targets). Σw and Σw·z lead their targets, so the light-list
 //     stage reads them back as single channels.
-//   ShadingTargets: the linear radiance (HDR) and the tone-mapped display image.
+//   ShadingTargets: the linear radiance (HDR), the tone-mapped display image and its silhouette
+//     resolve.
 //   PixelInputs: what the host computes per pixel for the shading: the light list index, and in the
 //     quality modes the key-light visibility and the AO with bent normal.
 //   MeshMaskTarget: the objects' triangle meshes rasterised for the coverage test.
@@ -51,14 +52,19 @@ class ShadingTargets {
   ShadingTargets(int width, int height);
   // The shading's framebuffer: HDR (attachment 0) and display (1), or the display alone.
   GLuint framebuffer(bool hdr) const { return hdr ? hdr_fbo_.get() : display_fbo_.get(); }
-  GLuint display_framebuffer() const { return display_fbo_.get(); }
+  // The silhouette resolve reads the shading's display image and writes the resolved one; after
+  // a frame with `resolved` set, the resolved image is the one shown and read back.
+  GLuint shaded_display() const { return display_.get(); }
+  GLuint resolved_framebuffer() const { return resolved_fbo_.get(); }
+  bool resolved = false;
+  GLuint display_framebuffer() const { return resolved ? resolved_fbo_.get() : display_fbo_.get(); }
   std::vector<float> read_display_rgb() const;
   std::vector<float> read_hdr_rgb() const;
 
  private:
   int width_, height_;
-  gl::Texture hdr_, display_;
-  gl::Framebuffer hdr_fbo_, display_fbo_;
+  gl::Texture hdr_, display_, resolved_;
+  gl::Framebuffer hdr_fbo_, display_fbo_, resolved_fbo_;
 };
 
 struct PixelInputs {
@@ -73,6 +79,7 @@ class MeshMaskTarget {
   MeshMaskTarget(int width, int height);
   GLuint framebuffer() const { return fbo_.get(); }
   std::vector<std::uint8_t> read_mask() const;  // 1 where a triangle covers the pixel
+  std::vector<float> read_view_z() const;       // view z of the nearest triangle, 0 where none
 
  private:
   int width_, height_;

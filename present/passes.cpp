@@ -158,6 +158,20 @@ void ShadingPass::run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInp
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
+ResolvePass::ResolvePass()
+    : program_(shaders::source("fullscreen.vert.glsl"), shaders::source("resolve.frag.glsl"), "silhouette resolve"),
+      depth_jump_(program_.uniform("u_depth_jump")) {}
+
+void ResolvePass::run(GLuint framebuffer, GLuint display, const GBuffer& gbuffer, float depth_jump) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  program_.use();
+  glBindTextureUnit(UNIT_WEIGHT_ALBEDO, gbuffer.texture(GBuffer::WeightAlbedo));
+  glBindTextureUnit(UNIT_Z_NORMAL, gbuffer.texture(GBuffer::ZNormal));
+  glBindTextureUnit(UNIT_DISPLAY, display);
+  glUniform1f(depth_jump_, depth_jump);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
 MeshMaskPass::MeshMaskPass()
     : program_(shaders::source("mesh.vert.glsl"), shaders::source("mesh.frag.glsl"), "mesh"),
       model_(program_.uniform("u_model")),

@@ -6,6 +6,7 @@
 //     the G-buffer (pass 2)
 //   PointPass: the low-quality mode's one pass, a square point per splat with weight 1
 //   ShadingPass: the final shading and debug views, one program per ShadeVariant
+//   ResolvePass: silhouette anti-aliasing of the final image
 //   MeshMaskPass: the objects' triangle meshes, for the coverage test
 // A pass sets the GL state it needs and draws; the presenter's render() orders them.
 #include <cstdint>
@@ -117,6 +118,18 @@ class ShadingPass {
   };
   const Program& program(const ShadeVariant& variant);
   std::map<std::uint32_t, Program> programs_;
+};
+
+// Silhouette anti-aliasing (resolve.frag.glsl): the display image filtered across object outlines
+// (coverage or depth edges of the G-buffer) into `framebuffer`.
+class ResolvePass {
+ public:
+  ResolvePass();
+  void run(GLuint framebuffer, GLuint display, const GBuffer& gbuffer, float depth_jump) const;
+
+ private:
+  gl::Program program_;
+  GLint depth_jump_;
 };
 
 class MeshMaskPass {

@@ -30,6 +30,7 @@
 #include "present/shaders/layout.h"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
+#include "splats/surface_fit.hpp"
 
 namespace splatcl::present {
 namespace {
@@ -229,6 +230,7 @@ struct Presenter::Impl {
   std::unique_ptr<AccumulationPass> accumulation_pass;
   std::unique_ptr<PointPass> point_pass;
   std::unique_ptr<MeshMaskPass> mesh_pass;
+  std::unique_ptr<ResolvePass> resolve_pass;
   ShadingPass shading_pass;
   gl::Buffer static_vbo, dynamic_vbo;
   gl::VertexArray empty_vao;
@@ -281,11 +283,14 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   Impl& g = *impl_;
   // Assets and the splat arrays: objects in scene order, then the floor, then every object's LOD
   // sequence (originals and tree nodes sorted by e_max). Per instance: centre, normal, major and
-  // minor semi-axes, linear albedo, LOD interval [e_min, e_max).
+  // minor semi-axes, linear albedo, LOD interval [e_min, e_max), clip line (none: offset FLT_MAX).
   constexpr std::size_t kRow = SPLAT_ROW_FLOATS;
   std::vector<float> statics;
+  const auto clip_of = [](const splats::SplatRecord& s) {
+    return std::isfinite(s.clip_offset) ? glm::vec3(s.clip_x, s.clip_y, s.clip_offset) : glm::vec3(0.0f, 0.0f, FLT_MAX);
+  };
   const auto push_splat = [&](glm::vec3 c, glm::vec3 n, glm::vec3 u, glm::vec3 v, glm::vec3 albedo,
-                              glm::vec2 lod = {0.0f, FLT_MAX}) {
+                              glm::vec2 lod = {0.0f, FLT_MAX}, glm::vec3 clip = {0.0f, 0.0f, FLT_MAX}) {
     layout::SplatRow row{};
     std::copy(&c.x, &c.x + 3, row.center);
     std::copy(&n.x, &n.x + 3, row.normal);
@@ -293,6 +298,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     std::copy(&v.x, &v.x + 3, row.minor);
     std::copy(&albedo.x, &albedo.x + 3, row.albedo);
     row.lod[0] = lod.x, row.lod[1] = lod.y;
+    std::copy(&clip.x, &clip.x + 3, row.clip);
     statics.resize(statics.size() + kRow);
     std::memcpy(&statics[statics.size() - kRow], &row, sizeof row);
   };
@@ -302,15 +308,21 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     return glm::pow(glm::vec3(c.r, c.g, c.b) / 255.0f, glm::vec3(2.2f));
   };
   std::vector<std::vector<float>> albedo_rows(scene_.objects.size());  // per object, 3 floats per splat
+  // Per object its splats as drawn: fitted to the mesh surface (quality.surface_clip).
+  std::vector<std::vector<splats::SplatRecord>> fitted(scene_.objects.size());
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
-    const auto& splats = assets_.back().splats;
+    std::vector<splats::SplatRecord>& splats = fitted[i];
+    splats = assets_.back().splats;
+    if (scene_.quality.surface_clip > 0)
+      splats::clip_to_surface(splats::Surface(assets_.back().mesh), splats,
+                              scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal());
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
     for (const auto& s : splats) {
       const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
       albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
-      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), albedo);
+      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, clip_of(s));
     }
   }
   if (scene_.floor.enabled) {
@@ -329,7 +341,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const SplatTree& tree = assets_[i].tree;
     Impl::LodRange range{statics.size() / kRow, tree.size(), {}, 0.0f};
-    const auto& splats = assets_[i].splats;
+    const auto& splats = fitted[i];
     glm::vec3 lo(FLT_MAX), hi(-FLT_MAX);
     for (const auto& s : splats) lo = glm::min(lo, g3(s.center)), hi = glm::max(hi, g3(s.center));
     if (!splats.empty()) range.center = 0.5f * (lo + hi);
@@ -340,7 +352,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       const std::uint32_t source = tree.source[e];
       const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
       push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
-                 {tree.error_min[e], tree.error_max[e]});
+                 {tree.error_min[e], tree.error_max[e]}, clip_of(s));
       g.lod_centers.push_back(g3(s.center));
     }
     g.lod_ranges.push_back(range);
@@ -351,6 +363,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   g.accumulation_pass = std::make_unique<AccumulationPass>();
   g.point_pass = std::make_unique<PointPass>();
   g.mesh_pass = std::make_unique<MeshMaskPass>();
+  g.resolve_pass = std::make_unique<ResolvePass>();
 
   g.empty_vao = gl::make_vertex_array();
   g.static_vbo = gl::make_buffer();
@@ -742,9 +755,17 @@ FrameStats Presenter::render(float time) {
   shade_frame.specular = q.specular;
   shade_frame.shininess = q.shininess;
   glBindVertexArray(g.empty_vao.get());
-  g.shading_pass.run(g.targets->shading.framebuffer(hdr_output), gbuffer, pixel, variant, shade_frame);
+  ShadingTargets& shading = g.targets->shading;
+  g.shading_pass.run(shading.framebuffer(hdr_output), gbuffer, pixel, variant, shade_frame);
   g.hdr_written = hdr_output;
   g.timers.end();
+  // Debug views show the G-buffer's values as they are, unfiltered.
+  shading.resolved = q.antialias > 0 && debug_view == DebugView::Final;
+  if (shading.resolved) {
+    g.timers.begin("gl: silhouette resolve");
+    g.resolve_pass->run(shading.resolved_framebuffer(), shading.shaded_display(), gbuffer, q.antialias);
+    g.timers.end();
+  }
   g.timers.collect(stats.stages);
   if (const GLenum error = glGetError(); error != GL_NO_ERROR)
     throw Error(fmt::format("OpenGL error 0x{:x} while rendering a frame", error));
@@ -786,6 +807,8 @@ std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
   glDisable(GL_DEPTH_TEST);
   return g.targets->mesh.read_mask();
 }
+
+std::vector<float> Presenter::read_mesh_view_z() const { return impl_->targets->mesh.read_view_z(); }
 
 unsigned Presenter::display_framebuffer() const { return impl_->targets->shading.display_framebuffer(); }
 

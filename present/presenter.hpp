@@ -9,7 +9,8 @@
 //   CL: cluster keys → compaction → bounds → light assignment (cluster::ClusterPipeline); or tile
 //       lists on the host (tiled baseline); or nothing (brute-force baseline)
 //   upload of the lights and lists → GL final shading (division by Σw, Lambert with the corrected
-//   falloff, shadowed key lights, per-splat SH sky with the bent normal × AO) → tone mapping.
+//   falloff, shadowed key lights, per-splat SH sky with the bent normal × AO) → tone mapping →
+//   silhouette resolve (anti-aliasing across object outlines, final view only).
 // Every stage is timed: GL passes with timer queries (or wall clocks, wall_clock_passes), CL
 // stages and transfers with wall clocks.
 #include <cstdint>
@@ -86,6 +87,8 @@ class Presenter {
   std::vector<float> read_normals() const;          // world normal xyz per pixel, 0 where uncovered
   // Rasterises the objects' triangle meshes at `time` with the same camera: 1 where covered.
   std::vector<std::uint8_t> render_mesh_mask(float time);
+  // The view z of the last render_mesh_mask's nearest triangles, 0 where none covers the pixel.
+  std::vector<float> read_mesh_view_z() const;
   // The display framebuffer (for blitting into a window).
   unsigned display_framebuffer() const;
 

@@ -335,7 +335,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   if (j.contains("quality")) {
     const json& q = r.object(j, "quality");
     r.known_keys(q, "quality",
-                 {"sampling", "splat_bound", "eps_diagonal", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "splat_scale", "depth_offset",
+                 {"sampling", "splat_bound", "eps_diagonal", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "splat_scale", "surface_clip", "antialias", "depth_offset",
                   "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "lod_error",
                   "lod_leaf", "specular", "shininess"});
     Quality& Q = scene.quality;
@@ -343,6 +343,8 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
     Q.ao_bias = r.number(q, "ao_bias", Q.ao_bias);
     Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
+    Q.surface_clip = r.number(q, "surface_clip", Q.surface_clip);
+    Q.antialias = r.number(q, "antialias", Q.antialias);
     Q.depth_offset = r.number(q, "depth_offset", Q.depth_offset);
     Q.gaussian = r.positive(q, "gaussian", Q.gaussian);
     Q.mode = r.text(q, "mode", Q.mode, {"splats", "points"});

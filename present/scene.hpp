@@ -129,9 +129,19 @@ struct Quality {
   std::uint32_t csm_maps = 1024, csm_resolution = 64;
   std::uint32_t ao_samples = 16;
   float ao_bias = 0.02f;       // CSM depth bias of AO and shadow queries, world units
-  float splat_scale = 1.0f;    // k: multiplies every splat's axes
+  // k: multiplies every splat's axes. Above 1, it closes the single-pixel gaps the thesis's splats
+  // leave between them in grazing views (tests/present/splat_geometry_test.cpp).
+  float splat_scale = 1.05f;
+  // Splats fitted to the mesh as loaded (splats::clip_to_surface): cut by a line where they overhang
+  // a sharp edge, their major axis shortened where they stand off a curved surface, by more than
+  // this × the mesh's bounding-box diagonal; 0 = drawn as in the splat file.
+  float surface_clip = 0.003f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse
+  // Silhouette anti-aliasing of the final view's tone-mapped image (ResolvePass in
+  // present/passes.hpp): a pixel is on an outline where its coverage differs from a neighbour's or
+  // the view depth changes by more than this share of the farther one; 0 = off.
+  float antialias = 0.1f;
   std::string mode = "splats";        // "splats" (three passes) or "points" (one pass, squares)
   std::string shading = "clustered";  // "clustered", "tiled" or "brute"
   std::uint32_t tile = 32;            // cluster / tile side in pixels

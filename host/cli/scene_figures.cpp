@@ -65,6 +65,8 @@ nlohmann::json settings_json(const present::Scene& scene, present::DebugView vie
           {"specular", q.specular},
           {"debug_view", present::to_string(view)},
           {"splat_scale", q.splat_scale},
+          {"surface_clip", q.surface_clip},
+          {"antialias", q.antialias},
           {"depth_offset", q.depth_offset},
           {"lights", scene.lights.size()},
           {"key_lights", scene.key_lights.size()}};

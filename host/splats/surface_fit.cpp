@@ -555,4 +555,76 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
   return added;
 }
 
+SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance) {
+  constexpr int kDirections = 16, kSteps = 8, kBisections = 4;
+  SurfaceClipStats stats;
+  const auto fit_one = [&](SplatRecord& s, SurfaceClipStats& counts) {
+    if (std::isfinite(s.clip_offset)) return;
+    const Ellipse e = ellipse_of(s);
+    if (!(e.a > 0 && e.b > 0)) return;
+    Surface::Recent recent;
+    const auto on_surface = [&](double x, double y) { return surface.within(e.center + x * e.u + y * e.v, tolerance, &recent); };
+    double reach[kDirections];
+    int leaving = 0;
+    for (int k = 0; k < kDirections; ++k) {
+      const double theta = 2 * std::numbers::pi * k / kDirections;
+      const double x = e.a * std::cos(theta), y = e.b * std::sin(theta);
+      // March out in steps of 1/kSteps, then bisect between the last point on the surface and the first off it.
+      double lo = 0, hi = 1;
+      for (int i = 1; i <= kSteps; ++i) {
+        const double t = static_cast<double>(i) / kSteps;
+        if (!on_surface(t * x, t * y)) {
+          hi = t;
+          break;
+        }
+        lo = t;
+      }
+      if (lo < 1)
+        for (int i = 0; i < kBisections; ++i) (on_surface(0.5 * (lo + hi) * x, 0.5 * (lo + hi) * y) ? lo : hi) = 0.5 * (lo + hi);
+      reach[k] = lo;
+      leaving += lo < 1;
+    }
+    if (leaving == 0) return;
+    // One run of directions off the surface is an edge; the whole rim, or runs on opposite sides,
+    // a curved surface under an elongated splat, whose major axis is shortened (never below the minor).
+    int runs = 0;
+    for (int k = 0; k < kDirections; ++k) runs += reach[k] < 1 && reach[(k + kDirections - 1) % kDirections] >= 1;
+    if (runs != 1) {
+      double along_u = 1;
+      for (int k = 0; k < kDirections; ++k)
+        if (std::fabs(std::cos(2 * std::numbers::pi * k / kDirections)) >= std::sqrt(0.5)) along_u = std::min(along_u, reach[k]);
+      const double shrink = std::max(along_u, e.b / e.a);
+      if (shrink >= 1) return;
+      for (float* c : {&s.major.x, &s.major.y, &s.major.z}) *c = static_cast<float>(*c * shrink);
+      ++counts.shortened;
+      return;
+    }
+    // The clip direction: the mean of the directions (in the splat's metric (u, v) frame) where it
+    // leaves the surface; the line through the nearest of their surface ends.
+    double dx = 0, dy = 0;
+    for (int k = 0; k < kDirections; ++k) {
+      if (reach[k] >= 1) continue;
+      const double theta = 2 * std::numbers::pi * k / kDirections;
+      const double x = e.a * std::cos(theta), y = e.b * std::sin(theta), l = std::hypot(x, y);
+      dx += x / l, dy += y / l;
+    }
+    const double l = std::hypot(dx, dy);
+    if (!(l > 0)) return;
+    dx /= l, dy /= l;
+    double offset = INFINITY;
+    for (int k = 0; k < kDirections; ++k) {
+      if (reach[k] >= 1) continue;
+      const double theta = 2 * std::numbers::pi * k / kDirections;
+      offset = std::min(offset, reach[k] * (dx * e.a * std::cos(theta) + dy * e.b * std::sin(theta)));
+    }
+    if (!(offset > 0)) return;
+    s.clip_x = static_cast<float>(dx), s.clip_y = static_cast<float>(dy), s.clip_offset = static_cast<float>(offset);
+    ++counts.clipped;
+  };
+  std::vector<SurfaceClipStats> per_worker(worker_count(splats.size(), 64));
+  parallel_for(splats.size(), 64, [&](std::size_t i, std::size_t w) { fit_one(splats[i], per_worker[w]); });
+  for (const SurfaceClipStats& c : per_worker) stats.clipped += c.clipped, stats.shortened += c.shortened;
+  return stats;
+}
+
 }  // namespace splatcl::splats

@@ -87,4 +87,15 @@ void bound_by_surface(const Surface& surface, const Samples& samples, const Neig
 std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
                                    std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats);
 
+// Fits every unclipped splat to where the surface is, for drawing the thesis's splats, whose size
+// corrections reach past the last accepted sample: along 16 directions of the ellipse, the reach up
+// to which its points lie within `tolerance` of the surface. Where the splat leaves the surface in
+// one run of directions (past a sharp edge) it gets a clip line there; where it leaves it in
+// several runs or all round (a curved surface under an elongated splat, seen edge-on as a fin past
+// the silhouette), its major semi-axis is shortened to the reach along it, never below the minor.
+struct SurfaceClipStats {
+  std::size_t clipped = 0, shortened = 0;
+};
+SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance);
+
 }  // namespace splatcl::splats

@@ -6,7 +6,8 @@
 #define SPLATCL_PRESENT_SHADER_LAYOUT_H
 
 /* Static splat row (floats, model space): centre, normal, the major and minor semi-axis vectors,
-   linear albedo, the LOD interval [e_min, e_max) in model units. */
+   linear albedo, the LOD interval [e_min, e_max) in model units, the clip line (unit direction in
+   the (major, minor) frame and the line's distance from the centre along it; FLT_MAX: none). */
 #define SPLAT_CENTER 0u
 #define SPLAT_NORMAL 3u
 #define SPLAT_MAJOR 6u
@@ -14,7 +15,8 @@
 #define SPLAT_ALBEDO 12u
 #define SPLAT_LOD_MIN 15u
 #define SPLAT_LOD_MAX 16u
-#define SPLAT_ROW_FLOATS 17u
+#define SPLAT_CLIP 17u
+#define SPLAT_ROW_FLOATS 20u
 
 /* Lighting row (world space), the per-splat CL results: vec4 bent normal xyz + AO, then vec4
    visibility of key lights 0-3. */
@@ -42,6 +44,7 @@
 #define UNIT_Z_NORMAL 1
 #define UNIT_SHADOW_AMBIENT 2
 #define UNIT_SHADOWS 3
+#define UNIT_DISPLAY 4  /* the silhouette resolve's input: the tone-mapped image */
 #define UNIT_PIXEL_LIST 5
 #define UNIT_PIXEL_SHADOW 6
 #define UNIT_PIXEL_AO 7
@@ -53,7 +56,7 @@
 namespace splatcl::present::layout {
 
 struct SplatRow {
-  float center[3], normal[3], major[3], minor[3], albedo[3], lod[2];
+  float center[3], normal[3], major[3], minor[3], albedo[3], lod[2], clip[3];
 };
 static_assert(sizeof(SplatRow) == SPLAT_ROW_FLOATS * sizeof(float));
 static_assert(offsetof(SplatRow, center) == SPLAT_CENTER * sizeof(float));
@@ -63,6 +66,7 @@ static_assert(offsetof(SplatRow, minor) == SPLAT_MINOR * sizeof(float));
 static_assert(offsetof(SplatRow, albedo) == SPLAT_ALBEDO * sizeof(float));
 static_assert(offsetof(SplatRow, lod) == SPLAT_LOD_MIN * sizeof(float));
 static_assert(SPLAT_LOD_MAX == SPLAT_LOD_MIN + 1u);
+static_assert(offsetof(SplatRow, clip) == SPLAT_CLIP * sizeof(float));
 
 struct LightingRow {
   float bent_ao[4];     // bent normal xyz, AO

@@ -2,9 +2,10 @@
 #include "accumulation_targets.glsl"
 in vec2 v_local;
 in vec3 v_view_pos;
+flat in vec3 v_clip;
 uniform float u_beta;
 void main() {
   float r2 = dot(v_local, v_local);
-  if (r2 > 1.0) discard;
+  if (r2 > 1.0 || dot(v_local, v_clip.xy) > v_clip.z) discard;
   write_splat(exp(-u_beta * r2), v_view_pos.z);
 }

@@ -271,7 +271,7 @@ TEST_F(PresenterTest, WallClockPassesAndHdrOutputChangeNoPixel) {
   presenter.wall_clock_passes = true;
   const FrameStats walled = presenter.render(0.25f);
   EXPECT_EQ(pass_names(walled), pass_names(queried));
-  EXPECT_EQ(pass_names(walled), (std::vector<std::string>{"gl: splat visibility", "gl: splat accumulation", "gl: shading"}));
+  EXPECT_EQ(pass_names(walled), (std::vector<std::string>{"gl: splat visibility", "gl: splat accumulation", "gl: shading", "gl: silhouette resolve"}));
   for (const StageTime& s : walled.stages) {
     if (s.name.rfind("gl: ", 0) == 0) {
       EXPECT_GT(s.ms, 0.0) << s.name;  // a wall clock around real work

@@ -1,0 +1,198 @@
+// The splats' geometry against the triangle meshes they stand for, per object and from views that
+// stress it: the default camera, close-ups, and grazing views in which a flat part or the torus is
+// seen edge-on. Holes are mesh pixels whose 8 neighbours are mesh pixels too but that no splat
+// covers, or only splats well behind the mesh (a surface seen through a gap); overhangs (fins, splats past a sharp edge) are splat pixels more than 1 pixel from the
+// mesh's outline. And the silhouette anti-aliasing of the final image.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "presenter_test_support.hpp"
+
+namespace splatcl::present {
+namespace {
+
+using namespace testing;
+
+struct Outline {
+  std::size_t mesh = 0, interior = 0, holes = 0, beyond = 0;
+};
+
+// Whether the splats' view z at a pixel lies behind the mesh's there by more than the faceting and
+// the visibility pass's ε explain: 4 ε plus 2 % of the distance.
+bool behind_the_mesh(float splat_z, float mesh_z, float depth_offset) {
+  return splat_z < mesh_z - 4 * depth_offset - 0.02f * -mesh_z;
+}
+
+// Compares the last render's splat coverage with the mesh mask at the same camera.
+Outline compare_with_mesh(Presenter& presenter) {
+  const auto splat = presenter.read_coverage();
+  const auto splat_z = presenter.read_view_z();
+  const auto mesh = presenter.render_mesh_mask(0.0f);
+  const auto mesh_z = presenter.read_mesh_view_z();
+  const float depth_offset = presenter.scene().quality.depth_offset;
+  const int w = presenter.width(), h = presenter.height();
+  const auto at = [&](const std::vector<std::uint8_t>& m, int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && m[static_cast<std::size_t>(y) * w + x];
+  };
+  Outline o;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      int neighbours = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) neighbours += at(mesh, x + dx, y + dy);
+      if (at(mesh, x, y)) {
+        ++o.mesh;
+        if (neighbours == 9) {
+          ++o.interior;
+          // Uncovered, or covered only by a surface behind the mesh's (seen through a hole).
+          const std::size_t p = static_cast<std::size_t>(y) * w + x;
+          o.holes += !splat[p] || behind_the_mesh(splat_z[p], mesh_z[p], depth_offset);
+        }
+      } else if (at(splat, x, y) && neighbours == 0) {
+        ++o.beyond;
+      }
+    }
+  return o;
+}
+
+// One object of the default scene alone, without the floor.
+Scene single_object(const std::string& name) {
+  Scene scene = test_scene();
+  scene.floor.enabled = false;
+  std::erase_if(scene.objects, [&](const ObjectSpec& o) { return o.name != name; });
+  return scene;
+}
+
+struct View {
+  const char* name;
+  glm::vec3 offset;  // eye − the object's centre, world units
+};
+
+void look_at(Scene& scene, glm::vec3 eye, glm::vec3 target) {
+  scene.camera.eye = {eye.x, eye.y, eye.z};
+  scene.camera.target = {target.x, target.y, target.z};
+}
+
+// Holes: at most 0.1 % of the interior mesh pixels in any view (with the splat scale k at 1 the
+// thesis's splats left single-pixel gaps between them in the grazing views: 9 of 8,018 in the
+// torus's, 31 of 23,870 where the box's top face is seen edge-on; k = 1.05 closes most). Overhangs: the
+// torus and the sphere, fitted to their meshes (quality.surface_clip), put at most 0.05 % of their
+// mesh pixels more than a pixel beyond the outline (without the fit, the sphere's close-up has
+// hundreds: elongated splats standing off the curved surface show as fins past its silhouette).
+// The box's edges are not held to it: its splats bevel the edges (see docs/presenter.md).
+TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
+  // The torus is tilted 70° about x, so x lies in its plane; the box is turned 30° about y.
+  const float c30 = std::cos(glm::radians(30.0f)), s30 = std::sin(glm::radians(30.0f));
+  const glm::vec3 box_x(c30, 0.0f, -s30), box_z(s30, 0.0f, c30);
+  const struct {
+    const char* object;
+    std::vector<View> views;
+  } cases[] = {
+      {"torus", {{"default", {-2.07f, 3.3f, 6.75f}}, {"edge-on", {4.0f, 0.0f, 0.0f}}, {"grazing", {4.0f, 0.35f, 0.0f}}, {"close-up", {0.0f, 0.9f, 1.6f}}}},
+      {"sphere", {{"default", {1.6f, 3.5f, 8.9f}}, {"close-up", {0.0f, 0.4f, 1.9f}}, {"from above", {0.0f, 3.0f, 0.2f}}}},
+      {"box", {{"face on, top edge-on", 3.0f * box_z + glm::vec3(0.0f, 0.02f, 0.0f)},
+               {"two faces grazing", 3.0f * glm::normalize(box_z + 6.0f * box_x) + glm::vec3(0.0f, 0.3f, 0.0f)},
+               {"corner close-up", 1.6f * glm::normalize(box_x + box_z + glm::vec3(0.0f, 1.0f, 0.0f))}}},
+  };
+  for (const auto& c : cases) {
+    const bool curved = std::string(c.object) != "box";
+    for (const bool fitted : {true, false}) {
+      if (!fitted && std::string(c.object) != "sphere") continue;
+      Scene scene = single_object(c.object);
+      ASSERT_EQ(scene.objects.size(), 1u) << c.object;
+      if (!fitted) scene.quality.surface_clip = 0;
+      const glm::vec3 centre(scene.objects[0].placement(0.0f) * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+      Presenter presenter(scene, *runtime_, 320, 240, SPLATCL_TEST_CACHE);
+      for (const View& v : c.views) {
+        look_at(presenter.scene(), centre + v.offset, centre);
+        presenter.render(0.0f);
+        const Outline o = compare_with_mesh(presenter);
+        const std::string what = std::string(c.object) + " " + v.name + (fitted ? "" : " (not fitted)");
+        std::printf("%-40s mesh %6zu interior %6zu holes %4zu beyond the outline %4zu\n", what.c_str(), o.mesh, o.interior,
+                    o.holes, o.beyond);
+        ASSERT_GT(o.interior, 2000u) << what;
+        if (!fitted) {
+          if (std::string(v.name) == "close-up") {
+            EXPECT_GT(o.beyond, o.mesh / 1000) << what << ": the fins this test guards against";
+          }
+          continue;
+        }
+        EXPECT_LE(o.holes, o.interior / 1000) << what;
+        if (curved) {
+          EXPECT_LE(o.beyond, o.mesh / 2000) << what;
+        }
+      }
+    }
+  }
+}
+
+// The default scene at 640×480, all objects and the floor, held to the same hole bound as the
+// single objects: at most 0.1 % of the interior mesh pixels (the floor does not count as mesh).
+TEST_F(PresenterTest, DefaultSceneHolesAgainstTheMeshDepth) {
+  Presenter presenter(default_scene(), *runtime_, 640, 480, SPLATCL_TEST_CACHE);
+  presenter.render(0.0f);
+  const Outline o = compare_with_mesh(presenter);
+  std::printf("mesh %zu interior %zu holes %zu\n", o.mesh, o.interior, o.holes);
+  ASSERT_GT(o.interior, 20000u);
+  EXPECT_LE(o.holes, o.interior / 1000);
+}
+
+// With quality.antialias, the sky pixels next to an object's outline take intermediate colours
+// between the sky and the object; without it every uncovered pixel is the sky's one colour. Only
+// outlines change: pixels with no splat in their 3 × 3 neighbourhood, and the linear (HDR) image,
+// are the same bit for bit.
+TEST_F(PresenterTest, SilhouettesAreAntialiased) {
+  Scene scene = test_scene();
+  const int w = 200, h = 150;
+  std::vector<float> images[2], hdr[2];
+  std::vector<std::uint8_t> covered;
+  for (const bool aa : {false, true}) {
+    scene.quality.antialias = aa ? 0.1f : 0.0f;
+    Presenter presenter(scene, *runtime_, w, h, SPLATCL_TEST_CACHE);
+    presenter.render(0.0f);
+    images[aa] = presenter.read_display_rgb();
+    hdr[aa] = presenter.read_hdr_rgb();
+    covered = presenter.read_coverage();
+  }
+  EXPECT_EQ(hdr[0], hdr[1]);
+  const auto at = [&](int x, int y) { return static_cast<std::size_t>(std::clamp(y, 0, h - 1)) * w + std::clamp(x, 0, w - 1); };
+  const std::size_t sky = at(0, h - 1);
+  ASSERT_FALSE(covered[sky]);
+  const auto is_sky = [&](const std::vector<float>& image, std::size_t p) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(image[3 * p + c] - images[0][3 * sky + c]) > 1.5f / 255.0f) return false;
+    return true;
+  };
+  std::size_t outline = 0, blended = 0, unchanged_sky = 0, changed_sky = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = at(x, y);
+      if (covered[p]) continue;
+      int near = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) near += covered[at(x + dx, y + dy)];
+      const bool edge = covered[at(x + 1, y)] || covered[at(x - 1, y)] || covered[at(x, y + 1)] || covered[at(x, y - 1)];
+      ASSERT_TRUE(is_sky(images[0], p)) << x << ", " << y;
+      if (edge) {
+        ++outline;
+        blended += !is_sky(images[1], p);
+      } else if (near == 0) {
+        const bool same = std::equal(&images[0][3 * p], &images[0][3 * p + 3], &images[1][3 * p]);
+        unchanged_sky += same, changed_sky += !same;
+      }
+    }
+  std::printf("outline pixels %zu, blended %zu; sky pixels away from outlines %zu, changed %zu\n", outline, blended,
+              unchanged_sky + changed_sky, changed_sky);
+  ASSERT_GT(outline, 100u);
+  EXPECT_GE(blended, outline * 9 / 10) << blended << " of " << outline << " outline pixels";
+  EXPECT_GT(unchanged_sky, 1000u);
+  EXPECT_EQ(changed_sky, 0u);
+}
+
+}  // namespace
+}  // namespace splatcl::present
