@@ -315,7 +315,8 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
     std::vector<splats::SplatRecord>& splats = fitted[i];
     splats = assets_.back().splats;
-    if (scene_.quality.surface_clip > 0)
+    // A splat file has no surface but its own discs: its splats are drawn as they are.
+    if (scene_.quality.surface_clip > 0 && object.mesh.splat_path.empty())
       splats::clip_to_surface(splats::Surface(assets_.back().mesh), splats,
                               scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal());
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
