@@ -124,18 +124,52 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
   return covered;
 }
 
-// Per-pixel key-light visibility (the quality mode's shadows): 4 per pixel, 1 where uncovered.
-std::vector<float> pixel_shadows(const Scene& scene, const cluster::ClusterLayout& layout, const cluster::ViewFrame& frame,
-                                 const std::vector<float>& view_z, const std::vector<float>& normals,
-                                 const std::vector<glm::mat4>& placements, csm::Filter filter, csm::SplatLighting& lighting) {
+// The covered pixels on the floor: their surface is the floor plane, facing up (objects and the
+// floor blended at a contact keep the splats' values).
+std::vector<CoveredPixel> floor_pixels(const Scene& scene, const std::vector<CoveredPixel>& covered, const std::vector<float>& normals) {
+  std::vector<CoveredPixel> on_floor;
+  for (const CoveredPixel& c : covered)
+    if (std::abs(c.world.y - scene.floor.y) <= 1e-3f * (1.0f + std::abs(scene.floor.y)) && normals[3 * c.index + 1] > 0.999f)
+      on_floor.push_back(c);
+  return on_floor;
+}
+
+// How far per-pixel receivers are lifted along their normal for the AO and the shadow queries
+// (csm/query_reach.hpp): floor pixels only by the bias, for shadows; others as a splat on the
+// object with the largest texel, whose object the pixel does not name. One per entry of `pixels`.
+struct PixelLift {
+  float ao = 0, shadow = 0;
+};
+std::vector<PixelLift> pixel_lifts(const Scene& scene, const std::vector<CoveredPixel>& pixels, const std::vector<float>& normals,
+                                   const std::vector<const csm::Csm*>& csms, const std::vector<glm::mat4>& placements) {
+  float texel = 0;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    if (scene.objects[i].occluder) texel = std::max(texel, csm::placed_texel(csms[i]->info, to_transform(placements[i])));
+  const PixelLift on_floor{0.0f, scene.quality.ao_bias},
+      off_floor{csm::kAoLiftTexels * texel, scene.quality.ao_bias + csm::kShadowLiftTexels * texel};
+  std::vector<char> is_floor(normals.size() / 3, 0);
+  for (const CoveredPixel& c : floor_pixels(scene, pixels, normals)) is_floor[c.index] = 1;
+  std::vector<PixelLift> lifts;
+  for (const CoveredPixel& c : pixels) lifts.push_back(is_floor[c.index] ? on_floor : off_floor);
+  return lifts;
+}
+
+// Per-pixel key-light visibility of `pixels` (4 per pixel); `fill` elsewhere (1: lit; −1: the
+// shading takes the splats' value).
+std::vector<float> pixel_shadows(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
+                                 const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
+                                 const std::vector<const csm::Csm*>& csms, csm::Filter filter, csm::SplatLighting& lighting,
+                                 float fill) {
   std::vector<splats::Vec4> receivers;
   std::vector<std::size_t> where;
-  for (const auto& [p, w] : covered_pixels(layout, frame, view_z)) {
-    const float b = scene.quality.ao_bias;
+  const std::vector<PixelLift> lifts = pixel_lifts(scene, pixels, normals, csms, placements);
+  for (const auto& [p, w] : pixels) {
+    const float b = lifts[where.size()].shadow;
     receivers.push_back({w.x + b * normals[3 * p], w.y + b * normals[3 * p + 1], w.z + b * normals[3 * p + 2], 1});
     where.push_back(p);
   }
-  std::vector<float> pixel_shadow(view_z.size() * 4, 1.0f);
+  std::vector<float> pixel_shadow(pixel_count * 4, fill);
+  for (const std::size_t p : where) std::fill(&pixel_shadow[4 * p], &pixel_shadow[4 * p + 4], 1.0f);
   const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
   if (!instances.empty() && !receivers.empty()) {
     csm::VisibilityQueries& queries = lighting.device().queries();
@@ -150,18 +184,20 @@ std::vector<float> pixel_shadows(const Scene& scene, const cluster::ClusterLayou
   return pixel_shadow;
 }
 
-// Per-pixel AO with bent normal (the pixel-AO mode): the AO kernel on the G-buffer's world
-// positions and normals, (0, 1, 0, 1) where uncovered.
-std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const cluster::ClusterLayout& layout,
-                                          const cluster::ViewFrame& frame, const std::vector<float>& view_z,
+// Per-pixel AO with bent normal of `pixels`: the AO kernel on the G-buffer's world positions and
+// normals; (0, 1, 0, fill) elsewhere (fill 1: unoccluded; −1: the shading takes the splats' term).
+std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
                                           const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
-                                          const std::vector<splats::Vec4>& patterns,
-                                          const std::vector<std::uint32_t>& pattern_of, csm::SplatLighting& lighting) {
+                                          const std::vector<const csm::Csm*>& csms, const std::vector<splats::Vec4>& patterns,
+                                          const std::vector<std::uint32_t>& pattern_of, csm::SplatLighting& lighting, float fill) {
   csm::AoRequest request;
   std::vector<std::size_t> where;
-  for (const auto& [p, w] : covered_pixels(layout, frame, view_z)) {
-    request.positions.push_back({w.x, w.y, w.z, 0});
-    request.normals.push_back({normals[3 * p], normals[3 * p + 1], normals[3 * p + 2], 0});
+  const std::vector<PixelLift> lifts = pixel_lifts(scene, pixels, normals, csms, placements);
+  for (const auto& [p, w] : pixels) {
+    const glm::vec3 n(normals[3 * p], normals[3 * p + 1], normals[3 * p + 2]);
+    const float b = lifts[where.size()].ao;
+    request.positions.push_back({w.x + b * n.x, w.y + b * n.y, w.z + b * n.z, 0});
+    request.normals.push_back({n.x, n.y, n.z, 0});
     where.push_back(p);
   }
   for (const std::size_t p : where) request.pattern_of.push_back(pattern_of[p]);
@@ -169,7 +205,7 @@ std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const cluster::Clu
   request.samples = scene.quality.ao_samples;
   request.ground = scene.floor.enabled;
   request.bias = scene.quality.ao_bias;
-  std::vector<splats::Vec4> pixel_ao_values(view_z.size(), splats::Vec4{0, 1, 0, 1});
+  std::vector<splats::Vec4> pixel_ao_values(pixel_count, splats::Vec4{0, 1, 0, fill});
   const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
   if (!instances.empty() && !where.empty()) {
     csm::AmbientOcclusion& ao = lighting.device();
@@ -668,21 +704,37 @@ FrameStats Presenter::render(float time) {
   const std::vector<std::uint32_t>& pixel_list = frame_lists.pixel_list;
   const cluster::LightLists& lists = frame_lists.lists;
 
-  // The quality modes' per-pixel key-light shadows and AO, through the same CSM tables.
+  // Per-pixel key-light shadows and AO through the same CSM tables: of every covered pixel in the
+  // quality modes, else of the floor's pixels (floor_per_pixel), so that the floor's shadows and AO
+  // do not step at its splat spacing; the shading takes the splats' values elsewhere.
+  const bool shadow_pixels = settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
+  const bool ao_pixels = pixel_ao && ambient_occlusion;
+  const bool floor_pixel_shadows = floor_per_pixel && scene_.floor.enabled && !shadow_pixels &&
+                                   settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
+  const bool floor_pixel_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
   std::vector<float> pixel_shadow;
-  if (settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty()) {
-    Stopwatch c;
-    pixel_shadow = pixel_shadows(scene_, layout, frame, view_z, read_normals(), placements, settings.filter, *g.lighting);
-    stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
-  }
   std::vector<splats::Vec4> pixel_ao_values;
-  if (pixel_ao && ambient_occlusion) {
-    Stopwatch c;
-    // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
-    if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
-    pixel_ao_values = pixel_occlusion(scene_, layout, frame, view_z, read_normals(), placements, g.ao_patterns,
-                                      g.pixel_pattern_of, *g.lighting);
-    stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+  if (shadow_pixels || ao_pixels || floor_pixel_shadows || floor_pixel_ao) {
+    std::vector<const csm::Csm*> csms;
+    for (const ObjectAssets& a : assets_) csms.push_back(&a.csm);
+    const std::vector<float> normals = read_normals();
+    const std::vector<CoveredPixel> covered = covered_pixels(layout, frame, view_z);
+    const std::vector<CoveredPixel> floor =
+        floor_pixel_shadows || floor_pixel_ao ? floor_pixels(scene_, covered, normals) : std::vector<CoveredPixel>{};
+    if (shadow_pixels || floor_pixel_shadows) {
+      Stopwatch c;
+      pixel_shadow = pixel_shadows(scene_, shadow_pixels ? covered : floor, view_z.size(), normals, placements, csms,
+                                   settings.filter, *g.lighting, shadow_pixels ? 1.0f : -1.0f);
+      stats.stages.push_back({shadow_pixels ? "cl: pixel shadows" : "cl: floor pixel shadows", c.elapsed_ms()});
+    }
+    if (ao_pixels || floor_pixel_ao) {
+      Stopwatch c;
+      // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
+      if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
+      pixel_ao_values = pixel_occlusion(scene_, ao_pixels ? covered : floor, view_z.size(), normals, placements, csms, g.ao_patterns,
+                                        g.pixel_pattern_of, *g.lighting, ao_pixels ? 1.0f : -1.0f);
+      stats.stages.push_back({ao_pixels ? "cl: pixel AO" : "cl: floor pixel AO", c.elapsed_ms()});
+    }
   }
 
   // Upload lights, lists and the per-pixel list index.
