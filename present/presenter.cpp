@@ -124,6 +124,21 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
   return covered;
 }
 
+// The per-splat lighting's settings for the frame.
+csm::SplatLighting::Settings lighting_settings_of(const Scene& scene, bool ambient_occlusion, const FrameSettings& settings) {
+  const Quality& q = scene.quality;
+  csm::SplatLighting::Settings lighting;
+  lighting.ao = ambient_occlusion;
+  lighting.shadows = settings.shadows == ShadowMode::Splat;
+  lighting.filter = settings.filter;
+  lighting.ao_samples = q.ao_samples;
+  lighting.shadow_samples = q.shadow_samples;
+  lighting.bias = q.ao_bias;
+  lighting.ground = scene.floor.enabled;
+  for (const Light& light : scene.key_lights) lighting.key_lights.push_back({light.position, light.size});
+  return lighting;
+}
+
 // The covered pixels on the floor: their surface is the floor plane, facing up (objects and the
 // floor blended at a contact keep the splats' values).
 std::vector<CoveredPixel> floor_pixels(const Scene& scene, const std::vector<CoveredPixel>& covered, const std::vector<float>& normals) {
@@ -154,12 +169,10 @@ std::vector<PixelLift> pixel_lifts(const Scene& scene, const std::vector<Covered
   return lifts;
 }
 
-// Per-pixel key-light visibility of `pixels` (4 per pixel); `fill` elsewhere (1: lit; −1: the
-// shading takes the splats' value).
+// Per-pixel key-light visibility of `pixels` (the quality mode's shadows): 4 per pixel, 1 elsewhere.
 std::vector<float> pixel_shadows(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
                                  const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
-                                 const std::vector<const csm::Csm*>& csms, csm::Filter filter, csm::SplatLighting& lighting,
-                                 float fill) {
+                                 const std::vector<const csm::Csm*>& csms, csm::Filter filter, csm::SplatLighting& lighting) {
   std::vector<splats::Vec4> receivers;
   std::vector<std::size_t> where;
   const std::vector<PixelLift> lifts = pixel_lifts(scene, pixels, normals, csms, placements);
@@ -168,8 +181,7 @@ std::vector<float> pixel_shadows(const Scene& scene, const std::vector<CoveredPi
     receivers.push_back({w.x + b * normals[3 * p], w.y + b * normals[3 * p + 1], w.z + b * normals[3 * p + 2], 1});
     where.push_back(p);
   }
-  std::vector<float> pixel_shadow(pixel_count * 4, fill);
-  for (const std::size_t p : where) std::fill(&pixel_shadow[4 * p], &pixel_shadow[4 * p + 4], 1.0f);
+  std::vector<float> pixel_shadow(pixel_count * 4, 1.0f);
   const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
   if (!instances.empty() && !receivers.empty()) {
     csm::VisibilityQueries& queries = lighting.device().queries();
@@ -184,12 +196,12 @@ std::vector<float> pixel_shadows(const Scene& scene, const std::vector<CoveredPi
   return pixel_shadow;
 }
 
-// Per-pixel AO with bent normal of `pixels`: the AO kernel on the G-buffer's world positions and
-// normals; (0, 1, 0, fill) elsewhere (fill 1: unoccluded; −1: the shading takes the splats' term).
+// Per-pixel AO with bent normal of `pixels` (the pixel-AO mode): the AO kernel on the G-buffer's
+// world positions and normals, (0, 1, 0, 1) elsewhere.
 std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
                                           const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
                                           const std::vector<const csm::Csm*>& csms, const std::vector<splats::Vec4>& patterns,
-                                          const std::vector<std::uint32_t>& pattern_of, csm::SplatLighting& lighting, float fill) {
+                                          const std::vector<std::uint32_t>& pattern_of, csm::SplatLighting& lighting) {
   csm::AoRequest request;
   std::vector<std::size_t> where;
   const std::vector<PixelLift> lifts = pixel_lifts(scene, pixels, normals, csms, placements);
@@ -205,7 +217,7 @@ std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const std::vector<
   request.samples = scene.quality.ao_samples;
   request.ground = scene.floor.enabled;
   request.bias = scene.quality.ao_bias;
-  std::vector<splats::Vec4> pixel_ao_values(pixel_count, splats::Vec4{0, 1, 0, fill});
+  std::vector<splats::Vec4> pixel_ao_values(pixel_count, splats::Vec4{0, 1, 0, 1});
   const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
   if (!instances.empty() && !where.empty()) {
     csm::AmbientOcclusion& ao = lighting.device();
@@ -293,6 +305,7 @@ struct Presenter::Impl {
   // The per-splat lighting through the CSMs (csm/splat_lighting.hpp) and the settings text its
   // last update was made with (render() updates again when it differs).
   std::unique_ptr<csm::SplatLighting> lighting;
+  std::unique_ptr<csm::SplatLighting> floor_lighting;  // of the floor's pixels (Presenter::floor_per_pixel)
   std::string lighting_signature;
   std::vector<splats::Vec4> ao_patterns;
   std::vector<std::uint32_t> pixel_pattern_of;
@@ -508,21 +521,12 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       normals[r.first + s] = vec4(nrm);
     }
   }
-  csm::SplatLighting::Receivers receivers{std::move(positions), std::move(normals), {}};
+  csm::SplatLighting::Receivers receivers{std::move(positions), std::move(normals), {}, {}};
   for (std::size_t i = 0; i < scene_.objects.size(); ++i)
     receivers.objects.push_back({objects_[i].first, objects_[i].count, scene_.objects[i].occluder});
   std::vector<csm::Transform> transforms;
   for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
-  const Quality& q = scene_.quality;
-  csm::SplatLighting::Settings lighting;
-  lighting.ao = ambient_occlusion;
-  lighting.shadows = settings.shadows == ShadowMode::Splat;
-  lighting.filter = settings.filter;
-  lighting.ao_samples = q.ao_samples;
-  lighting.shadow_samples = q.shadow_samples;
-  lighting.bias = q.ao_bias;
-  lighting.ground = scene_.floor.enabled;
-  for (const Light& light : scene_.key_lights) lighting.key_lights.push_back({light.position, light.size});
+  const csm::SplatLighting::Settings lighting = lighting_settings_of(scene_, ambient_occlusion, settings);
   const std::string signature = lighting_settings(settings);
   // Set again when the update completes: one that fails half way forces a full update next time.
   g.lighting_signature.clear();
@@ -719,21 +723,49 @@ FrameStats Presenter::render(float time) {
     for (const ObjectAssets& a : assets_) csms.push_back(&a.csm);
     const std::vector<float> normals = read_normals();
     const std::vector<CoveredPixel> covered = covered_pixels(layout, frame, view_z);
-    const std::vector<CoveredPixel> floor =
-        floor_pixel_shadows || floor_pixel_ao ? floor_pixels(scene_, covered, normals) : std::vector<CoveredPixel>{};
-    if (shadow_pixels || floor_pixel_shadows) {
+    // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
+    if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
+    if (shadow_pixels) {
       Stopwatch c;
-      pixel_shadow = pixel_shadows(scene_, shadow_pixels ? covered : floor, view_z.size(), normals, placements, csms,
-                                   settings.filter, *g.lighting, shadow_pixels ? 1.0f : -1.0f);
-      stats.stages.push_back({shadow_pixels ? "cl: pixel shadows" : "cl: floor pixel shadows", c.elapsed_ms()});
+      pixel_shadow = pixel_shadows(scene_, covered, view_z.size(), normals, placements, csms, settings.filter, *g.lighting);
+      stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
     }
-    if (ao_pixels || floor_pixel_ao) {
+    if (ao_pixels) {
       Stopwatch c;
-      // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
-      if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
-      pixel_ao_values = pixel_occlusion(scene_, ao_pixels ? covered : floor, view_z.size(), normals, placements, csms, g.ao_patterns,
-                                        g.pixel_pattern_of, *g.lighting, ao_pixels ? 1.0f : -1.0f);
-      stats.stages.push_back({ao_pixels ? "cl: pixel AO" : "cl: floor pixel AO", c.elapsed_ms()});
+      pixel_ao_values = pixel_occlusion(scene_, covered, view_z.size(), normals, placements, csms, g.ao_patterns,
+                                        g.pixel_pattern_of, *g.lighting);
+      stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+    }
+    if (floor_pixel_shadows || floor_pixel_ao) {
+      Stopwatch c;
+      // The floor's pixels as receivers of no object: the per-splat lighting's queries, culled per
+      // occluder instance (csm/query_reach.hpp), the same rows as the AO kernel and PCF batches.
+      csm::SplatLighting::Receivers receivers;
+      std::vector<std::size_t> where;
+      for (const CoveredPixel& pixel : floor_pixels(scene_, covered, normals)) {
+        receivers.positions.push_back(vec4({pixel.world.x, pixel.world.y, pixel.world.z}));
+        receivers.normals.push_back(vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]}));
+        receivers.pattern_of.push_back(g.pixel_pattern_of[pixel.index]);
+        where.push_back(pixel.index);
+      }
+      for (std::size_t i = 0; i < scene_.objects.size(); ++i) receivers.objects.push_back({0, 0, scene_.objects[i].occluder});
+      csm::SplatLighting::Settings floor_settings = lighting_settings_of(scene_, ambient_occlusion, settings);
+      floor_settings.ao = floor_pixel_ao;
+      floor_settings.shadows = floor_pixel_shadows;
+      if (!g.floor_lighting) g.floor_lighting = std::make_unique<csm::SplatLighting>(runtime_, csms, g.ao_patterns, std::vector<std::uint32_t>{});
+      std::vector<csm::Transform> transforms;
+      for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
+      g.floor_lighting->update(receivers, transforms, floor_settings, false);
+      const std::vector<float>& rows = g.floor_lighting->rows();
+      if (floor_pixel_ao) pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, -1});
+      if (floor_pixel_shadows) pixel_shadow.assign(view_z.size() * 4, -1.0f);
+      for (std::size_t r = 0; r < where.size(); ++r) {
+        const std::size_t p = where[r];
+        const float* row = &rows[kLightingRow * r];
+        if (floor_pixel_ao) pixel_ao_values[p] = {row[0], row[1], row[2], row[3]};
+        if (floor_pixel_shadows) std::copy(row + kVisibilityAt, row + kLightingRow, &pixel_shadow[4 * p]);
+      }
+      stats.stages.push_back({"cl: floor pixel shadows and AO", c.elapsed_ms()});
     }
   }
 

@@ -122,7 +122,8 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
   const std::uint32_t samples = settings.ao_samples;
   const auto directions_of = [&](std::size_t s, splats::Vec4* out) {
-    ao_directions(normals[s], &patterns_[std::size_t{pattern_of_[s]} * samples], samples, settings.ground, out);
+    const std::uint32_t pattern = input.pattern_of.empty() ? pattern_of_[s] : input.pattern_of[s];
+    ao_directions(normals[s], &patterns_[std::size_t{pattern} * samples], samples, settings.ground, out);
   };
 
   if (incremental) {

@@ -46,6 +46,9 @@ class SplatLighting {
   struct Receivers {
     std::vector<splats::Vec4> positions, normals;  // world space, per splat
     std::vector<Object> objects;                   // the objects with a CSM; other splats (a floor) belong to none
+    // Per receiver its AO pattern; empty: the constructor's. Receivers that change between updates
+    // (pixels) take the full update (allow_incremental false): the incremental one caches directions.
+    std::vector<std::uint32_t> pattern_of;
   };
   struct Update {
     std::vector<std::pair<std::string, double>> stages;  // name, ms
