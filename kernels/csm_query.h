@@ -429,7 +429,8 @@ CSM_INLINE float csm_instance_visibility_cached(const CsmScene* scene, uint k, f
 // pattern (+y hemisphere, xyz of 4 floats each) rotated into the normal's hemisphere by the 180°
 // rotation about h = normalize(n + o), o = +y (d = 2(h·s)h − s, our reading of Müller §5.3.1; h = (1, 0, 0) when
 // n = −o). With `ground`, directions below the world floor (d.y < 0) are occluded without a test.
-// out = (bent normal xyz, AO = lit fraction); the bent normal is n when nothing is lit.
+// out = (bent normal xyz, AO = lit fraction, with `ground` as csm_ao_finish says); the bent normal
+// is n when nothing is lit.
 // The rotation's axis h = normalize(n + o), o = +y; h = (1, 0, 0) when n = −o. Also used by the
 // presenter's incremental AO, which must produce bit-identical directions.
 CSM_INLINE void csm_ao_rotation_axis(float nx, float ny, float nz, float* h) {
@@ -467,7 +468,12 @@ CSM_INLINE void csm_ao_add(float* sum, float dx, float dy, float dz) {
   sum[3] += dz;
 }
 
-CSM_INLINE void csm_ao_finish(const float* sum, float nx, float ny, float nz, uint samples, float* out) {
+// `above`: the directions not below the floor (all `samples` without `ground`). With `ground` the
+// AO is the lit share of those times the exact cosine-weighted share of the hemisphere above the
+// floor, (1 + n.y) / 2, instead of lit / samples: the count of directions that fall below the
+// horizon varies from receiver to receiver (a pattern each), which mottled convex surfaces whose
+// only occluder is the floor; this ratio estimator is exact there and keeps the mean elsewhere.
+CSM_INLINE void csm_ao_finish(const float* sum, float nx, float ny, float nz, uint samples, uint above, uint ground, float* out) {
   const float lit = sum[0], bx = sum[1], by = sum[2], bz = sum[3];
   const float blen = csm_sqrt(bx * bx + by * by + bz * bz);
   if (lit > 0.0f && blen > 0.0f) {
@@ -479,7 +485,8 @@ CSM_INLINE void csm_ao_finish(const float* sum, float nx, float ny, float nz, ui
     out[1] = ny;
     out[2] = nz;
   }
-  out[3] = lit / (float)samples;
+  if (!ground) out[3] = lit / (float)samples;
+  else out[3] = above > 0u ? lit / (float)above * (0.5f + 0.5f * ny) : 0.0f;
 }
 
 CSM_INLINE void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
@@ -487,14 +494,16 @@ CSM_INLINE void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const fl
   float h[3];
   csm_ao_rotation_axis(nx, ny, nz, h);
   float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  uint above = 0u;
   for (uint k = 0; k < samples; ++k) {
     float d[3];
     csm_ao_rotate(h, pattern[4u * k], pattern[4u * k + 1u], pattern[4u * k + 2u], d);
     const float dx = d[0], dy = d[1], dz = d[2];
     if (ground && dy < 0.0f) continue;
+    ++above;
     if (csm_visibility(scene, px, py, pz, dx, dy, dz, CSM_FILTER_NONE, bias) > 0.0f) csm_ao_add(sum, dx, dy, dz);
   }
-  csm_ao_finish(sum, nx, ny, nz, samples, out);
+  csm_ao_finish(sum, nx, ny, nz, samples, above, ground, out);
 }
 
 #endif  // SPLATCL_CSM_QUERY_H

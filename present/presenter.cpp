@@ -125,18 +125,89 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
   return covered;
 }
 
-// Per-pixel key-light visibility (the quality mode's shadows): 4 per pixel, 1 where uncovered.
-std::vector<float> pixel_shadows(const Scene& scene, const cluster::ClusterLayout& layout, const cluster::ViewFrame& frame,
-                                 const std::vector<float>& view_z, const std::vector<float>& normals,
-                                 const std::vector<glm::mat4>& placements, csm::Filter filter, csm::SplatLighting& lighting) {
+// Each pixel's 16 AO directions come from a pattern of its own, so the per-pixel AO is grainy; the
+// floor's varies slowly, so the mean over the floor pixels (w ≥ 0) of each 3 × 3 block, the bent
+// normal renormalised, keeps its shape and takes out most of the grain (about 1/3 of its spread).
+std::vector<splats::Vec4> smooth_floor_ao(const std::vector<splats::Vec4>& ao, int width, int height) {
+  std::vector<splats::Vec4> out = ao;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+      if (ao[p].w < 0.0f) continue;
+      glm::vec3 bent(0.0f);
+      float sum = 0.0f, count = 0.0f;
+      for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
+        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx) {
+          const splats::Vec4& v = ao[static_cast<std::size_t>(ny) * static_cast<std::size_t>(width) + static_cast<std::size_t>(nx)];
+          if (v.w < 0.0f) continue;
+          bent += glm::vec3(v.x, v.y, v.z);
+          sum += v.w;
+          count += 1.0f;
+        }
+      if (glm::length(bent) > 0.0f) bent = glm::normalize(bent);
+      out[p] = {bent.x, bent.y, bent.z, sum / count};
+    }
+  return out;
+}
+
+// The per-splat lighting's settings for the frame.
+csm::SplatLighting::Settings lighting_settings_of(const Scene& scene, bool ambient_occlusion, const FrameSettings& settings) {
+  const Quality& q = scene.quality;
+  csm::SplatLighting::Settings lighting;
+  lighting.ao = ambient_occlusion;
+  lighting.shadows = settings.shadows == ShadowMode::Splat;
+  lighting.filter = settings.filter;
+  lighting.ao_samples = q.ao_samples;
+  lighting.shadow_samples = q.shadow_samples;
+  lighting.bias = q.ao_bias;
+  lighting.ground = scene.floor.enabled;
+  for (const Light& light : scene.key_lights) lighting.key_lights.push_back({light.position, light.size});
+  return lighting;
+}
+
+// The covered pixels on the floor: their surface is the floor plane, facing up (objects and the
+// floor blended at a contact keep the splats' values).
+std::vector<CoveredPixel> floor_pixels(const Scene& scene, const std::vector<CoveredPixel>& covered, const std::vector<float>& normals) {
+  std::vector<CoveredPixel> on_floor;
+  for (const CoveredPixel& c : covered)
+    if (std::abs(c.world.y - scene.floor.y) <= 1e-3f * (1.0f + std::abs(scene.floor.y)) && normals[3 * c.index + 1] > 0.999f)
+      on_floor.push_back(c);
+  return on_floor;
+}
+
+// How far per-pixel receivers are lifted along their normal for the AO and the shadow queries
+// (csm/query_reach.hpp): floor pixels only by the bias, for shadows; others as a splat on the
+// object with the largest texel, whose object the pixel does not name. One per entry of `pixels`.
+struct PixelLift {
+  float ao = 0, shadow = 0;
+};
+std::vector<PixelLift> pixel_lifts(const Scene& scene, const std::vector<CoveredPixel>& pixels, const std::vector<float>& normals,
+                                   const std::vector<const csm::Csm*>& csms, const std::vector<glm::mat4>& placements) {
+  float texel = 0;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    if (scene.objects[i].occluder) texel = std::max(texel, csm::placed_texel(csms[i]->info, to_transform(placements[i])));
+  const PixelLift on_floor{0.0f, scene.quality.ao_bias},
+      off_floor{csm::kAoLiftTexels * texel, scene.quality.ao_bias + csm::kShadowLiftTexels * texel};
+  std::vector<char> is_floor(normals.size() / 3, 0);
+  for (const CoveredPixel& c : floor_pixels(scene, pixels, normals)) is_floor[c.index] = 1;
+  std::vector<PixelLift> lifts;
+  for (const CoveredPixel& c : pixels) lifts.push_back(is_floor[c.index] ? on_floor : off_floor);
+  return lifts;
+}
+
+// Per-pixel key-light visibility of `pixels` (the quality mode's shadows): 4 per pixel, 1 elsewhere.
+std::vector<float> pixel_shadows(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
+                                 const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
+                                 const std::vector<const csm::Csm*>& csms, csm::Filter filter, csm::SplatLighting& lighting) {
   std::vector<splats::Vec4> receivers;
   std::vector<std::size_t> where;
-  for (const auto& [p, w] : covered_pixels(layout, frame, view_z)) {
-    const float b = scene.quality.ao_bias;
+  const std::vector<PixelLift> lifts = pixel_lifts(scene, pixels, normals, csms, placements);
+  for (const auto& [p, w] : pixels) {
+    const float b = lifts[where.size()].shadow;
     receivers.push_back({w.x + b * normals[3 * p], w.y + b * normals[3 * p + 1], w.z + b * normals[3 * p + 2], 1});
     where.push_back(p);
   }
-  std::vector<float> pixel_shadow(view_z.size() * 4, 1.0f);
+  std::vector<float> pixel_shadow(pixel_count * 4, 1.0f);
   const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
   if (!instances.empty() && !receivers.empty()) {
     csm::VisibilityQueries& queries = lighting.device().queries();
@@ -151,18 +222,20 @@ std::vector<float> pixel_shadows(const Scene& scene, const cluster::ClusterLayou
   return pixel_shadow;
 }
 
-// Per-pixel AO with bent normal (the pixel-AO mode): the AO kernel on the G-buffer's world
-// positions and normals, (0, 1, 0, 1) where uncovered.
-std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const cluster::ClusterLayout& layout,
-                                          const cluster::ViewFrame& frame, const std::vector<float>& view_z,
+// Per-pixel AO with bent normal of `pixels` (the pixel-AO mode): the AO kernel on the G-buffer's
+// world positions and normals, (0, 1, 0, 1) elsewhere.
+std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
                                           const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
-                                          const std::vector<splats::Vec4>& patterns,
+                                          const std::vector<const csm::Csm*>& csms, const std::vector<splats::Vec4>& patterns,
                                           const std::vector<std::uint32_t>& pattern_of, csm::SplatLighting& lighting) {
   csm::AoRequest request;
   std::vector<std::size_t> where;
-  for (const auto& [p, w] : covered_pixels(layout, frame, view_z)) {
-    request.positions.push_back({w.x, w.y, w.z, 0});
-    request.normals.push_back({normals[3 * p], normals[3 * p + 1], normals[3 * p + 2], 0});
+  const std::vector<PixelLift> lifts = pixel_lifts(scene, pixels, normals, csms, placements);
+  for (const auto& [p, w] : pixels) {
+    const glm::vec3 n(normals[3 * p], normals[3 * p + 1], normals[3 * p + 2]);
+    const float b = lifts[where.size()].ao;
+    request.positions.push_back({w.x + b * n.x, w.y + b * n.y, w.z + b * n.z, 0});
+    request.normals.push_back({n.x, n.y, n.z, 0});
     where.push_back(p);
   }
   for (const std::size_t p : where) request.pattern_of.push_back(pattern_of[p]);
@@ -170,7 +243,7 @@ std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const cluster::Clu
   request.samples = scene.quality.ao_samples;
   request.ground = scene.floor.enabled;
   request.bias = scene.quality.ao_bias;
-  std::vector<splats::Vec4> pixel_ao_values(view_z.size(), splats::Vec4{0, 1, 0, 1});
+  std::vector<splats::Vec4> pixel_ao_values(pixel_count, splats::Vec4{0, 1, 0, 1});
   const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
   if (!instances.empty() && !where.empty()) {
     csm::AmbientOcclusion& ao = lighting.device();
@@ -259,6 +332,7 @@ struct Presenter::Impl {
   // The per-splat lighting through the CSMs (csm/splat_lighting.hpp) and the settings text its
   // last update was made with (render() updates again when it differs).
   std::unique_ptr<csm::SplatLighting> lighting;
+  std::unique_ptr<csm::SplatLighting> floor_lighting;  // of the floor's pixels (Presenter::floor_per_pixel)
   std::string lighting_signature;
   std::vector<splats::Vec4> ao_patterns;
   std::vector<std::uint32_t> pixel_pattern_of;
@@ -486,21 +560,12 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       normals[r.first + s] = vec4(nrm);
     }
   }
-  csm::SplatLighting::Receivers receivers{std::move(positions), std::move(normals), {}};
+  csm::SplatLighting::Receivers receivers{std::move(positions), std::move(normals), {}, {}};
   for (std::size_t i = 0; i < scene_.objects.size(); ++i)
     receivers.objects.push_back({objects_[i].first, objects_[i].count, scene_.objects[i].occluder});
   std::vector<csm::Transform> transforms;
   for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
-  const Quality& q = scene_.quality;
-  csm::SplatLighting::Settings lighting;
-  lighting.ao = ambient_occlusion;
-  lighting.shadows = settings.shadows == ShadowMode::Splat;
-  lighting.filter = settings.filter;
-  lighting.ao_samples = q.ao_samples;
-  lighting.shadow_samples = q.shadow_samples;
-  lighting.bias = q.ao_bias;
-  lighting.ground = scene_.floor.enabled;
-  for (const Light& light : scene_.key_lights) lighting.key_lights.push_back({light.position, light.size});
+  const csm::SplatLighting::Settings lighting = lighting_settings_of(scene_, ambient_occlusion, settings);
   const std::string signature = lighting_settings(settings);
   // Set again when the update completes: one that fails half way forces a full update next time.
   g.lighting_signature.clear();
@@ -682,21 +747,66 @@ FrameStats Presenter::render(float time) {
   const std::vector<std::uint32_t>& pixel_list = frame_lists.pixel_list;
   const cluster::LightLists& lists = frame_lists.lists;
 
-  // The quality modes' per-pixel key-light shadows and AO, through the same CSM tables.
+  // Per-pixel key-light shadows and AO through the same CSM tables: of every covered pixel in the
+  // quality modes, else of the floor's pixels (floor_per_pixel), so that the floor's shadows and AO
+  // do not step at its splat spacing; the shading takes the splats' values elsewhere.
+  const bool shadow_pixels = settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
+  const bool ao_pixels = pixel_ao && ambient_occlusion;
+  const bool floor_pixel_shadows = floor_per_pixel && scene_.floor.enabled && !shadow_pixels &&
+                                   settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
+  const bool floor_pixel_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
   std::vector<float> pixel_shadow;
-  if (settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty()) {
-    Stopwatch c;
-    pixel_shadow = pixel_shadows(scene_, layout, frame, view_z, read_normals(), placements, settings.filter, *g.lighting);
-    stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
-  }
   std::vector<splats::Vec4> pixel_ao_values;
-  if (pixel_ao && ambient_occlusion) {
-    Stopwatch c;
+  if (shadow_pixels || ao_pixels || floor_pixel_shadows || floor_pixel_ao) {
+    std::vector<const csm::Csm*> csms;
+    for (const ObjectAssets& a : assets_) csms.push_back(&a.csm);
+    const std::vector<float> normals = read_normals();
+    const std::vector<CoveredPixel> covered = covered_pixels(layout, frame, view_z);
     // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
     if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
-    pixel_ao_values = pixel_occlusion(scene_, layout, frame, view_z, read_normals(), placements, g.ao_patterns,
-                                      g.pixel_pattern_of, *g.lighting);
-    stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+    if (shadow_pixels) {
+      Stopwatch c;
+      pixel_shadow = pixel_shadows(scene_, covered, view_z.size(), normals, placements, csms, settings.filter, *g.lighting);
+      stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
+    }
+    if (ao_pixels) {
+      Stopwatch c;
+      pixel_ao_values = pixel_occlusion(scene_, covered, view_z.size(), normals, placements, csms, g.ao_patterns,
+                                        g.pixel_pattern_of, *g.lighting);
+      stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+    }
+    if (floor_pixel_shadows || floor_pixel_ao) {
+      Stopwatch c;
+      // The floor's pixels as receivers of no object: the per-splat lighting's queries, culled per
+      // occluder instance (csm/query_reach.hpp), the same rows as the AO kernel and PCF batches.
+      csm::SplatLighting::Receivers receivers;
+      std::vector<std::size_t> where;
+      for (const CoveredPixel& pixel : floor_pixels(scene_, covered, normals)) {
+        receivers.positions.push_back(vec4({pixel.world.x, pixel.world.y, pixel.world.z}));
+        receivers.normals.push_back(vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]}));
+        receivers.pattern_of.push_back(g.pixel_pattern_of[pixel.index]);
+        where.push_back(pixel.index);
+      }
+      for (std::size_t i = 0; i < scene_.objects.size(); ++i) receivers.objects.push_back({0, 0, scene_.objects[i].occluder});
+      csm::SplatLighting::Settings floor_settings = lighting_settings_of(scene_, ambient_occlusion, settings);
+      floor_settings.ao = floor_pixel_ao;
+      floor_settings.shadows = floor_pixel_shadows;
+      if (!g.floor_lighting) g.floor_lighting = std::make_unique<csm::SplatLighting>(runtime_, csms, g.ao_patterns, std::vector<std::uint32_t>{});
+      std::vector<csm::Transform> transforms;
+      for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
+      g.floor_lighting->update(receivers, transforms, floor_settings, false);
+      const std::vector<float>& rows = g.floor_lighting->rows();
+      if (floor_pixel_ao) pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, -1});
+      if (floor_pixel_shadows) pixel_shadow.assign(view_z.size() * 4, -1.0f);
+      for (std::size_t r = 0; r < where.size(); ++r) {
+        const std::size_t p = where[r];
+        const float* row = &rows[kLightingRow * r];
+        if (floor_pixel_ao) pixel_ao_values[p] = {row[0], row[1], row[2], row[3]};
+        if (floor_pixel_shadows) std::copy(row + kVisibilityAt, row + kLightingRow, &pixel_shadow[4 * p]);
+      }
+      if (floor_pixel_ao) pixel_ao_values = smooth_floor_ao(pixel_ao_values, width_, height_);
+      stats.stages.push_back({"cl: floor pixel shadows and AO", c.elapsed_ms()});
+    }
   }
 
   // Upload lights, lists and the per-pixel list index.

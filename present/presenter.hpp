@@ -63,6 +63,9 @@ class Presenter {
   DebugView debug_view = DebugView::Final;
   bool ambient_occlusion = true;  // AO and bent normal in the ambient term
   bool pixel_ao = false;          // AO per G-buffer pixel (quality mode) instead of per splat
+  // The floor's pixels get their AO and key-light shadows per pixel (the objects' stay per splat),
+  // so the floor's shading does not step at its splat spacing; off, the floor splats' values.
+  bool floor_per_pixel = true;
   // When occluders move, recompute only the splats whose AO or shadow queries may reach a moved
   // occluder (before or after its move) and the moved objects' own splats; the result equals a full
   // recomputation exactly. Off: every splat each time (cross-map PCF always does that).

@@ -114,7 +114,7 @@ Action register_ao(CLI::App& app) {
   sub->add_option("--samples", c->options.samples, "Directions per vertex (a perfect square for stratified)")->capture_default_str();
   sub->add_option("--patterns", c->options.patterns, "Precomputed patterns each vertex picks one of")->capture_default_str();
   sub->add_option("--seed", c->options.seed, "Seed of the patterns and of each vertex's pattern choice")->capture_default_str();
-  sub->add_flag("--ground-plane", c->options.ground, "Directions below the horizon (world y < 0) count as occluded (the thesis's floor test)");
+  sub->add_flag("--ground-plane", c->options.ground, "Directions below the horizon (world y < 0) count as occluded (the thesis's floor test); the AO is then the lit share of the others times (1 + n.y) / 2");
   sub->add_option("--bias", c->options.bias, "Shadow offset in depth units (occluded when g < depth - bias)")->capture_default_str();
   sub->add_flag("--reference", c->reference, "Use the native C++ reference instead of the OpenCL kernel");
   return [c]() { return run_ao(*c); };

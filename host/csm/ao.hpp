@@ -2,7 +2,8 @@
 // Ambient occlusion with coherent shadow maps (Müller §5.3): per receiver, the N directions of
 // one precomputed cosine-weighted pattern (chosen per receiver) rotated into the normal's
 // hemisphere, each tested against every occluder instance; AO = fraction unoccluded (no cosine
-// factor: the density carries it) and the bent normal = normalised sum of the unoccluded directions.
+// factor: the density carries it; with a ground plane the lit share of the directions above it
+// times (1 + n.y) / 2, csm_ao_finish) and the bent normal = normalised sum of the unoccluded directions.
 // The per-receiver code is kernels/csm_query.h, shared by the kernel (AmbientOcclusion) and the
 // native reference (ambient_occlusion_reference), which agree exactly.
 #include <cstdint>

@@ -104,19 +104,36 @@ float map_slack(const CsmInfo& info) {
   return 1.25f * slack;
 }
 
-// The bounding sphere of `info` placed by `placement` (model file → world), and its reach R'.
-MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float slack) {
+namespace {
+
+// Object space (the maps') → world for `info` placed by `placement`, and the largest stretch of its
+// linear part (rigid placements: the uniform scale).
+glm::dmat4 object_to_world(const CsmInfo& info, const Transform& placement, double& stretch) {
   const Transform to_object = world_to_object(info, placement);
   glm::dmat4 m(1.0);
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) m[c][r] = to_object[static_cast<std::size_t>(4 * r + c)];
   const glm::dmat4 to_world = glm::inverse(m);
+  stretch = 0;
+  for (int k = 0; k < 3; ++k) stretch = std::max(stretch, glm::length(glm::dvec3(to_world[k])));
+  return to_world;
+}
+
+}  // namespace
+
+float placed_texel(const CsmInfo& info, const Transform& placement) {
+  double stretch = 0;
+  object_to_world(info, placement, stretch);
+  return static_cast<float>(stretch * 2.0 * info.sphere.radius / std::max(1u, info.resolution));
+}
+
+// The bounding sphere of `info` placed by `placement` (model file → world), and its reach R'.
+MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float slack) {
+  double stretch = 0;
+  const glm::dmat4 to_world = object_to_world(info, placement, stretch);
   const glm::dvec3 c(info.sphere.centre.x, info.sphere.centre.y, info.sphere.centre.z);
   MovedReach reach;
   reach.centre = glm::vec3(to_world * glm::dvec4(c, 1.0));
-  // Largest stretch of the linear part (rigid placements: the uniform scale).
-  double stretch = 0;
-  for (int k = 0; k < 3; ++k) stretch = std::max(stretch, glm::length(glm::dvec3(to_world[k])));
   const double texel = 2.0 * info.sphere.radius / std::max(1u, info.resolution);
   reach.radius = static_cast<float>(stretch * info.sphere.radius * 1.0001);
   reach.reach = static_cast<float>(stretch * (info.sphere.radius + kReachTexels * texel) * 1.0001);

@@ -55,6 +55,21 @@ float map_slack(const CsmInfo& info);
 // R' = R + kReachTexels texels, for the map slack `slack`.
 MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float slack);
 
+// The world size of one texel of `info`'s maps placed by `placement` (model file → world): the
+// largest stretch of the placement times 2R / resolution.
+float placed_texel(const CsmInfo& info, const Transform& placement);
+
+// How far receivers on an occluder's own surface are lifted along their normal, in texels of its
+// CSM (placed_texel), so that its maps do not shadow it where the depth sampled at a texel's centre
+// lies in front of the receiver (acne). A planar surface through the receiver p with normal n is in
+// front of p + δn, seen along a map's direction d at an offset e ⟂ d from it, only where
+// n·e < −δ, and |n·e| ≤ |e| at any angle between n and d: so δ ≥ the farthest tap centre suffices
+// at every slope, unlike a depth bias, which grows as tan of that angle. AO queries read one texel
+// (centre within √2/2 texel), the 4 × 4 PCF of the shadows reaches centres within 2√2 texels.
+inline constexpr float kAoLiftTexels = 1.0f;
+inline constexpr float kShadowLiftTexels = 2.9f;
+static_assert(kAoLiftTexels >= 0.7072f && kShadowLiftTexels >= 2.8285f);
+
 // The AO kernel's query directions for receiver normal n into out[0 .. samples), bit-identical to
 // the kernel's (kernels/csm_query.h's rotation functions, neither side contracted); w = |d|, or 0
 // for a direction below the floor (`ground`), which the kernel counts as occluded without a query.

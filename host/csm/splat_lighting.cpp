@@ -53,11 +53,23 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   for (std::size_t i = 0; i < input.objects.size(); ++i)
     if (input.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), placements[i]});
   const Filter filter = settings.filter;
-  // Receivers lifted off their own surface by the bias, so a splat does not shadow itself.
-  std::vector<splats::Vec4> lifted(n);
-  for (std::size_t s = 0; s < n; ++s)
-    lifted[s] = {positions[s].x + settings.bias * normals[s].x, positions[s].y + settings.bias * normals[s].y,
-                 positions[s].z + settings.bias * normals[s].z, 1.0f};
+  // Receivers lifted off their own surface along the normal, so that a splat's own CSM does not
+  // shadow it: by kAoLiftTexels / kShadowLiftTexels texels of that CSM (query_reach.hpp), shadow
+  // receivers by the bias as well; splats of no object (a floor) by the bias for shadows only.
+  std::vector<float> own_texel(n, 0.0f);
+  for (std::size_t i = 0; i < input.objects.size(); ++i) {
+    const float texel = placed_texel(csms_[i]->info, placements[i]);
+    std::fill(own_texel.begin() + static_cast<std::ptrdiff_t>(input.objects[i].first),
+              own_texel.begin() + static_cast<std::ptrdiff_t>(input.objects[i].first + input.objects[i].count), texel);
+  }
+  const auto lifted_by = [&](std::size_t s, float by, float w) {
+    return splats::Vec4{positions[s].x + by * normals[s].x, positions[s].y + by * normals[s].y, positions[s].z + by * normals[s].z, w};
+  };
+  std::vector<splats::Vec4> lifted(n), ao_at(n);
+  for (std::size_t s = 0; s < n; ++s) {
+    lifted[s] = lifted_by(s, settings.bias + kShadowLiftTexels * own_texel[s], 1.0f);
+    ao_at[s] = lifted_by(s, kAoLiftTexels * own_texel[s], positions[s].w);
+  }
   const bool do_ao = settings.ao, do_shadows = settings.shadows && !settings.key_lights.empty();
   std::vector<std::vector<glm::vec3>> light_points;  // per key light
   for (const KeyLightShape& light : settings.key_lights) light_points.push_back(key_light_points(light, settings.shadow_samples));
@@ -110,7 +122,8 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
   const std::uint32_t samples = settings.ao_samples;
   const auto directions_of = [&](std::size_t s, splats::Vec4* out) {
-    ao_directions(normals[s], &patterns_[std::size_t{pattern_of_[s]} * samples], samples, settings.ground, out);
+    const std::uint32_t pattern = input.pattern_of.empty() ? pattern_of_[s] : input.pattern_of[s];
+    ao_directions(normals[s], &patterns_[std::size_t{pattern} * samples], samples, settings.ground, out);
   };
 
   if (incremental) {
@@ -140,7 +153,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
         splats::Vec4* d = &static_directions_[s * samples];
         directions_of(s, d);
         for (std::uint32_t j = 0; j < samples; ++j)
-          if (d[j].w != 0) ao_batch.add(positions[s], {d[j].x, d[j].y, d[j].z, 0.0f}, s * words * 64 + j);
+          if (d[j].w != 0) ao_batch.add(ao_at[s], {d[j].x, d[j].y, d[j].z, 0.0f}, s * words * 64 + j);
       }
       const std::vector<float> lit = run_queries(static_instances, ao_batch.receivers, ao_batch.lights, Filter::None);
       for (std::size_t k = 0; k < ao_batch.where.size(); ++k) {
@@ -176,12 +189,12 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       if (std::all_of(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
                       mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words), [](std::uint64_t w) { return w == 0; }))
         continue;
-      cones_from({positions[s].x, positions[s].y, positions[s].z}, cones);
+      cones_from({ao_at[s].x, ao_at[s].y, ao_at[s].z}, cones);
       const splats::Vec4* d = &static_directions_[s * samples];
       for (std::uint32_t j = 0; j < samples; ++j) {
         const std::size_t bit = s * words * 64 + j;
         if ((mask[bit / 64] >> (bit % 64) & 1) && reached(cones, {d[j].x, d[j].y, d[j].z}, d[j].w))
-          ao_batch.add(positions[s], {d[j].x, d[j].y, d[j].z, 0.0f}, bit);
+          ao_batch.add(ao_at[s], {d[j].x, d[j].y, d[j].z, 0.0f}, bit);
       }
     }
     const std::vector<float> lit = run_queries(moving_instances, ao_batch.receivers, ao_batch.lights, Filter::None);
@@ -202,11 +215,14 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       // The mask holds the kernel's answer for every direction: its row without the kernel.
       const splats::Vec4* d = &static_directions_[s * samples];
       float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      std::uint32_t above = 0;
       for (std::uint32_t j = 0; j < samples; ++j) {
         const std::size_t bit = s * words * 64 + j;
+        above += d[j].w != 0;
         if (mask[bit / 64] >> (bit % 64) & 1) device::csm_ao_add(sum, d[j].x, d[j].y, d[j].z);
       }
-      device::csm_ao_finish(sum, normals[s].x, normals[s].y, normals[s].z, samples, &dynamic[kRowFloats * s]);
+      device::csm_ao_finish(sum, normals[s].x, normals[s].y, normals[s].z, samples, above, settings.ground,
+                            &dynamic[kRowFloats * s]);
       ++update.receivers;
     }
     lit_mask_ = std::move(mask);
@@ -263,7 +279,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       for (std::size_t i = 0; i < instances.size(); ++i) {
         QueryBatch batch;
         for (std::size_t r = 0; r < m; ++r) {
-          const splats::Vec4& p = positions[ao_subset[r]];
+          const splats::Vec4& p = ao_at[ao_subset[r]];
           const Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : Cone{true};
           for (std::uint32_t j = 0; j < samples; ++j) {
             const std::size_t at = r * samples + j;
@@ -278,11 +294,14 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       for (std::size_t r = 0; r < m; ++r) {
         const splats::Vec4& nrm = normals[ao_subset[r]];
         float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        std::uint32_t above = 0;
         for (std::uint32_t j = 0; j < samples; ++j) {
           const splats::Vec4& d = receiver_directions[r * samples + j];
+          above += d.w != 0;
           if (unblocked[r * samples + j]) device::csm_ao_add(sum, d.x, d.y, d.z);
         }
-        device::csm_ao_finish(sum, nrm.x, nrm.y, nrm.z, samples, &dynamic[kRowFloats * std::size_t{ao_subset[r]}]);
+        device::csm_ao_finish(sum, nrm.x, nrm.y, nrm.z, samples, above, settings.ground,
+                              &dynamic[kRowFloats * std::size_t{ao_subset[r]}]);
       }
       update.stages.push_back({"cl: splat AO", clock.elapsed_ms()});
     }

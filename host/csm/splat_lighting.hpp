@@ -35,7 +35,7 @@ class SplatLighting {
     bool shadows = true;  // off: every key light visible
     Filter filter = Filter::SameMap;  // of the shadow queries (AO queries use Filter::None)
     std::uint32_t ao_samples = 16, shadow_samples = 4;
-    float bias = 0.02f;   // CSM depth bias; shadow receivers are lifted by it along their normal
+    float bias = 0.02f;   // CSM depth bias (depth units); shadow receivers are lifted by it (world units) along their normal
     bool ground = true;   // AO directions below y = 0 count as occluded (a floor)
     std::vector<KeyLightShape> key_lights;  // at most kMaxKeyLights
   };
@@ -46,6 +46,9 @@ class SplatLighting {
   struct Receivers {
     std::vector<splats::Vec4> positions, normals;  // world space, per splat
     std::vector<Object> objects;                   // the objects with a CSM; other splats (a floor) belong to none
+    // Per receiver its AO pattern; empty: the constructor's. Receivers that change between updates
+    // (pixels) take the full update (allow_incremental false): the incremental one caches directions.
+    std::vector<std::uint32_t> pattern_of;
   };
   struct Update {
     std::vector<std::pair<std::string, double>> stages;  // name, ms

@@ -60,8 +60,11 @@ void add_light(vec4 center_inv_r2, vec3 color, vec3 position, vec3 n, vec3 to_ey
 // Key-light visibility per key light, from the splats or per pixel.
 vec4 key_visibility(ivec2 p, float inv_weight) {
 #if PIXEL_SHADOWS
-  return texelFetch(u_pixel_shadow, p, 0);
-#elif KEY_COUNT > 1
+  // Negative where the pixel was not computed (per-pixel on the floor only): the splats' value.
+  vec4 pixel_shadow = texelFetch(u_pixel_shadow, p, 0);
+  if (pixel_shadow.x >= 0.0) return pixel_shadow;
+#endif
+#if KEY_COUNT > 1
   return vec4(texelFetch(g_shadow_ambient, p, 0).x, texelFetch(g_shadows, p, 0).xyz) * inv_weight;
 #else
   return vec4(texelFetch(g_shadow_ambient, p, 0).x * inv_weight, 1.0, 1.0, 1.0);
@@ -80,8 +83,13 @@ vec4 shade(ivec2 p) {
 #elif DEBUG_VIEW == 2
   return vec4(0.5 * n_world + 0.5, 1.0);
 #elif DEBUG_VIEW == 3
-  // The splat passes carry the AO itself in the ambient channels for this view.
-  return vec4(vec3(PIXEL_AO != 0 ? texelFetch(u_pixel_ao_texture, p, 0).w : texelFetch(g_shadow_ambient, p, 0).y * inv_weight), 1.0);
+  // The splat passes carry the AO itself in the ambient channels for this view; per-pixel AO where
+  // computed (w ≥ 0).
+#if PIXEL_AO
+  float pixel_ao = texelFetch(u_pixel_ao_texture, p, 0).w;
+  if (pixel_ao >= 0.0) return vec4(vec3(pixel_ao), 1.0);
+#endif
+  return vec4(vec3(texelFetch(g_shadow_ambient, p, 0).y * inv_weight), 1.0);
 #elif DEBUG_VIEW == 4
   uint list = texelFetch(u_pixel_list, p, 0).x;
   float count = BRUTE_FORCE != 0 ? float(u_light_count) : (list == NO_LIGHT_LIST ? 0.0 : float(list_counts[list]));
@@ -120,12 +128,11 @@ vec4 shade(ivec2 p) {
     add_light(u_key_center[k], u_key_color[k], position, n, to_eye, shadow[k], diffuse, specular);
 #endif
   // Ambient: sky irradiance around the bent normal times AO (albedo/π · E), evaluated per splat by
-  // the splat passes, or per pixel in the pixel-AO mode.
+  // the splat passes, or per pixel where that was computed (w ≥ 0: the pixel-AO mode, the floor).
+  vec3 ambient = texelFetch(g_shadow_ambient, p, 0).yzw * inv_weight;
 #if PIXEL_AO
   vec4 ao = texelFetch(u_pixel_ao_texture, p, 0);
-  vec3 ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
-#else
-  vec3 ambient = texelFetch(g_shadow_ambient, p, 0).yzw * inv_weight;
+  if (ao.w >= 0.0) ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
 #endif
   return vec4(albedo * (diffuse + ambient) + u_specular * specular, 1.0);
 #endif
