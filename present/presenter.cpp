@@ -125,29 +125,69 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
   return covered;
 }
 
-// Each pixel's 16 AO directions come from a pattern of its own, so the per-pixel AO is grainy; the
-// floor's varies slowly, so the mean over the floor pixels (w ≥ 0) of each 3 × 3 block, the bent
-// normal renormalised, keeps its shape and takes out most of the grain (about 1/3 of its spread).
-std::vector<splats::Vec4> smooth_floor_ao(const std::vector<splats::Vec4>& ao, int width, int height) {
-  std::vector<splats::Vec4> out = ao;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
-      if (ao[p].w < 0.0f) continue;
-      glm::vec3 bent(0.0f);
-      float sum = 0.0f, count = 0.0f;
-      for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
-        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx) {
-          const splats::Vec4& v = ao[static_cast<std::size_t>(ny) * static_cast<std::size_t>(width) + static_cast<std::size_t>(nx)];
-          if (v.w < 0.0f) continue;
-          bent += glm::vec3(v.x, v.y, v.z);
-          sum += v.w;
+// The floor's lighting rows on the pixel lattice (every kFloorStep-th pixel in x and y), smoothed
+// over each node's 3 × 3 lattice neighbours (each node's 16 AO directions alone leave a grain) and
+// interpolated bilinearly between the four nodes around a pixel, over those that are floor. The
+// bent normal is renormalised; visibility and AO are means. A pixel with no floor node among its
+// four (a sliver of floor between objects) keeps the floor splats' values.
+constexpr std::size_t kFloorStep = 4;
+struct FloorLattice {
+  std::size_t columns = 0, rows = 0;
+  std::vector<float> values;  // kLightingRow per node
+  std::vector<std::uint8_t> present;
+  bool interpolate(std::size_t x, std::size_t y, float* out) const {
+    const std::size_t cx = x / kFloorStep, cy = y / kFloorStep;
+    const float fx = static_cast<float>(x % kFloorStep) / kFloorStep, fy = static_cast<float>(y % kFloorStep) / kFloorStep;
+    float weight_sum = 0.0f;
+    std::fill(out, out + kLightingRow, 0.0f);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const std::size_t nx = cx + (k & 1), ny = cy + (k >> 1);
+      if (nx >= columns || ny >= rows || !present[ny * columns + nx]) continue;
+      const float weight = ((k & 1) ? fx : 1.0f - fx) * ((k >> 1) ? fy : 1.0f - fy) + 1e-6f;
+      const float* v = &values[kLightingRow * (ny * columns + nx)];
+      for (std::size_t c = 0; c < kLightingRow; ++c) out[c] += weight * v[c];
+      weight_sum += weight;
+    }
+    if (weight_sum == 0.0f) return false;
+    for (std::size_t c = 0; c < kLightingRow; ++c) out[c] /= weight_sum;
+    const glm::vec3 bent(out[0], out[1], out[2]);
+    if (glm::length(bent) > 0.0f) {
+      const glm::vec3 n = glm::normalize(bent);
+      out[0] = n.x, out[1] = n.y, out[2] = n.z;
+    }
+    return true;
+  }
+};
+
+FloorLattice floor_lattice(const std::vector<float>& rows, const std::vector<std::size_t>& where, int width, int height) {
+  FloorLattice raw;
+  raw.columns = (static_cast<std::size_t>(width) + kFloorStep - 1) / kFloorStep;
+  raw.rows = (static_cast<std::size_t>(height) + kFloorStep - 1) / kFloorStep;
+  raw.values.assign(kLightingRow * raw.columns * raw.rows, 0.0f);
+  raw.present.assign(raw.columns * raw.rows, 0);
+  for (std::size_t r = 0; r < where.size(); ++r) {
+    const std::size_t node = (where[r] / static_cast<std::size_t>(width)) / kFloorStep * raw.columns +
+                             (where[r] % static_cast<std::size_t>(width)) / kFloorStep;
+    std::copy(&rows[kLightingRow * r], &rows[kLightingRow * (r + 1)], &raw.values[kLightingRow * node]);
+    raw.present[node] = 1;
+  }
+  FloorLattice smooth = raw;
+  for (std::size_t y = 0; y < raw.rows; ++y)
+    for (std::size_t x = 0; x < raw.columns; ++x) {
+      if (!raw.present[y * raw.columns + x]) continue;
+      float* out = &smooth.values[kLightingRow * (y * raw.columns + x)];
+      std::fill(out, out + kLightingRow, 0.0f);
+      float count = 0.0f;
+      for (std::size_t ny = y ? y - 1 : 0; ny <= std::min(raw.rows - 1, y + 1); ++ny)
+        for (std::size_t nx = x ? x - 1 : 0; nx <= std::min(raw.columns - 1, x + 1); ++nx) {
+          if (!raw.present[ny * raw.columns + nx]) continue;
+          const float* v = &raw.values[kLightingRow * (ny * raw.columns + nx)];
+          for (std::size_t c = 0; c < kLightingRow; ++c) out[c] += v[c];
           count += 1.0f;
         }
-      if (glm::length(bent) > 0.0f) bent = glm::normalize(bent);
-      out[p] = {bent.x, bent.y, bent.z, sum / count};
+      for (std::size_t c = 0; c < kLightingRow; ++c) out[c] /= count;
     }
-  return out;
+  return smooth;
 }
 
 // The per-splat lighting's settings for the frame.
@@ -484,6 +524,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   g.sh = sky_sh(scene_.sky);
   ambient_occlusion = scene_.quality.ambient_occlusion;
   pixel_ao = scene_.quality.pixel_ao;
+  floor_per_pixel = scene_.quality.floor_pixels;
   resize(width, height);
 }
 
@@ -779,9 +820,14 @@ FrameStats Presenter::render(float time) {
       Stopwatch c;
       // The floor's pixels as receivers of no object: the per-splat lighting's queries, culled per
       // occluder instance (csm/query_reach.hpp), the same rows as the AO kernel and PCF batches.
+      // Evaluated on a lattice of every kFloorStep-th pixel in x and y (the floor's shadows and AO
+      // are soft: 1/16 of the queries), then interpolated to every floor pixel.
+      const std::vector<CoveredPixel> floor = floor_pixels(scene_, covered, normals);
+      const auto w = static_cast<std::size_t>(width_);
       csm::SplatLighting::Receivers receivers;
       std::vector<std::size_t> where;
-      for (const CoveredPixel& pixel : floor_pixels(scene_, covered, normals)) {
+      for (const CoveredPixel& pixel : floor) {
+        if ((pixel.index % w) % kFloorStep != 0 || (pixel.index / w) % kFloorStep != 0) continue;
         receivers.positions.push_back(vec4({pixel.world.x, pixel.world.y, pixel.world.z}));
         receivers.normals.push_back(vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]}));
         receivers.pattern_of.push_back(g.pixel_pattern_of[pixel.index]);
@@ -795,16 +841,15 @@ FrameStats Presenter::render(float time) {
       std::vector<csm::Transform> transforms;
       for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
       g.floor_lighting->update(receivers, transforms, floor_settings, false);
-      const std::vector<float>& rows = g.floor_lighting->rows();
+      const FloorLattice lattice = floor_lattice(g.floor_lighting->rows(), where, width_, height_);
       if (floor_pixel_ao) pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, -1});
       if (floor_pixel_shadows) pixel_shadow.assign(view_z.size() * 4, -1.0f);
-      for (std::size_t r = 0; r < where.size(); ++r) {
-        const std::size_t p = where[r];
-        const float* row = &rows[kLightingRow * r];
-        if (floor_pixel_ao) pixel_ao_values[p] = {row[0], row[1], row[2], row[3]};
-        if (floor_pixel_shadows) std::copy(row + kVisibilityAt, row + kLightingRow, &pixel_shadow[4 * p]);
+      for (const CoveredPixel& pixel : floor) {
+        float row[kLightingRow];
+        if (!lattice.interpolate(pixel.index % w, pixel.index / w, row)) continue;  // keeps the splats' values
+        if (floor_pixel_ao) pixel_ao_values[pixel.index] = {row[0], row[1], row[2], row[3]};
+        if (floor_pixel_shadows) std::copy(row + kVisibilityAt, row + kLightingRow, &pixel_shadow[4 * pixel.index]);
       }
-      if (floor_pixel_ao) pixel_ao_values = smooth_floor_ao(pixel_ao_values, width_, height_);
       stats.stages.push_back({"cl: floor pixel shadows and AO", c.elapsed_ms()});
     }
   }

@@ -336,7 +336,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     const json& q = r.object(j, "quality");
     r.known_keys(q, "quality",
                  {"sampling", "splat_bound", "eps_diagonal", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "splat_scale", "surface_clip", "antialias", "depth_offset",
-                  "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "lod_error",
+                  "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "floor_pixels", "lod_error",
                   "lod_leaf", "specular", "shininess"});
     Quality& Q = scene.quality;
     read_asset_quality(r, q, Q);
@@ -355,6 +355,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.shadow_samples = r.count(q, "shadow_samples", Q.shadow_samples, 1, 64);
     Q.ambient_occlusion = r.flag(q, "ambient_occlusion", Q.ambient_occlusion);
     Q.pixel_ao = r.flag(q, "pixel_ao", Q.pixel_ao);
+    Q.floor_pixels = r.flag(q, "floor_pixels", Q.floor_pixels);
     Q.lod_error = r.number(q, "lod_error", Q.lod_error);
     if (Q.lod_error < 0) r.fail("lod_error", "must not be negative (0 = off)");
     Q.lod_leaf = r.count(q, "lod_leaf", Q.lod_leaf, 2, 4096);

@@ -150,6 +150,9 @@ struct Quality {
   std::uint32_t shadow_samples = 4;   // points sampled on a key light of non-zero size
   bool ambient_occlusion = true;      // per-splat AO from every occluder
   bool pixel_ao = false;              // quality mode: AO per pixel of the G-buffer instead of per splat
+  // The floor's AO and key-light shadows per pixel (independent of its splat spacing, at a cost per
+  // frame that grows with the floor's pixels); false: per floor splat (Presenter::floor_per_pixel).
+  bool floor_pixels = true;
   float lod_error = 0.0f;             // LOD: screen-space error threshold in pixels (0 = off: every splat)
   std::uint32_t lod_leaf = 16;        // LOD tree: octree leaves hold fewer splats than this
   float specular = 0.0f;              // Blinn-Phong highlight strength (0 = off: Lambert only)

@@ -28,6 +28,7 @@ struct RenderOptions {
   std::string output, size = "640x480", view = "final", json;
   unsigned frames = 1;
   bool pixel_ao = false;
+  bool floor_splats = false;
   bool wall_passes = false;
   bool serial_lighting = false;
   std::optional<double> time;  // unset: the scene's "time"
@@ -61,6 +62,7 @@ int run_render(const RenderOptions& o) {
   progress.clear();
   presenter.debug_view = view;
   presenter.pixel_ao = presenter.pixel_ao || o.pixel_ao;
+  presenter.floor_per_pixel = presenter.floor_per_pixel && !o.floor_splats;
   presenter.wall_clock_passes = o.wall_passes;
   presenter.overlap_lighting = !o.serial_lighting;
   const double setup_ms = setup.elapsed_ms();
@@ -150,6 +152,8 @@ Action register_render(CLI::App& app) {
   sub->add_option("--time", o->time, "Scene time of the first frame in seconds (default: the scene's \"time\")");
   sub->add_option("--dt", o->dt, "Scene time between frames in seconds")->capture_default_str();
   sub->add_flag("--pixel-ao", o->pixel_ao, "Ambient occlusion per pixel (quality mode) instead of per splat");
+  sub->add_flag("--floor-splats", o->floor_splats,
+                "The floor's shadows and AO per floor splat (faster, stepped at its splat spacing) instead of per pixel (quality.floor_pixels)");
   sub->add_option("--view", o->view, "final, albedo, normals, ao, clusters (lights per cluster), shadows, depth, footprints")
       ->capture_default_str();
   sub->add_option("--json", o->json, "Write the timings as JSON");
