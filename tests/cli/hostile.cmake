@@ -13,7 +13,7 @@ foreach(mode full-disk-coherence full-disk-coherence-build full-disk-splats-rend
            ${HOSTILE_DIR}/${mode} ${EXPECT_ERROR})
   set_tests_properties(hostile.${mode} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120)
 endforeach()
-set_tests_properties(hostile.full-disk-render PROPERTIES FIXTURES_REQUIRED present_cache)
+set_tests_properties(hostile.full-disk-render PROPERTIES FIXTURES_REQUIRED present_cache ${GL_TEST_PROPERTIES})
 
 # Stated limits: one line before anything is allocated (each ran for a minute into std::bad_alloc).
 function(hostile_error name pattern)
@@ -147,8 +147,8 @@ foreach(case "huge-map-count|checksum mismatch \\(the file is corrupted\\)"
   set(args ${EXPECT_ERROR} "hostile-${name}.csm: ${pattern}$" $<TARGET_FILE:splatcl> csm info ${HOSTILE_DIR}/hostile-${name}.csm)
   if(SPLATCL_SANITIZE)
     add_test(NAME hostile.csm_${name} COMMAND ${args})
-    set_tests_properties(hostile.csm_${name} PROPERTIES ENVIRONMENT
-                         "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:max_allocation_size_mb=1024:allocator_may_return_null=1")
+    set_tests_properties(hostile.csm_${name} PROPERTIES ENVIRONMENT_MODIFICATION
+                         "ASAN_OPTIONS=string_append::max_allocation_size_mb=1024:allocator_may_return_null=1")
   else()
     add_test(NAME hostile.csm_${name} COMMAND sh -c "ulimit -v 1048576 && exec \"$0\" \"$@\"" ${args})
   endif()
