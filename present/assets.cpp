@@ -40,12 +40,14 @@ std::string asset_key(const splats::Mesh& mesh, const std::string& parameters) {
   return checksum_hex(fnv1a64(parameters, h));
 }
 
-std::vector<splats::SplatRecord> read_splat_object(const std::string& path) {
+SplatObjectFile read_splat_object(const std::string& path) {
   const std::string bytes = read_text_file(path, "splat file");
-  // splatcl's own files say so in their first comment; anything else is read as a 3DGS file.
-  if (bytes.find("\ncomment splatcl_version ") != std::string::npos && bytes.find("\ncomment splatcl_version ") < bytes.find("end_header"))
-    return splats::decode_splat_file(bytes, path).splats;
-  return splats::decode_gaussian_file(bytes, path);
+  SplatObjectFile file;
+  file.checksum = checksum_hex(fnv1a64(bytes));
+  // splatcl's own files say so in a header comment; anything else is read as a 3DGS file.
+  const std::size_t ours = bytes.find("\ncomment splatcl_version ");
+  file.splats = ours < bytes.find("end_header") ? splats::decode_splat_file(bytes, path).splats : splats::decode_gaussian_file(bytes, path);
+  return file;
 }
 
 splats::Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what) {
@@ -74,12 +76,8 @@ namespace {
 
 // Applies a fit to splats: the same scale and offset as the mesh's vertices.
 void fit_splats(std::vector<splats::SplatRecord>& splats, const FitTransform& t) {
-  const auto apply = [&](splats::Vec3 p) {
-    const glm::vec3 q = t.apply({p.x, p.y, p.z});
-    return splats::Vec3{q.x, q.y, q.z};
-  };
   for (splats::SplatRecord& s : splats) {
-    s.center = apply(s.center);
+    s.center = t.apply(s.center);
     s.major = t.scale * s.major;
     s.minor = t.scale * s.minor;
   }
@@ -103,15 +101,17 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   if (splat_file) {
     const std::string path = scene_path(object.mesh.splat_path, scene.directory);
     report("reading " + path);
-    assets.splats = read_splat_object(path);
+    SplatObjectFile file = read_splat_object(path);
+    assets.splats = std::move(file.splats);
     assets.mesh = splat_disc_mesh(assets.splats, path);
     if (object.fit.enabled()) {
+      // Affine, so the fitted splats' discs are the discs' corners fitted.
       const FitTransform t = fit_transform(assets.mesh.vertices, object.fit, object.rotation_degrees, object.name);
       fit_splats(assets.splats, t);
-      assets.mesh = splat_disc_mesh(assets.splats, path);
+      t.apply_to(assets.mesh.vertices);
     }
     assets.splats_cached = true;  // nothing to build
-    splat_parameters = fmt::format("splat file {}", checksum_of_file(path));
+    splat_parameters = "splat file " + file.checksum;
   } else {
     report("loading the mesh");
     assets.mesh = make_fitted_mesh(object, scene.directory);

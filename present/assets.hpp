@@ -41,7 +41,11 @@ using AssetProgress = std::function<void(const std::string& what, bool finished)
 
 // The splats of a splat file: splatcl's splat PLY, or a 3D Gaussian Splatting PLY (each Gaussian as
 // the ellipse of its two largest axes, docs/presenter.md). Throws Error naming the file.
-std::vector<splats::SplatRecord> read_splat_object(const std::string& path);
+struct SplatObjectFile {
+  std::vector<splats::SplatRecord> splats;
+  std::string checksum;  // FNV-1a of the file's bytes, hex (part of the cache keys)
+};
+SplatObjectFile read_splat_object(const std::string& path);
 
 // Each splat as a hexagon inscribed in its ellipse (clip lines ignored), as one mesh: the geometry a
 // splat file's shadow map is captured from. Throws Error naming `what` when no splat has area.

@@ -143,6 +143,8 @@ struct FloorLattice {
     for (std::size_t k = 0; k < 4; ++k) {
       const std::size_t nx = cx + (k & 1), ny = cy + (k >> 1);
       if (nx >= columns || ny >= rows || !present[ny * columns + nx]) continue;
+      // The small floor keeps a present node in play when the pixel lies on a missing node's row or
+      // column, where its bilinear weight would be 0.
       const float weight = ((k & 1) ? fx : 1.0f - fx) * ((k >> 1) ? fy : 1.0f - fy) + 1e-6f;
       const float* v = &values[kLightingRow * (ny * columns + nx)];
       for (std::size_t c = 0; c < kLightingRow; ++c) out[c] += weight * v[c];

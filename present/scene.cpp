@@ -399,7 +399,7 @@ FitTransform fit_transform(const std::vector<splats::Vec3>& points, const MeshFi
     // along the rotated frame's vertical, so it is R⁻¹ (0, −lowest, 0) in model space.
     const glm::mat3 rotation(rotation_matrix(rotation_degrees));
     float lowest = INFINITY;
-    for (const splats::Vec3& p : points) lowest = std::min(lowest, (rotation * t.apply({p.x, p.y, p.z})).y);
+    for (const splats::Vec3& p : points) lowest = std::min(lowest, (rotation * t.apply(glm::vec3(p.x, p.y, p.z))).y);
     t.offset += glm::transpose(rotation) * glm::vec3(0.0f, -lowest, 0.0f);
   }
   return t;
@@ -408,11 +408,7 @@ FitTransform fit_transform(const std::vector<splats::Vec3>& points, const MeshFi
 splats::Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory) {
   splats::Mesh mesh = make_object_mesh(object.mesh, directory);
   const FitTransform t = fit_transform(mesh.vertices, object.fit, object.rotation_degrees, object.name);
-  if (object.fit.enabled())
-    for (splats::Vec3& v : mesh.vertices) {
-      const glm::vec3 p = t.apply({v.x, v.y, v.z});
-      v = {p.x, p.y, p.z};
-    }
+  if (object.fit.enabled()) t.apply_to(mesh.vertices);
   return mesh;
 }
 

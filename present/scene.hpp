@@ -56,6 +56,13 @@ struct FitTransform {
   float scale = 1.0f;
   glm::vec3 offset{0.0f};
   glm::vec3 apply(glm::vec3 p) const { return scale * p + offset; }
+  splats::Vec3 apply(splats::Vec3 p) const {
+    const glm::vec3 q = apply(glm::vec3(p.x, p.y, p.z));
+    return {q.x, q.y, q.z};
+  }
+  void apply_to(std::vector<splats::Vec3>& points) const {
+    for (splats::Vec3& p : points) p = apply(p);
+  }
 };
 
 // Per-object overrides of the scene's quality settings that shape the cached assets.
