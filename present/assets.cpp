@@ -33,7 +33,7 @@ std::string default_cache_dir() {
   return ".splatcl-cache";
 }
 
-std::string asset_key(const splats::Mesh& mesh, const std::string& parameters) {
+std::string asset_key(const Mesh& mesh, const std::string& parameters) {
   std::uint64_t h = fnv1a64(bytes_of(mesh.vertices));
   h = fnv1a64(bytes_of(mesh.face_offsets), h);
   h = fnv1a64(bytes_of(mesh.corners), h);
@@ -50,13 +50,13 @@ SplatObjectFile read_splat_object(const std::string& path) {
   return file;
 }
 
-splats::Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what) {
-  std::vector<splats::Vec3> vertices;
+Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what) {
+  std::vector<Vec3> vertices;
   std::vector<std::vector<std::uint32_t>> faces;
   vertices.reserve(6 * splats.size());
   faces.reserve(splats.size());
   for (const splats::SplatRecord& s : splats) {
-    if (!(splats::length(splats::cross(s.major, s.minor)) > 0)) continue;
+    if (!(length(cross(s.major, s.minor)) > 0)) continue;
     const auto first = static_cast<std::uint32_t>(vertices.size());
     for (int k = 0; k < 6; ++k) {
       const float angle = static_cast<float>(k) * std::numbers::pi_v<float> / 3.0f;
@@ -64,12 +64,12 @@ splats::Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, con
     }
     // Wound so that the hexagon's normal is the splat's: the CSM capture is two-sided, the mesh's
     // normals are what a viewer of the mesh would see.
-    const bool flip = splats::dot(splats::cross(s.major, s.minor), s.normal) < 0;
+    const bool flip = dot(cross(s.major, s.minor), s.normal) < 0;
     faces.push_back(flip ? std::vector<std::uint32_t>{first + 5, first + 4, first + 3, first + 2, first + 1, first}
                          : std::vector<std::uint32_t>{first, first + 1, first + 2, first + 3, first + 4, first + 5});
   }
   if (faces.empty()) throw Error(fmt::format("{}: no splat has an area", what));
-  return splats::make_mesh(vertices, faces, what + " (splat discs)");
+  return make_mesh(vertices, faces, what + " (splat discs)");
 }
 
 namespace {

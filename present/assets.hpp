@@ -12,13 +12,13 @@
 #include "present/lod.hpp"
 #include "present/scene.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 #include "splats/splat_file.hpp"
 
 namespace splatcl::present {
 
 struct ObjectAssets {
-  splats::Mesh mesh;  // the fitted mesh; for a splat file, its splats as hexagonal discs (the CSM's geometry)
+  Mesh mesh;  // the fitted mesh; for a splat file, its splats as hexagonal discs (the CSM's geometry)
   std::vector<splats::SplatRecord> splats;
   SplatTree tree;  // level-of-detail hierarchy over `splats`
   csm::Csm csm;
@@ -32,7 +32,7 @@ struct ObjectAssets {
 std::string default_cache_dir();
 
 // The hash of a mesh's content and the parameter text, as 16 hex digits.
-std::string asset_key(const splats::Mesh& mesh, const std::string& parameters);
+std::string asset_key(const Mesh& mesh, const std::string& parameters);
 
 // Called as asset building goes: `what` names the object and the step ("bunny: splats: growing",
 // "bunny: coherent shadow map 300/1024"); `finished` is true once per built step, with what it made
@@ -49,7 +49,7 @@ SplatObjectFile read_splat_object(const std::string& path);
 
 // Each splat as a hexagon inscribed in its ellipse (clip lines ignored), as one mesh: the geometry a
 // splat file's shadow map is captured from. Throws Error naming `what` when no splat has area.
-splats::Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what);
+Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what);
 
 // Loads the object's assets from `cache_dir` or builds and stores them. Throws Error naming the
 // mesh or the cache file.

@@ -54,7 +54,7 @@ csm::Transform to_transform(const glm::mat4& m) {
   return t;
 }
 
-splats::Vec4 vec4(glm::vec3 v) { return {v.x, v.y, v.z, 0.0f}; }
+Vec4 vec4(glm::vec3 v) { return {v.x, v.y, v.z, 0.0f}; }
 
 // Every occluder object placed at `placements` (one per scene object), as CSM instances.
 std::vector<csm::Instance> occluder_instances(const Scene& scene, const std::vector<glm::mat4>& placements) {
@@ -113,7 +113,7 @@ struct CoveredPixel {
   std::size_t index;
   cluster::Vec3 world;
 };
-std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, const cluster::ViewFrame& frame,
+std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, const ViewFrame& frame,
                                          const std::vector<float>& view_z) {
   std::vector<CoveredPixel> covered;
   for (std::uint32_t y = 0; y < layout.config.height; ++y)
@@ -241,7 +241,7 @@ std::vector<PixelLift> pixel_lifts(const Scene& scene, const std::vector<Covered
 std::vector<float> pixel_shadows(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
                                  const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
                                  const std::vector<const csm::Csm*>& csms, csm::Filter filter, csm::SplatLighting& lighting) {
-  std::vector<splats::Vec4> receivers;
+  std::vector<Vec4> receivers;
   std::vector<std::size_t> where;
   const std::vector<PixelLift> lifts = pixel_lifts(scene, pixels, normals, csms, placements);
   for (const auto& [p, w] : pixels) {
@@ -266,9 +266,9 @@ std::vector<float> pixel_shadows(const Scene& scene, const std::vector<CoveredPi
 
 // Per-pixel AO with bent normal of `pixels` (the pixel-AO mode): the AO kernel on the G-buffer's
 // world positions and normals, (0, 1, 0, 1) elsewhere.
-std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
+std::vector<Vec4> pixel_occlusion(const Scene& scene, const std::vector<CoveredPixel>& pixels, std::size_t pixel_count,
                                           const std::vector<float>& normals, const std::vector<glm::mat4>& placements,
-                                          const std::vector<const csm::Csm*>& csms, const std::vector<splats::Vec4>& patterns,
+                                          const std::vector<const csm::Csm*>& csms, const std::vector<Vec4>& patterns,
                                           const std::vector<std::uint32_t>& pattern_of, csm::SplatLighting& lighting) {
   csm::AoRequest request;
   std::vector<std::size_t> where;
@@ -285,12 +285,12 @@ std::vector<splats::Vec4> pixel_occlusion(const Scene& scene, const std::vector<
   request.samples = scene.quality.ao_samples;
   request.ground = scene.floor.enabled;
   request.bias = scene.quality.ao_bias;
-  std::vector<splats::Vec4> pixel_ao_values(pixel_count, splats::Vec4{0, 1, 0, 1});
+  std::vector<Vec4> pixel_ao_values(pixel_count, Vec4{0, 1, 0, 1});
   const std::vector<csm::Instance> instances = occluder_instances(scene, placements);
   if (!instances.empty() && !where.empty()) {
     csm::AmbientOcclusion& ao = lighting.device();
     ao.place(instances);
-    const std::vector<splats::Vec4> out = ao.run(request);
+    const std::vector<Vec4> out = ao.run(request);
     for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = out[r];
   } else {
     for (std::size_t r = 0; r < where.size(); ++r) pixel_ao_values[where[r]] = {request.normals[r].x, request.normals[r].y, request.normals[r].z, 1};
@@ -376,7 +376,7 @@ struct Presenter::Impl {
   std::unique_ptr<csm::SplatLighting> lighting;
   std::unique_ptr<csm::SplatLighting> floor_lighting;  // of the floor's pixels (Presenter::floor_per_pixel)
   std::string lighting_signature;
-  std::vector<splats::Vec4> ao_patterns;
+  std::vector<Vec4> ao_patterns;
   std::vector<std::uint32_t> pixel_pattern_of;
   std::vector<glm::vec3> sh;
   std::uint32_t heat_max = 1;
@@ -418,9 +418,9 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     statics.resize(statics.size() + kRow);
     std::memcpy(&statics[statics.size() - kRow], &row, sizeof row);
   };
-  const auto g3 = [](splats::Vec3 a) { return glm::vec3(a.x, a.y, a.z); };
+  const auto g3 = [](Vec3 a) { return glm::vec3(a.x, a.y, a.z); };
   // Per-splat colours are sRGB bytes; the shading works on linear albedo.
-  const auto linear = [](splats::Rgba8 c) {
+  const auto linear = [](Rgba8 c) {
     return glm::pow(glm::vec3(c.r, c.g, c.b) / 255.0f, glm::vec3(2.2f));
   };
   std::vector<std::vector<float>> albedo_rows(scene_.objects.size());  // per object, 3 floats per splat
@@ -500,7 +500,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       const std::uint32_t begin = a.mesh.face_offsets[f], end = a.mesh.face_offsets[f + 1];
       for (std::uint32_t c = begin + 1; c + 1 < end; ++c)
         for (const std::uint32_t corner : {begin, c, c + 1}) {
-          const splats::Vec3 p = a.mesh.vertices[a.mesh.corners[corner]];
+          const Vec3 p = a.mesh.vertices[a.mesh.corners[corner]];
           triangles.insert(triangles.end(), {p.x, p.y, p.z});
         }
     }
@@ -585,7 +585,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
                                       FrameStats& stats) {
   Impl& g = *impl_;
   const std::size_t n = splat_ao_.size();
-  std::vector<splats::Vec4> positions(n), normals(n);
+  std::vector<Vec4> positions(n), normals(n);
   for (std::size_t i = 0; i < objects_.size(); ++i) {
     const ObjectRange& r = objects_[i];
     const glm::mat4 m = r.asset < 0 ? glm::mat4(1.0f) : placements[i];
@@ -633,7 +633,7 @@ std::vector<SplatDraw> Presenter::splat_draws(const std::vector<glm::mat4>& plac
                                               std::uint32_t& drawn) const {
   const Impl& g = *impl_;
   const Quality& q = scene_.quality;
-  const cluster::Camera& cam = scene_.camera;
+  const Camera& cam = scene_.camera;
   // LOD (off at lod_error 0): an entry's error budget is its eye distance in model units times the
   // angle of lod_error pixels. Per object the CPU sends the prefix of the sequence whose e_max
   // exceeds the budget at the nearest point of the object's bounding sphere; the vertex shader
@@ -719,7 +719,7 @@ FrameStats Presenter::render(float time) {
   };
   if (settings.mode == RenderMode::Points) finish_lighting();
 
-  const cluster::Camera& cam = scene_.camera;
+  const Camera& cam = scene_.camera;
   const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
   const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
   const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
@@ -767,7 +767,7 @@ FrameStats Presenter::render(float time) {
   stats.stages.push_back({"readback: depth", clock.elapsed_ms()});
 
   // Lights in view space.
-  const cluster::ViewFrame frame = cluster::view_frame(cam);
+  const ViewFrame frame = view_frame(cam);
   std::vector<cluster::PointLight> lights(scene_.lights.size());
   std::vector<float> light_data(std::max<std::size_t>(lights.size(), 1) * layout::kLightRowFloats, 0.0f);
   for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -799,7 +799,7 @@ FrameStats Presenter::render(float time) {
                                    settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
   const bool floor_pixel_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
   std::vector<float> pixel_shadow;
-  std::vector<splats::Vec4> pixel_ao_values;
+  std::vector<Vec4> pixel_ao_values;
   if (shadow_pixels || ao_pixels || floor_pixel_shadows || floor_pixel_ao) {
     std::vector<const csm::Csm*> csms;
     for (const ObjectAssets& a : assets_) csms.push_back(&a.csm);
@@ -844,7 +844,7 @@ FrameStats Presenter::render(float time) {
       for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
       g.floor_lighting->update(receivers, transforms, floor_settings, false);
       const FloorLattice lattice = floor_lattice(g.floor_lighting->rows(), where, width_, height_);
-      if (floor_pixel_ao) pixel_ao_values.assign(view_z.size(), splats::Vec4{0, 1, 0, -1});
+      if (floor_pixel_ao) pixel_ao_values.assign(view_z.size(), Vec4{0, 1, 0, -1});
       if (floor_pixel_shadows) pixel_shadow.assign(view_z.size() * 4, -1.0f);
       for (const CoveredPixel& pixel : floor) {
         float row[kLightingRow];
@@ -942,7 +942,7 @@ std::vector<float> Presenter::read_normals() const { return impl_->targets->gbuf
 
 std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
   Impl& g = *impl_;
-  const cluster::Camera& cam = scene_.camera;
+  const Camera& cam = scene_.camera;
   const glm::mat4 view = glm::lookAt(glm::vec3(cam.eye.x, cam.eye.y, cam.eye.z), {cam.target.x, cam.target.y, cam.target.z},
                                      {cam.up.x, cam.up.y, cam.up.z});
   const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width_) / static_cast<float>(height_),

@@ -292,12 +292,12 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   if (j.contains("lights")) {
     const json& l = j["lights"];
     if (l.is_array()) {
-      if (l.size() > kMaxLights) r.fail("lights", fmt::format("lists {} lights, more than the limit of {}", l.size(), kMaxLights));
+      if (l.size() > kMaxSceneLights) r.fail("lights", fmt::format("lists {} lights, more than the limit of {}", l.size(), kMaxSceneLights));
       for (std::size_t i = 0; i < l.size(); ++i) scene.lights.push_back(read_light(r, l[i], fmt::format("lights[{}]", i)));
     } else if (l.is_object()) {
       r.known_keys(l, "lights", {"count", "radius", "height", "extent", "intensity", "seed"});
       GeneratedLights& g = scene.generated;
-      g.count = r.count(l, "count", g.count, 0, kMaxLights);
+      g.count = r.count(l, "count", g.count, 0, kMaxSceneLights);
       const auto radius = r.range(l, "radius", {g.radius_min, g.radius_max});
       const auto height = r.range(l, "height", {g.height_min, g.height_max});
       if (!(radius[0] > 0)) r.fail("radius", "must be positive");
@@ -314,17 +314,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     for (std::size_t i = 0; i < j["key_lights"].size(); ++i)
       scene.key_lights.push_back(read_light(r, j["key_lights"][i], fmt::format("key_lights[{}]", i)));
   }
-  if (j.contains("camera")) {
-    try {
-      nlohmann::json wrapper = {{"camera", j["camera"]}};
-      cluster::Scene camera_scene;
-      from_json(wrapper, camera_scene);
-      scene.camera = camera_scene.camera;
-      cluster::view_frame(scene.camera);
-    } catch (const Error& e) {
-      throw Error(fmt::format("{}: camera: {}", source, e.what()));
-    }
-  }
+  if (j.contains("camera")) scene.camera = camera_from_json(j["camera"], JsonFields{source + ": "});
   if (j.contains("sky")) {
     const json& s = r.object(j, "sky");
     r.known_keys(s, "sky", {"zenith", "horizon", "ground"});
@@ -383,12 +373,12 @@ std::string scene_path(const std::string& path, const std::string& directory) {
   return p.is_absolute() || directory.empty() ? p.string() : (std::filesystem::path(directory) / p).string();
 }
 
-FitTransform fit_transform(const std::vector<splats::Vec3>& points, const MeshFit& fit, glm::vec3 rotation_degrees,
+FitTransform fit_transform(const std::vector<Vec3>& points, const MeshFit& fit, glm::vec3 rotation_degrees,
                            const std::string& what) {
   FitTransform t;
   if (!fit.enabled()) return t;
-  splats::Box box;
-  for (const splats::Vec3& p : points) box.add(p);
+  Box box;
+  for (const Vec3& p : points) box.add(p);
   const glm::vec3 lo(box.lo.x, box.lo.y, box.lo.z), hi(box.hi.x, box.hi.y, box.hi.z);
   const float largest = box.empty() ? 0.0f : std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   if (!(largest > 0) || !std::isfinite(largest)) throw Error(fmt::format("{}: cannot fit: its bounding box has no extent", what));
@@ -399,23 +389,23 @@ FitTransform fit_transform(const std::vector<splats::Vec3>& points, const MeshFi
     // along the rotated frame's vertical, so it is R⁻¹ (0, −lowest, 0) in model space.
     const glm::mat3 rotation(rotation_matrix(rotation_degrees));
     float lowest = INFINITY;
-    for (const splats::Vec3& p : points) lowest = std::min(lowest, (rotation * t.apply(glm::vec3(p.x, p.y, p.z))).y);
+    for (const Vec3& p : points) lowest = std::min(lowest, (rotation * t.apply(glm::vec3(p.x, p.y, p.z))).y);
     t.offset += glm::transpose(rotation) * glm::vec3(0.0f, -lowest, 0.0f);
   }
   return t;
 }
 
-splats::Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory) {
-  splats::Mesh mesh = make_object_mesh(object.mesh, directory);
+Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory) {
+  Mesh mesh = make_object_mesh(object.mesh, directory);
   const FitTransform t = fit_transform(mesh.vertices, object.fit, object.rotation_degrees, object.name);
   if (object.fit.enabled()) t.apply_to(mesh.vertices);
   return mesh;
 }
 
-splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
+Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
   if (!spec.splat_path.empty()) throw Error(fmt::format("{}: a splat file, not a mesh", spec.splat_path));
-  if (!spec.path.empty()) return splats::load_mesh(scene_path(spec.path, directory));
-  std::vector<splats::Vec3> v;
+  if (!spec.path.empty()) return load_mesh(scene_path(spec.path, directory));
+  std::vector<Vec3> v;
   std::vector<std::vector<std::uint32_t>> f;
   const float pi = std::numbers::pi_v<float>;
   const std::uint32_t n = spec.segments, m = spec.rings;
@@ -472,7 +462,7 @@ splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory
           }
       }
     // Shared edge vertices are duplicated per face; merge them so the mesh is closed.
-    std::vector<splats::Vec3> unique;
+    std::vector<Vec3> unique;
     std::vector<std::uint32_t> remap(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) {
       std::size_t j = 0;
@@ -487,7 +477,7 @@ splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory
       for (auto& corner : face) corner = remap[corner];
     v = std::move(unique);
   }
-  return splats::make_mesh(v, f, fmt::format("procedural {}", spec.procedural));
+  return make_mesh(v, f, fmt::format("procedural {}", spec.procedural));
 }
 
 }  // namespace splatcl::present
@@ -541,8 +531,8 @@ void apply_overrides(Scene& scene, const Overrides& o) {
     scene.quality.specular = static_cast<float>(*o.specular);
   }
   if (o.lights) {
-    if (*o.lights < 0 || *o.lights > kMaxLights)
-      throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.lights, kMaxLights));
+    if (*o.lights < 0 || *o.lights > kMaxSceneLights)
+      throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.lights, kMaxSceneLights));
     set_generated_light_count(scene, static_cast<std::uint32_t>(*o.lights));
   }
 }

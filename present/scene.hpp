@@ -13,8 +13,9 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "cluster/test_scene.hpp"
-#include "splats/mesh.hpp"
+#include "cluster/types.hpp"
+#include "core/camera.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::present {
 
@@ -56,12 +57,12 @@ struct FitTransform {
   float scale = 1.0f;
   glm::vec3 offset{0.0f};
   glm::vec3 apply(glm::vec3 p) const { return scale * p + offset; }
-  splats::Vec3 apply(splats::Vec3 p) const {
+  Vec3 apply(Vec3 p) const {
     const glm::vec3 q = apply(glm::vec3(p.x, p.y, p.z));
     return {q.x, q.y, q.z};
   }
-  void apply_to(std::vector<splats::Vec3>& points) const {
-    for (splats::Vec3& p : points) p = apply(p);
+  void apply_to(std::vector<Vec3>& points) const {
+    for (Vec3& p : points) p = apply(p);
   }
 };
 
@@ -111,7 +112,7 @@ struct Light {
 // Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
 // bright hues from a seeded generator.
 // The most point lights a scene may have (listed, generated, --lights): the cluster stage's limit.
-using cluster::kMaxLights;
+using cluster::kMaxSceneLights;
 
 struct GeneratedLights {
   std::uint32_t count = 0;
@@ -178,7 +179,7 @@ struct Scene {
   std::vector<Light> lights;  // explicit lights, plus the generated ones after parsing
   GeneratedLights generated;
   std::vector<Light> key_lights;  // shadowed
-  cluster::Camera camera;
+  Camera camera;
   Sky sky;
   Quality quality;
   float time = 0.0f;  // scene time of a single rendered frame
@@ -199,14 +200,14 @@ const char* default_scene_name();
 std::vector<Light> generate_lights(const GeneratedLights& spec, const FloorSpec& floor);
 
 // The object's mesh: loaded from its file, or generated.
-splats::Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory);
+Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory);
 
 // The transform that fits `points` (a mesh's vertices) as `fit` asks, under the object's rotation.
 // Throws Error naming `what` when the points span nothing to scale.
-FitTransform fit_transform(const std::vector<splats::Vec3>& points, const MeshFit& fit, glm::vec3 rotation_degrees,
+FitTransform fit_transform(const std::vector<Vec3>& points, const MeshFit& fit, glm::vec3 rotation_degrees,
                            const std::string& what);
 // The object's mesh with its fit applied (make_object_mesh for a mesh object).
-splats::Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory);
+Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory);
 // A path of the scene (mesh, texture, splat file), relative to the scene file's directory.
 std::string scene_path(const std::string& path, const std::string& directory);
 

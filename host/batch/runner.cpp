@@ -227,7 +227,7 @@ class Worker {
     if (pending.empty()) return;
 
     report_(entry.id + ": loading");
-    const splats::Mesh mesh = splats::load_mesh(entry.input);
+    const Mesh mesh = load_mesh(entry.input);
     r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
     for (const auto& p : pending) {
       try {
@@ -245,7 +245,7 @@ class Worker {
     std::sort(r.outputs.begin(), r.outputs.end(), [](const OutputResult& a, const OutputResult& b) { return a.kind > b.kind; });
   }
 
-  std::vector<OutputFile> build_splats(const ModelEntry& entry, const splats::Mesh& mesh, const fs::path& dir) {
+  std::vector<OutputFile> build_splats(const ModelEntry& entry, const Mesh& mesh, const fs::path& dir) {
     using namespace splatcl::splats;
     const SplatSetup setup = splat_setup(entry.params.splats, mesh, entry.input);
     Runtime* device = runtime();
@@ -259,7 +259,7 @@ class Worker {
     return {describe_written_file(dir, ply), describe_file(stats_name, stats_text)};
   }
 
-  std::vector<OutputFile> build_csm(const ModelEntry& entry, const splats::Mesh& mesh, const fs::path& dir) {
+  std::vector<OutputFile> build_csm(const ModelEntry& entry, const Mesh& mesh, const fs::path& dir) {
     using namespace splatcl::csm;
     const BuildOptions options = to_build_options(entry.params.csm);
     const Encoding encoding = file_encoding(entry.params.csm);

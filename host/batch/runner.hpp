@@ -50,7 +50,7 @@ struct ModelResult {
   std::string id, input;
   bool ok = false;
   std::string reason;  // why it failed
-  std::string warning;  // what loading the mesh found wrong (splats/mesh.hpp: MeshProblems); empty when clean
+  std::string warning;  // what loading the mesh found wrong (core/mesh.hpp: MeshProblems); empty when clean
   std::string input_checksum;
   std::uint64_t input_bytes = 0;
   std::vector<OutputResult> outputs;  // complete outputs only (a failed model may have some)

@@ -18,7 +18,7 @@
 #include "csm/raster_capture.hpp"
 #include "csm/sphere_grid.hpp"
 #include "csm/visibility.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 #ifdef SPLATCL_HAVE_EMBREE
 #include "bench/peers/embree.hpp"
@@ -28,8 +28,8 @@ namespace splatcl::bench {
 namespace {
 
 namespace csm = splatcl::csm;
-using splats::Vec3;
-using splats::Vec4;
+using splatcl::Vec3;
+using splatcl::Vec4;
 
 constexpr const char* kModelName = "stanford-bunny";
 constexpr const char* kModelFile = "stanford-bunny.obj";
@@ -105,7 +105,7 @@ struct CaptureOutput {
   std::vector<float> z1, z2;  // the reference's depths, [map][pixel]
 };
 
-CaptureOutput bench_capture(Session& session, const splats::Mesh& mesh, const CsmSizes& sizes, cl::Buffer& z1,
+CaptureOutput bench_capture(Session& session, const Mesh& mesh, const CsmSizes& sizes, cl::Buffer& z1,
                             cl::Buffer& z2) {
   Runtime& runtime = session.runtime();
   const csm::CaptureScene scene(mesh, csm::bounding_sphere(mesh), sizes.capture_resolution, csm::SingleHit::SphereExit);
@@ -228,7 +228,7 @@ QueryBatch floor_grid(const csm::Csm& map, std::uint64_t count) {
   return batch;
 }
 
-void bench_queries(Session& session, const splats::Mesh& mesh, const CsmSizes& sizes) {
+void bench_queries(Session& session, const Mesh& mesh, const CsmSizes& sizes) {
   Runtime& runtime = session.runtime();
   csm::BuildOptions options;
   options.maps = sizes.query_maps;
@@ -294,7 +294,7 @@ void run_csm_suite(Session& session) {
   const std::filesystem::path path = std::filesystem::path(splats_models_dir()) / kModelFile;
   if (!std::filesystem::is_directory(splats_models_dir()))
     throw Error("models directory " + splats_models_dir() + " does not exist (set it with --models)");
-  const splats::Mesh mesh = splats::load_mesh(path.string());
+  const Mesh mesh = load_mesh(path.string());
   const CsmSizes sizes = sizes_for(session);
   cl::Buffer z1, z2;
   const CaptureOutput captured = bench_capture(session, mesh, sizes, z1, z2);

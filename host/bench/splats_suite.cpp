@@ -62,7 +62,7 @@ void expect_same_fit(const std::string& what, const spl::FitResult& actual, cons
   if (actual.splats.size() != expected.splats.size() ||
       std::memcmp(actual.splats.data(), expected.splats.data(), actual.splats.size() * sizeof(spl::SplatShape)) != 0)
     throw Error("bench " + what + ": splat shapes differ from the reference");
-  if (std::memcmp(actual.clips.data(), expected.clips.data(), actual.clips.size() * sizeof(spl::Vec4)) != 0)
+  if (std::memcmp(actual.clips.data(), expected.clips.data(), actual.clips.size() * sizeof(Vec4)) != 0)
     throw Error("bench " + what + ": clip lines differ from the reference");
 }
 
@@ -99,7 +99,7 @@ std::size_t flat_grid_side(const Session& session) {
 }
 
 // side × side vertices over the unit square at z = 0, (side − 1)² quads facing +z.
-spl::Mesh flat_grid(std::size_t side) {
+Mesh flat_grid(std::size_t side) {
   std::vector<Vec3> vertices;
   vertices.reserve(side * side);
   // i / (side − 1) rounded once to float: what an OBJ written with these coordinates reads back as.
@@ -113,12 +113,12 @@ spl::Mesh flat_grid(std::size_t side) {
       const auto a = static_cast<std::uint32_t>(j * side + i), s = static_cast<std::uint32_t>(side);
       faces.push_back({a, a + 1, a + 1 + s, a + s});
     }
-  return spl::make_mesh(vertices, faces, fmt::format("flat grid {}x{}", side, side));
+  return make_mesh(vertices, faces, fmt::format("flat grid {}x{}", side, side));
 }
 
 // Every face fan-triangulated and each triangle split in four at its edge midpoints (one new vertex
 // per edge, shared by its faces): the same surface with four times the triangles.
-spl::Mesh midpoint_subdivided(const spl::Mesh& mesh) {
+Mesh midpoint_subdivided(const Mesh& mesh) {
   std::vector<Vec3> vertices = mesh.vertices;
   std::unordered_map<std::uint64_t, std::uint32_t> midpoints;
   const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
@@ -140,7 +140,7 @@ spl::Mesh midpoint_subdivided(const spl::Mesh& mesh) {
       faces.push_back({da, bd, d});
       faces.push_back({ab, bd, da});
     }
-  return spl::make_mesh(vertices, faces, mesh.source + " (triangles split at their edge midpoints)");
+  return make_mesh(vertices, faces, mesh.source + " (triangles split at their edge midpoints)");
 }
 
 // ε to 4 significant digits, so the case label reads 0.0003 and not the float's double expansion.
@@ -170,7 +170,7 @@ void expect_same_splats(const std::string& what, const std::vector<spl::SplatRec
 // record's size is its run's sample count (sampling "auto": the vertices plus face points where they
 // are sparser than the auto spacing, so not the thesis rows' count); its "run" object holds the last
 // timed run's counts, phase times (as `--stats`'s "phase_ms") and peak RSS per 1000 samples.
-void measure_two_sided(Session& session, const BenchModel& model, const std::string& source, const std::function<spl::Mesh()>& load,
+void measure_two_sided(Session& session, const BenchModel& model, const std::string& source, const std::function<Mesh()>& load,
                        const ScratchFile& scratch) {
   spl::SplatParameters params;
   if (model.eps > 0)
@@ -186,7 +186,7 @@ void measure_two_sided(Session& session, const BenchModel& model, const std::str
   };
   auto end_to_end = [&](Runtime* fit_runtime, Outcome& out) {
     Stopwatch load_clock;
-    const spl::Mesh mesh = load();
+    const Mesh mesh = load();
     const double load_ms = load_clock.elapsed_ms();
     spl::SplatRun run = spl::generate_splats(mesh, setup.colors, setup.options, fit_runtime);
     run.phases.insert(run.phases.begin(), {"load", load_ms});
@@ -228,9 +228,9 @@ void measure_two_sided(Session& session, const BenchModel& model, const std::str
   expect_same_splats(describe(device_case), device.records, reference.records);
 }
 
-spl::Mesh every_nth_vertex(spl::Mesh mesh, std::size_t stride) {
+Mesh every_nth_vertex(Mesh mesh, std::size_t stride) {
   if (stride <= 1) return mesh;
-  spl::Mesh kept;
+  Mesh kept;
   kept.source = fmt::format("{} (every {}th vertex)", mesh.source, stride);
   for (std::size_t i = 0; i < mesh.vertices.size(); i += stride) {
     kept.vertices.push_back(mesh.vertices[i]);
@@ -241,9 +241,9 @@ spl::Mesh every_nth_vertex(spl::Mesh mesh, std::size_t stride) {
 
 void run_thesis_cases(Session& session, const BenchModel& model, const ScratchFile& scratch) {
   const std::string path = model_path(model).string();
-  const spl::Mesh whole = spl::load_mesh(path);
+  const Mesh whole = load_mesh(path);
   const std::size_t stride = vertex_stride(session);
-  const spl::Mesh mesh = every_nth_vertex(whole, stride);
+  const Mesh mesh = every_nth_vertex(whole, stride);
   spl::PipelineOptions options;
   // ε and the colour bounds of the whole model at every size, so the case stays the same problem.
   options.fit.eps = static_cast<float>(model.eps > 0 ? model.eps : model.eps_diagonal * whole.bounds().diagonal());
@@ -301,14 +301,14 @@ void run_thesis_cases(Session& session, const BenchModel& model, const ScratchFi
   std::vector<spl::SplatRecord> records;
   for (const std::uint32_t j : selected) {
     const spl::SplatShape& s = expected.splats[j];
-    records.push_back({spl::xyz(s.center), spl::xyz(s.normal), spl::xyz(s.major), spl::xyz(s.minor), samples.colors[j]});
+    records.push_back({xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j]});
   }
   session.measure(host_case("output"), {}, [&] { spl::write_splat_file(scratch.path(), records, info); });
 
   // End to end, as `splatcl splats` runs it: load, every phase, write.
   std::vector<std::uint32_t> device_selection, reference_selection;
   auto end_to_end = [&](Runtime* fit_runtime, std::vector<std::uint32_t>& selection) {
-    const spl::Mesh loaded = every_nth_vertex(spl::load_mesh(path), stride);
+    const Mesh loaded = every_nth_vertex(load_mesh(path), stride);
     const spl::SplatRun run = spl::generate_splats(loaded, colors, options, fit_runtime);
     spl::write_splat_file(scratch.path(), run.records(), info);
     selection = run.selected;
@@ -326,7 +326,7 @@ void run_model(Session& session, const BenchModel& model, const ScratchFile& scr
   run_thesis_cases(session, model, scratch);
   if (vertex_stride(session) > 1) return;
   const std::string path = model_path(model).string();
-  measure_two_sided(session, model, path, [&] { return spl::load_mesh(path); }, scratch);
+  measure_two_sided(session, model, path, [&] { return load_mesh(path); }, scratch);
 }
 
 // The flat grid, two-sided end to end only. The thesis's rows are left out: without a growth cap every
@@ -355,7 +355,7 @@ void run_splats_suite(Session& session) {
   }
   if (!session.options().quick && vertex_stride(session) == 1) {
     const std::string path = model_path(kSubdividedBunny).string();
-    const spl::Mesh subdivided = midpoint_subdivided(spl::load_mesh(path));
+    const Mesh subdivided = midpoint_subdivided(load_mesh(path));
     measure_two_sided(session, kSubdividedBunny, fmt::format("{} ({} vertices)", subdivided.source, subdivided.vertices.size()),
                       [&] { return subdivided; }, scratch);
   }

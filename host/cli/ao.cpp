@@ -59,7 +59,7 @@ int run_ao(const AoCommand& c) {
     }
     instances[k].occluder = it->second;
   }
-  const splats::Mesh receiver = load_model(c.receiver, progress);
+  const Mesh receiver = load_model(c.receiver, progress);
   std::vector<const Csm*> views;
   for (const auto& csm : csms) views.push_back(csm.get());
   const VisibilityScene scene(views, instances);

@@ -80,8 +80,8 @@ int run_cluster(const ClusterOptions& o) {
   const Assignment assignment = parse_assignment(o.assignment);
   Scene scene = load_scene(o.scene_path);
   if (o.light_count) {
-    if (*o.light_count < 0 || *o.light_count > kMaxLights)
-      throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.light_count, kMaxLights));
+    if (*o.light_count < 0 || *o.light_count > kMaxSceneLights)
+      throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.light_count, kMaxSceneLights));
     auto* random = std::get_if<RandomLights>(&scene.lights);
     if (!random) throw Error("--lights applies to scenes with generated lights; " + o.scene_path + " lists its lights explicitly");
     random->count = static_cast<std::uint32_t>(*o.light_count);

@@ -1,16 +1,16 @@
 #pragma once
-// How every command reads a model: what loading found wrong (splats/mesh.hpp: MeshProblems, e.g.
+// How every command reads a model: what loading found wrong (core/mesh.hpp: MeshProblems, e.g.
 // faces dropped for an index out of range or a NaN vertex) is never silent: one warning line on
 // stderr naming the model when the command succeeds (a failing command prints its one error line
 // only), or with `strict` an error instead.
 #include <string>
 
 #include "cli/progress.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::cli {
 
-splats::Mesh load_model(const std::string& path, ProgressLine& progress, bool strict = false);
+Mesh load_model(const std::string& path, ProgressLine& progress, bool strict = false);
 
 // Prints the warnings load_model collected (main calls it when a command has succeeded).
 void print_model_warnings();

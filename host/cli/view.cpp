@@ -65,7 +65,7 @@ int run_view(const ViewOptions& o) {
   initial.panel = !o.no_panel;
   initial.paused = o.paused;
   viewer::Controls controls(s, initial);
-  std::vector<const splats::Mesh*> meshes;
+  std::vector<const Mesh*> meshes;
   for (std::size_t i = 0; i < s.objects.size(); ++i) meshes.push_back(&presenter.assets(i).mesh);
   controls.set_meshes(meshes);
   const std::vector<ObjectFigures> figures = object_figures(presenter, s);

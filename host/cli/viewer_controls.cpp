@@ -64,7 +64,7 @@ float ray_box(const glm::vec3& o, const glm::vec3& d, const Bounds& box) {
   return t0;
 }
 
-Bounds mesh_bounds(const splats::Mesh& mesh) {
+Bounds mesh_bounds(const Mesh& mesh) {
   Bounds b;
   for (const Vec3& v : mesh.vertices) b.add(to_glm(v));
   return b;
@@ -99,7 +99,7 @@ std::vector<Event> EventQueue::take() {
   return out;
 }
 
-Orbit Orbit::from_camera(const cluster::Camera& camera) {
+Orbit Orbit::from_camera(const Camera& camera) {
   Orbit o;
   const glm::vec3 eye = to_glm(camera.eye);
   o.target = to_glm(camera.target);
@@ -137,8 +137,8 @@ Controls::Controls(present::Scene& scene, const ViewState& state)
   write_camera();
 }
 
-cluster::Camera Controls::camera() const {
-  cluster::Camera c = scene_.camera;
+Camera Controls::camera() const {
+  Camera c = scene_.camera;
   const glm::vec3 eye = orbit_.eye();
   c.eye = {eye.x, eye.y, eye.z};
   c.target = {orbit_.target.x, orbit_.target.y, orbit_.target.z};
@@ -208,7 +208,7 @@ void Controls::reset_objects() {
 
 std::optional<std::size_t> Controls::pick(double x, double y, glm::ivec2 window, float time) const {
   if (window.x <= 0 || window.y <= 0) return std::nullopt;
-  const cluster::Camera cam = camera();
+  const Camera cam = camera();
   const glm::vec3 eye = orbit_.eye();
   const glm::mat4 view = glm::lookAt(eye, orbit_.target, to_glm(cam.up));
   const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(window.x) / static_cast<float>(window.y), cam.near_plane,
@@ -222,7 +222,7 @@ std::optional<std::size_t> Controls::pick(double x, double y, glm::ivec2 window,
   float best_t = std::numeric_limits<float>::infinity();
   for (std::size_t i = 0; i < scene_.objects.size() && i < meshes_.size(); ++i) {
     if (!meshes_[i]) continue;
-    const splats::Mesh& mesh = *meshes_[i];
+    const Mesh& mesh = *meshes_[i];
     // The ray in model space: the same parameter t along it (the direction is not renormalised).
     const glm::mat4 to_model = glm::inverse(scene_.objects[i].placement(time));
     const glm::vec3 o = glm::vec3(to_model * glm::vec4(eye, 1.0f)), d = glm::vec3(to_model * glm::vec4(direction, 0.0f));

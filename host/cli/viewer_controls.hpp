@@ -13,10 +13,10 @@
 
 #include <glm/glm.hpp>
 
-#include "cluster/test_scene.hpp"
+#include "core/camera.hpp"
 #include "present/presenter.hpp"
 #include "present/scene.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::cli::viewer {
 
@@ -69,7 +69,7 @@ class EventQueue {
 struct Orbit {
   float yaw = 0, pitch = 0.5f, distance = 8;
   glm::vec3 target{0};
-  static Orbit from_camera(const cluster::Camera& camera);
+  static Orbit from_camera(const Camera& camera);
   glm::vec3 eye() const;
   glm::vec3 forward() const;  // unit, eye → target
   glm::vec3 right() const;    // unit, horizontal
@@ -103,7 +103,7 @@ class Controls {
 
   // Each object's mesh (model space), in scene order, for picking and fit-to-scene; objects
   // without one are neither picked nor framed (the floor frames an empty scene).
-  void set_meshes(std::vector<const splats::Mesh*> meshes) { meshes_ = std::move(meshes); }
+  void set_meshes(std::vector<const Mesh*> meshes) { meshes_ = std::move(meshes); }
 
   // Applies the events in order, then the held keys' motion up to `now` (seconds, the events'
   // clock), and writes the camera into the scene. `window` is the cursor coordinates' size (the
@@ -138,7 +138,7 @@ class Controls {
   const ViewState& state() const { return state_; }
   present::Scene& scene() { return scene_; }
   // The camera of the current orbit (the scene's up, field of view and planes).
-  cluster::Camera camera() const;
+  Camera camera() const;
 
   // Held-key speeds: object moves in world units per second per unit of camera distance, and turns.
   static constexpr float kMoveSpeed = 0.25f, kTurnDegrees = 90.0f;
@@ -149,7 +149,7 @@ class Controls {
   ViewState state_;
   Orbit orbit_, home_;
   std::vector<present::ObjectSpec> initial_objects_;
-  std::vector<const splats::Mesh*> meshes_;
+  std::vector<const Mesh*> meshes_;
   float lod_on_, specular_on_;
   float aspect_ = 1;  // of the last apply()'s window
   // Held keys: since when each is down (negative: up), and the time of the last apply().

@@ -13,7 +13,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "cluster/test_scene.hpp"
+#include "core/camera.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cli::viewer {
@@ -179,7 +179,7 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
     ImGui::SliderFloat("depth offset eps", &q.depth_offset, 0.0f, 0.2f, "%.4f");
     int lights = static_cast<int>(s.generated.count);
     const int explicit_lights = static_cast<int>(s.lights.size() - s.generated.count);
-    if (ImGui::SliderInt("generated lights", &lights, 0, static_cast<int>(present::kMaxLights) - explicit_lights, "%d",
+    if (ImGui::SliderInt("generated lights", &lights, 0, static_cast<int>(present::kMaxSceneLights) - explicit_lights, "%d",
                          ImGuiSliderFlags_Logarithmic))
       present::set_generated_light_count(s, static_cast<std::uint32_t>(std::max(lights, 0)));
     // Generated lights come from "lights": {"count": N}; listed ones from an explicit array.

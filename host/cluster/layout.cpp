@@ -172,4 +172,18 @@ bool light_touches_box(const PointLight& light, const ClusterBox& box) {
   return dx * dx + dy * dy + dz * dz <= light.radius * light.radius;
 }
 
+ClusterConfig cluster_config(const Camera& camera, std::uint32_t width, std::uint32_t height, std::uint32_t tile_width,
+                             std::uint32_t tile_height, bool normal_bits) {
+  ClusterConfig config;
+  config.width = width;
+  config.height = height;
+  config.tile_width = tile_width;
+  config.tile_height = tile_height;
+  config.near_plane = camera.near_plane;
+  config.far_plane = camera.far_plane;
+  config.fov_y = camera.fov_y;
+  config.normal_bits = normal_bits;
+  return config;
+}
+
 }  // namespace splatcl::cluster

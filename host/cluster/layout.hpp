@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cluster/types.hpp"
+#include "core/camera.hpp"
 
 namespace splatcl::cluster {
 
@@ -110,5 +111,9 @@ ClusterBox cluster_box(const ClusterLayout& layout, std::uint32_t key);
 
 // Sphere–box overlap: squared distance from the light centre to the box ≤ radius².
 bool light_touches_box(const PointLight& light, const ClusterBox& box);
+
+// Cluster config of a frame seen by `camera`.
+ClusterConfig cluster_config(const Camera& camera, std::uint32_t width, std::uint32_t height,
+                             std::uint32_t tile_width = 32, std::uint32_t tile_height = 32, bool normal_bits = false);
 
 }  // namespace splatcl::cluster

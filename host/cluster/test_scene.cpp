@@ -92,56 +92,10 @@ void hit_box(const Box& box, Vec3 origin, Vec3 dir, float t_min, Hit& best) {
 
 nlohmann::json vec_json(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
-// Field access with errors that name the field path.
-const nlohmann::json& field(const nlohmann::json& object, const char* name, const std::string& path) {
-  if (!object.is_object()) throw Error("scene: " + path + " must be an object");
-  const auto it = object.find(name);
-  if (it == object.end()) throw Error("scene: " + path + " is missing '" + name + "'");
-  return *it;
-}
-
-float number(const nlohmann::json& value, const std::string& path) {
-  if (!value.is_number()) throw Error("scene: " + path + " must be a number");
-  const double v = value.get<double>();
-  if (!std::isfinite(v)) throw Error("scene: " + path + " must be finite");
-  return static_cast<float>(v);
-}
-
-Vec3 vec(const nlohmann::json& value, const std::string& path) {
-  if (!value.is_array() || value.size() != 3) throw Error("scene: " + path + " must be an array of 3 numbers");
-  return {number(value[0], path + "[0]"), number(value[1], path + "[1]"), number(value[2], path + "[2]")};
-}
-
-// Every key of `object` (at `path`) must be one of `known`: a typo is an error naming it, not a silent default.
-void known_keys(const nlohmann::json& object, const std::string& path, std::initializer_list<const char*> known) {
-  if (const auto key = unknown_key(object, known)) throw Error("scene: unknown key '" + *key + "' in " + path + " (known: " + key_list(known) + ")");
-}
-
-float number_or(const nlohmann::json& object, const char* name, float fallback, const std::string& path) {
-  return object.contains(name) ? number(object[name], path + "." + name) : fallback;
-}
+// Errors of the scene reader: "scene: " and the field's path.
+const JsonFields kScene{"scene: "};
 
 }  // namespace
-
-Vec3 ViewFrame::point_to_view(Vec3 world) const {
-  const Vec3 d = world - eye;
-  return {dot(d, right), dot(d, up), dot(d, back)};
-}
-
-Vec3 ViewFrame::direction_to_world(Vec3 view) const { return right * view.x + up * view.y + back * view.z; }
-
-ViewFrame view_frame(const Camera& camera) {
-  const Vec3 forward = camera.target - camera.eye;
-  if (length(forward) == 0.0f) throw Error("camera eye and target coincide");
-  ViewFrame frame;
-  frame.eye = camera.eye;
-  frame.back = normalized(forward) * -1.0f;
-  const Vec3 right = cross(camera.up, frame.back);
-  if (!(length(right) > 1e-6f)) throw Error("camera up vector is parallel to the view direction (or zero)");
-  frame.right = normalized(right);
-  frame.up = cross(frame.back, frame.right);
-  return frame;
-}
 
 Scene random_scene(std::uint64_t seed, const RandomSceneOptions& options) {
   Random random(seed);
@@ -253,20 +207,6 @@ std::vector<float> window_depth(const DepthFrame& frame, const Camera& camera) {
   return depth;
 }
 
-ClusterConfig cluster_config(const Camera& camera, std::uint32_t width, std::uint32_t height, std::uint32_t tile_width,
-                             std::uint32_t tile_height, bool normal_bits) {
-  ClusterConfig config;
-  config.width = width;
-  config.height = height;
-  config.tile_width = tile_width;
-  config.tile_height = tile_height;
-  config.near_plane = camera.near_plane;
-  config.far_plane = camera.far_plane;
-  config.fov_y = camera.fov_y;
-  config.normal_bits = normal_bits;
-  return config;
-}
-
 void to_json(nlohmann::json& json, const Scene& scene) {
   json = nlohmann::json::object();
   if (scene.floor_y) json["floor"] = {{"y", *scene.floor_y}};
@@ -279,13 +219,7 @@ void to_json(nlohmann::json& json, const Scene& scene) {
       json["objects"].push_back({{"type", "box"}, {"min", vec_json(box.min)}, {"max", vec_json(box.max)}});
     }
   }
-  const Camera& c = scene.camera;
-  json["camera"] = {{"eye", vec_json(c.eye)},
-                    {"target", vec_json(c.target)},
-                    {"up", vec_json(c.up)},
-                    {"fov_y_degrees", c.fov_y * 180.0f / std::numbers::pi_v<float>},
-                    {"near", c.near_plane},
-                    {"far", c.far_plane}};
+  json["camera"] = camera_to_json(scene.camera);
   if (const auto* random = std::get_if<RandomLights>(&scene.lights)) {
     json["lights"] = {{"count", random->count},
                       {"radius", {random->radius_min, random->radius_max}},
@@ -299,94 +233,81 @@ void to_json(nlohmann::json& json, const Scene& scene) {
 }
 
 void from_json(const nlohmann::json& json, Scene& scene) {
-  if (!json.is_object()) throw Error("scene: the top level must be an object");
-  known_keys(json, "the scene", {"floor", "objects", "camera", "lights"});
+  if (!json.is_object()) kScene.fail("the top level must be an object");
+  kScene.known_keys(json, "the scene", {"floor", "objects", "camera", "lights"});
   Scene result;
   if (json.contains("floor") && !json["floor"].is_null()) {
-    known_keys(json["floor"], "floor", {"y"});
-    result.floor_y = number(field(json["floor"], "y", "floor"), "floor.y");
+    kScene.known_keys(json["floor"], "floor", {"y"});
+    result.floor_y = kScene.number(kScene.field(json["floor"], "y", "floor"), "floor.y");
   }
 
   if (json.contains("objects")) {
     const auto& objects = json["objects"];
-    if (!objects.is_array()) throw Error("scene: objects must be an array");
+    if (!objects.is_array()) kScene.fail("objects must be an array");
     for (std::size_t i = 0; i < objects.size(); ++i) {
       const std::string path = "objects[" + std::to_string(i) + "]";
-      const auto& type = field(objects[i], "type", path);
+      const auto& type = kScene.field(objects[i], "type", path);
       const std::string name = type.is_string() ? type.get<std::string>() : "";
       if (name == "sphere") {
-        known_keys(objects[i], path, {"type", "center", "radius"});
-        Sphere sphere{vec(field(objects[i], "center", path), path + ".center"),
-                      number(field(objects[i], "radius", path), path + ".radius")};
-        if (!(sphere.radius > 0)) throw Error("scene: " + path + ".radius must be positive");
+        kScene.known_keys(objects[i], path, {"type", "center", "radius"});
+        Sphere sphere{kScene.vec3(kScene.field(objects[i], "center", path), path + ".center"),
+                      kScene.number(kScene.field(objects[i], "radius", path), path + ".radius")};
+        if (!(sphere.radius > 0)) kScene.fail(path + ".radius must be positive");
         result.objects.push_back(sphere);
       } else if (name == "box") {
-        known_keys(objects[i], path, {"type", "min", "max"});
-        Box box{vec(field(objects[i], "min", path), path + ".min"), vec(field(objects[i], "max", path), path + ".max")};
+        kScene.known_keys(objects[i], path, {"type", "min", "max"});
+        Box box{kScene.vec3(kScene.field(objects[i], "min", path), path + ".min"), kScene.vec3(kScene.field(objects[i], "max", path), path + ".max")};
         if (!(box.min.x <= box.max.x && box.min.y <= box.max.y && box.min.z <= box.max.z))
-          throw Error("scene: " + path + ".min must not exceed .max");
+          kScene.fail(path + ".min must not exceed .max");
         result.objects.push_back(box);
       } else {
-        throw Error("scene: " + path + ".type must be \"sphere\" or \"box\"");
+        kScene.fail(path + ".type must be \"sphere\" or \"box\"");
       }
     }
   }
 
-  const auto& camera = field(json, "camera", "the scene");
-  known_keys(camera, "camera", {"eye", "target", "up", "fov_y_degrees", "near", "far"});
-  Camera& c = result.camera;
-  c.eye = vec(field(camera, "eye", "camera"), "camera.eye");
-  c.target = vec(field(camera, "target", "camera"), "camera.target");
-  if (camera.contains("up")) c.up = vec(camera["up"], "camera.up");
-  c.fov_y = number_or(camera, "fov_y_degrees", 60.0f, "camera") * std::numbers::pi_v<float> / 180.0f;
-  c.near_plane = number_or(camera, "near", c.near_plane, "camera");
-  c.far_plane = number_or(camera, "far", c.far_plane, "camera");
-  if (!(c.fov_y > 0 && c.fov_y < std::numbers::pi_v<float>))
-    throw Error("scene: camera.fov_y_degrees must be in (0, 180)");
-  if (!(c.near_plane > 0 && c.far_plane > c.near_plane))
-    throw Error("scene: camera needs 0 < near < far");
-  view_frame(c);
+  result.camera = camera_from_json(kScene.field(json, "camera", "the scene"), kScene);
 
   if (json.contains("lights")) {
     const auto& lights = json["lights"];
     if (lights.is_array()) {
-      if (lights.size() > kMaxLights)
-        throw Error("scene: lights lists " + std::to_string(lights.size()) + " lights, more than the limit of " + std::to_string(kMaxLights));
+      if (lights.size() > kMaxSceneLights)
+        kScene.fail("lights lists " + std::to_string(lights.size()) + " lights, more than the limit of " + std::to_string(kMaxSceneLights));
       std::vector<SceneLight> list;
       for (std::size_t i = 0; i < lights.size(); ++i) {
         const std::string path = "lights[" + std::to_string(i) + "]";
-        known_keys(lights[i], path, {"position", "radius", "color"});
+        kScene.known_keys(lights[i], path, {"position", "radius", "color"});
         SceneLight light;
-        light.position = vec(field(lights[i], "position", path), path + ".position");
-        light.radius = number(field(lights[i], "radius", path), path + ".radius");
-        if (!(light.radius >= 0)) throw Error("scene: " + path + ".radius must not be negative");
-        if (lights[i].contains("color")) light.color = vec(lights[i]["color"], path + ".color");
+        light.position = kScene.vec3(kScene.field(lights[i], "position", path), path + ".position");
+        light.radius = kScene.number(kScene.field(lights[i], "radius", path), path + ".radius");
+        if (!(light.radius >= 0)) kScene.fail(path + ".radius must not be negative");
+        if (lights[i].contains("color")) light.color = kScene.vec3(lights[i]["color"], path + ".color");
         list.push_back(light);
       }
       result.lights = std::move(list);
     } else if (lights.is_object()) {
-      known_keys(lights, "lights", {"count", "radius", "seed"});
+      kScene.known_keys(lights, "lights", {"count", "radius", "seed"});
       RandomLights random;
-      const auto& count = field(lights, "count", "lights");
-      if (!count.is_number_unsigned()) throw Error("scene: lights.count must be a non-negative integer");
-      if (count.get<std::uint64_t>() > kMaxLights)
-        throw Error("scene: lights.count " + std::to_string(count.get<std::uint64_t>()) + " is above the limit of " + std::to_string(kMaxLights));
+      const auto& count = kScene.field(lights, "count", "lights");
+      if (!count.is_number_unsigned()) kScene.fail("lights.count must be a non-negative integer");
+      if (count.get<std::uint64_t>() > kMaxSceneLights)
+        kScene.fail("lights.count " + std::to_string(count.get<std::uint64_t>()) + " is above the limit of " + std::to_string(kMaxSceneLights));
       random.count = count.get<std::uint32_t>();
       if (lights.contains("radius")) {
         const auto& radius = lights["radius"];
-        if (!radius.is_array() || radius.size() != 2) throw Error("scene: lights.radius must be [min, max]");
-        random.radius_min = number(radius[0], "lights.radius[0]");
-        random.radius_max = number(radius[1], "lights.radius[1]");
+        if (!radius.is_array() || radius.size() != 2) kScene.fail("lights.radius must be [min, max]");
+        random.radius_min = kScene.number(radius[0], "lights.radius[0]");
+        random.radius_max = kScene.number(radius[1], "lights.radius[1]");
         if (!(random.radius_min >= 0 && random.radius_max >= random.radius_min))
-          throw Error("scene: lights.radius must satisfy 0 <= min <= max");
+          kScene.fail("lights.radius must satisfy 0 <= min <= max");
       }
       if (lights.contains("seed")) {
-        if (!lights["seed"].is_number_unsigned()) throw Error("scene: lights.seed must be a non-negative integer");
+        if (!lights["seed"].is_number_unsigned()) kScene.fail("lights.seed must be a non-negative integer");
         random.seed = lights["seed"].get<std::uint64_t>();
       }
       result.lights = random;
     } else {
-      throw Error("scene: lights must be an object {count, radius, seed} or an array of lights");
+      kScene.fail("lights must be an object {count, radius, seed} or an array of lights");
     }
   }
   scene = std::move(result);

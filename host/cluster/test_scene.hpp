@@ -1,6 +1,6 @@
 #pragma once
 // Test input for the cluster stage without a GPU: scenes of a floor plane, spheres and boxes
-// (random from a seed, or from JSON), a pinhole camera, a multithreaded host ray caster producing
+// (random from a seed, or from JSON), a pinhole camera (core/camera.hpp), a multithreaded host ray caster producing
 // view-space depth and normals, and point lights placed around the visible geometry.
 //
 // JSON form (all lengths in world units):
@@ -20,28 +20,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cluster/layout.hpp"
+#include "core/camera.hpp"
 #include "cluster/types.hpp"
 
 namespace splatcl::cluster {
-
-struct Camera {
-  Vec3 eye{0, 4, 12};
-  Vec3 target{0, 0, 0};
-  Vec3 up{0, 1, 0};
-  float fov_y = 1.04719755f;  // radians (JSON: degrees)
-  float near_plane = 0.1f;
-  float far_plane = 100.0f;
-  friend bool operator==(const Camera&, const Camera&) = default;
-};
-
-// Orthonormal camera frame: view space has the camera at the origin looking down −z, +y up.
-struct ViewFrame {
-  Vec3 eye, right, up, back;
-  Vec3 point_to_view(Vec3 world) const;
-  Vec3 direction_to_world(Vec3 view) const;
-};
-// Throws Error for a camera whose eye equals its target or whose up is parallel to the view direction.
-ViewFrame view_frame(const Camera& camera);
 
 struct Sphere {
   Vec3 center;
@@ -53,10 +35,6 @@ struct Box {
   friend bool operator==(const Box&, const Box&) = default;
 };
 using SceneObject = std::variant<Sphere, Box>;
-
-// The most point lights a scene may have (a random count, a list, or --lights): more is refused
-// with one line before anything is allocated (docs/reliability.md). The presenter shares it.
-inline constexpr std::uint32_t kMaxLights = 1u << 20;
 
 // Lights placed at random around the visible geometry of the rendered frame (view space).
 struct RandomLights {
@@ -108,10 +86,6 @@ std::vector<PointLight> view_lights(const Scene& scene, const DepthFrame& frame)
 
 // The frame's depth as OpenGL window depth under the camera's projection (1 for background).
 std::vector<float> window_depth(const DepthFrame& frame, const Camera& camera);
-
-// Cluster config of a frame seen by `camera`.
-ClusterConfig cluster_config(const Camera& camera, std::uint32_t width, std::uint32_t height,
-                             std::uint32_t tile_width = 32, std::uint32_t tile_height = 32, bool normal_bits = false);
 
 // JSON conversion (nlohmann ADL). from_json throws Error naming the offending field.
 void to_json(nlohmann::json& json, const Scene& scene);

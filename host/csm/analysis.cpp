@@ -160,7 +160,7 @@ class ModeCompressor {
 // capture method, so that every mode compresses the maps a per-pixel build would.
 class MapSource {
  public:
-  MapSource(const splats::Mesh& mesh, const BuildOptions& b, Runtime* runtime, std::uint32_t batch_maps)
+  MapSource(const Mesh& mesh, const BuildOptions& b, Runtime* runtime, std::uint32_t batch_maps)
       : grid_(b.distribution, b.order, b.pole, b.maps),
         scene_(mesh, bounding_sphere(mesh), b.resolution, b.single_hit, b.hit_epsilon),
         capture_(mesh, grid_, scene_, b.capture, runtime, batch_maps) {}
@@ -296,7 +296,7 @@ ModeResult compress_in_mode(const std::vector<float>& z1, const std::vector<floa
   return result;
 }
 
-void capture_all_maps(const splats::Mesh& mesh, const BuildOptions& build, Runtime* runtime, std::vector<float>& z1,
+void capture_all_maps(const Mesh& mesh, const BuildOptions& build, Runtime* runtime, std::vector<float>& z1,
                       std::vector<float>& z2, std::uint64_t max_bytes, const BuildProgress& progress) {
   const std::uint64_t bytes = 8ull * build.maps * build.resolution * build.resolution;
   if (bytes > max_bytes)
@@ -318,7 +318,7 @@ void capture_all_maps(const splats::Mesh& mesh, const BuildOptions& build, Runti
   }
 }
 
-ModeResult compress_in_mode(const splats::Mesh& mesh, const BuildOptions& build, const ModeOptions& options, Runtime* runtime,
+ModeResult compress_in_mode(const Mesh& mesh, const BuildOptions& build, const ModeOptions& options, Runtime* runtime,
                             const BuildProgress& progress) {
   const SphereGrid grid(build.distribution, build.order, build.pole, build.maps);
   if (build.resolution == 0) throw Error("mode compression needs a resolution of at least 1");

@@ -66,7 +66,7 @@ struct ModeResult {
 // Captures the maps of `build` (on `runtime`, or the native reference when null) and compresses
 // them in `mode` (not PerPixel: build_csm does that), checking every sample. Throws Error for
 // settings the mode cannot take (Hilbert curves need powers of two; 4-D above the memory limit).
-ModeResult compress_in_mode(const splats::Mesh& mesh, const BuildOptions& build, const ModeOptions& options, Runtime* runtime,
+ModeResult compress_in_mode(const Mesh& mesh, const BuildOptions& build, const ModeOptions& options, Runtime* runtime,
                             const BuildProgress& progress = {});
 // The same on depths already in memory, laid out [map][pixel] in sequence order (tests).
 ModeResult compress_in_mode(const std::vector<float>& z1, const std::vector<float>& z2, std::uint32_t maps,
@@ -101,7 +101,7 @@ struct WaveletResult {
 WaveletResult wavelet_analysis(const Csm& csm);
 
 // Captures all maps of `build` into memory ([map][pixel]); throws Error above `max_bytes`.
-void capture_all_maps(const splats::Mesh& mesh, const BuildOptions& build, Runtime* runtime, std::vector<float>& z1,
+void capture_all_maps(const Mesh& mesh, const BuildOptions& build, Runtime* runtime, std::vector<float>& z1,
                       std::vector<float>& z2, std::uint64_t max_bytes, const BuildProgress& progress = {});
 
 }  // namespace splatcl::csm

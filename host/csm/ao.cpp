@@ -137,40 +137,40 @@ void ambient_occlusion_reference(const VisibilityScene& scene, const AoRequest& 
 }
 
 AmbientOcclusion::AmbientOcclusion(Runtime& runtime, const VisibilityScene& scene)
-    : runtime_(runtime), scene_(runtime, scene), kernel_(runtime.kernel("csm_ao.cl", "csm_ambient_occlusion_receivers")) {}
+    : runtime_(runtime),
+      scene_(runtime, scene),
+      kernel_(runtime.kernel("csm_ao.cl", "csm_ambient_occlusion_receivers")),
+      positions_(runtime, "AO receivers"),
+      normals_(runtime, "AO normals"),
+      choice_(runtime, "AO pattern choice"),
+      patterns_(runtime, "AO patterns"),
+      result_(runtime, "AO output") {}
 
 std::vector<Vec4> AmbientOcclusion::run(const AoRequest& request, Profiler* profiler) {
   request.validate();
   const std::size_t n = request.positions.size();
-  std::vector<Vec4> out(n);
-  if (n == 0) return out;
+  if (n == 0) return {};
   if (n > UINT32_MAX) throw Error("more than 2^32 AO receivers in one batch");
   // Buffers grow as needed and are reused by later calls (no allocation per batch).
   // The last write blocks (the queue is in order): every upload is done before anything below can
   // throw and let the caller free the request.
-  const auto write = [&](cl::Buffer& buffer, const auto& values, const char* what, cl_bool blocking) {
-    using T = typename std::decay_t<decltype(values)>::value_type;
-    primitives::detail::ensure_bytes(runtime_, buffer, values.size() * sizeof(T), what);
-    runtime_.queue().enqueueWriteBuffer(buffer, blocking, 0, values.size() * sizeof(T), values.data());
-  };
-  write(positions_, request.positions, "AO receivers", CL_FALSE);
-  write(normals_, request.normals, "AO normals", CL_FALSE);
-  write(choice_, request.pattern_of, "AO pattern choice", CL_FALSE);
-  write(patterns_, request.patterns, "AO patterns", CL_TRUE);
-  primitives::detail::ensure_bytes(runtime_, result_, n * sizeof(Vec4), "AO output");
-  kernel_.setArg(0, positions_);
-  kernel_.setArg(1, normals_);
-  kernel_.setArg(2, choice_);
+  positions_.assign(request.positions, false);
+  normals_.assign(request.normals, false);
+  choice_.assign(request.pattern_of, false);
+  patterns_.assign(request.patterns, true);
+  result_.resize(n);
+  kernel_.setArg(0, positions_.buffer());
+  kernel_.setArg(1, normals_.buffer());
+  kernel_.setArg(2, choice_.buffer());
   kernel_.setArg(3, static_cast<cl_uint>(n));
-  kernel_.setArg(4, patterns_);
+  kernel_.setArg(4, patterns_.buffer());
   kernel_.setArg(5, static_cast<cl_uint>(request.samples));
   scene_.bind_scene(kernel_, 6);
   kernel_.setArg(14, static_cast<cl_uint>(request.ground ? 1 : 0));
   kernel_.setArg(15, request.bias);
-  kernel_.setArg(16, result_);
+  kernel_.setArg(16, result_.buffer());
   enqueue_1d(runtime_.queue(), kernel_, n, 0, profiler, "csm ambient occlusion");
-  runtime_.queue().enqueueReadBuffer(result_, CL_TRUE, 0, n * sizeof(Vec4), out.data());
-  return out;
+  return result_.read();
 }
 
 }  // namespace splatcl::csm

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/device_vector.hpp"
 #include "csm/visibility.hpp"
 
 namespace splatcl::csm {
@@ -66,7 +67,9 @@ class AmbientOcclusion {
   Runtime& runtime_;
   VisibilityQueries scene_;
   cl::Kernel kernel_;
-  cl::Buffer positions_, normals_, choice_, patterns_, result_;
+  DeviceVector<Vec4> positions_, normals_;
+  DeviceVector<std::uint32_t> choice_;
+  DeviceVector<Vec4> patterns_, result_;
 };
 
 }  // namespace splatcl::csm

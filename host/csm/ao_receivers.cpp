@@ -60,14 +60,14 @@ Transform parse_placement(const std::string& text) {
 namespace {
 
 // Vertex v's normal, or +y where it has none (only degenerate faces around it).
-Vec3 receiver_normal(const splats::Mesh& receiver, std::size_t v) {
+Vec3 receiver_normal(const Mesh& receiver, std::size_t v) {
   const Vec3 nrm = v < receiver.normals.size() ? receiver.normals[v] : Vec3{0, 0, 0};
   return nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z > 0.5f ? nrm : Vec3{0, 1, 0};
 }
 
 }  // namespace
 
-std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const VisibilityScene& scene,
+std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const VisibilityScene& scene,
                                              const ReceiverAoOptions& options, Runtime* runtime,
                                              const std::function<void(std::size_t, std::size_t)>& progress) {
   const std::size_t n = receiver.vertices.size();
@@ -102,7 +102,7 @@ std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const
   return out;
 }
 
-std::vector<float> raycast_ambient_occlusion(const splats::Mesh& receiver, const splats::Mesh& occluder, const ReceiverAoOptions& options) {
+std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& occluder, const ReceiverAoOptions& options) {
   const std::size_t n = receiver.vertices.size();
   if (n == 0) throw Error(receiver.source + ": the receiver mesh has no vertices");
   const std::vector<Vec4> patterns = make_patterns(options.pattern_set, options.patterns, options.samples, options.seed);
@@ -130,7 +130,7 @@ std::vector<float> raycast_ambient_occlusion(const splats::Mesh& receiver, const
   return out;
 }
 
-void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const std::vector<Vec4>& ao) {
+void write_ao_ply(const std::string& path, const Mesh& receiver, const std::vector<Vec4>& ao) {
   const std::size_t n = receiver.vertices.size();
   if (ao.size() != n) throw Error("write_ao_ply: one AO value per vertex needed");
   std::string out = fmt::format(

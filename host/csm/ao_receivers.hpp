@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "csm/ao.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::csm {
 
@@ -28,7 +28,7 @@ Transform parse_placement(const std::string& text);
 // out[v] = (bent normal xyz, AO) for every vertex of `receiver`. Vertices without a normal (zero:
 // only degenerate faces around them) use +y. Runs on `runtime`, or the native reference when null.
 // progress(done, total) after each batch. Throws Error for a mesh without vertices.
-std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const VisibilityScene& scene,
+std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const VisibilityScene& scene,
                                              const ReceiverAoOptions& options, Runtime* runtime,
                                              const std::function<void(std::size_t, std::size_t)>& progress = {});
 
@@ -36,12 +36,12 @@ std::vector<Vec4> receiver_ambient_occlusion(const splats::Mesh& receiver, const
 // against `occluder` (in world coordinates) instead of CSM queries: out[v] = lit fraction. A ray
 // leaves the vertex 1e-4 bounding radii along its direction, so its own faces do not occlude it. The
 // ground truth the CSM's AO error is measured against (docs/results/csm.md).
-std::vector<float> raycast_ambient_occlusion(const splats::Mesh& receiver, const splats::Mesh& occluder, const ReceiverAoOptions& options);
+std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& occluder, const ReceiverAoOptions& options);
 
 // Binary little-endian PLY: vertex x y z nx ny nz red green blue ao bent_nx bent_ny bent_nz
 // file_vertex, and face vertex_indices. The vertices are the mesh's as loaded: the file's in its
 // order but those no face uses, then the copies of split non-manifold vertices; file_vertex is each
 // one's index in the receiver file (Mesh::file_vertex). Written atomically.
-void write_ao_ply(const std::string& path, const splats::Mesh& receiver, const std::vector<Vec4>& ao);
+void write_ao_ply(const std::string& path, const Mesh& receiver, const std::vector<Vec4>& ao);
 
 }  // namespace splatcl::csm

@@ -10,7 +10,7 @@
 namespace splatcl::csm {
 namespace {
 
-CsmInfo info_for(const splats::Mesh& mesh, const BuildOptions& o, const CaptureScene& scene) {
+CsmInfo info_for(const Mesh& mesh, const BuildOptions& o, const CaptureScene& scene) {
   CsmInfo info;
   info.resolution = o.resolution;
   info.maps = o.maps;
@@ -43,7 +43,7 @@ std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps) {
   return static_cast<std::uint32_t>(std::clamp<std::uint64_t>((std::uint64_t{1} << 23) / pixels, 1, maps));
 }
 
-HostMapCapture::HostMapCapture(const splats::Mesh& mesh, const SphereGrid& grid, const CaptureScene& scene, CaptureMethod method,
+HostMapCapture::HostMapCapture(const Mesh& mesh, const SphereGrid& grid, const CaptureScene& scene, CaptureMethod method,
                                Runtime* runtime, std::uint32_t batch_maps)
     : mesh_(mesh), grid_(grid), scene_(scene), method_(method), runtime_(runtime), batch_maps_(batch_maps) {
   if (!runtime) return;
@@ -65,7 +65,7 @@ void HostMapCapture::get(std::uint32_t first, std::uint32_t count, std::vector<f
   runtime_->queue().enqueueReadBuffer(d2_, CL_TRUE, 0, z2.size() * sizeof(float), z2.data());
 }
 
-BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* runtime, const BuildProgress& progress) {
+BuildResult build_csm(const Mesh& mesh, const BuildOptions& o, Runtime* runtime, const BuildProgress& progress) {
   Stopwatch total;
   BuildResult result;
   const SphereGrid grid(o.distribution, o.order, o.pole, o.maps);
@@ -104,22 +104,22 @@ BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& o, Runtime* 
   return result;
 }
 
-LosslessReport check_lossless(const Csm& csm, const splats::Mesh& model, Runtime* runtime, const BuildProgress& progress,
+LosslessReport check_lossless(const Csm& csm, const Mesh& model, Runtime* runtime, const BuildProgress& progress,
                               std::optional<CaptureMethod> method) {
   const CsmInfo& info = csm.info;
   // The maps were taken in object space: the model file's vertices go through the stored object
   // transform (row-major affine) first; identity leaves the model as loaded.
-  std::optional<splats::Mesh> moved;
+  std::optional<Mesh> moved;
   if (info.object_transform != CsmInfo{}.object_transform) {
     moved = model;
     const auto& t = info.object_transform;
-    for (splats::Vec3& v : moved->vertices) {
+    for (Vec3& v : moved->vertices) {
       const double x = v.x, y = v.y, z = v.z;
       v = {static_cast<float>(t[0] * x + t[1] * y + t[2] * z + t[3]), static_cast<float>(t[4] * x + t[5] * y + t[6] * z + t[7]),
            static_cast<float>(t[8] * x + t[9] * y + t[10] * z + t[11])};
     }
   }
-  const splats::Mesh& mesh = moved ? *moved : model;
+  const Mesh& mesh = moved ? *moved : model;
   const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
   const CaptureScene scene(mesh, info.sphere, info.resolution, info.single_hit, info.hit_epsilon);
   const std::size_t pixels = scene.pixels();

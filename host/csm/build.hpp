@@ -16,7 +16,7 @@
 #include "csm/raster_capture.hpp"
 #include "csm/sphere_grid.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::csm {
 
@@ -44,7 +44,7 @@ struct BuildResult {
 using BuildProgress = std::function<void(std::uint32_t, std::uint32_t)>;
 
 // Throws Error for bad options (maps not fitting the distribution or order, resolution 0).
-BuildResult build_csm(const splats::Mesh& mesh, const BuildOptions& options, Runtime* runtime,
+BuildResult build_csm(const Mesh& mesh, const BuildOptions& options, Runtime* runtime,
                       const BuildProgress& progress = {});
 
 std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps);
@@ -55,14 +55,14 @@ std::uint32_t default_batch_maps(std::uint32_t resolution, std::uint32_t maps);
 // analyses); build_csm streams the same MapCapture's output to the compressor on the device.
 class HostMapCapture {
  public:
-  HostMapCapture(const splats::Mesh& mesh, const SphereGrid& grid, const CaptureScene& scene, CaptureMethod method, Runtime* runtime,
+  HostMapCapture(const Mesh& mesh, const SphereGrid& grid, const CaptureScene& scene, CaptureMethod method, Runtime* runtime,
                  std::uint32_t batch_maps);
   ~HostMapCapture();
   // Maps [first, first + count), count ≤ batch_maps.
   void get(std::uint32_t first, std::uint32_t count, std::vector<float>& z1, std::vector<float>& z2);
 
  private:
-  const splats::Mesh& mesh_;
+  const Mesh& mesh_;
   const SphereGrid& grid_;
   const CaptureScene& scene_;
   CaptureMethod method_;
@@ -83,7 +83,7 @@ struct LosslessReport {
   float first_depth = 0, first_z1 = 0, first_z2 = 0;
 };
 // The model file's mesh is moved into object space by the CSM's stored object transform first.
-LosslessReport check_lossless(const Csm& csm, const splats::Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {},
+LosslessReport check_lossless(const Csm& csm, const Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {},
                               std::optional<CaptureMethod> method = std::nullopt);
 
 }  // namespace splatcl::csm

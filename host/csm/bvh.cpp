@@ -170,14 +170,14 @@ class Builder {
 
 }  // namespace
 
-void relative_position(const splats::Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]) {
+void relative_position(const Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]) {
   const Vec3 p = mesh.vertices[v];
   out[0] = static_cast<float>(static_cast<double>(p.x) - origin.x);
   out[1] = static_cast<float>(static_cast<double>(p.y) - origin.y);
   out[2] = static_cast<float>(static_cast<double>(p.z) - origin.z);
 }
 
-std::vector<std::uint32_t> casting_triangles(const splats::Mesh& mesh, Vec3 origin) {
+std::vector<std::uint32_t> casting_triangles(const Mesh& mesh, Vec3 origin) {
   std::vector<std::uint32_t> triangles;
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
     const std::uint32_t first = mesh.face_offsets[f], last = mesh.face_offsets[f + 1];
@@ -196,7 +196,7 @@ std::vector<std::uint32_t> casting_triangles(const splats::Mesh& mesh, Vec3 orig
   return triangles;
 }
 
-std::vector<BvhTriangle> mesh_triangles(const splats::Mesh& mesh, Vec3 origin) {
+std::vector<BvhTriangle> mesh_triangles(const Mesh& mesh, Vec3 origin) {
   const std::vector<std::uint32_t> corners = casting_triangles(mesh, origin);
   std::vector<BvhTriangle> triangles(corners.size() / 3);
   for (std::size_t t = 0; t < triangles.size(); ++t) {

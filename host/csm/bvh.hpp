@@ -8,12 +8,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "splats/geometry.hpp"
-#include "splats/mesh.hpp"
+#include "core/geometry.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::csm {
 
-using splats::Vec3;
 
 // The node, triangle and traversal of kernels/csm_trace.h, shared with the capture kernel.
 namespace device_trace {
@@ -37,15 +36,15 @@ struct Bvh {
 inline constexpr std::uint32_t kBvhMaxDepth = CSM_MAX_DEPTH;
 
 // Vertex v relative to `origin` as both capture methods see it: the float of the double difference.
-void relative_position(const splats::Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]);
+void relative_position(const Mesh& mesh, std::uint32_t v, Vec3 origin, float out[3]);
 
 // The triangles that cast shadows, for both capture methods: the mesh's faces fan-triangulated
 // from their first corner, without those whose float edge cross product relative to `origin` is
 // zero. Vertex index triples, flat. Throws Error naming the mesh when none remains.
-std::vector<std::uint32_t> casting_triangles(const splats::Mesh& mesh, Vec3 origin);
+std::vector<std::uint32_t> casting_triangles(const Mesh& mesh, Vec3 origin);
 
 // casting_triangles as positions relative to `origin` (a vertex and two edges each).
-std::vector<BvhTriangle> mesh_triangles(const splats::Mesh& mesh, Vec3 origin);
+std::vector<BvhTriangle> mesh_triangles(const Mesh& mesh, Vec3 origin);
 
 // Binned SAH build; leaves hold at most 4 triangles.
 Bvh build_bvh(std::vector<BvhTriangle> triangles);

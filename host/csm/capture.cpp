@@ -13,7 +13,7 @@ namespace {
 using primitives::detail::set_args;
 
 // Vertices some face uses (load_mesh already drops unused ones; generated meshes may not).
-std::vector<Vec3> face_vertices(const splats::Mesh& mesh) {
+std::vector<Vec3> face_vertices(const Mesh& mesh) {
   std::vector<std::uint32_t> used(mesh.corners);
   std::sort(used.begin(), used.end());
   used.erase(std::unique(used.begin(), used.end()), used.end());
@@ -73,11 +73,11 @@ SingleHit parse_single_hit(const std::string& text) {
   throw Error("unknown single-hit rule '" + text + "' (one of: sphere-exit, exact)");
 }
 
-Sphere bounding_sphere(const splats::Mesh& mesh) {
+Sphere bounding_sphere(const Mesh& mesh) {
   const std::vector<Vec3> points = face_vertices(mesh);
   if (points.empty()) throw Error(mesh.source + ": the mesh has no faces");
   // Box sphere.
-  splats::Box box;
+  Box box;
   for (const Vec3& p : points) box.add(p);
   double best_c[3] = {0.5 * (double{box.lo.x} + box.hi.x), 0.5 * (double{box.lo.y} + box.hi.y), 0.5 * (double{box.lo.z} + box.hi.z)};
   double best_r = farthest(best_c, points);
@@ -116,7 +116,7 @@ Sphere bounding_sphere(const splats::Mesh& mesh) {
   return sphere;
 }
 
-CaptureScene::CaptureScene(const splats::Mesh& mesh, const Sphere& sphere_, std::uint32_t resolution_, SingleHit single_hit_,
+CaptureScene::CaptureScene(const Mesh& mesh, const Sphere& sphere_, std::uint32_t resolution_, SingleHit single_hit_,
                            float hit_epsilon_)
     : sphere(sphere_), resolution(resolution_), single_hit(single_hit_), hit_epsilon(hit_epsilon_) {
   if (resolution == 0 || resolution > 8192) throw Error("the map resolution must be between 1 and 8192");
@@ -133,10 +133,10 @@ std::vector<Camera> cameras(const SphereGrid& grid, std::uint32_t first, std::ui
 
 void capture_reference(const CaptureScene& scene, const SphereGrid& grid, std::uint32_t first, std::uint32_t count,
                        std::vector<float>& z1, std::vector<float>& z2) {
-  const std::vector<Camera> table = cameras(grid, first, count);
   const std::size_t m = scene.resolution, pixels = scene.pixels();
   z1.assign(count * pixels, 0.0f);
   z2.assign(count * pixels, 0.0f);
+  const std::vector<Camera> table = cameras(grid, first, count);
   parallel_for(std::size_t{count} * m, 4, [&](std::size_t item, std::size_t) {
     const std::size_t map = item / m, row = item % m;
     const std::size_t base = map * pixels + row * m;
@@ -144,7 +144,8 @@ void capture_reference(const CaptureScene& scene, const SphereGrid& grid, std::u
   });
 }
 
-DepthCapture::DepthCapture(Runtime& runtime, const CaptureScene& scene) : runtime_(runtime), scene_(scene) {
+DepthCapture::DepthCapture(Runtime& runtime, const CaptureScene& scene)
+    : runtime_(runtime), scene_(scene), cameras_(runtime, "CSM cameras") {
   const auto& bvh = scene.bvh;
   auto& queue = runtime.queue();
   nodes_ = runtime.buffer(CL_MEM_READ_ONLY, bvh.nodes.size() * sizeof(BvhNode), "CSM BVH nodes");
@@ -157,13 +158,11 @@ DepthCapture::DepthCapture(Runtime& runtime, const CaptureScene& scene) : runtim
 cl::Event DepthCapture::capture(const SphereGrid& grid, std::uint32_t first, std::uint32_t count, cl::Buffer& z1,
                                 cl::Buffer& z2, Profiler* profiler) {
   const std::size_t samples = std::size_t{count} * scene_.pixels();
-  primitives::detail::require_bytes(z1, samples * sizeof(float), "CSM capture z1");
-  primitives::detail::require_bytes(z2, samples * sizeof(float), "CSM capture z2");
-  const std::vector<Camera> table = cameras(grid, first, count);
-  primitives::detail::ensure_bytes(runtime_, cameras_, table.size() * sizeof(Camera), "CSM cameras");
-  runtime_.queue().enqueueWriteBuffer(cameras_, CL_TRUE, 0, table.size() * sizeof(Camera), table.data());
+  require_bytes(z1, samples * sizeof(float), "CSM capture z1");
+  require_bytes(z2, samples * sizeof(float), "CSM capture z2");
+  cameras_.assign(cameras(grid, first, count));
   const std::size_t rows = std::size_t{count} * scene_.resolution;
-  set_args(kernel_, nodes_, triangles_, cameras_, static_cast<cl_uint>(scene_.resolution), static_cast<cl_uint>(rows),
+  set_args(kernel_, nodes_, triangles_, cameras_.buffer(), static_cast<cl_uint>(scene_.resolution), static_cast<cl_uint>(rows),
            scene_.sphere.radius, scene_.half_pixel(), scene_.depth_scale(), scene_.eps_distance(),
            static_cast<cl_uint>(scene_.single_hit == SingleHit::Exact ? 1 : 0), z1, z2);
   return enqueue_1d(runtime_.queue(), kernel_, rows, 0, profiler, "csm capture");

@@ -16,11 +16,12 @@
 #include <memory>
 #include <vector>
 
+#include "core/device_vector.hpp"
 #include "csm/bvh.hpp"
 #include "csm/sphere_grid.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::csm {
 
@@ -36,14 +37,14 @@ struct Sphere {
 // A tight sphere around every vertex some face uses: the smaller of Ritter's sphere and the box
 // sphere (box centre, farthest vertex), widened by 1e-5 of the radius so that every triangle lies
 // strictly inside in float arithmetic. Throws Error for a mesh of zero extent.
-Sphere bounding_sphere(const splats::Mesh& mesh);
+Sphere bounding_sphere(const Mesh& mesh);
 
 // Default hit tolerance, in depth units (fraction of 2R): hits closer than this are one surface.
 inline constexpr float kDefaultHitEpsilon = 1e-5f;
 
 // Everything the capture needs, shared by the kernel driver and the reference.
 struct CaptureScene {
-  CaptureScene(const splats::Mesh& mesh, const Sphere& sphere, std::uint32_t resolution, SingleHit single_hit,
+  CaptureScene(const Mesh& mesh, const Sphere& sphere, std::uint32_t resolution, SingleHit single_hit,
                float hit_epsilon = kDefaultHitEpsilon);
   Sphere sphere;
   std::uint32_t resolution;
@@ -77,7 +78,8 @@ class DepthCapture {
  private:
   Runtime& runtime_;
   const CaptureScene& scene_;
-  cl::Buffer nodes_, triangles_, cameras_;
+  cl::Buffer nodes_, triangles_;
+  DeviceVector<Camera> cameras_;
   cl::Kernel kernel_;
 };
 

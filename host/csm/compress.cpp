@@ -58,7 +58,12 @@ Segments compress_reference(const std::vector<float>& z1, const std::vector<floa
 }
 
 StreamingCompressor::StreamingCompressor(Runtime& runtime, std::size_t pixels, std::uint32_t maps)
-    : runtime_(runtime), pixels_(pixels), maps_(maps) {
+    : runtime_(runtime),
+      pixels_(pixels),
+      maps_(maps),
+      out_lo_(runtime, "CSM segments"),
+      out_hi_(runtime, "CSM segments"),
+      out_end_(runtime, "CSM segments") {
   if (pixels == 0 || maps == 0) throw Error("CSM compression needs at least one pixel and one map");
   state_lo_ = runtime.buffer(CL_MEM_READ_WRITE, pixels * sizeof(float), "CSM open runs");
   state_hi_ = runtime.buffer(CL_MEM_READ_WRITE, pixels * sizeof(float), "CSM open runs");
@@ -74,8 +79,8 @@ StreamingCompressor::StreamingCompressor(Runtime& runtime, std::size_t pixels, s
 void StreamingCompressor::add(const cl::Buffer& z1, const cl::Buffer& z2, std::uint32_t count, Profiler* profiler) {
   if (count == 0) return;
   if (done_ + count > maps_) throw Error("CSM compression was given more maps than announced");
-  primitives::detail::require_bytes(z1, count * pixels_ * sizeof(float), "CSM compression z1");
-  primitives::detail::require_bytes(z2, count * pixels_ * sizeof(float), "CSM compression z2");
+  require_bytes(z1, count * pixels_ * sizeof(float), "CSM compression z1");
+  require_bytes(z2, count * pixels_ * sizeof(float), "CSM compression z2");
   auto& queue = runtime_.queue();
   const cl_uint close = done_ + count == maps_ ? 1 : 0;
   const auto pixels = static_cast<cl_uint>(pixels_);
@@ -94,19 +99,19 @@ void StreamingCompressor::add(const cl::Buffer& z1, const cl::Buffer& z2, std::u
   // With no run closing the emit pass still advances the open runs; it then writes no segment.
   const std::size_t slots = std::max<std::uint64_t>(total, 1);
   queue.enqueueWriteBuffer(offsets_, CL_TRUE, 0, pixels_ * sizeof(cl_uint), chunk.offsets.data());
-  primitives::detail::ensure_bytes(runtime_, out_lo_, slots * sizeof(float), "CSM segments");
-  primitives::detail::ensure_bytes(runtime_, out_hi_, slots * sizeof(float), "CSM segments");
-  primitives::detail::ensure_bytes(runtime_, out_end_, slots * sizeof(cl_uint), "CSM segments");
+  out_lo_.resize(slots);
+  out_hi_.resize(slots);
+  out_end_.resize(slots);
   set_args(emit_, z1, z2, pixels, static_cast<cl_uint>(count), static_cast<cl_uint>(done_), close, state_lo_, state_hi_,
-           offsets_, out_lo_, out_hi_, out_end_);
+           offsets_, out_lo_.buffer(), out_hi_.buffer(), out_end_.buffer());
   enqueue_1d(queue, emit_, pixels_, 0, profiler, "csm segment emit");
   chunk.lo.resize(total);
   chunk.hi.resize(total);
   chunk.end.resize(total);
   if (total > 0) {
-    queue.enqueueReadBuffer(out_lo_, CL_FALSE, 0, total * sizeof(float), chunk.lo.data());
-    queue.enqueueReadBuffer(out_hi_, CL_FALSE, 0, total * sizeof(float), chunk.hi.data());
-    queue.enqueueReadBuffer(out_end_, CL_TRUE, 0, total * sizeof(cl_uint), chunk.end.data());
+    queue.enqueueReadBuffer(out_lo_.buffer(), CL_FALSE, 0, total * sizeof(float), chunk.lo.data());
+    queue.enqueueReadBuffer(out_hi_.buffer(), CL_FALSE, 0, total * sizeof(float), chunk.hi.data());
+    queue.enqueueReadBuffer(out_end_.buffer(), CL_TRUE, 0, total * sizeof(cl_uint), chunk.end.data());
   }
   done_ += count;
   chunks_.push_back(std::move(chunk));

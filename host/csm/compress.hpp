@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/device_vector.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
 
@@ -55,7 +56,9 @@ class StreamingCompressor {
   Runtime& runtime_;
   std::size_t pixels_;
   std::uint32_t maps_, done_ = 0;
-  cl::Buffer state_lo_, state_hi_, counts_, offsets_, out_lo_, out_hi_, out_end_;
+  cl::Buffer state_lo_, state_hi_, counts_, offsets_;
+  DeviceVector<float> out_lo_, out_hi_;
+  DeviceVector<cl_uint> out_end_;
   cl::Kernel count_, emit_;
   std::vector<Chunk> chunks_;
 };

@@ -216,7 +216,7 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   info.hit_epsilon = get<float>(bytes, 52);
   info.sphere.centre = {get<float>(bytes, 56), get<float>(bytes, 60), get<float>(bytes, 64)};
   info.sphere.radius = get<float>(bytes, 68);
-  if (!splats::finite(info.sphere.centre) || !(info.sphere.radius > 0) || !std::isfinite(info.sphere.radius) ||
+  if (!finite(info.sphere.centre) || !(info.sphere.radius > 0) || !std::isfinite(info.sphere.radius) ||
       !(info.hit_epsilon >= 0) || !std::isfinite(info.hit_epsilon))
     throw fail("bad bounding sphere or hit epsilon");
   for (std::size_t k = 0; k < 16; ++k) {

@@ -70,7 +70,7 @@ Hit closest_hit(const Bvh& bvh, const float o[3], const float dir[3], const floa
 
 }  // namespace
 
-QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const QualityOptions& options, Runtime* runtime) {
+QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOptions& options, Runtime* runtime) {
   const CsmInfo& info = csm.info;
   for (std::size_t k = 0; k < 16; ++k)
     if (info.object_transform[k] != kIdentity[k]) throw Error("csm quality needs a CSM built from the model as loaded (identity object transform)");
@@ -91,7 +91,7 @@ QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const Qu
     const Vec3 light = c + (1.05f * r + (options.light_max - 1.05f) * r * uniform01(rng)) * random_direction(rng);
     const Vec3 forward = -1.0f * back;
     const Vec3 helper = std::abs(forward.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-    const Vec3 right = splats::normalized(cross(forward, helper)), up = cross(right, forward);
+    const Vec3 right = normalized(cross(forward, helper)), up = cross(right, forward);
     const Vec3 eye = r * back;  // relative to c, as the BVH is
     std::vector<Vec4> receivers, lights;
     std::vector<std::uint8_t> exact_lit, facing;
@@ -99,7 +99,7 @@ QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const Qu
     parallel_for(hit.size(), 256, [&](std::size_t p, std::size_t) {
       const float x = (2 * (static_cast<float>(p % w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
       const float y = (2 * (static_cast<float>(p / w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
-      const Vec3 d = splats::normalized(forward + x * right + y * up);
+      const Vec3 d = normalized(forward + x * right + y * up);
       const float o[3] = {eye.x, eye.y, eye.z}, dir[3] = {d.x, d.y, d.z};
       const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
       const Hit h = closest_hit(bvh, o, dir, inv);

@@ -16,7 +16,7 @@
 #include "csm/csm_file.hpp"
 #include "csm/visibility.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::csm {
 
@@ -55,6 +55,6 @@ struct QualityReport {
 
 // `mesh` is the model the CSM was built from (identity object transform, else Error). CSM queries
 // run on `runtime`, or on the native reference when null; primary and shadow rays on the host BVH.
-QualityReport measure_quality(const Csm& csm, const splats::Mesh& mesh, const QualityOptions& options, Runtime* runtime);
+QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOptions& options, Runtime* runtime);
 
 }  // namespace splatcl::csm

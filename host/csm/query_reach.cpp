@@ -27,18 +27,18 @@ std::vector<glm::vec3> key_light_points(const KeyLightShape& light, std::uint32_
   return points;
 }
 
-std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const std::vector<splats::Vec4>& receivers,
+std::vector<float> key_light_visibility(csm::VisibilityQueries& queries, const std::vector<Vec4>& receivers,
                                         const KeyLightShape& light, std::uint32_t samples, Filter filter, float bias) {
   const std::vector<glm::vec3> light_points = key_light_points(light, samples);
   // One batch for all the light's points (point-major: each point's run of receivers stays as
   // coherent as on its own), so one launch per instance instead of one per instance and point.
   const std::size_t n = receivers.size();
-  std::vector<splats::Vec4> batch, points;
+  std::vector<Vec4> batch, points;
   batch.reserve(n * light_points.size());
   points.reserve(n * light_points.size());
   for (const glm::vec3& p : light_points) {
     batch.insert(batch.end(), receivers.begin(), receivers.end());
-    points.insert(points.end(), n, splats::Vec4{p.x, p.y, p.z, 1.0f});
+    points.insert(points.end(), n, Vec4{p.x, p.y, p.z, 1.0f});
   }
   const std::vector<float> visible = queries.run(batch, points, filter, bias);
   std::vector<float> sum(n, 0.0f);
@@ -147,7 +147,7 @@ MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float sl
 // functions of kernels/csm_query.h, and neither side contracts them, so the vectors are
 // bit-identical); w = |d| for the Cone tests, or 0 for a direction below the floor, which the kernel
 // counts as occluded without a query.
-void ao_directions(const splats::Vec4& n, const splats::Vec4* pattern, std::uint32_t samples, bool ground, splats::Vec4* out) {
+void ao_directions(const Vec4& n, const Vec4* pattern, std::uint32_t samples, bool ground, Vec4* out) {
   float h[3];
   csm::device::csm_ao_rotation_axis(n.x, n.y, n.z, h);
   for (std::uint32_t k = 0; k < samples; ++k) {

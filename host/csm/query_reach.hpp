@@ -10,7 +10,7 @@
 
 #include "csm/csm_file.hpp"
 #include "csm/visibility.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::csm {
 
@@ -73,7 +73,7 @@ static_assert(kAoLiftTexels >= 0.7072f && kShadowLiftTexels >= 2.8285f);
 // The AO kernel's query directions for receiver normal n into out[0 .. samples), bit-identical to
 // the kernel's (kernels/csm_query.h's rotation functions, neither side contracted); w = |d|, or 0
 // for a direction below the floor (`ground`), which the kernel counts as occluded without a query.
-void ao_directions(const splats::Vec4& n, const splats::Vec4* pattern, std::uint32_t samples, bool ground, splats::Vec4* out);
+void ao_directions(const Vec4& n, const Vec4* pattern, std::uint32_t samples, bool ground, Vec4* out);
 
 // A key light as the shadow queries see it: its centre and the radius of its spherical emitter.
 struct KeyLightShape {
@@ -87,7 +87,7 @@ std::vector<glm::vec3> key_light_points(const KeyLightShape& light, std::uint32_
 
 // Visibility of a key light from each receiver: the mean over key_light_points of the PCF queries
 // through the instances placed in `queries`, in one batch.
-std::vector<float> key_light_visibility(VisibilityQueries& queries, const std::vector<splats::Vec4>& receivers,
+std::vector<float> key_light_visibility(VisibilityQueries& queries, const std::vector<Vec4>& receivers,
                                         const KeyLightShape& light, std::uint32_t samples, Filter filter, float bias);
 
 }  // namespace splatcl::csm

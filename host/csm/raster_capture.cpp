@@ -55,11 +55,11 @@ CaptureMethod parse_capture_method(const std::string& text) {
   throw Error("unknown capture method '" + text + "' (one of: raster, raycast)");
 }
 
-RasterMesh raster_mesh(const splats::Mesh& mesh, Vec3 origin) {
+RasterMesh raster_mesh(const Mesh& mesh, Vec3 origin) {
   const std::vector<std::uint32_t> tris = casting_triangles(mesh, origin);
   const std::size_t count = tris.size() / 3;
   // Morton order of the centroids over the mesh's bounding box.
-  splats::Box box;
+  Box box;
   for (std::uint32_t v : tris) box.add(mesh.vertices[v]);
   const Vec3 extent = box.hi - box.lo;
   const float scale = 1023.0f / std::max({extent.x, extent.y, extent.z, 1e-30f});
@@ -113,7 +113,11 @@ void raster_capture_reference(const CaptureScene& scene, const RasterMesh& mesh,
 }
 
 RasterCapture::RasterCapture(Runtime& runtime, const CaptureScene& scene, const RasterMesh& mesh, std::uint32_t max_slots)
-    : runtime_(runtime), scene_(scene), vertex_count_(mesh.vertex_count()), triangle_count_(mesh.triangle_count()) {
+    : runtime_(runtime),
+      scene_(scene),
+      vertex_count_(mesh.vertex_count()),
+      triangle_count_(mesh.triangle_count()),
+      cameras_(runtime, "CSM cameras") {
   const std::size_t slot_bytes = std::size_t{4} * sizeof(float) * vertex_count_;
   // Enough maps per launch to keep every compute unit busy, within the scratch budget.
   slots_ = static_cast<std::uint32_t>(std::clamp<std::size_t>(kScratchBytes / slot_bytes, 4, 256));
@@ -130,17 +134,15 @@ RasterCapture::RasterCapture(Runtime& runtime, const CaptureScene& scene, const 
 cl::Event RasterCapture::capture(const SphereGrid& grid, std::uint32_t first, std::uint32_t count, cl::Buffer& z1,
                                  cl::Buffer& z2, Profiler* profiler) {
   const std::size_t samples = std::size_t{count} * scene_.pixels();
-  primitives::detail::require_bytes(z1, samples * sizeof(float), "CSM capture z1");
-  primitives::detail::require_bytes(z2, samples * sizeof(float), "CSM capture z2");
+  require_bytes(z1, samples * sizeof(float), "CSM capture z1");
+  require_bytes(z2, samples * sizeof(float), "CSM capture z2");
   if (count == 0) return {};
-  const std::vector<Camera> table = cameras(grid, first, count);
-  primitives::detail::ensure_bytes(runtime_, cameras_, table.size() * sizeof(Camera), "CSM cameras");
-  runtime_.queue().enqueueWriteBuffer(cameras_, CL_TRUE, 0, table.size() * sizeof(Camera), table.data());
+  cameras_.assign(cameras(grid, first, count));
   const device_raster::CsmRasterParams p = raster_params(scene_);
   cl::Event last;
   for (std::uint32_t done = 0; done < count; done += slots_) {
     const std::uint32_t maps = std::min(slots_, count - done);
-    set_args(kernel_, vertices_, static_cast<cl_uint>(vertex_count_), triangles_, static_cast<cl_uint>(triangle_count_), cameras_,
+    set_args(kernel_, vertices_, static_cast<cl_uint>(vertex_count_), triangles_, static_cast<cl_uint>(triangle_count_), cameras_.buffer(),
              static_cast<cl_uint>(done), static_cast<cl_uint>(maps), static_cast<cl_uint>(p.resolution), p.radius, p.pixel_scale,
              p.half_pixel, p.depth_scale, p.eps, static_cast<cl_uint>(p.single_hit_exact), scratch_, z1, z2);
     last = enqueue_1d(runtime_.queue(), kernel_, maps, 1, profiler, "csm capture");
@@ -148,7 +150,7 @@ cl::Event RasterCapture::capture(const SphereGrid& grid, std::uint32_t first, st
   return last;
 }
 
-MapCapture::MapCapture(Runtime& runtime, const CaptureScene& scene, const splats::Mesh& mesh, CaptureMethod method)
+MapCapture::MapCapture(Runtime& runtime, const CaptureScene& scene, const Mesh& mesh, CaptureMethod method)
     : method_(method) {
   if (method == CaptureMethod::Raster) {
     mesh_ = raster_mesh(mesh, scene.sphere.centre);
@@ -165,7 +167,7 @@ cl::Event MapCapture::capture(const SphereGrid& grid, std::uint32_t first, std::
   return raster_ ? raster_->capture(grid, first, count, z1, z2, profiler) : raycast_->capture(grid, first, count, z1, z2, profiler);
 }
 
-void capture_reference(const CaptureScene& scene, const splats::Mesh& mesh, CaptureMethod method, const SphereGrid& grid,
+void capture_reference(const CaptureScene& scene, const Mesh& mesh, CaptureMethod method, const SphereGrid& grid,
                        std::uint32_t first, std::uint32_t count, std::vector<float>& z1, std::vector<float>& z2) {
   if (method == CaptureMethod::Raster)
     raster_capture_reference(scene, raster_mesh(mesh, scene.sphere.centre), grid, first, count, z1, z2);

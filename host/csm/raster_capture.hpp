@@ -33,7 +33,7 @@ struct RasterMesh {
   std::uint32_t triangle_count() const { return static_cast<std::uint32_t>(triangles.size() / 3); }
 };
 // Throws Error naming the mesh when no triangle with a positive area remains.
-RasterMesh raster_mesh(const splats::Mesh& mesh, Vec3 origin);
+RasterMesh raster_mesh(const Mesh& mesh, Vec3 origin);
 
 // Native reference: maps [first, first + count) in sequence order, laid out [map][pixel],
 // multithreaded over maps.
@@ -57,14 +57,16 @@ class RasterCapture {
   Runtime& runtime_;
   const CaptureScene& scene_;
   std::uint32_t vertex_count_, triangle_count_, slots_;
-  cl::Buffer vertices_, triangles_, cameras_, scratch_;
+  cl::Buffer vertices_, triangles_;
+  DeviceVector<Camera> cameras_;
+  cl::Buffer scratch_;
   cl::Kernel kernel_;
 };
 
 // Either capture method on a device, behind one call (what the build and the losslessness check use).
 class MapCapture {
  public:
-  MapCapture(Runtime& runtime, const CaptureScene& scene, const splats::Mesh& mesh, CaptureMethod method);
+  MapCapture(Runtime& runtime, const CaptureScene& scene, const Mesh& mesh, CaptureMethod method);
   ~MapCapture();
   cl::Event capture(const SphereGrid& grid, std::uint32_t first, std::uint32_t count, cl::Buffer& z1, cl::Buffer& z2,
                     Profiler* profiler = nullptr);
@@ -78,7 +80,7 @@ class MapCapture {
 };
 
 // Native reference of either method (the raster needs the mesh; the ray caster uses scene.bvh).
-void capture_reference(const CaptureScene& scene, const splats::Mesh& mesh, CaptureMethod method, const SphereGrid& grid,
+void capture_reference(const CaptureScene& scene, const Mesh& mesh, CaptureMethod method, const SphereGrid& grid,
                        std::uint32_t first, std::uint32_t count, std::vector<float>& z1, std::vector<float>& z2);
 
 }  // namespace splatcl::csm

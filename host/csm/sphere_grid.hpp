@@ -14,11 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "splats/geometry.hpp"
+#include "core/geometry.hpp"
 
 namespace splatcl::csm {
 
-using splats::Vec3;
 
 enum class Distribution : std::uint32_t {
   Uniform = 0,  // G × G, θ = acos(1 − 2s), φ = 2πt (area-preserving)

@@ -10,9 +10,9 @@ namespace {
 
 // A batch of (receiver, light) visibility queries and, per query, where its answer goes.
 struct QueryBatch {
-  std::vector<splats::Vec4> receivers, lights;
+  std::vector<Vec4> receivers, lights;
   std::vector<std::size_t> where;
-  void add(const splats::Vec4& receiver, const splats::Vec4& light, std::size_t at) {
+  void add(const Vec4& receiver, const Vec4& light, std::size_t at) {
     receivers.push_back(receiver);
     lights.push_back(light);
     where.push_back(at);
@@ -21,7 +21,7 @@ struct QueryBatch {
 
 }  // namespace
 
-SplatLighting::SplatLighting(Runtime& runtime, std::vector<const Csm*> csms, std::vector<splats::Vec4> patterns,
+SplatLighting::SplatLighting(Runtime& runtime, std::vector<const Csm*> csms, std::vector<Vec4> patterns,
                              std::vector<std::uint32_t> pattern_of)
     : runtime_(runtime), csms_(std::move(csms)), patterns_(std::move(patterns)), pattern_of_(std::move(pattern_of)) {}
 
@@ -47,8 +47,8 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
                                             const Settings& settings, bool allow_incremental) {
   Update update;
   const std::size_t n = input.positions.size();
-  const std::vector<splats::Vec4>& positions = input.positions;
-  const std::vector<splats::Vec4>& normals = input.normals;
+  const std::vector<Vec4>& positions = input.positions;
+  const std::vector<Vec4>& normals = input.normals;
   std::vector<Instance> instances;
   for (std::size_t i = 0; i < input.objects.size(); ++i)
     if (input.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), placements[i]});
@@ -63,9 +63,9 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
               own_texel.begin() + static_cast<std::ptrdiff_t>(input.objects[i].first + input.objects[i].count), texel);
   }
   const auto lifted_by = [&](std::size_t s, float by, float w) {
-    return splats::Vec4{positions[s].x + by * normals[s].x, positions[s].y + by * normals[s].y, positions[s].z + by * normals[s].z, w};
+    return Vec4{positions[s].x + by * normals[s].x, positions[s].y + by * normals[s].y, positions[s].z + by * normals[s].z, w};
   };
-  std::vector<splats::Vec4> lifted(n), ao_at(n);
+  std::vector<Vec4> lifted(n), ao_at(n);
   for (std::size_t s = 0; s < n; ++s) {
     lifted[s] = lifted_by(s, settings.bias + kShadowLiftTexels * own_texel[s], 1.0f);
     ao_at[s] = lifted_by(s, kAoLiftTexels * own_texel[s], positions[s].w);
@@ -103,8 +103,8 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   // Runs (receiver, light) queries through `through` (the CSM tables stay on the device, only the
   // instances are placed); no instances: all lit. Batches of any size: the chunked kernel's
   // work-group size is fixed on the CPU, so PoCL compiles it once, not once per batch size.
-  const auto run_queries = [&](const std::vector<Instance>& through, const std::vector<splats::Vec4>& receivers,
-                               const std::vector<splats::Vec4>& lights, Filter f) {
+  const auto run_queries = [&](const std::vector<Instance>& through, const std::vector<Vec4>& receivers,
+                               const std::vector<Vec4>& lights, Filter f) {
     if (through.empty() || receivers.empty()) return std::vector<float>(receivers.size(), 1.0f);
     VisibilityQueries& queries = device().queries();
     queries.place(through);
@@ -121,7 +121,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
 
   // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
   const std::uint32_t samples = settings.ao_samples;
-  const auto directions_of = [&](std::size_t s, splats::Vec4* out) {
+  const auto directions_of = [&](std::size_t s, Vec4* out) {
     const std::uint32_t pattern = input.pattern_of.empty() ? pattern_of_[s] : input.pattern_of[s];
     ao_directions(normals[s], &patterns_[std::size_t{pattern} * samples], samples, settings.ground, out);
   };
@@ -146,11 +146,11 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       static_lit_.assign(do_ao ? n * words : 0, 0);
       lit_mask_.assign(static_lit_.size(), 0);
       static_shadow_.assign(do_shadows ? n * keys * points : 0, 1.0f);
-      static_directions_.assign(do_ao ? n * samples : 0, splats::Vec4{});
+      static_directions_.assign(do_ao ? n * samples : 0, Vec4{});
       QueryBatch ao_batch;
       for (std::size_t s = 0; s < n && do_ao; ++s) {
         if (kernel_receiver[s]) continue;
-        splats::Vec4* d = &static_directions_[s * samples];
+        Vec4* d = &static_directions_[s * samples];
         directions_of(s, d);
         for (std::uint32_t j = 0; j < samples; ++j)
           if (d[j].w != 0) ao_batch.add(ao_at[s], {d[j].x, d[j].y, d[j].z, 0.0f}, s * words * 64 + j);
@@ -190,7 +190,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
                       mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words), [](std::uint64_t w) { return w == 0; }))
         continue;
       cones_from({ao_at[s].x, ao_at[s].y, ao_at[s].z}, cones);
-      const splats::Vec4* d = &static_directions_[s * samples];
+      const Vec4* d = &static_directions_[s * samples];
       for (std::uint32_t j = 0; j < samples; ++j) {
         const std::size_t bit = s * words * 64 + j;
         if ((mask[bit / 64] >> (bit % 64) & 1) && reached(cones, {d[j].x, d[j].y, d[j].z}, d[j].w))
@@ -213,7 +213,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
         continue;
       }
       // The mask holds the kernel's answer for every direction: its row without the kernel.
-      const splats::Vec4* d = &static_directions_[s * samples];
+      const Vec4* d = &static_directions_[s * samples];
       float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
       std::uint32_t above = 0;
       for (std::uint32_t j = 0; j < samples; ++j) {
@@ -270,7 +270,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       // kernel's csm_visibility), each instance queried only where its Cone may reach and the
       // direction is still lit; then the rows from the lit directions as the AO kernel makes them.
       const std::size_t m = ao_subset.size();
-      std::vector<splats::Vec4> receiver_directions(m * samples);
+      std::vector<Vec4> receiver_directions(m * samples);
       std::vector<char> unblocked(m * samples);  // direction above the floor and lit so far
       for (std::size_t r = 0; r < m; ++r) {
         directions_of(ao_subset[r], &receiver_directions[r * samples]);
@@ -279,11 +279,11 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       for (std::size_t i = 0; i < instances.size(); ++i) {
         QueryBatch batch;
         for (std::size_t r = 0; r < m; ++r) {
-          const splats::Vec4& p = ao_at[ao_subset[r]];
+          const Vec4& p = ao_at[ao_subset[r]];
           const Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : Cone{true};
           for (std::uint32_t j = 0; j < samples; ++j) {
             const std::size_t at = r * samples + j;
-            const splats::Vec4& d = receiver_directions[at];
+            const Vec4& d = receiver_directions[at];
             if (unblocked[at] && cone.may_reach({d.x, d.y, d.z}, d.w)) batch.add(p, {d.x, d.y, d.z, 0.0f}, at);
           }
         }
@@ -292,11 +292,11 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
           if (!(visible[x] > 0.0f)) unblocked[batch.where[x]] = 0;
       }
       for (std::size_t r = 0; r < m; ++r) {
-        const splats::Vec4& nrm = normals[ao_subset[r]];
+        const Vec4& nrm = normals[ao_subset[r]];
         float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
         std::uint32_t above = 0;
         for (std::uint32_t j = 0; j < samples; ++j) {
-          const splats::Vec4& d = receiver_directions[r * samples + j];
+          const Vec4& d = receiver_directions[r * samples + j];
           above += d.w != 0;
           if (unblocked[r * samples + j]) device::csm_ao_add(sum, d.x, d.y, d.z);
         }
@@ -317,7 +317,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       std::vector<float> product(light_base.back(), 1.0f);
       std::vector<Cone> cones(m);
       const auto lift = [&](std::size_t r) {
-        const splats::Vec4& p = lifted[shadow_subset[r]];
+        const Vec4& p = lifted[shadow_subset[r]];
         return glm::vec3(p.x, p.y, p.z);
       };
       for (std::size_t i = 0; i < instances.size(); ++i) {
@@ -325,7 +325,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
         QueryBatch batch;
         for (std::size_t k = 0; k < light_points.size(); ++k)
           for (std::size_t j = 0; j < light_points[k].size(); ++j) {
-            const splats::Vec4 point{light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f};
+            const Vec4 point{light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f};
             for (std::size_t r = 0; r < m; ++r) {
               const std::size_t at = light_base[k] + j * m + r;
               const glm::vec3 w = light_points[k][j] - lift(r);

@@ -44,7 +44,7 @@ class SplatLighting {
     bool occluder = true;              // casts AO and shadows through its CSM
   };
   struct Receivers {
-    std::vector<splats::Vec4> positions, normals;  // world space, per splat
+    std::vector<Vec4> positions, normals;  // world space, per splat
     std::vector<Object> objects;                   // the objects with a CSM; other splats (a floor) belong to none
     // Per receiver its AO pattern; empty: the constructor's. Receivers that change between updates
     // (pixels) take the full update (allow_incremental false): the incremental one caches directions.
@@ -57,7 +57,7 @@ class SplatLighting {
 
   // `csms`: per object its CSM (occluder or not); `patterns` (samples per pattern, Vec4 each) and
   // `pattern_of` (per splat): the AO kernel's sample patterns.
-  SplatLighting(Runtime& runtime, std::vector<const Csm*> csms, std::vector<splats::Vec4> patterns,
+  SplatLighting(Runtime& runtime, std::vector<const Csm*> csms, std::vector<Vec4> patterns,
                 std::vector<std::uint32_t> pattern_of);
 
   // Recomputes the rows for the objects placed at `placements` (one per object, model → world).
@@ -76,7 +76,7 @@ class SplatLighting {
 
   Runtime& runtime_;
   std::vector<const Csm*> csms_;
-  std::vector<splats::Vec4> patterns_;
+  std::vector<Vec4> patterns_;
   std::vector<std::uint32_t> pattern_of_;
   std::unique_ptr<AmbientOcclusion> device_;
   std::map<std::size_t, float> slacks_;
@@ -91,7 +91,7 @@ class SplatLighting {
   std::vector<char> cached_movers_;
   std::vector<std::uint64_t> static_lit_, lit_mask_;
   std::vector<float> static_shadow_;
-  std::vector<splats::Vec4> static_directions_;  // per splat and sample: its AO direction, w = |d| (0: below the floor)
+  std::vector<Vec4> static_directions_;  // per splat and sample: its AO direction, w = |d| (0: below the floor)
 };
 
 }  // namespace splatcl::csm

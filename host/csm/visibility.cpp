@@ -174,8 +174,14 @@ void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>&
 }
 
 VisibilityQueries::VisibilityQueries(Runtime& runtime, const VisibilityScene& scene)
-    : runtime_(runtime), infos_(scene.infos), instance_count_(static_cast<cl_uint>(scene.instances.size())) {
-  instances_ = upload(runtime, scene.instances, "CSM instances", CL_MEM_READ_ONLY);
+    : runtime_(runtime),
+      infos_(scene.infos),
+      instance_count_(static_cast<cl_uint>(scene.instances.size())),
+      instances_(runtime, "CSM instances", CL_MEM_READ_ONLY),
+      receivers_(runtime, "CSM query receivers"),
+      lights_(runtime, "CSM query lights"),
+      out_(runtime, "CSM query output") {
+  instances_.assign(scene.instances);
   occluders_ = upload(runtime, scene.occluders, "CSM occluders", CL_MEM_READ_ONLY);
   cells_ = upload(runtime, scene.cells, "CSM cameras", CL_MEM_READ_ONLY);
   offsets_ = upload(runtime, scene.offsets, "CSM offsets", CL_MEM_READ_ONLY);
@@ -192,19 +198,12 @@ void VisibilityQueries::place(const std::vector<Instance>& placed) {
   // host table may go right after.
   // No instances until the new table is in place: a failed upload leaves none, not a stale count.
   instance_count_ = 0;
-  primitives::detail::ensure_bytes(runtime_, instances_, std::max<std::size_t>(1, instances.size()) * sizeof(device::CsmInstance),
-                                   "CSM instances");
-  try {
-    if (!instances.empty())
-      runtime_.queue().enqueueWriteBuffer(instances_, CL_TRUE, 0, instances.size() * sizeof(device::CsmInstance), instances.data());
-  } catch (...) {
-    rethrow_as_error("uploading CSM instances");
-  }
+  instances_.assign(instances);
   instance_count_ = static_cast<cl_uint>(instances.size());
 }
 
 void VisibilityQueries::bind_scene(cl::Kernel& kernel, cl_uint first) const {
-  kernel.setArg(first, instances_);
+  kernel.setArg(first, instances_.buffer());
   kernel.setArg(first + 1, instance_count_);
   kernel.setArg(first + 2, occluders_);
   kernel.setArg(first + 3, cells_);
@@ -215,12 +214,12 @@ void VisibilityQueries::bind_scene(cl::Kernel& kernel, cl_uint first) const {
 }
 
 cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& lights, std::size_t count, Filter filter,
-                                 float bias, cl::Buffer& out, Profiler* profiler) {
+                                 float bias, const cl::Buffer& out, Profiler* profiler) {
   if (count == 0) return {};
   if (count > UINT32_MAX) throw Error("more than 2^32 visibility queries in one batch");
-  primitives::detail::require_bytes(receivers, count * sizeof(Vec4), "CSM query receivers");
-  primitives::detail::require_bytes(lights, count * sizeof(Vec4), "CSM query lights");
-  primitives::detail::require_bytes(out, count * sizeof(float), "CSM query output");
+  require_bytes(receivers, count * sizeof(Vec4), "CSM query receivers");
+  require_bytes(lights, count * sizeof(Vec4), "CSM query lights");
+  require_bytes(out, count * sizeof(float), "CSM query output");
   // One launch per instance, multiplying into `out`; no instance: everything is lit.
   if (instance_count_ == 0) {
     cl::Event event;
@@ -234,7 +233,7 @@ cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& 
   const std::size_t local = runtime_.is_cpu() ? 1 : 0;
   cl::Event last;
   for (cl_uint k = 0; k < instance_count_; ++k) {
-    set_args(chunk_kernel_, receivers, lights, static_cast<cl_uint>(count), static_cast<cl_uint>(kQueryChunk), instances_, k,
+    set_args(chunk_kernel_, receivers, lights, static_cast<cl_uint>(count), static_cast<cl_uint>(kQueryChunk), instances_.buffer(), k,
              occluders_, cells_, offsets_, ends_, depths_, bounds_, static_cast<cl_uint>(filter), bias,
              static_cast<cl_uint>(k > 0 ? 1 : 0), out);
     last = enqueue_1d(runtime_.queue(), chunk_kernel_, items, local, profiler, "csm visibility");
@@ -245,20 +244,15 @@ cl::Event VisibilityQueries::run(const cl::Buffer& receivers, const cl::Buffer& 
 std::vector<float> VisibilityQueries::run(const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights, Filter filter,
                                           float bias, Profiler* profiler) {
   if (receivers.size() != lights.size()) throw Error("visibility queries need one light per receiver");
-  std::vector<float> out(receivers.size());
-  if (receivers.empty()) return out;
+  if (receivers.empty()) return {};
   const std::size_t n = receivers.size();
-  primitives::detail::ensure_bytes(runtime_, receivers_, n * sizeof(Vec4), "CSM query receivers");
-  primitives::detail::ensure_bytes(runtime_, lights_, n * sizeof(Vec4), "CSM query lights");
-  primitives::detail::ensure_bytes(runtime_, out_, n * sizeof(float), "CSM query output");
-  auto& queue = runtime_.queue();
   // The second write blocks (the queue is in order): both uploads are done before anything below
   // can throw and let the caller free the vectors.
-  queue.enqueueWriteBuffer(receivers_, CL_FALSE, 0, n * sizeof(Vec4), receivers.data());
-  queue.enqueueWriteBuffer(lights_, CL_TRUE, 0, n * sizeof(Vec4), lights.data());
-  run(receivers_, lights_, n, filter, bias, out_, profiler);
-  queue.enqueueReadBuffer(out_, CL_TRUE, 0, n * sizeof(float), out.data());
-  return out;
+  receivers_.assign(receivers, false);
+  lights_.assign(lights, true);
+  out_.resize(n);
+  run(receivers_.buffer(), lights_.buffer(), n, filter, bias, out_.buffer(), profiler);
+  return out_.read();
 }
 
 }  // namespace splatcl::csm

@@ -13,10 +13,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/device_vector.hpp"
 #include "csm/csm_file.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/geometry.hpp"
+#include "core/geometry.hpp"
 
 namespace splatcl::csm {
 
@@ -25,7 +26,6 @@ using uint = std::uint32_t;
 #include "../../kernels/csm_query.h"
 }  // namespace device
 
-using splats::Vec4;
 
 enum class Filter : std::uint32_t {
   None = CSM_FILTER_NONE,          // one texel of the nearest map
@@ -93,7 +93,7 @@ class VisibilityQueries {
 
   // Device buffers of `count` float4 receivers and lights → `out` (count floats).
   cl::Event run(const cl::Buffer& receivers, const cl::Buffer& lights, std::size_t count, Filter filter, float bias,
-                cl::Buffer& out, Profiler* profiler = nullptr);
+                const cl::Buffer& out, Profiler* profiler = nullptr);
   // Host vectors in and out (uploads, runs, reads back).
   std::vector<float> run(const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights, Filter filter, float bias,
                          Profiler* profiler = nullptr);
@@ -108,8 +108,10 @@ class VisibilityQueries {
   cl_uint instance_count_;
   // Chunks of consecutive queries per work-item, one launch per instance.
   cl::Kernel chunk_kernel_;
-  cl::Buffer instances_, occluders_, cells_, offsets_, ends_, depths_, bounds_;
-  cl::Buffer receivers_, lights_, out_;
+  DeviceVector<device::CsmInstance> instances_;
+  cl::Buffer occluders_, cells_, offsets_, ends_, depths_, bounds_;
+  DeviceVector<Vec4> receivers_, lights_;
+  DeviceVector<float> out_;
 };
 
 }  // namespace splatcl::csm

@@ -1,7 +1,10 @@
 #include "io/json_keys.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string_view>
+
+#include "runtime/error.hpp"
 
 namespace splatcl {
 
@@ -30,6 +33,36 @@ std::string key_list(std::initializer_list<const char*> known) {
   std::string list;
   for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
   return list;
+}
+
+void JsonFields::fail(const std::string& message) const { throw Error(prefix + message); }
+
+const nlohmann::json& JsonFields::field(const nlohmann::json& object, const char* name, const std::string& path) const {
+  if (!object.is_object()) fail(path + " must be an object");
+  const auto it = object.find(name);
+  if (it == object.end()) fail(path + " is missing '" + name + "'");
+  return *it;
+}
+
+float JsonFields::number(const nlohmann::json& value, const std::string& path) const {
+  if (!value.is_number()) fail(path + " must be a number");
+  const double v = value.get<double>();
+  if (!std::isfinite(v)) fail(path + " must be finite");
+  return static_cast<float>(v);
+}
+
+float JsonFields::number_or(const nlohmann::json& object, const char* name, float fallback, const std::string& path) const {
+  return object.contains(name) ? number(object[name], path + "." + name) : fallback;
+}
+
+Vec3 JsonFields::vec3(const nlohmann::json& value, const std::string& path) const {
+  if (!value.is_array() || value.size() != 3) fail(path + " must be an array of 3 numbers");
+  return {number(value[0], path + "[0]"), number(value[1], path + "[1]"), number(value[2], path + "[2]")};
+}
+
+void JsonFields::known_keys(const nlohmann::json& object, const std::string& path,
+                            std::initializer_list<const char*> known) const {
+  if (const auto key = unknown_key(object, known)) fail("unknown key '" + *key + "' in " + path + " (known: " + key_list(known) + ")");
 }
 
 }  // namespace splatcl

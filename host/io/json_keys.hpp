@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "math/vec3.hpp"
+
 namespace splatcl {
 
 // `text` for a one-line error message: control characters (a newline in a JSON key or value)
@@ -20,5 +22,21 @@ std::optional<std::string> unknown_key(const nlohmann::json& object, std::initia
 
 // "a, b, c": the known keys for an error message.
 std::string key_list(std::initializer_list<const char*> known);
+
+// Field access for a reader of closed JSON objects: every error is one line, `prefix` then the
+// field's path and what is wrong ("scene: camera.eye must be an array of 3 numbers").
+struct JsonFields {
+  std::string prefix;
+  [[noreturn]] void fail(const std::string& message) const;
+  // object[name]; an error when `object` (at `path`) is not an object or has no such key.
+  const nlohmann::json& field(const nlohmann::json& object, const char* name, const std::string& path) const;
+  // A finite number.
+  float number(const nlohmann::json& value, const std::string& path) const;
+  float number_or(const nlohmann::json& object, const char* name, float fallback, const std::string& path) const;
+  // An array of 3 finite numbers.
+  Vec3 vec3(const nlohmann::json& value, const std::string& path) const;
+  // Every key of `object` (at `path`) is one of `known`: a typo names itself, not a silent default.
+  void known_keys(const nlohmann::json& object, const std::string& path, std::initializer_list<const char*> known) const;
+};
 
 }  // namespace splatcl

@@ -28,17 +28,4 @@ std::size_t cpu_chunk_count(const Runtime& runtime, std::size_t n, const LaunchP
   return std::clamp<std::size_t>(n / static_cast<std::size_t>(parameters.min_chunk_items), 1, most);
 }
 
-std::size_t buffer_bytes(const cl::Buffer& buffer) { return buffer() ? buffer.getInfo<CL_MEM_SIZE>() : 0; }
-
-void ensure_bytes(Runtime& runtime, cl::Buffer& buffer, std::size_t bytes, const char* what) {
-  if (buffer_bytes(buffer) < bytes) buffer = runtime.buffer(CL_MEM_READ_WRITE, bytes, what);
-}
-
-void require_bytes(const cl::Buffer& buffer, std::size_t bytes, const char* what) {
-  const std::size_t held = buffer_bytes(buffer);
-  if (held < bytes)
-    throw Error(std::string(what) + ": buffer holds " + std::to_string(held) + " bytes, " + std::to_string(bytes) +
-                " needed");
-}
-
 }  // namespace splatcl::primitives::detail

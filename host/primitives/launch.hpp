@@ -1,10 +1,11 @@
 #pragma once
 // Shared by the primitive drivers: build options and chunk counts from the launch parameters,
-// kernel arguments and scratch buffers.
+// kernel arguments.
 #include <cstddef>
 #include <optional>
 #include <string>
 
+#include "core/device_vector.hpp"
 #include "primitives/tuning.hpp"
 #include "runtime/opencl.hpp"
 #include "runtime/profiling.hpp"
@@ -28,15 +29,6 @@ using splatcl::set_args;
 // Chunks for a CPU-shaped launch over n items: up to compute units x chunks_per_compute_unit, but
 // none smaller than min_chunk_items (a tiny chunk costs more to launch than to process). At least 1.
 std::size_t cpu_chunk_count(const Runtime& runtime, std::size_t n, const LaunchParameters& parameters);
-
-// Size of a buffer in bytes; 0 for a buffer that was never allocated.
-std::size_t buffer_bytes(const cl::Buffer& buffer);
-
-// Reallocates `buffer` (contents not kept) when it holds fewer than `bytes`.
-void ensure_bytes(Runtime& runtime, cl::Buffer& buffer, std::size_t bytes, const char* what);
-
-// Throws Error naming `what` when `buffer` holds fewer than `bytes`.
-void require_bytes(const cl::Buffer& buffer, std::size_t bytes, const char* what);
 
 // Where LSD radix pass `pass` of `passes` writes. Each pass reads what the one before wrote; the
 // last of several passes writes the caller's buffer, so no copy back is needed: even pass counts go

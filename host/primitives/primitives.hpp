@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/device_vector.hpp"
 #include "primitives/tuning.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
@@ -42,7 +43,7 @@ class Scanner {
   Shape shape_;
   LaunchParameters parameters_;
   cl::Buffer total_;
-  std::vector<cl::Buffer> partials_;  // per recursion level (GPU shape) or chunk sums (CPU shape)
+  std::vector<DeviceVector<cl_uint>> partials_;  // per recursion level (GPU shape) or chunk sums (CPU shape)
   cl::Kernel reduce_kernel_;          // CPU shape: chunk sums
   cl::Kernel scan_kernel_;            // CPU shape: chunk scans; GPU shape: block scans
   cl::Kernel add_kernel_;             // GPU shape: adds scanned block sums
@@ -70,7 +71,7 @@ class Compactor {
   Runtime& runtime_;
   Shape shape_;
   LaunchParameters parameters_;
-  cl::Buffer counts_;  // per chunk (CPU shape; the total after them) or per block (GPU shape)
+  DeviceVector<cl_uint> counts_;  // per chunk (CPU shape; the total after them) or per block (GPU shape)
   cl::Kernel count_kernel_, scatter_kernel_;
   std::optional<Scanner> block_scanner_;  // GPU shape: scans the block counts
 };
@@ -101,7 +102,8 @@ class RadixSorter {
   bool with_values_;
   Shape shape_;
   LaunchParameters parameters_;
-  cl::Buffer key_scratch_, value_scratch_, histogram_;
+  cl::Buffer key_scratch_, value_scratch_;
+  DeviceVector<cl_uint> histogram_;
   // CPU shape with an odd pass count (3 or more): a second scratch set, so that the passes can end
   // in the caller's buffers without a copy back.
   cl::Buffer key_spare_, value_spare_;

@@ -29,7 +29,8 @@ RadixSorter::RadixSorter(Runtime& runtime, KeyType key_type, bool with_values, S
       key_type_(key_type),
       with_values_(with_values),
       shape_(runtime.resolve(shape)),
-      parameters_(detail::launch_parameters(runtime, Primitive::RadixSort, shape_, parameters, key_bytes(key_type), with_values)) {
+      parameters_(detail::launch_parameters(runtime, Primitive::RadixSort, shape_, parameters, key_bytes(key_type), with_values)),
+      histogram_(runtime, "radix sort histograms") {
   const std::string options = sort_options(key_type_, with_values_, parameters_);
   if (shape_ == Shape::Cpu) {
     histogram_kernel_ = runtime_.kernel("radix_sort.cl", "radix_histogram_cpu", options);
@@ -56,8 +57,8 @@ void RadixSorter::sort(const cl::Buffer& keys, const cl::Buffer* values, std::si
                              : "radix sort: values given to a keys-only sorter");
   if (n > std::numeric_limits<cl_uint>::max())
     throw Error("radix sort: " + std::to_string(n) + " keys exceed the 2^32 - 1 supported");
-  detail::require_bytes(keys, n * key_bytes(key_type_), "radix sort keys");
-  if (values) detail::require_bytes(*values, n * sizeof(cl_uint), "radix sort values");
+  require_bytes(keys, n * key_bytes(key_type_), "radix sort keys");
+  if (values) require_bytes(*values, n * sizeof(cl_uint), "radix sort values");
   if (n <= 1 || bits == 0) return;
   try {
     if (n > capacity_) {
@@ -81,8 +82,7 @@ void RadixSorter::sort_cpu(const cl::Buffer& keys, const cl::Buffer& values, std
                            Profiler* profiler) {
   const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, parameters_);
   const auto digit_bits = static_cast<unsigned>(parameters_.digit_bits);
-  detail::ensure_bytes(runtime_, histogram_, (std::size_t{1} << digit_bits) * chunks * sizeof(cl_uint),
-                       "radix sort histograms");
+  histogram_.resize((std::size_t{1} << digit_bits) * chunks);
   const auto passes = static_cast<unsigned>(div_up(bits, digit_bits));
   const bool use_spare = passes % 2 == 1 && passes > 1;  // see detail::radix_pass_target
   if (use_spare && n > spare_capacity_) {
@@ -107,9 +107,9 @@ void RadixSorter::sort_cpu(const cl::Buffer& keys, const cl::Buffer& values, std
     const unsigned shift = pass * digit_bits;
     const auto radix = static_cast<cl_uint>(1u << std::min(digit_bits, bits - shift));
     const auto shift_arg = static_cast<cl_uint>(shift);
-    detail::set_args(histogram_kernel_, keys_in, histogram_, n_arg, chunks_arg, shift_arg, radix);
+    detail::set_args(histogram_kernel_, keys_in, histogram_.buffer(), n_arg, chunks_arg, shift_arg, radix);
     enqueue_1d(runtime_.queue(), histogram_kernel_, chunks, 1, profiler, "radix histogram");
-    detail::set_args(scatter_kernel_, keys_in, keys_out, values_in, values_out, histogram_, n_arg, chunks_arg,
+    detail::set_args(scatter_kernel_, keys_in, keys_out, values_in, values_out, histogram_.buffer(), n_arg, chunks_arg,
                      shift_arg, radix);
     enqueue_1d(runtime_.queue(), scatter_kernel_, chunks, 1, profiler, "radix scatter");
     keys_in = keys_out;
@@ -132,18 +132,18 @@ void RadixSorter::sort_gpu(const cl::Buffer& keys, const cl::Buffer& values, std
   const auto group = static_cast<std::size_t>(parameters_.group_size);
   const std::size_t blocks = div_up(n, group * static_cast<std::size_t>(parameters_.items_per_work_item));
   const std::size_t table_entries = (std::size_t{1} << kGpuDigitBits) * blocks;
-  detail::ensure_bytes(runtime_, histogram_, table_entries * sizeof(cl_uint), "radix sort histograms");
+  histogram_.resize(table_entries);
   const auto n_arg = static_cast<cl_ulong>(n);
   const auto blocks_arg = static_cast<cl_uint>(blocks);
   // Each pass sorts blocks into the scratch and scatters back, so the result ends in the caller's buffers.
   for (unsigned shift = 0; shift < bits; shift += kGpuDigitBits) {
     const auto digit_mask = static_cast<cl_uint>((1u << std::min(kGpuDigitBits, bits - shift)) - 1u);
     const auto shift_arg = static_cast<cl_uint>(shift);
-    detail::set_args(histogram_kernel_, keys, values, key_scratch_, value_scratch_, histogram_, n_arg, blocks_arg,
+    detail::set_args(histogram_kernel_, keys, values, key_scratch_, value_scratch_, histogram_.buffer(), n_arg, blocks_arg,
                      shift_arg, digit_mask);
     enqueue_1d(runtime_.queue(), histogram_kernel_, blocks * group, group, profiler, "radix block sort");
-    table_scanner_->run(histogram_, histogram_, table_entries, ScanKind::Exclusive, false, profiler);
-    detail::set_args(scatter_kernel_, key_scratch_, value_scratch_, keys, values, histogram_, n_arg, blocks_arg,
+    table_scanner_->run(histogram_.buffer(), histogram_.buffer(), table_entries, ScanKind::Exclusive, false, profiler);
+    detail::set_args(scatter_kernel_, key_scratch_, value_scratch_, keys, values, histogram_.buffer(), n_arg, blocks_arg,
                      shift_arg, digit_mask);
     enqueue_1d(runtime_.queue(), scatter_kernel_, blocks * group, group, profiler, "radix scatter");
   }

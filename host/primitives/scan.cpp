@@ -31,8 +31,8 @@ Scanner::Scanner(Runtime& runtime, Shape shape, const std::optional<LaunchParame
 
 std::uint32_t Scanner::run(const cl::Buffer& in, const cl::Buffer& out, std::size_t n, ScanKind kind, bool read_total,
                            Profiler* profiler) {
-  detail::require_bytes(in, n * sizeof(cl_uint), "scan input");
-  detail::require_bytes(out, n * sizeof(cl_uint), "scan output");
+  require_bytes(in, n * sizeof(cl_uint), "scan input");
+  require_bytes(out, n * sizeof(cl_uint), "scan output");
   try {
     auto& queue = runtime_.queue();
     if (n == 0) {
@@ -54,16 +54,16 @@ std::uint32_t Scanner::run(const cl::Buffer& in, const cl::Buffer& out, std::siz
 void Scanner::run_cpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n, ScanKind kind,
                       Profiler* profiler) {
   const std::size_t chunks = detail::cpu_chunk_count(runtime_, n, parameters_);
-  if (partials_.empty()) partials_.resize(1);
-  detail::ensure_bytes(runtime_, partials_[0], chunks * sizeof(cl_uint), "scan chunk sums");
+  if (partials_.empty()) partials_.emplace_back(runtime_, "scan chunk sums");
+  partials_[0].resize(chunks);
   const auto n_arg = static_cast<cl_ulong>(n);
   const auto chunks_arg = static_cast<cl_uint>(chunks);
   // Local size 1: each chunk is its own work-group, so PoCL spreads chunks over its threads.
   if (chunks > 1) {
-    detail::set_args(reduce_kernel_, in, partials_[0], n_arg, chunks_arg);
+    detail::set_args(reduce_kernel_, in, partials_[0].buffer(), n_arg, chunks_arg);
     enqueue_1d(runtime_.queue(), reduce_kernel_, chunks, 1, profiler, "scan chunk sums");
   }
-  detail::set_args(scan_kernel_, in, out, partials_[0], total_, n_arg, chunks_arg, inclusive_flag(kind));
+  detail::set_args(scan_kernel_, in, out, partials_[0].buffer(), total_, n_arg, chunks_arg, inclusive_flag(kind));
   enqueue_1d(runtime_.queue(), scan_kernel_, chunks, 1, profiler, "scan chunks");
 }
 
@@ -71,11 +71,11 @@ void Scanner::run_gpu(const cl::Buffer& in, const cl::Buffer& out, std::size_t n
                       Profiler* profiler) {
   const auto group = static_cast<std::size_t>(parameters_.group_size);
   const std::size_t blocks = div_up(n, group * static_cast<std::size_t>(parameters_.items_per_work_item));
-  if (partials_.size() <= level) partials_.resize(level + 1);
+  while (partials_.size() <= level) partials_.emplace_back(runtime_, "scan block sums");
   // A single block's sum is the grand total.
-  if (blocks > 1) detail::ensure_bytes(runtime_, partials_[level], blocks * sizeof(cl_uint), "scan block sums");
+  if (blocks > 1) partials_[level].resize(blocks);
   // A handle, not a reference: the recursion below may grow partials_.
-  const cl::Buffer block_sums = blocks > 1 ? partials_[level] : total_;
+  const cl::Buffer block_sums = blocks > 1 ? partials_[level].buffer() : total_;
   const auto n_arg = static_cast<cl_ulong>(n);
   detail::set_args(scan_kernel_, in, out, block_sums, n_arg, inclusive_flag(kind));
   enqueue_1d(runtime_.queue(), scan_kernel_, blocks * group, group, profiler, "scan blocks");

@@ -21,7 +21,7 @@
 
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/geometry.hpp"
+#include "core/geometry.hpp"
 #include "splats/neighbors.hpp"
 #include "splats/sampling.hpp"
 

@@ -10,7 +10,7 @@
 #include "io/binary.hpp"
 #include "math/dvec3.hpp"
 #include "runtime/error.hpp"
-#include "splats/mesh_readers.hpp"
+#include "core/mesh_readers.hpp"
 
 namespace splatcl::splats {
 namespace {
@@ -119,7 +119,7 @@ std::size_t write_gaussian_file(const std::string& path, const std::vector<Splat
 
 std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const std::string& name) {
   const std::string what = "3D Gaussian Splatting file";
-  const detail::PlyHeader header = detail::parse_ply_header(name, bytes, what.c_str());
+  const mesh_io::PlyHeader header = mesh_io::parse_ply_header(name, bytes, what.c_str());
   const auto fail = [&](const std::string& why) { return Error(fmt::format("cannot read {} {}: {}", what, name, why)); };
   const auto vertices = std::find_if(header.elements.begin(), header.elements.end(), [](const auto& e) { return e.name == "vertex"; });
   if (vertices == header.elements.end()) throw fail("no vertex element");
@@ -138,15 +138,15 @@ std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const st
   for (const auto& e : header.elements)
     if (&e != &*vertices && e.count > 0) throw fail(fmt::format("element '{}' after or beside the Gaussians is not understood", e.name));
 
-  detail::PlyBody body(header.body, header.format);
+  mesh_io::PlyBody body(header.body, header.format);
   std::vector<double> v(vertices->properties.size());
   std::vector<SplatRecord> splats;
   splats.reserve(vertices->count);
   for (std::uint64_t r = 0; r < vertices->count; ++r) {
     for (std::size_t k = 0; k < v.size(); ++k) {
       const auto result = body.next(vertices->properties[k].type, v[k]);
-      if (result == detail::PlyBody::End) throw fail(fmt::format("truncated: the file ends in Gaussian {} of {}", r + 1, vertices->count));
-      if (result == detail::PlyBody::Malformed) throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, vertices->properties[k].name));
+      if (result == mesh_io::PlyBody::End) throw fail(fmt::format("truncated: the file ends in Gaussian {} of {}", r + 1, vertices->count));
+      if (result == mesh_io::PlyBody::Malformed) throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, vertices->properties[k].name));
     }
     const auto at = [&](int i) { return v[static_cast<std::size_t>(i)]; };
     if (opacity >= 0 && 1.0 / (1.0 + std::exp(-at(opacity))) < kGaussianMinReadAlpha) continue;

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "splats/geometry.hpp"
+#include "core/geometry.hpp"
 
 namespace splatcl::splats {
 

@@ -10,7 +10,7 @@
 
 #include "runtime/runtime.hpp"
 #include "splats/fit.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 #include "splats/neighbors.hpp"
 #include "splats/sampling.hpp"
 #include "splats/selection.hpp"

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "splats/geometry.hpp"
-#include "splats/mesh.hpp"
+#include "core/geometry.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::splats {
 

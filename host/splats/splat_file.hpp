@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "splats/geometry.hpp"
+#include "core/geometry.hpp"
 
 namespace splatcl::splats {
 

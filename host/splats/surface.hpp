@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "math/dvec3.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::splats {
 

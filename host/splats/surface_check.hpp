@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 #include "splats/splat_file.hpp"
 
 namespace splatcl::splats {

@@ -48,7 +48,7 @@ TEST(CsmAoReceivers, ParsesPlacements) {
 TEST(CsmAoReceivers, SharedModelUnderTwoInstances) {
   const std::string path = model_path("spot.obj");
   if (path.empty()) GTEST_SKIP() << "spot.obj not found in " << SPLATCL_MODELS_DIR;
-  const Mesh spot = splats::load_mesh(path);
+  const Mesh spot = load_mesh(path);
   // One slab just above the cow and one beside it, rotated: the same CSM twice.
   const VisibilityScene scene({&slab()}, {{0, parse_placement("0,1.2,0")}, {0, parse_placement("1.5,0,0,0,0,90")}});
   ReceiverAoOptions options;
@@ -141,7 +141,7 @@ TEST(CsmAoReceivers, PlyNamesEachVertexsIndexInTheFile) {
     for (const Vec3& v : file_vertices) out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
     for (const auto& f : file_faces) out << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << '\n';
   }
-  const Mesh mesh = splats::load_mesh(obj);
+  const Mesh mesh = load_mesh(obj);
   std::filesystem::remove(obj);
   ASSERT_EQ(mesh.problems.complex_faces, 1u);
   ASSERT_EQ(mesh.file_vertex.size(), mesh.vertices.size());

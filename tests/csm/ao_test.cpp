@@ -84,7 +84,7 @@ void random_receivers(unsigned seed, int count, std::vector<Vec4>& positions, st
     Vec3 n{u(), u(), u()};
     if (k % 100 == 0) n = {0, -1, 0};
     if (k % 100 == 1) n = {0, 1, 0};
-    n = splats::normalized(n);
+    n = normalized(n);
     normals.push_back({n.x, n.y, n.z, 0});
   }
 }

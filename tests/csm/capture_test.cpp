@@ -57,7 +57,7 @@ TEST(CsmCapture, CubeDepthsAreAnalytic) {
   const Mesh cube = cube_mesh();
   const Sphere sphere = bounding_sphere(cube);
   EXPECT_NEAR(sphere.radius, std::sqrt(3.0f), 1e-4f);
-  EXPECT_NEAR(splats::length(sphere.centre), 0.0f, 1e-6f);
+  EXPECT_NEAR(length(sphere.centre), 0.0f, 1e-6f);
   const CaptureScene scene(cube, sphere, 8, SingleHit::SphereExit);
   // The ao grid's cell (rows/2, 0) looks along +z (θ = π/2, φ = 0).
   const SphereGrid grid(Distribution::ThesisAo, Order::LinearV, PoleAxis::Y, 32);
@@ -105,7 +105,7 @@ TEST(CsmCapture, BvhTraversalMatchesBruteForce) {
   std::uniform_real_distribution<float> u(-1.5f, 1.5f);
   for (int i = 0; i < 2000; ++i) {
     const float o[3] = {u(rng), u(rng), 3.0f};
-    const Vec3 d = splats::normalized(Vec3{u(rng) * 0.2f, u(rng) * 0.2f, -1.0f});
+    const Vec3 d = normalized(Vec3{u(rng) * 0.2f, u(rng) * 0.2f, -1.0f});
     const float dir[3] = {d.x, d.y, d.z}, inv[3] = {1 / d.x, 1 / d.y, 1 / d.z};
     float best = INFINITY;
     for (const auto& t : triangles) best = std::fmin(best, triangle_hit(t, o, dir));
@@ -119,9 +119,9 @@ TEST(CsmCapture, BvhTraversalMatchesBruteForce) {
 }
 
 TEST(CsmCapture, DegenerateMeshesAreOneClearError) {
-  const Mesh flat = splats::make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}}, "collinear");
+  const Mesh flat = make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}}, "collinear");
   EXPECT_THROW(CaptureScene(flat, bounding_sphere(flat), 8, SingleHit::SphereExit), Error);
-  const Mesh point = splats::make_mesh({{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}, {{0, 1, 2}}, "point");
+  const Mesh point = make_mesh({{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}, {{0, 1, 2}}, "point");
   EXPECT_THROW(bounding_sphere(point), Error);
 }
 

@@ -10,12 +10,12 @@
 
 #include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::csm::testing {
 
-using splats::Mesh;
-using splats::Vec3;
+using splatcl::Mesh;
+using splatcl::Vec3;
 
 inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
 
@@ -34,14 +34,14 @@ inline Mesh boxes_mesh(const std::vector<std::pair<Vec3, Vec3>>& boxes, const st
     const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
     for (const auto& q : quads) faces.push_back({base + q[0], base + q[1], base + q[2], base + q[3]});
   }
-  return splats::make_mesh(vertices, faces, name);
+  return make_mesh(vertices, faces, name);
 }
 
 inline Mesh cube_mesh() { return boxes_mesh({{{-1, -1, -1}, {1, 1, 1}}}, "cube"); }
 
 // An open square in z = 0 (every hit is single-surface).
 inline Mesh square_mesh() {
-  return splats::make_mesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2, 3}}, "square");
+  return make_mesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2, 3}}, "square");
 }
 
 // A closed UV sphere.
@@ -63,7 +63,7 @@ inline Mesh sphere_mesh(unsigned rings, unsigned segments, float r = 1.0f) {
   for (unsigned i = 1; i + 1 < rings; ++i)
     for (unsigned j = 0; j < segments; ++j) faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
   for (unsigned j = 0; j < segments; ++j) faces.push_back({south, at(rings - 1, j), at(rings - 1, j + 1)});
-  return splats::make_mesh(vertices, faces, "uv-sphere");
+  return make_mesh(vertices, faces, "uv-sphere");
 }
 
 // A small scene with occlusion in every direction: two boxes and a sphere-ish blob.

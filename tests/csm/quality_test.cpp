@@ -37,7 +37,7 @@ TEST(CsmQuality, KernelAndReferenceAgreeAndTheShadedMetricIsASubset) {
 TEST(CsmQuality, WrongPixelsOnSpotStayBounded) {
   const std::string path = model_path("spot.obj");
   if (path.empty()) GTEST_SKIP() << "spot.obj not found in " << SPLATCL_MODELS_DIR;
-  const Mesh mesh = splats::load_mesh(path);
+  const Mesh mesh = load_mesh(path);
   BuildOptions build;
   build.maps = 1024;
   build.resolution = 64;

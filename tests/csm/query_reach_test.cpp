@@ -70,11 +70,11 @@ TEST(CsmQueryReach, ConeHoldsTheDirectionsTowardsTheSphereWithinTheSlack) {
 
 TEST(CsmQueryReach, AoDirectionsLieOnTheNormalsHemisphereAndTheFloorCutsThem) {
   // Patterns are hemispheres about +y, reflected onto the normal's.
-  const std::vector<splats::Vec4> pattern = {{0, 1, 0, 0}, {0.6f, 0.8f, 0, 0}, {0, 0.8f, 0.6f, 0}, {-0.8f, 0.6f, 0, 0}};
-  const splats::Vec4 normal{1, 0, 0, 0};
-  splats::Vec4 out[4];
+  const std::vector<Vec4> pattern = {{0, 1, 0, 0}, {0.6f, 0.8f, 0, 0}, {0, 0.8f, 0.6f, 0}, {-0.8f, 0.6f, 0, 0}};
+  const Vec4 normal{1, 0, 0, 0};
+  Vec4 out[4];
   ao_directions(normal, pattern.data(), 4, false, out);
-  for (const splats::Vec4& d : out) {
+  for (const Vec4& d : out) {
     const float length = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
     EXPECT_NEAR(length, 1.0f, 1e-5f);
     EXPECT_EQ(d.w, length);
@@ -83,7 +83,7 @@ TEST(CsmQueryReach, AoDirectionsLieOnTheNormalsHemisphereAndTheFloorCutsThem) {
   EXPECT_NEAR(out[0].x, 1.0f, 1e-6f);  // the pattern's pole goes to the normal
   EXPECT_LT(out[3].y, 0.0f);           // (0.6, -0.8, 0): below the floor
   ao_directions(normal, pattern.data(), 4, true, out);
-  for (const splats::Vec4& d : out) EXPECT_EQ(d.w == 0.0f, d.y < 0.0f);
+  for (const Vec4& d : out) EXPECT_EQ(d.w == 0.0f, d.y < 0.0f);
   EXPECT_EQ(out[3].w, 0.0f);
 }
 

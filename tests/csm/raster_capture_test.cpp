@@ -57,7 +57,7 @@ Mesh random_soup(std::uint32_t triangles, std::uint32_t seed) {
       vertices.push_back(tiny ? c + Vec3{small(rng), small(rng), small(rng)} : Vec3{coord(rng), coord(rng), coord(rng)});
     faces.push_back({base, base + 1, base + 2});
   }
-  return splats::make_mesh(vertices, faces, "random soup");
+  return make_mesh(vertices, faces, "random soup");
 }
 
 void expect_kernel_matches_reference(const Mesh& mesh, std::uint32_t resolution, SingleHit rule, Distribution dist, Order order,
@@ -209,7 +209,7 @@ TEST(CsmRasterCapture, AgreesWithRayCastCapture) {
 TEST(CsmRasterCapture, AgreesWithRayCastCaptureOnTheBunny) {
   const std::string path = model_path("stanford-bunny.obj");
   if (path.empty()) GTEST_SKIP() << "stanford-bunny.obj not found";
-  const Mesh bunny = splats::load_mesh(path);
+  const Mesh bunny = load_mesh(path);
   const Agreement a = compare_methods(bunny, 64, 9, SingleHit::SphereExit);
   EXPECT_GT(a.covered, a.pixels / 10);
   EXPECT_LE(a.coverage_mismatch, a.pixels / 200);
@@ -221,7 +221,7 @@ TEST(CsmRasterCapture, MethodNamesAndDegenerateMeshes) {
   EXPECT_EQ(parse_capture_method("raycast"), CaptureMethod::Raycast);
   EXPECT_STREQ(to_string(CaptureMethod::Raster), "raster");
   EXPECT_THROW(parse_capture_method("rays"), Error);
-  EXPECT_THROW(raster_mesh(splats::make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}}, "collinear"), {0, 0, 0}), Error);
+  EXPECT_THROW(raster_mesh(make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}}, "collinear"), {0, 0, 0}), Error);
 }
 
 }  // namespace
@@ -237,7 +237,7 @@ TEST(CsmRasterCapture, DISABLED_TimeBothMethodsOnTheBunny) {
   if (path.empty()) GTEST_SKIP() << "stanford-bunny.obj not found";
   const char* env = std::getenv("SPLATCL_CAPTURE_MAPS");
   const std::uint32_t maps = env ? static_cast<std::uint32_t>(std::stoul(env)) : 256;
-  const Mesh bunny = splats::load_mesh(path);
+  const Mesh bunny = load_mesh(path);
   const CaptureScene scene(bunny, bounding_sphere(bunny), 128, SingleHit::SphereExit);
   const SphereGrid grid(Distribution::Uniform, Order::ZigzagH, PoleAxis::Y, 16384);
   Runtime& rt = testing::runtime();

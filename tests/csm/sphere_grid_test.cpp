@@ -48,8 +48,8 @@ TEST(CsmSphereGrid, NearestCellInvertsEveryCamera) {
         ASSERT_TRUE(c.a == want.a && c.b == want.b) << to_string(dist) << " pole " << to_string(pole) << " map " << i;
         // Orthonormal, right-handed basis: d × u = v.
         const Vec3 d{cam.d[0], cam.d[1], cam.d[2]}, u{cam.u[0], cam.u[1], cam.u[2]}, v{cam.v[0], cam.v[1], cam.v[2]};
-        EXPECT_NEAR(splats::dot(d, u), 0.0f, 1e-6f);
-        EXPECT_NEAR(splats::length(splats::cross(d, u) - v), 0.0f, 1e-6f);
+        EXPECT_NEAR(dot(d, u), 0.0f, 1e-6f);
+        EXPECT_NEAR(length(cross(d, u) - v), 0.0f, 1e-6f);
       }
     }
 }

@@ -43,7 +43,7 @@ float uniform(std::mt19937& rng, float lo, float hi) {
 Vec3 random_unit(std::mt19937& rng) {
   for (;;) {
     const Vec3 v{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)};
-    const float l = splats::length(v);
+    const float l = length(v);
     if (l > 0.1f && l <= 1.0f) return (1.0f / l) * v;
   }
 }
@@ -431,7 +431,7 @@ TEST(CsmVisibility, MapChoiceWalkIsIndependentOfItsStart) {
 bool ray_cast_lit(const Bvh& bvh, Vec3 origin, Vec3 p, Vec4 light) {
   const Vec3 q{light.x, light.y, light.z};
   const Vec3 w = light.w == 1 ? q - p : q;
-  const float len = splats::length(w);
+  const float len = length(w);
   const float dir[3] = {w.x / len, w.y / len, w.z / len};
   const Vec3 o = p - origin;
   const float from[3] = {o.x, o.y, o.z};
@@ -496,7 +496,7 @@ TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
     const char* value = std::getenv(name);
     return value ? static_cast<std::uint32_t>(std::stoul(value)) : fallback;
   };
-  const Csm csm = build(splats::load_mesh(path), Distribution::Uniform, Order::ZigzagH, PoleAxis::Y, env("SPLATCL_QUERY_MAPS", 1024),
+  const Csm csm = build(load_mesh(path), Distribution::Uniform, Order::ZigzagH, PoleAxis::Y, env("SPLATCL_QUERY_MAPS", 1024),
                         env("SPLATCL_QUERY_RES", 64));
   const VisibilityScene scene({&csm}, {Instance{}});
   VisibilityQueries kernel(runtime(), scene);

@@ -132,7 +132,7 @@ TEST_F(PresenterTest, AmbientOcclusionMatchesRayCastOnTheMeshes) {
   const std::vector<float> ao = presenter.read_hdr_rgb();
   const std::vector<float> view_z = presenter.read_view_z();
   const RayOcclusion rays(presenter, 0.0f);
-  const cluster::Camera& cam = scene.camera;
+  const Camera& cam = scene.camera;
   const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
   const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
   const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane);

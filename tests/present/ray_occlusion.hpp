@@ -27,14 +27,14 @@ class RayOcclusion {
     const Scene& scene = presenter.scene();
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       if (!scene.objects[i].occluder) continue;
-      const splats::Mesh& mesh = presenter.assets(i).mesh;
+      const Mesh& mesh = presenter.assets(i).mesh;
       const glm::mat4 m = scene.objects[i].placement(time);
       std::vector<glm::vec3> corners;
       for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
         for (std::uint32_t c = begin + 1; c + 1 < end; ++c)
           for (const std::uint32_t corner : {begin, c, c + 1}) {
-            const splats::Vec3 p = mesh.vertices[mesh.corners[corner]];
+            const Vec3 p = mesh.vertices[mesh.corners[corner]];
             corners.push_back(glm::vec3(m * glm::vec4(p.x, p.y, p.z, 1.0f)));
           }
       }

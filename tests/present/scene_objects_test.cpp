@@ -42,8 +42,8 @@ TEST(SceneObjects, FitScalesToTheSizeAndRestsOnTheFloorUnderTheRotation) {
     const ObjectSpec fitted = one_object_scene(torus + R"("fit": {"size": 3, "on_floor": true}, "position": [0.5, 0.25, -2], "rotation_degrees": )" +
                                                rotation + "}")
                                   .objects[0];
-    const splats::Mesh original = make_fitted_mesh(plain, ".");
-    const splats::Mesh mesh = make_fitted_mesh(fitted, ".");
+    const Mesh original = make_fitted_mesh(plain, ".");
+    const Mesh mesh = make_fitted_mesh(fitted, ".");
     ASSERT_EQ(mesh.vertices.size(), original.vertices.size());
     // A uniform scale and a shift: every difference of two vertices scales by the same factor.
     Extent model, world;
@@ -56,7 +56,7 @@ TEST(SceneObjects, FitScalesToTheSizeAndRestsOnTheFloorUnderTheRotation) {
     for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
       const glm::vec3 p(mesh.vertices[i].x, mesh.vertices[i].y, mesh.vertices[i].z);
       const glm::vec3 d = p - glm::vec3(mesh.vertices[0].x, mesh.vertices[0].y, mesh.vertices[0].z);
-      const splats::Vec3 o = original.vertices[i] - original.vertices[0];
+      const Vec3 o = original.vertices[i] - original.vertices[0];
       EXPECT_NEAR(glm::length(d - factor * glm::vec3(o.x, o.y, o.z)), 0.0f, 2e-5f) << "vertex " << i;
       model.add(p);
       world.add(glm::vec3(placement * glm::vec4(p, 1.0f)));
@@ -202,7 +202,7 @@ TEST(SceneObjects, ScansSceneRestsEachScanOnTheFloor) {
     if (object.mesh.path.empty()) continue;
     ++scans;
     SCOPED_TRACE(object.name);
-    const splats::Mesh mesh = make_fitted_mesh(object, scene.directory);
+    const Mesh mesh = make_fitted_mesh(object, scene.directory);
     Extent model, world;
     const glm::mat4 placement = object.placement(0.0f);
     for (const auto& v : mesh.vertices) {

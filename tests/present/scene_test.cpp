@@ -46,7 +46,7 @@ TEST(PresenterScene, ProceduralMeshesAndCacheKeys) {
     spec.procedural = shape;
     spec.segments = 12;
     spec.rings = 6;
-    const splats::Mesh mesh = make_object_mesh(spec, ".");
+    const Mesh mesh = make_object_mesh(spec, ".");
     EXPECT_GT(mesh.face_count(), 30u) << shape;
     // Closed: every edge is shared by exactly two faces, in opposite directions.
     std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;

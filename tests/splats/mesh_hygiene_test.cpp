@@ -1,4 +1,4 @@
-// Mesh hygiene on input: what load_mesh and make_mesh count, drop, keep and refuse (splats/mesh.hpp).
+// Mesh hygiene on input: what load_mesh and make_mesh count, drop, keep and refuse (core/mesh.hpp).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 

@@ -13,7 +13,7 @@
 
 #include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 namespace splatcl::splats::testing {
 

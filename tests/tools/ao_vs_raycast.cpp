@@ -10,7 +10,7 @@
 
 #include "csm/ao_receivers.hpp"
 #include "csm/csm_file.hpp"
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 int main(int argc, char** argv) {
   using namespace splatcl::csm;
@@ -19,10 +19,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const splatcl::splats::Mesh mesh = splatcl::splats::load_mesh(argv[1]);
+    const splatcl::Mesh mesh = splatcl::load_mesh(argv[1]);
     const Csm csm = read_csm(argv[2]);
     const ReceiverAoOptions options;
-    const std::vector<Vec4> with_csm = receiver_ambient_occlusion(mesh, VisibilityScene({&csm}, {{0, kIdentity}}), options, nullptr);
+    const std::vector<splatcl::Vec4> with_csm = receiver_ambient_occlusion(mesh, VisibilityScene({&csm}, {{0, kIdentity}}), options, nullptr);
     const std::vector<float> by_rays = raycast_ambient_occlusion(mesh, mesh, options);
     double error = 0, mean_csm = 0, mean_rays = 0;
     std::size_t off = 0;

@@ -22,13 +22,13 @@ using namespace splatcl::cli::viewer;
 // The default scene (torus, sphere, box) with its meshes, and controls on it.
 struct Fixture {
   present::Scene scene = present::default_scene();
-  std::vector<splats::Mesh> meshes;
+  std::vector<Mesh> meshes;
   std::unique_ptr<Controls> controls;
   glm::ivec2 window{640, 480};
   Fixture() {
     for (const auto& o : scene.objects) meshes.push_back(present::make_object_mesh(o.mesh, scene.directory));
     controls = std::make_unique<Controls>(scene);
-    std::vector<const splats::Mesh*> pointers;
+    std::vector<const Mesh*> pointers;
     for (const auto& m : meshes) pointers.push_back(&m);
     controls->set_meshes(pointers);
   }
@@ -42,7 +42,7 @@ struct Fixture {
   }
   // Window position of a world point under the controls' camera.
   glm::vec2 to_window(const glm::vec3& p) const {
-    const cluster::Camera c = controls->camera();
+    const Camera c = controls->camera();
     const glm::mat4 view = glm::lookAt(glm::vec3(c.eye.x, c.eye.y, c.eye.z), glm::vec3(c.target.x, c.target.y, c.target.z),
                                        glm::vec3(c.up.x, c.up.y, c.up.z));
     const glm::mat4 proj = glm::perspective(c.fov_y, float(window.x) / float(window.y), c.near_plane, c.far_plane);
@@ -50,7 +50,7 @@ struct Fixture {
     return {w.x, float(window.y) - w.y};  // window coordinates: origin top left
   }
   glm::vec3 ndc(const glm::vec3& p) const {
-    const cluster::Camera c = controls->camera();
+    const Camera c = controls->camera();
     const glm::mat4 view = glm::lookAt(glm::vec3(c.eye.x, c.eye.y, c.eye.z), glm::vec3(c.target.x, c.target.y, c.target.z),
                                        glm::vec3(c.up.x, c.up.y, c.up.z));
     const glm::mat4 proj = glm::perspective(c.fov_y, float(window.x) / float(window.y), c.near_plane, c.far_plane);
@@ -167,7 +167,7 @@ TEST(ViewerControls, FitToSceneFramesTheSceneBounds) {
 
 TEST(ViewerControls, ResetReturnsToTheScenesCameraAndObjects) {
   Fixture f;
-  const cluster::Camera start = f.scene.camera;
+  const Camera start = f.scene.camera;
   const glm::vec3 sphere = f.scene.objects[1].position;
   f.controls->apply({Event::cursor(100, 100, 0), Event::button_event(button::Left, Action::Press, 100, 100, 0),
                      Event::cursor(180, 140, 0.05), Event::scroll(0, 2, 0.06),

@@ -11,11 +11,11 @@
 
 #include <splatcl/primitives/primitives.hpp>
 #include <splatcl/runtime/runtime.hpp>
-#include <splatcl/splats/mesh.hpp>
+#include <splatcl/core/mesh.hpp>
 #include <splatcl/splats/pipeline.hpp>
 
 // Only the splatcl/ tree is visible: the sources' own include root (host/) stays inside the project.
-#if __has_include("runtime/runtime.hpp") || __has_include("splats/mesh.hpp")
+#if __has_include("runtime/runtime.hpp") || __has_include("core/mesh.hpp")
 #error "splatcl's unprefixed headers are on the consumer's include path"
 #endif
 
@@ -27,7 +27,7 @@ int fail(const char* what) {
 }
 
 // A UV sphere of radius 1 about the origin: quads between the rings, triangles at the poles.
-splatcl::splats::Mesh sphere(std::uint32_t rings, std::uint32_t segments) {
+splatcl::Mesh sphere(std::uint32_t rings, std::uint32_t segments) {
   const double pi = std::acos(-1.0);
   std::vector<splatcl::Vec3> vertices{{0, 0, 1}};
   for (std::uint32_t r = 1; r < rings; ++r) {
@@ -47,7 +47,7 @@ splatcl::splats::Mesh sphere(std::uint32_t rings, std::uint32_t segments) {
     for (std::uint32_t r = 1; r + 1 < rings; ++r) faces.push_back({ring(r, s), ring(r + 1, s), ring(r + 1, s + 1), ring(r, s + 1)});
     faces.push_back({ring(rings - 1, s), south, ring(rings - 1, s + 1)});
   }
-  return splatcl::splats::make_mesh(vertices, faces, "sphere");
+  return splatcl::make_mesh(vertices, faces, "sphere");
 }
 
 }  // namespace
@@ -66,7 +66,7 @@ int main() {
     if (keys != expected) return fail("the radix sort's output differs from std::sort's");
     std::printf("radix sort: %zu keys sorted\n", keys.size());
 
-    const splatcl::splats::Mesh mesh = sphere(24, 48);
+    const splatcl::Mesh mesh = sphere(24, 48);
     splatcl::splats::PipelineOptions options;
     options.fit.eps = 1e-2f;
     const splatcl::splats::SplatRun run = generate_splats(mesh, splatcl::splats::ColorSource{}, options, runtime.get());

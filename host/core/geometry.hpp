@@ -1,5 +1,5 @@
 #pragma once
-// Small vector types of the splat stage (Vec3 is the shared one of math/vec3.hpp). Vec4 and Rgba8
+// Small vector types shared by the stages (Vec3 is the one of math/vec3.hpp). Vec4 and Rgba8
 // match OpenCL's float4 and uchar4 layouts, so sample and splat arrays upload to the device
 // without repacking.
 #include <cmath>
@@ -7,14 +7,8 @@
 
 #include "math/vec3.hpp"
 
-namespace splatcl::splats {
+namespace splatcl {
 
-using splatcl::cross;
-using splatcl::dot;
-using splatcl::finite;
-using splatcl::length;
-using splatcl::normalized;
-using splatcl::Vec3;
 
 struct alignas(16) Vec4 {
   float x = 0, y = 0, z = 0, w = 0;
@@ -38,4 +32,4 @@ struct Box {
   float diagonal() const { return empty() ? 0.0f : length(hi - lo); }
 };
 
-}  // namespace splatcl::splats
+}  // namespace splatcl

@@ -1,5 +1,5 @@
 #pragma once
-// Polygon meshes for the splat stage: OBJ, PLY, OFF and STL files, held and cleaned by OpenMesh.
+// Polygon meshes, as every stage reads them: OBJ, PLY, OFF and STL files, held and cleaned by OpenMesh.
 // Vertices that no face uses are dropped (the Stanford bunny's scan has 1,113 of them); vertex
 // normals come from the file where it gives them, else from OpenMesh's face-normal average.
 //
@@ -30,9 +30,9 @@
 #include <string_view>
 #include <vector>
 
-#include "splats/geometry.hpp"
+#include "core/geometry.hpp"
 
-namespace splatcl::splats {
+namespace splatcl {
 
 // What loading found wrong with a mesh, by kind (all zero / false for a clean one).
 struct MeshProblems {
@@ -85,4 +85,4 @@ Mesh parse_mesh(const std::string& path, std::string_view bytes);
 Mesh make_mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<std::uint32_t>>& faces,
                const std::string& description);
 
-}  // namespace splatcl::splats
+}  // namespace splatcl

@@ -1,4 +1,4 @@
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
 // GCC reports a false -Wmaybe-uninitialized inside OpenMesh's property vectors when sanitizers are on.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -13,9 +13,9 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "runtime/error.hpp"
-#include "splats/mesh_readers.hpp"
+#include "core/mesh_readers.hpp"
 
-namespace splatcl::splats {
+namespace splatcl {
 namespace {
 
 using OmMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
@@ -42,7 +42,7 @@ struct Faces {
 
 // Drops, and counts, faces with an index out of range, a bad vertex, or fewer than 3 distinct
 // corners. A corner repeated next to itself (`f 1 2 3 3`) is merged first.
-Faces usable_faces(const detail::RawMesh& raw, MeshProblems& problems) {
+Faces usable_faces(const mesh_io::RawMesh& raw, MeshProblems& problems) {
   Faces faces;
   const bool texcoords = !raw.corner_texcoords.empty();
   const auto vertex_count = static_cast<std::int64_t>(raw.positions.size());
@@ -211,7 +211,7 @@ void update_normals(OmMesh& om) {
 
 // The checked faces into OpenMesh, then the Mesh: unused vertices dropped, normals from the file
 // where it gives them, else computed.
-Mesh assemble(const detail::RawMesh& raw, const std::string& source) {
+Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source) {
   silence_openmesh();
   MeshProblems problems = raw.problems;
   problems.faces_listed = raw.face_count();
@@ -328,17 +328,17 @@ Box Mesh::bounds() const {
 
 Mesh load_mesh(const std::string& path) {
   silence_openmesh();
-  return assemble(detail::read_mesh_file(path), path);
+  return assemble(mesh_io::read_mesh_file(path), path);
 }
 
 Mesh parse_mesh(const std::string& path, std::string_view bytes) {
   silence_openmesh();
-  return assemble(detail::parse_mesh_file(path, bytes), path);
+  return assemble(mesh_io::parse_mesh_file(path, bytes), path);
 }
 
 Mesh make_mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<std::uint32_t>>& faces,
                const std::string& description) {
-  detail::RawMesh raw;
+  mesh_io::RawMesh raw;
   raw.positions.reserve(vertices.size());
   for (const Vec3& p : vertices) {
     if (!finite(p)) ++raw.problems.non_finite_vertices;
@@ -351,4 +351,4 @@ Mesh make_mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<
   return assemble(raw, description);
 }
 
-}  // namespace splatcl::splats
+}  // namespace splatcl

@@ -1,4 +1,4 @@
-#include "splats/mesh_readers.hpp"
+#include "core/mesh_readers.hpp"
 
 #include <fmt/format.h>
 
@@ -18,7 +18,7 @@
 
 #include "runtime/error.hpp"
 
-namespace splatcl::splats::detail {
+namespace splatcl::mesh_io {
 namespace {
 
 constexpr std::int64_t kBad = -1;                                       // an unreadable or impossible index
@@ -868,4 +868,4 @@ RawMesh parse_mesh_file(const std::string& path, std::string_view text) {
   return read_stl(path, text);
 }
 
-}  // namespace splatcl::splats::detail
+}  // namespace splatcl::mesh_io

@@ -1,5 +1,5 @@
 #pragma once
-// The file readers behind load_mesh (splats/mesh.hpp): OBJ, OFF, PLY and STL parsed into a polygon
+// The file readers behind load_mesh (core/mesh.hpp): OBJ, OFF, PLY and STL parsed into a polygon
 // soup exactly as listed, so that the loader can count what is wrong instead of OpenMesh's readers
 // misreading it. Internal to mesh.cpp, the 3D Gaussian Splatting reader and their tests.
 #include <array>
@@ -9,9 +9,9 @@
 #include <string_view>
 #include <vector>
 
-#include "splats/mesh.hpp"
+#include "core/mesh.hpp"
 
-namespace splatcl::splats::detail {
+namespace splatcl::mesh_io {
 
 struct RawMesh {
   std::vector<Vec3> positions;
@@ -115,4 +115,4 @@ PlyHeader parse_ply_header(const std::string& path, std::string_view text, const
 // Values beyond double range become ±inf (or 0 when too small), as strtod gives them.
 bool parse_number(std::string_view token, double& value);
 
-}  // namespace splatcl::splats::detail
+}  // namespace splatcl::mesh_io

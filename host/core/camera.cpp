@@ -1,0 +1,59 @@
+#include "core/camera.hpp"
+
+#include <numbers>
+
+#include "runtime/error.hpp"
+
+namespace splatcl {
+namespace {
+
+nlohmann::json vec_json(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+
+}  // namespace
+
+Vec3 ViewFrame::point_to_view(Vec3 world) const {
+  const Vec3 d = world - eye;
+  return {dot(d, right), dot(d, up), dot(d, back)};
+}
+
+Vec3 ViewFrame::direction_to_world(Vec3 view) const { return right * view.x + up * view.y + back * view.z; }
+
+ViewFrame view_frame(const Camera& camera) {
+  const Vec3 forward = camera.target - camera.eye;
+  if (length(forward) == 0.0f) throw Error("camera eye and target coincide");
+  ViewFrame frame;
+  frame.eye = camera.eye;
+  frame.back = normalized(forward) * -1.0f;
+  const Vec3 right = cross(camera.up, frame.back);
+  if (!(length(right) > 1e-6f)) throw Error("camera up vector is parallel to the view direction (or zero)");
+  frame.right = normalized(right);
+  frame.up = cross(frame.back, frame.right);
+  return frame;
+}
+
+Camera camera_from_json(const nlohmann::json& json, const JsonFields& fields, const std::string& path) {
+  if (!json.is_object()) fields.fail(path + " must be an object");
+  fields.known_keys(json, path, {"eye", "target", "up", "fov_y_degrees", "near", "far"});
+  Camera c;
+  c.eye = fields.vec3(fields.field(json, "eye", path), path + ".eye");
+  c.target = fields.vec3(fields.field(json, "target", path), path + ".target");
+  if (json.contains("up")) c.up = fields.vec3(json["up"], path + ".up");
+  c.fov_y = fields.number_or(json, "fov_y_degrees", 60.0f, path) * std::numbers::pi_v<float> / 180.0f;
+  c.near_plane = fields.number_or(json, "near", c.near_plane, path);
+  c.far_plane = fields.number_or(json, "far", c.far_plane, path);
+  if (!(c.fov_y > 0 && c.fov_y < std::numbers::pi_v<float>)) fields.fail(path + ".fov_y_degrees must be in (0, 180)");
+  if (!(c.near_plane > 0 && c.far_plane > c.near_plane)) fields.fail(path + " needs 0 < near < far");
+  view_frame(c);
+  return c;
+}
+
+nlohmann::json camera_to_json(const Camera& c) {
+  return {{"eye", vec_json(c.eye)},
+          {"target", vec_json(c.target)},
+          {"up", vec_json(c.up)},
+          {"fov_y_degrees", c.fov_y * 180.0f / std::numbers::pi_v<float>},
+          {"near", c.near_plane},
+          {"far", c.far_plane}};
+}
+
+}  // namespace splatcl
