@@ -1,13 +1,18 @@
 // Clustered shading: cluster keys, the three compaction variants, cluster bounds.
-// Build options: TILE_W, TILE_H (tile size), NORMAL_BITS (0 or 6), MAX_SORT_TILE_PIXELS,
-// MAX_BITMASK_LOW_BITS (limits of the per-tile variants), and for the GPU-shaped tile sort SORT_N
-// (power of two ≥ TILE_W·TILE_H) and SORT_GROUP (its work-group size).
+// Build options: TILE_W, TILE_H (tile size), NORMAL_BITS (0 or 6), BACKGROUND (the key of a pixel
+// with no geometry, also its cluster index), MAX_SORT_TILE_PIXELS, MAX_BITMASK_LOW_BITS (limits of
+// the per-tile variants), and for the GPU-shaped tile sort SORT_N (power of two ≥ TILE_W·TILE_H)
+// and SORT_GROUP (its work-group size).
 // Per-pixel buffers are row-major with row 0 at the bottom (OpenGL window coordinates).
-// Host mirror of the arithmetic: host/cluster/layout.cpp (same operations, same order).
+// Distances, normal cells and cluster boxes: cluster_layout.h, shared with the native reference
+// (host/cluster/layout.cpp).
 #pragma OPENCL FP_CONTRACT OFF
 #include "common.h"
+#include "cluster_layout.h"
 
-#define BACKGROUND 0xFFFFFFFFu
+#ifndef BACKGROUND
+#error "BACKGROUND must be given as a build option"
+#endif
 #define TILE_PIXELS (TILE_W * TILE_H)
 
 // ---- keys
@@ -26,18 +31,6 @@ inline float fast_ln(float x) {
   return s * (2.0f + s2 * (0.666666667f + s2 * (0.4f + s2 * 0.285714286f))) + (float)e * 0.693147181f;
 }
 
-// View distance of a depth sample, or −1 for background (see DepthFormat in layout.hpp).
-inline float view_distance(float view_z, float near_plane, float far_plane) {
-  const float distance = -view_z;
-  return (distance >= near_plane && distance <= far_plane) ? distance : -1.0f;
-}
-
-inline float window_distance(float depth, float near_plane, float far_plane, float near_times_far,
-                             float far_minus_near) {
-  const float distance = clamp(near_times_far / (far_plane - depth * far_minus_near), near_plane, far_plane);
-  return (depth >= 0.0f && depth < 1.0f) ? distance : -1.0f;
-}
-
 // k = floor(ln(d/near)/ln q), exactly as the largest k < S_z with d_k ≤ d in the boundary table
 // d_k = near·q^k. fast_ln is within 0.2 slices for every layout ClusterLayout::make accepts, so
 // the guess lowered by half a slice is k or k − 1, and one table lookup settles it.
@@ -49,22 +42,6 @@ inline uint slice_of_distance(float distance, __global const float* boundaries, 
   return (uint)min(k + (int)(distance >= boundaries[k + 1]), slices - 1);
 }
 
-// Cube-map cell 0..53: face = 2·axis + (major < 0), 3×3 cells of the two other components / |major|.
-inline uint normal_cell(float3 n) {
-  const float ax = fabs(n.x), ay = fabs(n.y), az = fabs(n.z);
-  const int x_major = ax >= ay && ax >= az;
-  const int y_major = !x_major && ay >= az;
-  const uint axis = x_major ? 0u : (y_major ? 1u : 2u);
-  const float major = x_major ? n.x : (y_major ? n.y : n.z);
-  const float u = x_major ? n.y : n.x;
-  const float v = x_major || y_major ? n.z : n.y;
-  const float m = fabs(major);
-  const uint face = 2u * axis + (major < 0.0f ? 1u : 0u);
-  const uint cell_u = (3.0f * u >= -m ? 1u : 0u) + (3.0f * u >= m ? 1u : 0u);
-  const uint cell_v = (3.0f * v >= -m ? 1u : 0u) + (3.0f * v >= m ? 1u : 0u);
-  return face * 9u + cell_v * 3u + cell_u;
-}
-
 inline uint pixel_key(float distance, uint x, uint y, size_t p, __global const float* normals,
                       __global const float* boundaries, uint tiles_x, uint low_bits, int slices, float near_plane,
                       float ln_near, float inv_ln_q) {
@@ -72,7 +49,8 @@ inline uint pixel_key(float distance, uint x, uint y, size_t p, __global const f
   const uint slice = slice_of_distance(fmax(distance, near_plane), boundaries, slices, ln_near, inv_ln_q);
   uint key = (tile << low_bits) | (slice << NORMAL_BITS);
 #if NORMAL_BITS > 0
-  key |= normal_cell(vload3(p, normals));
+  const float3 normal = vload3(p, normals);
+  key |= cluster_normal_cell(normal.x, normal.y, normal.z);
 #endif
   return distance < 0.0f ? BACKGROUND : key;
 }
@@ -86,7 +64,7 @@ __kernel void cluster_keys_view(__global const float* view_z, __global const flo
   const uint x = get_global_id(0), y = get_global_id(1);
   if (x >= width || y >= height) return;
   const size_t p = (size_t)y * width + x;
-  const float distance = view_distance(view_z[p], near_plane, far_plane);
+  const float distance = cluster_view_distance(view_z[p], near_plane, far_plane);
   keys[p] = pixel_key(distance, x, y, p, normals, boundaries, tiles_x, low_bits, slices, near_plane, ln_near, inv_ln_q);
 }
 
@@ -97,7 +75,7 @@ __kernel void cluster_keys_window(__global const float* depth, __global const fl
   const uint x = get_global_id(0), y = get_global_id(1);
   if (x >= width || y >= height) return;
   const size_t p = (size_t)y * width + x;
-  const float distance = window_distance(depth[p], near_plane, far_plane, near_times_far, far_minus_near);
+  const float distance = cluster_window_distance(depth[p], near_plane, far_plane, near_times_far, far_minus_near);
   keys[p] = pixel_key(distance, x, y, p, normals, boundaries, tiles_x, low_bits, slices, near_plane, ln_near, inv_ln_q);
 }
 
@@ -532,22 +510,13 @@ __kernel void cluster_tile_mask_write(__global const uint* restrict keys, __glob
 __kernel void cluster_bounds(__global const uint* unique_keys, __global const float* boundaries,
                              __global float4* bounds, uint clusters, uint width, uint height, uint tiles_x,
                              uint low_bits, uint slice_mask, float two_over_width, float two_over_height,
-                             float tan_half_x,
-                             float tan_half_y, float padding_scale) {
+                             float tan_half_x, float tan_half_y, float padding_scale) {
   const uint c = get_global_id(0);
   if (c >= clusters) return;
-  const uint key = unique_keys[c];
-  const uint tile = key >> low_bits;
-  const uint slice = (key >> NORMAL_BITS) & slice_mask;
-  const uint i = tile % tiles_x, j = tile / tiles_x;
-  const float near_d = boundaries[slice], far_d = boundaries[slice + 1];
-  const float x0 = (float)(i * TILE_W) * two_over_width - 1.0f;
-  const float x1 = (float)min((i + 1u) * TILE_W, width) * two_over_width - 1.0f;
-  const float y0 = (float)(j * TILE_H) * two_over_height - 1.0f;
-  const float y1 = (float)min((j + 1u) * TILE_H, height) * two_over_height - 1.0f;
-  const float pad = far_d * padding_scale;
-  bounds[2 * (size_t)c] = (float4)(fmin(x0 * near_d, x0 * far_d) * tan_half_x - pad,
-                                   fmin(y0 * near_d, y0 * far_d) * tan_half_y - pad, -far_d - pad, 0.0f);
-  bounds[2 * (size_t)c + 1] = (float4)(fmax(x1 * near_d, x1 * far_d) * tan_half_x + pad,
-                                       fmax(y1 * near_d, y1 * far_d) * tan_half_y + pad, -near_d + pad, 0.0f);
+  const ClusterGrid grid = {width, height, TILE_W, TILE_H, tiles_x, low_bits, NORMAL_BITS, slice_mask,
+                            two_over_width, two_over_height, tan_half_x, tan_half_y, padding_scale};
+  float lo[3], hi[3];
+  cluster_key_box(grid, unique_keys[c], boundaries, lo, hi);
+  bounds[2 * (size_t)c] = (float4)(lo[0], lo[1], lo[2], 0.0f);
+  bounds[2 * (size_t)c + 1] = (float4)(hi[0], hi[1], hi[2], 0.0f);
 }

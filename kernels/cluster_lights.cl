@@ -1,6 +1,7 @@
 // Light assignment to cluster boxes: brute force, and a light hierarchy (a BVH over the lights
 // sorted by Morton code, fanout 8, built bottom-up one level per launch).
-// Build options: BVH_MAX_LEVELS, BVH_STACK, RANK_SORT_MAX.
+// Build options: LANES (lights per block and children per node: 8, the float8 of the code below),
+// BVH_MAX_LEVELS, BVH_STACK, RANK_SORT_MAX.
 //
 // Work is explicitly 8 or 16 wide (vector types), because PoCL does not vectorize loops inside a
 // work-item:
@@ -9,12 +10,15 @@
 // - a BVH node stores the boxes of its 8 children SoA (min x, y, z, max x, y, z: six float8);
 //   leaves are the 8-light blocks of the sorted lights, so they need no storage of their own.
 // Cluster boxes are float4 pairs (min, max). Light lists hold original light indices, ascending.
-// Host mirror of the sphere test: light_touches_box in host/cluster/layout.cpp (same operations,
-// same order).
+// The sphere–box test is cluster_layout.h's, shared with the native reference
+// (host/cluster/layout.cpp).
 #pragma OPENCL FP_CONTRACT OFF
 #include "common.h"
+#include "cluster_layout.h"
 
-#define LANES 8
+#if LANES != 8
+#error "LANES must be given as a build option, and be 8: the light blocks and nodes are float8"
+#endif
 #define NODE_FLOATS (6 * LANES)
 
 // Bit i set where lane i of the comparison mask is true.
@@ -27,18 +31,16 @@ inline uint lane_bits(int8 mask) {
 
 inline uint lowest_bit(uint bits) { return 31u - clz(bits & (0u - bits)); }
 
-// Sphere–box overlap of the 8 lights of block `block`: squared distance from each centre to the
-// box ≤ radius².
+DEFINE_CLUSTER_SPHERE_TOUCHES_BOX(spheres_touch_box8, float8, int8)
+
+// Sphere–box overlap of the 8 lights of block `block`.
 inline uint touching_lights(float4 lo, float4 hi, __global const float* restrict lights, uint stride, uint block) {
   const size_t i = (size_t)block * LANES;
   const float8 x = vload8(0, lights + i);
   const float8 y = vload8(0, lights + stride + i);
   const float8 z = vload8(0, lights + 2 * (size_t)stride + i);
   const float8 r = vload8(0, lights + 3 * (size_t)stride + i);
-  const float8 dx = fmax(fmax(lo.x - x, x - hi.x), 0.0f);
-  const float8 dy = fmax(fmax(lo.y - y, y - hi.y), 0.0f);
-  const float8 dz = fmax(fmax(lo.z - z, z - hi.z), 0.0f);
-  return lane_bits(dx * dx + dy * dy + dz * dz <= r * r);
+  return lane_bits(spheres_touch_box8(lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, x, y, z, r));
 }
 
 // ---- brute force: one work-item per cluster, every 8-light block; count, then (after a scan) fill.

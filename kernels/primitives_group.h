@@ -7,17 +7,17 @@
 #error "GROUP_SIZE must be given as a build option"
 #endif
 
-// Raking scan layout: GROUP_SCAN_RAKES work-items each scan GROUP_SCAN_SEGMENT consecutive values.
-// Segments are padded by one entry so that the rakes' strided accesses fall in distinct local
-// memory banks on GPUs.
-#define GROUP_SCAN_RAKES 16
+#include "primitives_layout.h"
+
+// Raking scan layout (primitives_layout.h): GROUP_SCAN_RAKES work-items each scan
+// GROUP_SCAN_SEGMENT consecutive values of the padded scratch.
 #define GROUP_SCAN_SEGMENT (GROUP_SIZE / GROUP_SCAN_RAKES)
 #if GROUP_SCAN_SEGMENT * GROUP_SCAN_RAKES != GROUP_SIZE
 #error "GROUP_SIZE must be a multiple of GROUP_SCAN_RAKES"
 #endif
-#define GROUP_SCAN_PADDED(i) ((i) + (i) / GROUP_SCAN_SEGMENT)
-// Local elements the caller provides for a group scan: padded values, rake sums, the total.
-#define GROUP_SCAN_SCRATCH (GROUP_SCAN_PADDED(GROUP_SIZE) + GROUP_SCAN_RAKES + 1)
+#define GROUP_SCAN_PADDED(i) GROUP_SCAN_PADDED_IN(GROUP_SIZE, i)
+// Local elements the caller provides for a group scan.
+#define GROUP_SCAN_SCRATCH GROUP_SCAN_SCRATCH_IN(GROUP_SIZE)
 
 // Defines T NAME(T value, __local T* scratch, T* total): the exclusive prefix sum of `value` over
 // the work-group, and the group's sum in *total. A raking scan: 4 barriers instead of the

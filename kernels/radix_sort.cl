@@ -116,22 +116,23 @@ __kernel void radix_scatter_cpu(__global const KEY_T* keys_in, __global KEY_T* k
 // its digit counts go to the table, and once the table is scanned every key goes to its digit's
 // table offset plus its rank among the block's keys of that digit.
 
-#define GPU_DIGIT_BITS 4
-#define GPU_RADIX (1 << GPU_DIGIT_BITS)
+// GPU_DIGIT_BITS, GPU_RADIX and SPLIT_FIELD_BITS: primitives_layout.h (the host sizes the digit
+// tables and limits the block from them).
 #ifndef GPU_ITEM_KEYS
 #error "GPU_ITEM_KEYS must be given as a build option"
 #endif
 #define GPU_BLOCK (GROUP_SIZE * GPU_ITEM_KEYS)
 #define SPLIT_BITS 2
 #define SPLIT_WAYS (1 << SPLIT_BITS)
-#define SPLIT_FIELD_BITS 16
 #if GPU_BLOCK >= (1 << SPLIT_FIELD_BITS)
 #error "a block's per-way counts must fit the packed 16-bit fields"
 #endif
 
 inline uint split_way(uint digit, uint bit) { return (digit >> bit) & (SPLIT_WAYS - 1u); }
 inline ulong split_one(uint way) { return 1ul << (SPLIT_FIELD_BITS * way); }
-inline uint split_field(ulong packed, uint way) { return (uint)(packed >> (SPLIT_FIELD_BITS * way)) & 0xFFFFu; }
+inline uint split_field(ulong packed, uint way) {
+  return (uint)(packed >> (SPLIT_FIELD_BITS * way)) & ((1u << SPLIT_FIELD_BITS) - 1u);
+}
 
 // Sorts each block by the digit (key >> shift) & digit_mask into sorted_keys/values and writes its
 // digit counts to table[d * blocks + block]. Positions past n carry the largest digit and come

@@ -34,6 +34,10 @@ constexpr std::size_t kListSlotMax = 256;
 constexpr std::size_t kRankSortMax = 64;
 constexpr std::size_t kListScratchEntries = std::size_t{16} << 20;
 
+// The kernels write their background key (the BACKGROUND build option) as the cluster index of a
+// background pixel too.
+static_assert(kNoCluster == kBackgroundKey, "a background pixel's key and cluster index are one value");
+
 cl_uint to_uint(std::size_t value) { return static_cast<cl_uint>(value); }
 
 // Bytes of one float4 pair (min, max) per cluster.
@@ -56,6 +60,7 @@ std::string cluster_build_options(const Runtime& runtime, const ClusterLayout& l
   const ClusterConfig& c = layout.config;
   std::string options = "-DTILE_W=" + std::to_string(c.tile_width) + " -DTILE_H=" + std::to_string(c.tile_height) +
                         " -DNORMAL_BITS=" + std::to_string(layout.normal_bits) +
+                        " -DBACKGROUND=" + std::to_string(kBackgroundKey) + "u" +
                         " -DMAX_BITMASK_LOW_BITS=" + std::to_string(kMaxBitmaskLowBits) +
                         " -DMAX_SORT_TILE_PIXELS=" + std::to_string(kMaxSortTilePixels);
   const std::uint32_t tile_pixels = c.tile_width * c.tile_height;
@@ -117,7 +122,8 @@ ClusterPipeline::ClusterPipeline(Runtime& runtime, const ClusterConfig& config, 
   const std::uint32_t tile_pixels = config.tile_width * config.tile_height;
   tile_sort_group_ = shape_ == Shape::Gpu ? tile_sort_group(runtime.info(), tile_pixels) : 1;
   const std::string options = cluster_build_options(runtime, layout_, shape_, tile_sort_group_);
-  const std::string light_options = "-DBVH_MAX_LEVELS=" + std::to_string(kBvhMaxLevels) +
+  const std::string light_options = "-DLANES=" + std::to_string(kBvhFanout) +
+                                    " -DBVH_MAX_LEVELS=" + std::to_string(kBvhMaxLevels) +
                                     " -DBVH_STACK=" + std::to_string(kBvhStack) +
                                     " -DRANK_SORT_MAX=" + std::to_string(kRankSortMax);
   keys_view_kernel_ = runtime.kernel(kClusterKernels, "cluster_keys_view", options);

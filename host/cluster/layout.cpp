@@ -9,6 +9,15 @@
 #include "runtime/error.hpp"
 
 namespace splatcl::cluster {
+
+// The distances, the normal cell, the cluster box and the sphere–box test: one source with the
+// kernels.
+namespace device {
+using uint = std::uint32_t;
+#include "../../kernels/cluster_layout.h"
+DEFINE_CLUSTER_SPHERE_TOUCHES_BOX(sphere_touches_box, float, bool)
+}  // namespace device
+
 namespace {
 
 // Thinner slices than this would put the key kernel's fast first guess of the slice more than
@@ -88,14 +97,12 @@ ClusterLayout::KeyFields ClusterLayout::unpack(std::uint32_t key) const {
 }
 
 std::optional<float> pixel_distance(const ClusterLayout& layout, float depth, DepthFormat format) {
-  const float near_plane = layout.config.near_plane, far_plane = layout.config.far_plane;
-  if (format == DepthFormat::Window) {
-    if (!(depth >= 0.0f && depth < 1.0f)) return std::nullopt;
-    const float distance = layout.near_times_far / (far_plane - depth * layout.far_minus_near);
-    return std::clamp(distance, near_plane, far_plane);
-  }
-  const float distance = -depth;
-  if (!(distance >= near_plane && distance <= far_plane)) return std::nullopt;
+  const ClusterConfig& c = layout.config;
+  const float distance = format == DepthFormat::Window
+                             ? device::cluster_window_distance(depth, c.near_plane, c.far_plane,
+                                                               layout.near_times_far, layout.far_minus_near)
+                             : device::cluster_view_distance(depth, c.near_plane, c.far_plane);
+  if (distance < 0.0f) return std::nullopt;  // a valid distance is at least near > 0
   return distance;
 }
 
@@ -105,28 +112,10 @@ std::uint32_t slice_of_distance(const ClusterLayout& layout, float distance) {
   return static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(after - first - 1, 0));
 }
 
-std::uint32_t normal_cell(Vec3 normal) {
-  const float ax = std::fabs(normal.x), ay = std::fabs(normal.y), az = std::fabs(normal.z);
-  std::uint32_t axis;
-  float major, u, v;
-  if (ax >= ay && ax >= az) {
-    axis = 0, major = normal.x, u = normal.y, v = normal.z;
-  } else if (ay >= az) {
-    axis = 1, major = normal.y, u = normal.x, v = normal.z;
-  } else {
-    axis = 2, major = normal.z, u = normal.x, v = normal.y;
-  }
-  const float m = std::fabs(major);
-  const std::uint32_t face = 2 * axis + (major < 0.0f ? 1u : 0u);
-  const std::uint32_t cell_u = (3.0f * u >= -m ? 1u : 0u) + (3.0f * u >= m ? 1u : 0u);
-  const std::uint32_t cell_v = (3.0f * v >= -m ? 1u : 0u) + (3.0f * v >= m ? 1u : 0u);
-  return face * 9 + cell_v * 3 + cell_u;
-}
+std::uint32_t normal_cell(Vec3 normal) { return device::cluster_normal_cell(normal.x, normal.y, normal.z); }
 
 float view_z_from_window_depth(float depth, float near_plane, float far_plane) {
-  const float near_times_far = near_plane * far_plane;
-  const float far_minus_near = far_plane - near_plane;
-  return -(near_times_far / (far_plane - depth * far_minus_near));
+  return -device::cluster_window_to_distance(depth, far_plane, near_plane * far_plane, far_plane - near_plane);
 }
 
 float window_depth_from_view_z(float view_z, float near_plane, float far_plane) {
@@ -141,35 +130,19 @@ Vec3 pixel_view_position(const ClusterLayout& layout, std::uint32_t x, std::uint
 }
 
 ClusterBox cluster_box(const ClusterLayout& layout, std::uint32_t key) {
-  // Same operations in the same order as cluster_bounds in kernels/cluster.cl.
-  const auto fields = layout.unpack(key);
   const ClusterConfig& c = layout.config;
-  const float near_d = layout.slice_boundaries[fields.slice];
-  const float far_d = layout.slice_boundaries[fields.slice + 1];
-  const float x0 = static_cast<float>(fields.tile_x * c.tile_width) * layout.two_over_width - 1.0f;
-  const float x1 =
-      static_cast<float>(std::min((fields.tile_x + 1) * c.tile_width, c.width)) * layout.two_over_width - 1.0f;
-  const float y0 = static_cast<float>(fields.tile_y * c.tile_height) * layout.two_over_height - 1.0f;
-  const float y1 =
-      static_cast<float>(std::min((fields.tile_y + 1) * c.tile_height, c.height)) * layout.two_over_height - 1.0f;
-  const float pad = far_d * layout.padding_scale;
-  ClusterBox box;
-  box.min.x = std::min(x0 * near_d, x0 * far_d) * layout.tan_half_x - pad;
-  box.max.x = std::max(x1 * near_d, x1 * far_d) * layout.tan_half_x + pad;
-  box.min.y = std::min(y0 * near_d, y0 * far_d) * layout.tan_half_y - pad;
-  box.max.y = std::max(y1 * near_d, y1 * far_d) * layout.tan_half_y + pad;
-  box.min.z = -far_d - pad;
-  box.max.z = -near_d + pad;
-  return box;
+  const device::ClusterGrid grid = {c.width, c.height, c.tile_width, c.tile_height, layout.tiles_x, layout.low_bits(),
+                                    layout.normal_bits, (1u << layout.slice_bits) - 1u, layout.two_over_width,
+                                    layout.two_over_height, layout.tan_half_x, layout.tan_half_y,
+                                    layout.padding_scale};
+  float lo[3], hi[3];
+  device::cluster_key_box(grid, key, layout.slice_boundaries.data(), lo, hi);
+  return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
 }
 
 bool light_touches_box(const PointLight& light, const ClusterBox& box) {
-  // Same operations in the same order as light_touches in kernels/cluster_lights.cl.
-  const auto gap = [](float lo, float hi, float c) { return std::max(0.0f, std::max(lo - c, c - hi)); };
-  const float dx = gap(box.min.x, box.max.x, light.center.x);
-  const float dy = gap(box.min.y, box.max.y, light.center.y);
-  const float dz = gap(box.min.z, box.max.z, light.center.z);
-  return dx * dx + dy * dy + dz * dz <= light.radius * light.radius;
+  return device::sphere_touches_box(box.min.x, box.min.y, box.min.z, box.max.x, box.max.y, box.max.z,
+                                    light.center.x, light.center.y, light.center.z, light.radius);
 }
 
 ClusterConfig cluster_config(const Camera& camera, std::uint32_t width, std::uint32_t height, std::uint32_t tile_width,

@@ -1,6 +1,7 @@
 #pragma once
 // Cluster grid of one frame (tiles × exponential depth slices × optional normal cells), the key
-// packing, and the per-pixel arithmetic shared by the kernels, the native reference and the tests.
+// packing, and the per-pixel arithmetic shared by the kernels, the native reference and the tests
+// (what kernels and reference compute bit for bit alike is written once, in kernels/cluster_layout.h).
 // Conventions: row 0 of every per-pixel buffer is the BOTTOM row (OpenGL window coordinates);
 // view space looks down −z; distances d = −z_view are positive.
 #include <cstddef>

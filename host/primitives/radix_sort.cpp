@@ -10,8 +10,10 @@
 namespace splatcl::primitives {
 namespace {
 
-// Must match GPU_DIGIT_BITS in kernels/radix_sort.cl.
-constexpr unsigned kGpuDigitBits = 4;
+#include "../../kernels/primitives_layout.h"
+
+// The GPU kernels' digit width, one source with them.
+constexpr unsigned kGpuDigitBits = GPU_DIGIT_BITS;
 
 std::size_t key_bytes(KeyType key_type) { return key_type == KeyType::U64 ? sizeof(cl_ulong) : sizeof(cl_uint); }
 

@@ -29,10 +29,10 @@ unsigned thread_count(unsigned requested, std::size_t n) {
   return static_cast<unsigned>(std::clamp<std::size_t>(n / kMinChunk, 1, wanted));
 }
 
-// First index of chunk c when n items are split into `chunks` nearly equal parts (as kernels/common.h).
-std::size_t chunk_begin(std::size_t n, std::size_t chunks, std::size_t c) {
-  return n / chunks * c + std::min(c, n % chunks);
-}
+// chunk_begin(n, chunks, c): first index of chunk c when n items are split into `chunks` nearly
+// equal parts, one source with the kernels.
+using std::size_t;
+#include "../../kernels/common.h"
 
 // Runs body(thread_index) on `threads` threads, the caller's being index 0, and joins them.
 template <class Body>

@@ -7,11 +7,13 @@
 namespace splatcl::primitives {
 namespace {
 
-// GROUP_SCAN_RAKES in kernels/primitives_group.h: the group scan's rakes divide the group.
-constexpr std::int64_t kScanRakes = 16;
-// GPU_RADIX and SPLIT_FIELD_BITS in kernels/radix_sort.cl: 4-bit digits, per-way counts in 16-bit fields.
-constexpr std::int64_t kGpuRadix = 16;
-constexpr std::int64_t kMaxGpuSortBlock = (std::int64_t{1} << 16) - 1;
+#include "../../kernels/primitives_layout.h"
+
+// The GPU kernels' layout, one source with them: the group scan's rakes divide the group; the radix
+// sort's digit tables have GPU_RADIX entries per block, its per-way counts SPLIT_FIELD_BITS bits.
+constexpr std::int64_t kScanRakes = GROUP_SCAN_RAKES;
+constexpr std::int64_t kGpuRadix = GPU_RADIX;
+constexpr std::int64_t kMaxGpuSortBlock = (std::int64_t{1} << SPLIT_FIELD_BITS) - 1;
 // The CPU radix scatter stages 16 keys and values per digit in private memory: 2^digit_bits x 192 B
 // for 64-bit keys with values, 192 KiB at 10 bits.
 constexpr std::int64_t kMaxCpuDigitBits = 10;
@@ -27,9 +29,9 @@ std::int64_t* field(LaunchParameters& p, const std::string& name) {
   return nullptr;
 }
 
-// GROUP_SCAN_SCRATCH of kernels/primitives_group.h, in elements.
+// The group scan's local scratch, in elements.
 std::size_t group_scan_scratch(std::int64_t group_size) {
-  return static_cast<std::size_t>(group_size + group_size / (group_size / kScanRakes) + kScanRakes + 1);
+  return static_cast<std::size_t>(GROUP_SCAN_SCRATCH_IN(group_size));
 }
 
 [[noreturn]] void refuse(Primitive primitive, const std::string& name, std::int64_t value, const std::string& limit) {
@@ -118,7 +120,7 @@ void validate(const LaunchParameters& p, Primitive primitive, Shape shape, const
   if (primitive == Primitive::RadixSort && group * p.items_per_work_item > kMaxGpuSortBlock)
     refuse(primitive, "items_per_work_item", p.items_per_work_item,
            "makes blocks of " + std::to_string(group * p.items_per_work_item) + " keys (at most " + std::to_string(kMaxGpuSortBlock) +
-               ": 16-bit per-way counts)");
+               ": " + std::to_string(SPLIT_FIELD_BITS) + "-bit per-way counts)");
   const std::size_t local = gpu_local_bytes(p, primitive, key_bytes, with_values);
   if (local > device.local_mem_bytes)
     refuse(primitive, "group_size", group,
