@@ -425,6 +425,214 @@ CSM_INLINE float csm_instance_visibility_cached(const CsmScene* scene, uint k, f
   return cache->g < limit ? 0.0f : 1.0f;
 }
 
+// Lanes: the ambient occlusion below runs CSM_AO_LANES receivers side by side in the OpenCL kernel
+// (csm_vfloat = floatN, one receiver per component: PoCL vectorises a work-group only across
+// work-items whose body has no inner loop, and the per-receiver walk, segment search and direction
+// loop are such loops, so the lanes are explicit) and one receiver in the C++ reference, where
+// csm_vfloat is float. Each lane executes the scalar query's float operations in the same order;
+// branches become selects (both sides computed, one kept) and loops run while any lane still
+// steps, a lane that stopped holding its value. Masks: comparisons, combined with & | !
+// (−1/0 per component in OpenCL C, 1/0 in C++).
+#ifdef __OPENCL_C_VERSION__
+#ifndef CSM_AO_LANES
+#define CSM_AO_LANES 8
+#endif
+#define CSM_VJOIN_(a, b) a##b
+#define CSM_VJOIN(a, b) CSM_VJOIN_(a, b)
+typedef CSM_VJOIN(float, CSM_AO_LANES) csm_vfloat;
+typedef CSM_VJOIN(int, CSM_AO_LANES) csm_vint;
+typedef CSM_VJOIN(uint, CSM_AO_LANES) csm_vuint;
+#define csm_vsel(c, t, f) select((f), (t), (c))
+#define csm_vany(m) any(m)
+#define csm_vto_int(v) CSM_VJOIN(convert_int, CSM_AO_LANES)(v)
+#define csm_vto_uint(v) CSM_VJOIN(convert_uint, CSM_AO_LANES)(v)
+#define csm_vto_float(v) CSM_VJOIN(convert_float, CSM_AO_LANES)(v)
+// One load per lane: P[I.sK] F for each component K of the index vector I (F: a member, or nothing).
+#if CSM_AO_LANES == 8
+#define CSM_VGATHER(T, P, I, F) \
+  ((T)((P)[(I).s0] F, (P)[(I).s1] F, (P)[(I).s2] F, (P)[(I).s3] F, (P)[(I).s4] F, (P)[(I).s5] F, (P)[(I).s6] F, (P)[(I).s7] F))
+#define CSM_VLANE_IDS ((csm_vuint)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u))
+#elif CSM_AO_LANES == 16
+#define CSM_VGATHER(T, P, I, F)                                                                                              \
+  ((T)((P)[(I).s0] F, (P)[(I).s1] F, (P)[(I).s2] F, (P)[(I).s3] F, (P)[(I).s4] F, (P)[(I).s5] F, (P)[(I).s6] F, (P)[(I).s7] F, \
+       (P)[(I).s8] F, (P)[(I).s9] F, (P)[(I).sa] F, (P)[(I).sb] F, (P)[(I).sc] F, (P)[(I).sd] F, (P)[(I).se] F, (P)[(I).sf] F))
+#define CSM_VLANE_IDS ((csm_vuint)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u, 9u, 10u, 11u, 12u, 13u, 14u, 15u))
+#else
+#error "CSM_AO_LANES must be 8 or 16"
+#endif
+#else
+typedef float csm_vfloat;
+typedef int csm_vint;
+typedef uint csm_vuint;
+#define csm_vsel(c, t, f) ((c) ? (t) : (f))
+#define csm_vany(m) (m)
+#define csm_vto_int(v) static_cast<int>(v)
+#define csm_vto_uint(v) static_cast<uint>(v)
+#define csm_vto_float(v) static_cast<float>(v)
+#define CSM_VGATHER(T, P, I, F) ((P)[I] F)
+#endif
+#define csm_vf(v) ((csm_vfloat)(v))
+#define csm_vu(v) ((csm_vuint)(v))
+
+// csm_floor, per lane.
+CSM_INLINE csm_vint csm_vfloor(csm_vfloat v) {
+  const csm_vint i = csm_vto_int(v);
+  return csm_vsel(v < csm_vto_float(i), i - 1, i);
+}
+
+// csm_atan2, per lane.
+CSM_INLINE csm_vfloat csm_vatan2(csm_vfloat y, csm_vfloat x) {
+  const csm_vfloat ax = csm_vsel(x < 0.0f, -x, x), ay = csm_vsel(y < 0.0f, -y, y);
+  const csm_vint zero = (ax == 0.0f) & (ay == 0.0f), swapped = ay > ax;
+  const csm_vfloat q = csm_vsel(swapped, ax / ay, ay / ax);
+  const csm_vint reduced = q > 0.41421356f;
+  const csm_vfloat base = csm_vsel(reduced, csm_vf(0.78539816f), csm_vf(0.0f));
+  const csm_vfloat r = csm_vsel(reduced, (q - 1.0f) / (q + 1.0f), q);
+  const csm_vfloat z = r * r;
+  csm_vfloat a = base + ((((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * r + r);
+  a = csm_vsel(swapped, 1.57079633f - a, a);
+  a = csm_vsel(x < 0.0f, 3.14159265f - a, a);
+  return csm_vsel(zero, csm_vf(0.0f), csm_vsel(y < 0.0f, -a, a));
+}
+
+// csm_at_most and csm_below, per lane.
+CSM_INLINE csm_vint csm_vat_most(csm_vfloat y, csm_vfloat len2, csm_vfloat sc) {
+  const csm_vint positive = (y <= 0.0f) | (y * y <= sc * len2), negative = (y < 0.0f) & (y * y >= -sc * len2);
+  return csm_vsel(sc > 0.0f, positive, csm_vsel(sc < 0.0f, negative, y <= 0.0f));
+}
+CSM_INLINE csm_vint csm_vbelow(csm_vfloat y, csm_vfloat len2, csm_vfloat sc) {
+  const csm_vint positive = (y < 0.0f) | (y * y < sc * len2), negative = (y < 0.0f) & (y * y > -sc * len2);
+  return csm_vsel(sc > 0.0f, positive, csm_vsel(sc < 0.0f, negative, y < 0.0f));
+}
+
+// csm_select_cell's grid entry, per lane, for the lanes of `run` (whose directions pass
+// csm_direction; rho2 and len2 as it computes them). The walks of csm_walk_cell step the lanes
+// that still step; the eastern (x ≥ 0) and western lanes of a column walk share its iterations.
+CSM_INLINE csm_vuint csm_vselect_cell(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const float* bounds, csm_vfloat x, csm_vfloat y,
+                                      csm_vfloat z, csm_vfloat rho2, csm_vfloat len2, csm_vint run) {
+  // csm_grid_coords.
+  const csm_vfloat s = oc->uniform ? (1.0f - y / csm_sqrt(len2)) * 0.5f : csm_vatan2(csm_sqrt(rho2), y) * 0.318309886f;
+  csm_vfloat t = csm_vatan2(x, z) * 0.159154943f;
+  t = csm_vsel(t < 0.0f, t + 1.0f, t);
+  const csm_vfloat sr = s * (float)oc->rows, tc = t * (float)oc->cols;
+  const float corner_shift = oc->centred ? 0.5f : 0.0f;
+  const csm_vint a0 = csm_vfloor(sr + (0.5f - corner_shift)), b0 = csm_vfloor(tc + (0.5f - corner_shift));
+  const uint rows = oc->rows;
+  // csm_clamp_row, then csm_walk_cell's clamp of its start (a no-op after csm_clamp_row).
+  csm_vuint row = csm_vsel(a0 < 0, csm_vu(0u), csm_vsel(a0 >= (int)rows, csm_vu(rows - 1u), csm_vto_uint(a0)));
+  csm_vuint col = csm_vsel(b0 < 0, csm_vu(0u), csm_vto_uint(b0));
+  CSM_GLOBAL const float* row_bounds = bounds + oc->bound_base;
+  CSM_GLOBAL const float* col_bounds = row_bounds + (rows - 1u);
+  for (;;) {
+    const csm_vint m = run & (row > 0u);
+    if (!csm_vany(m)) break;
+    const csm_vint step = m & !csm_vat_most(y, len2, CSM_VGATHER(csm_vfloat, row_bounds, csm_vsel(m, row - 1u, csm_vu(0u)), ));
+    if (!csm_vany(step)) break;
+    row = csm_vsel(step, row - 1u, row);
+  }
+  for (;;) {
+    const csm_vint m = run & (row + 1u < rows);
+    if (!csm_vany(m)) break;
+    const csm_vint step = m & csm_vat_most(y, len2, CSM_VGATHER(csm_vfloat, row_bounds, csm_vsel(m, row, csm_vu(0u)), ));
+    if (!csm_vany(step)) break;
+    row = csm_vsel(step, row + 1u, row);
+  }
+  const uint mid = oc->half_cols, top = oc->col_bounds;
+  col = csm_vsel(col < top, col, csm_vu(top));
+  const csm_vint pole = !(rho2 > 0.0f), east = run & !pole & !(x < 0.0f), west = run & !pole & (x < 0.0f);
+  col = csm_vsel(east & (col > mid), csm_vsel(col - mid > (top - mid) / 2u, csm_vu(0u), csm_vu(mid)), col);
+  col = csm_vsel(west & (col < mid), csm_vsel(col < mid / 2u, csm_vu(top), csm_vu(mid)), col);
+  for (;;) {
+    const csm_vint me = east & (col > 0u), mw = west & (col > mid);
+    if (!csm_vany(me | mw)) break;
+    const csm_vfloat sc = CSM_VGATHER(csm_vfloat, col_bounds, csm_vsel(me | mw, col - 1u, csm_vu(0u)), );
+    const csm_vint step = (me & !csm_vat_most(z, rho2, sc)) | (mw & csm_vbelow(z, rho2, sc));
+    if (!csm_vany(step)) break;
+    col = csm_vsel(step, col - 1u, col);
+  }
+  for (;;) {
+    const csm_vint me = east & (col < mid), mw = west & (col < top);
+    if (!csm_vany(me | mw)) break;
+    const csm_vfloat sc = CSM_VGATHER(csm_vfloat, col_bounds, csm_vsel(me | mw, col, csm_vu(0u)), );
+    const csm_vint step = (me & csm_vat_most(z, rho2, sc)) | (mw & !csm_vbelow(z, rho2, sc));
+    if (!csm_vany(step)) break;
+    col = csm_vsel(step, col + 1u, col);
+  }
+  col = csm_vsel(pole, csm_vu(0u), col);
+  // csm_cell_entry.
+  return row * oc->cols + csm_vsel(col < oc->cols, col, csm_vu(0u));
+}
+
+// csm_fetch, per lane, for the lanes of `run` (the others search nothing and read pixel_entry's first segment).
+CSM_INLINE csm_vfloat csm_vfetch(const CsmScene* scene, csm_vuint pixel_entry, csm_vuint sequence, csm_vint run) {
+  csm_vuint lo = CSM_VGATHER(csm_vuint, scene->offsets, pixel_entry, );
+  csm_vuint hi = CSM_VGATHER(csm_vuint, scene->offsets, pixel_entry + 1u, ) - 1u;
+  for (;;) {
+    const csm_vint m = run & (lo < hi);
+    if (!csm_vany(m)) break;
+    const csm_vuint mid = (lo + hi) >> 1;
+    const csm_vint later = CSM_VGATHER(csm_vuint, scene->ends, csm_vsel(m, mid, lo), ) >= sequence;
+    hi = csm_vsel(m & later, mid, hi);
+    lo = csm_vsel(m & !later, mid + 1u, lo);
+  }
+  return CSM_VGATHER(csm_vfloat, scene->depths, lo, );
+}
+
+// csm_instance_visibility(scene, k, p, w, CSM_FILTER_NONE, bias) == 1 per lane (it is 0 or 1), for
+// the lanes of `run` (the others: true).
+CSM_INLINE csm_vint csm_vinstance_lit(const CsmScene* scene, uint k, csm_vfloat px, csm_vfloat py, csm_vfloat pz, csm_vfloat wx,
+                                      csm_vfloat wy, csm_vfloat wz, float bias, csm_vint run) {
+  CSM_GLOBAL const CsmInstance* in = scene->instances + k;
+  CSM_GLOBAL const CsmOccluder* oc = scene->occluders + in->occluder;
+  CSM_GLOBAL const float* f = in->to_frame;
+  CSM_GLOBAL const float* o = in->to_object;
+  const csm_vfloat rx = o[0] * px + o[1] * py + o[2] * pz + o[3] - oc->centre[0];
+  const csm_vfloat ry = o[4] * px + o[5] * py + o[6] * pz + o[7] - oc->centre[1];
+  const csm_vfloat rz = o[8] * px + o[9] * py + o[10] * pz + o[11] - oc->centre[2];
+  const csm_vfloat fx = f[0] * wx + f[1] * wy + f[2] * wz;
+  const csm_vfloat fy = f[3] * wx + f[4] * wy + f[5] * wz;
+  const csm_vfloat fz = f[6] * wx + f[7] * wy + f[8] * wz;
+  const csm_vfloat rho2 = fx * fx + fz * fz, len2 = rho2 + fy * fy;
+  const csm_vint test = run & (len2 > 0.0f) & (len2 < INFINITY);  // csm_direction; the others are lit
+  if (!csm_vany(test)) return !test;
+  // Lanes not tested walk from the pole, a valid direction, and keep no result.
+  const csm_vuint entry = csm_vselect_cell(oc, scene->bounds, csm_vsel(test, fx, csm_vf(0.0f)), csm_vsel(test, fy, csm_vf(1.0f)),
+                                           csm_vsel(test, fz, csm_vf(0.0f)), csm_vsel(test, rho2, csm_vf(0.0f)),
+                                           csm_vsel(test, len2, csm_vf(1.0f)), test);
+  // csm_map_taps with width 1 (csm_window).
+  CSM_GLOBAL const CsmCell* cells = scene->cells + oc->cell_base;
+  const csm_vfloat x = rx * CSM_VGATHER(csm_vfloat, cells, entry, .u[0]) + ry * CSM_VGATHER(csm_vfloat, cells, entry, .u[1]) +
+                       rz * CSM_VGATHER(csm_vfloat, cells, entry, .u[2]);
+  const csm_vfloat y = rx * CSM_VGATHER(csm_vfloat, cells, entry, .v[0]) + ry * CSM_VGATHER(csm_vfloat, cells, entry, .v[1]) +
+                       rz * CSM_VGATHER(csm_vfloat, cells, entry, .v[2]);
+  const csm_vfloat depth = (oc->radius - (rx * CSM_VGATHER(csm_vfloat, cells, entry, .d[0]) +
+                                          ry * CSM_VGATHER(csm_vfloat, cells, entry, .d[1]) +
+                                          rz * CSM_VGATHER(csm_vfloat, cells, entry, .d[2]))) *
+                           oc->depth_scale;
+  const float m = (float)oc->resolution;
+  csm_vfloat tx = (x + oc->radius) * oc->pixel_scale, ty = (y + oc->radius) * oc->pixel_scale;
+  tx = csm_vsel(!(tx >= -8.0f), csm_vf(-8.0f), tx);
+  tx = csm_vsel(!(tx <= m + 8.0f), csm_vf(m + 8.0f), tx);
+  ty = csm_vsel(!(ty >= -8.0f), csm_vf(-8.0f), ty);
+  ty = csm_vsel(!(ty <= m + 8.0f), csm_vf(m + 8.0f), ty);
+  const csm_vint i = csm_vfloor(tx), j = csm_vfloor(ty);
+  const int res = (int)oc->resolution;
+  const csm_vint inside = test & (i >= 0) & (i < res) & (j >= 0) & (j < res);
+  const csm_vuint pixel = csm_vsel(inside, csm_vto_uint(j) * oc->resolution + csm_vto_uint(i), csm_vu(0u));
+  const csm_vfloat g = csm_vfetch(scene, oc->pixel_base + pixel, CSM_VGATHER(csm_vuint, cells, entry, .sequence), inside);
+  return !inside | !(g < depth - bias);
+}
+
+// csm_visibility(scene, p, w, CSM_FILTER_NONE, bias) > 0 per lane, for the lanes of `run` (the
+// others: false): lit through every instance, stopping where every lane is occluded.
+CSM_INLINE csm_vint csm_vlit(const CsmScene* scene, csm_vfloat px, csm_vfloat py, csm_vfloat pz, csm_vfloat wx, csm_vfloat wy,
+                             csm_vfloat wz, float bias, csm_vint run) {
+  csm_vint lit = run;
+  for (uint k = 0; k < scene->instance_count && csm_vany(lit); ++k)
+    lit = lit & csm_vinstance_lit(scene, k, px, py, pz, wx, wy, wz, bias, lit);
+  return lit;
+}
+
 // Ambient occlusion of one receiver (Müller §5.3): `samples` cosine-weighted directions of one
 // pattern (+y hemisphere, xyz of 4 floats each) rotated into the normal's hemisphere by the 180°
 // rotation about h = normalize(n + o), o = +y (d = 2(h·s)h − s, our reading of Müller §5.3.1; h = (1, 0, 0) when
@@ -433,26 +641,18 @@ CSM_INLINE float csm_instance_visibility_cached(const CsmScene* scene, uint k, f
 // is n when nothing is lit.
 // The rotation's axis h = normalize(n + o), o = +y; h = (1, 0, 0) when n = −o. Also used by the
 // presenter's incremental AO, which must produce bit-identical directions.
-CSM_INLINE void csm_ao_rotation_axis(float nx, float ny, float nz, float* h) {
-  float hx = nx, hy = ny + 1.0f, hz = nz;
-  const float hlen = csm_sqrt(hx * hx + hy * hy + hz * hz);
-  if (hlen > 1e-6f) {
-    hx = hx / hlen;
-    hy = hy / hlen;
-    hz = hz / hlen;
-  } else {
-    hx = 1.0f;
-    hy = 0.0f;
-    hz = 0.0f;
-  }
-  h[0] = hx;
-  h[1] = hy;
-  h[2] = hz;
+CSM_INLINE void csm_ao_rotation_axis(csm_vfloat nx, csm_vfloat ny, csm_vfloat nz, csm_vfloat* h) {
+  const csm_vfloat hy = ny + 1.0f;
+  const csm_vfloat hlen = csm_sqrt(nx * nx + hy * hy + nz * nz);
+  const csm_vint normal = hlen > 1e-6f;
+  h[0] = csm_vsel(normal, nx / hlen, csm_vf(1.0f));
+  h[1] = csm_vsel(normal, hy / hlen, csm_vf(0.0f));
+  h[2] = csm_vsel(normal, nz / hlen, csm_vf(0.0f));
 }
 
 // Pattern direction s rotated about h: d = 2(h·s)h − s.
-CSM_INLINE void csm_ao_rotate(const float* h, float sx, float sy, float sz, float* d) {
-  const float twice = 2.0f * (h[0] * sx + h[1] * sy + h[2] * sz);
+CSM_INLINE void csm_ao_rotate(const csm_vfloat* h, csm_vfloat sx, csm_vfloat sy, csm_vfloat sz, csm_vfloat* d) {
+  const csm_vfloat twice = 2.0f * (h[0] * sx + h[1] * sy + h[2] * sz);
   d[0] = twice * h[0] - sx;
   d[1] = twice * h[1] - sy;
   d[2] = twice * h[2] - sz;
@@ -461,47 +661,51 @@ CSM_INLINE void csm_ao_rotate(const float* h, float sx, float sy, float sz, floa
 // The AO of a receiver from its lit directions: sum = (lit count, Σ dx, Σ dy, Σ dz), starting at 0 and
 // adding the lit directions in pattern order (csm_ao_add); out as csm_ambient_occlusion. Shared with
 // the presenter's incremental AO, which knows the lit directions without running the kernel.
-CSM_INLINE void csm_ao_add(float* sum, float dx, float dy, float dz) {
-  sum[0] += 1.0f;
-  sum[1] += dx;
-  sum[2] += dy;
-  sum[3] += dz;
+CSM_INLINE void csm_ao_add_where(csm_vfloat* sum, csm_vfloat dx, csm_vfloat dy, csm_vfloat dz, csm_vint lit) {
+  sum[0] = csm_vsel(lit, sum[0] + 1.0f, sum[0]);
+  sum[1] = csm_vsel(lit, sum[1] + dx, sum[1]);
+  sum[2] = csm_vsel(lit, sum[2] + dy, sum[2]);
+  sum[3] = csm_vsel(lit, sum[3] + dz, sum[3]);
 }
+#ifndef __OPENCL_C_VERSION__
+CSM_INLINE void csm_ao_add(float* sum, float dx, float dy, float dz) { csm_ao_add_where(sum, dx, dy, dz, 1); }
+#endif
 
 // `above`: the directions not below the floor (all `samples` without `ground`). With `ground` the
 // AO is the lit share of those times the exact cosine-weighted share of the hemisphere above the
 // floor, (1 + n.y) / 2, instead of lit / samples: the count of directions that fall below the
 // horizon varies from receiver to receiver (a pattern each), which mottled convex surfaces whose
 // only occluder is the floor; this ratio estimator is exact there and keeps the mean elsewhere.
-CSM_INLINE void csm_ao_finish(const float* sum, float nx, float ny, float nz, uint samples, uint above, uint ground, float* out) {
-  const float lit = sum[0], bx = sum[1], by = sum[2], bz = sum[3];
-  const float blen = csm_sqrt(bx * bx + by * by + bz * bz);
-  if (lit > 0.0f && blen > 0.0f) {
-    out[0] = bx / blen;
-    out[1] = by / blen;
-    out[2] = bz / blen;
-  } else {
-    out[0] = nx;
-    out[1] = ny;
-    out[2] = nz;
-  }
+CSM_INLINE void csm_ao_finish(const csm_vfloat* sum, csm_vfloat nx, csm_vfloat ny, csm_vfloat nz, uint samples, csm_vuint above,
+                              uint ground, csm_vfloat* out) {
+  const csm_vfloat lit = sum[0], bx = sum[1], by = sum[2], bz = sum[3];
+  const csm_vfloat blen = csm_sqrt(bx * bx + by * by + bz * bz);
+  const csm_vint bent = (lit > 0.0f) & (blen > 0.0f);
+  out[0] = csm_vsel(bent, bx / blen, nx);
+  out[1] = csm_vsel(bent, by / blen, ny);
+  out[2] = csm_vsel(bent, bz / blen, nz);
   if (!ground) out[3] = lit / (float)samples;
-  else out[3] = above > 0u ? lit / (float)above * (0.5f + 0.5f * ny) : 0.0f;
+  else out[3] = csm_vsel(above > 0u, lit / csm_vto_float(above) * (0.5f + 0.5f * ny), csm_vf(0.0f));
 }
 
-CSM_INLINE void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* pattern, uint samples, float px, float py,
-                                  float pz, float nx, float ny, float nz, uint ground, float bias, float* out) {
-  float h[3];
+// The AO of each lane's receiver (p, n; `valid` lanes only, the others compute garbage): its
+// pattern's directions start at patterns[first] (4 floats each). The C++ reference runs it per
+// receiver, the kernel per CSM_AO_LANES receivers.
+CSM_INLINE void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* patterns, csm_vuint first, uint samples,
+                                      csm_vfloat px, csm_vfloat py, csm_vfloat pz, csm_vfloat nx, csm_vfloat ny, csm_vfloat nz,
+                                      csm_vint valid, uint ground, float bias, csm_vfloat* out) {
+  csm_vfloat h[3];
   csm_ao_rotation_axis(nx, ny, nz, h);
-  float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  uint above = 0u;
+  csm_vfloat sum[4] = {csm_vf(0.0f), csm_vf(0.0f), csm_vf(0.0f), csm_vf(0.0f)};
+  csm_vuint above = csm_vu(0u);
   for (uint k = 0; k < samples; ++k) {
-    float d[3];
-    csm_ao_rotate(h, pattern[4u * k], pattern[4u * k + 1u], pattern[4u * k + 2u], d);
-    const float dx = d[0], dy = d[1], dz = d[2];
-    if (ground && dy < 0.0f) continue;
-    ++above;
-    if (csm_visibility(scene, px, py, pz, dx, dy, dz, CSM_FILTER_NONE, bias) > 0.0f) csm_ao_add(sum, dx, dy, dz);
+    const csm_vuint s = first + 4u * k;
+    csm_vfloat d[3];
+    csm_ao_rotate(h, CSM_VGATHER(csm_vfloat, patterns, s, ), CSM_VGATHER(csm_vfloat, patterns, s + 1u, ),
+                  CSM_VGATHER(csm_vfloat, patterns, s + 2u, ), d);
+    const csm_vint test = ground ? valid & !(d[1] < 0.0f) : valid;
+    above = csm_vsel(test, above + 1u, above);
+    csm_ao_add_where(sum, d[0], d[1], d[2], csm_vlit(scene, px, py, pz, d[0], d[1], d[2], bias, test));
   }
   csm_ao_finish(sum, nx, ny, nz, samples, above, ground, out);
 }

@@ -15,6 +15,9 @@
 namespace splatcl::csm {
 namespace {
 
+// Receivers per work-item of the AO kernel, one per vector component (csm_query.h, CSM_AO_LANES).
+constexpr std::uint32_t kAoLanes = 8;
+
 constexpr const char* kPatternNames[] = {"monte-carlo", "stratified", "latin-hypercube", "halton-cp", "hammersley-cp", "hammersley-scrambled"};
 
 double uniform01(std::mt19937& rng) { return static_cast<double>(rng()) / 4294967296.0; }
@@ -128,10 +131,9 @@ void ambient_occlusion_reference(const VisibilityScene& scene, const AoRequest& 
   const device::CsmScene view = scene.view();
   parallel_for(out.size(), 64, [&](std::size_t r, std::size_t) {
     const Vec4 p = request.positions[r], n = request.normals[r];
-    const float* pattern = &request.patterns[std::size_t{request.pattern_of[r]} * request.samples].x;
     float result[4];
-    device::csm_ambient_occlusion(&view, pattern, request.samples, p.x, p.y, p.z, n.x, n.y, n.z, request.ground ? 1 : 0,
-                                  request.bias, result);
+    device::csm_ambient_occlusion(&view, &request.patterns[0].x, request.pattern_of[r] * 4 * request.samples, request.samples, p.x,
+                                  p.y, p.z, n.x, n.y, n.z, 1, request.ground ? 1 : 0, request.bias, result);
     out[r] = {result[0], result[1], result[2], result[3]};
   });
 }
@@ -139,7 +141,7 @@ void ambient_occlusion_reference(const VisibilityScene& scene, const AoRequest& 
 AmbientOcclusion::AmbientOcclusion(Runtime& runtime, const VisibilityScene& scene)
     : runtime_(runtime),
       scene_(runtime, scene),
-      kernel_(runtime.kernel("csm_ao.cl", "csm_ambient_occlusion_receivers")),
+      kernel_(runtime.kernel("csm_ao.cl", "csm_ambient_occlusion_receivers", fmt::format("-DCSM_AO_LANES={}", kAoLanes))),
       positions_(runtime, "AO receivers"),
       normals_(runtime, "AO normals"),
       choice_(runtime, "AO pattern choice"),
@@ -169,7 +171,7 @@ std::vector<Vec4> AmbientOcclusion::run(const AoRequest& request, Profiler* prof
   kernel_.setArg(14, static_cast<cl_uint>(request.ground ? 1 : 0));
   kernel_.setArg(15, request.bias);
   kernel_.setArg(16, result_.buffer());
-  enqueue_1d(runtime_.queue(), kernel_, n, 0, profiler, "csm ambient occlusion");
+  enqueue_1d(runtime_.queue(), kernel_, (n + kAoLanes - 1) / kAoLanes, 0, profiler, "csm ambient occlusion");
   return result_.read();
 }
 
