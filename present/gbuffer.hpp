@@ -27,6 +27,8 @@ class GBuffer {
     kTargets = 4
   };
   GBuffer(int width, int height);
+  int width() const { return width_; }
+  int height() const { return height_; }
 
   GLuint visibility_framebuffer() const { return visibility_fbo_.get(); }   // depth only
   GLuint accumulation_framebuffer() const { return accum_fbo_.get(); }     // targets and depth
@@ -55,6 +57,7 @@ class ShadingTargets {
   // The silhouette resolve reads the shading's display image and writes the resolved one; after
   // a frame with `resolved` set, the resolved image is the one shown and read back.
   GLuint shaded_display() const { return display_.get(); }
+  GLuint shaded_framebuffer() const { return display_fbo_.get(); }
   GLuint resolved_framebuffer() const { return resolved_fbo_.get(); }
   bool resolved = false;
   GLuint display_framebuffer() const { return resolved ? resolved_fbo_.get() : display_fbo_.get(); }

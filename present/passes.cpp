@@ -159,17 +159,58 @@ void ShadingPass::run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInp
 }
 
 ResolvePass::ResolvePass()
-    : program_(shaders::source("fullscreen.vert.glsl"), shaders::source("resolve.frag.glsl"), "silhouette resolve"),
-      depth_jump_(program_.uniform("u_depth_jump")) {}
+    : program_(shaders::source("resolve.vert.glsl"), shaders::source("resolve.frag.glsl"), "silhouette resolve"),
+      depth_jump_(program_.uniform("u_depth_jump")),
+      viewport_(program_.uniform("u_viewport")),
+      rectangles_(gl::make_buffer()) {}
 
-void ResolvePass::run(GLuint framebuffer, GLuint display, const GBuffer& gbuffer, float depth_jump) const {
+void ResolvePass::run(GLuint framebuffer, GLuint display_framebuffer, GLuint display, const GBuffer& gbuffer, float depth_jump,
+                      const std::vector<std::array<std::int32_t, 4>>& rectangles) {
+  glBlitNamedFramebuffer(display_framebuffer, framebuffer, 0, 0, gbuffer.width(), gbuffer.height(), 0, 0, gbuffer.width(),
+                         gbuffer.height(), GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  if (rectangles.empty()) return;
+  glNamedBufferData(rectangles_.get(), static_cast<GLsizeiptr>(rectangles.size() * sizeof(rectangles[0])), rectangles.data(),
+                    GL_STREAM_DRAW);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_RESOLVE_TILES, rectangles_.get());
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   program_.use();
   glBindTextureUnit(UNIT_WEIGHT_ALBEDO, gbuffer.texture(GBuffer::WeightAlbedo));
   glBindTextureUnit(UNIT_Z_NORMAL, gbuffer.texture(GBuffer::ZNormal));
   glBindTextureUnit(UNIT_DISPLAY, display);
   glUniform1f(depth_jump_, depth_jump);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glUniform2f(viewport_, static_cast<float>(gbuffer.width()), static_cast<float>(gbuffer.height()));
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(6 * rectangles.size()));
+}
+
+std::vector<std::array<std::int32_t, 4>> outline_rectangles(const std::vector<float>& view_z, int width, int height,
+                                                            float depth_jump) {
+  const auto w = static_cast<std::size_t>(width), h = static_cast<std::size_t>(height);
+  const std::size_t columns = (w + kResolveTile - 1) / kResolveTile, rows = (h + kResolveTile - 1) / kResolveTile;
+  std::vector<char> marked(columns * rows, 0);
+  const float jump = 0.9f * depth_jump;
+  // A pair of 4-neighbours p, q that the shader may take as an outline marks both pixels' tiles.
+  const auto outline = [&](float a, float b) {
+    if ((a == 0.0f) != (b == 0.0f)) return true;
+    return a != 0.0f && std::abs(a - b) > jump * std::max(-a, -b);
+  };
+  const auto mark = [&](std::size_t x, std::size_t y) { marked[y / kResolveTile * columns + x / kResolveTile] = 1; };
+  for (std::size_t y = 0; y < h; ++y)
+    for (std::size_t x = 0; x < w; ++x) {
+      const float a = view_z[y * w + x];
+      if (x + 1 < w && outline(a, view_z[y * w + x + 1])) mark(x, y), mark(x + 1, y);
+      if (y + 1 < h && outline(a, view_z[(y + 1) * w + x])) mark(x, y), mark(x, y + 1);
+    }
+  std::vector<std::array<std::int32_t, 4>> rectangles;
+  for (std::size_t ty = 0; ty < rows; ++ty)
+    for (std::size_t tx = 0; tx < columns; ++tx) {
+      if (!marked[ty * columns + tx]) continue;
+      const std::size_t begin = tx;
+      while (tx + 1 < columns && marked[ty * columns + tx + 1]) ++tx;
+      rectangles.push_back({static_cast<std::int32_t>(begin * kResolveTile), static_cast<std::int32_t>(ty * kResolveTile),
+                            static_cast<std::int32_t>(std::min(w, (tx + 1) * kResolveTile)),
+                            static_cast<std::int32_t>(std::min(h, (ty + 1) * kResolveTile))});
+    }
+  return rectangles;
 }
 
 MeshMaskPass::MeshMaskPass()

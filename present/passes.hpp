@@ -9,6 +9,7 @@
 //   ResolvePass: silhouette anti-aliasing of the final image
 //   MeshMaskPass: the objects' triangle meshes, for the coverage test
 // A pass sets the GL state it needs and draws; the presenter's render() orders them.
+#include <array>
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -125,12 +126,26 @@ class ShadingPass {
 class ResolvePass {
  public:
   ResolvePass();
-  void run(GLuint framebuffer, GLuint display, const GBuffer& gbuffer, float depth_jump) const;
+  // `display` copied to `framebuffer`, then the filter run over `rectangles` (pixels x0, y0, x1,
+  // y1; see outline_rectangles), which must hold every outline pixel.
+  void run(GLuint framebuffer, GLuint display_framebuffer, GLuint display, const GBuffer& gbuffer, float depth_jump,
+           const std::vector<std::array<std::int32_t, 4>>& rectangles);
 
  private:
   gl::Program program_;
-  GLint depth_jump_;
+  GLint depth_jump_, viewport_;
+  gl::Buffer rectangles_;
 };
+
+// The screen tiles (kResolveTile pixels square) that hold a pixel the resolve may take as an
+// outline, merged into runs along each row of tiles: from the view z the cluster stage reads back
+// (0 where no splat covers a pixel), a coverage change or a depth jump over 0.9 × `depth_jump`
+// (float rounding between this and the shader's own division stays far below the 10 %). Pixels
+// outside them are ones whose 4-neighbours are all sky or all one surface: the filter leaves them
+// as they are (sky pixels average identical colours).
+constexpr int kResolveTile = 16;
+std::vector<std::array<std::int32_t, 4>> outline_rectangles(const std::vector<float>& view_z, int width, int height,
+                                                            float depth_jump);
 
 class MeshMaskPass {
  public:

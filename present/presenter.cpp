@@ -161,18 +161,17 @@ struct FloorLattice {
   }
 };
 
-FloorLattice floor_lattice(const std::vector<float>& rows, const std::vector<std::size_t>& where, int width, int height) {
+std::size_t lattice_size(int pixels) { return (static_cast<std::size_t>(pixels) + kFloorStep - 1) / kFloorStep; }
+
+// `rows`: kLightingRow per lattice node (row-major), valid where `present`.
+FloorLattice floor_lattice(const std::vector<float>& rows, const std::vector<std::uint8_t>& present, int width, int height) {
   FloorLattice raw;
-  raw.columns = (static_cast<std::size_t>(width) + kFloorStep - 1) / kFloorStep;
-  raw.rows = (static_cast<std::size_t>(height) + kFloorStep - 1) / kFloorStep;
-  raw.values.assign(kLightingRow * raw.columns * raw.rows, 0.0f);
-  raw.present.assign(raw.columns * raw.rows, 0);
-  for (std::size_t r = 0; r < where.size(); ++r) {
-    const std::size_t node = (where[r] / static_cast<std::size_t>(width)) / kFloorStep * raw.columns +
-                             (where[r] % static_cast<std::size_t>(width)) / kFloorStep;
-    std::copy(&rows[kLightingRow * r], &rows[kLightingRow * (r + 1)], &raw.values[kLightingRow * node]);
-    raw.present[node] = 1;
-  }
+  raw.columns = lattice_size(width);
+  raw.rows = lattice_size(height);
+  raw.values = rows;
+  raw.present = present;
+  for (std::size_t node = 0; node < present.size(); ++node)
+    if (!present[node]) std::fill_n(&raw.values[kLightingRow * node], kLightingRow, 0.0f);
   FloorLattice smooth = raw;
   for (std::size_t y = 0; y < raw.rows; ++y)
     for (std::size_t x = 0; x < raw.columns; ++x) {
@@ -375,6 +374,7 @@ struct Presenter::Impl {
   // last update was made with (render() updates again when it differs).
   std::unique_ptr<csm::SplatLighting> lighting;
   std::unique_ptr<csm::SplatLighting> floor_lighting;  // of the floor's pixels (Presenter::floor_per_pixel)
+  glm::mat4 floor_view{0.0f}, floor_proj{0.0f};         // the camera of its last update
   std::string lighting_signature;
   std::vector<Vec4> ao_patterns;
   std::vector<std::uint32_t> pixel_pattern_of;
@@ -603,7 +603,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       normals[r.first + s] = vec4(nrm);
     }
   }
-  csm::SplatLighting::Receivers receivers{std::move(positions), std::move(normals), {}, {}};
+  csm::SplatLighting::Receivers receivers{std::move(positions), std::move(normals), {}, {}, {}};
   for (std::size_t i = 0; i < scene_.objects.size(); ++i)
     receivers.objects.push_back({objects_[i].first, objects_[i].count, scene_.objects[i].occluder});
   std::vector<csm::Transform> transforms;
@@ -823,17 +823,26 @@ FrameStats Presenter::render(float time) {
       // The floor's pixels as receivers of no object: the per-splat lighting's queries, culled per
       // occluder instance (csm/query_reach.hpp), the same rows as the AO kernel and PCF batches.
       // Evaluated on a lattice of every kFloorStep-th pixel in x and y (the floor's shadows and AO
-      // are soft: 1/16 of the queries), then interpolated to every floor pixel.
+      // are soft: 1/16 of the queries), then interpolated to every floor pixel. One receiver per
+      // lattice node, active where its pixel is on the floor: with the camera and the frame size
+      // unchanged since the last frame, a node whose pixel shows the same floor point keeps its
+      // visibility through the occluders that did not move (the incremental update, rows equal to
+      // the full update's bit for bit), and only the moved ones are queried.
       const std::vector<CoveredPixel> floor = floor_pixels(scene_, covered, normals);
       const auto w = static_cast<std::size_t>(width_);
+      const std::size_t columns = lattice_size(width_), nodes = columns * lattice_size(height_);
       csm::SplatLighting::Receivers receivers;
-      std::vector<std::size_t> where;
+      receivers.positions.assign(nodes, Vec4{});
+      receivers.normals.assign(nodes, Vec4{});
+      receivers.pattern_of.assign(nodes, 0);
+      receivers.active.assign(nodes, 0);
       for (const CoveredPixel& pixel : floor) {
         if ((pixel.index % w) % kFloorStep != 0 || (pixel.index / w) % kFloorStep != 0) continue;
-        receivers.positions.push_back(vec4({pixel.world.x, pixel.world.y, pixel.world.z}));
-        receivers.normals.push_back(vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]}));
-        receivers.pattern_of.push_back(g.pixel_pattern_of[pixel.index]);
-        where.push_back(pixel.index);
+        const std::size_t node = (pixel.index / w) / kFloorStep * columns + (pixel.index % w) / kFloorStep;
+        receivers.positions[node] = vec4({pixel.world.x, pixel.world.y, pixel.world.z});
+        receivers.normals[node] = vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]});
+        receivers.pattern_of[node] = g.pixel_pattern_of[pixel.index];
+        receivers.active[node] = 1;
       }
       for (std::size_t i = 0; i < scene_.objects.size(); ++i) receivers.objects.push_back({0, 0, scene_.objects[i].occluder});
       csm::SplatLighting::Settings floor_settings = lighting_settings_of(scene_, ambient_occlusion, settings);
@@ -842,8 +851,15 @@ FrameStats Presenter::render(float time) {
       if (!g.floor_lighting) g.floor_lighting = std::make_unique<csm::SplatLighting>(runtime_, csms, g.ao_patterns, std::vector<std::uint32_t>{});
       std::vector<csm::Transform> transforms;
       for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
-      g.floor_lighting->update(receivers, transforms, floor_settings, false);
-      const FloorLattice lattice = floor_lattice(g.floor_lighting->rows(), where, width_, height_);
+      // A moved camera moves every node's floor point: the full update, cheaper than re-caching all.
+      const bool same_view = g.floor_view == view && g.floor_proj == proj;
+      g.floor_view = view;
+      g.floor_proj = proj;
+      const csm::SplatLighting::Update update =
+          g.floor_lighting->update(receivers, transforms, floor_settings, incremental_lighting && same_view);
+      stats.floor_receivers = update.receivers;
+      stats.floor_nodes = static_cast<std::uint32_t>(std::count(receivers.active.begin(), receivers.active.end(), std::uint8_t{1}));
+      const FloorLattice lattice = floor_lattice(g.floor_lighting->rows(), receivers.active, width_, height_);
       if (floor_pixel_ao) pixel_ao_values.assign(view_z.size(), Vec4{0, 1, 0, -1});
       if (floor_pixel_shadows) pixel_shadow.assign(view_z.size() * 4, -1.0f);
       for (const CoveredPixel& pixel : floor) {
@@ -921,7 +937,11 @@ FrameStats Presenter::render(float time) {
   shading.resolved = q.antialias > 0 && debug_view == DebugView::Final;
   if (shading.resolved) {
     g.timers.begin("gl: silhouette resolve");
-    g.resolve_pass->run(shading.resolved_framebuffer(), shading.shaded_display(), gbuffer, q.antialias);
+    // Only the tiles that may hold an outline are filtered, the rest copied.
+    g.resolve_pass->run(shading.resolved_framebuffer(), shading.shaded_framebuffer(), shading.shaded_display(), gbuffer,
+                        q.antialias,
+                        resolve_outline_tiles ? outline_rectangles(view_z, width_, height_, q.antialias)
+                                              : std::vector<std::array<std::int32_t, 4>>{{0, 0, width_, height_}});
     g.timers.end();
   }
   g.timers.collect(stats.stages);

@@ -41,6 +41,8 @@ struct FrameStats {
   std::uint32_t heat_max = 0;  // lights in the fullest list: the top of the lights-per-cluster heat map
   bool ao_updated = false;
   std::uint32_t lighting_receivers = 0;  // splats whose AO and shadows the last update recomputed
+  // Floor lattice nodes on the floor this frame, and those whose AO and shadows were recomputed.
+  std::uint32_t floor_nodes = 0, floor_receivers = 0;
 };
 
 struct FrameSettings;  // present/settings.hpp
@@ -68,7 +70,9 @@ class Presenter {
   bool floor_per_pixel = true;
   // When occluders move, recompute only the splats whose AO or shadow queries may reach a moved
   // occluder (before or after its move) and the moved objects' own splats; the result equals a full
-  // recomputation exactly. Off: every splat each time (cross-map PCF always does that).
+  // recomputation exactly. Off: every splat each time (cross-map PCF always does that). The same for
+  // the floor's pixel lattice: with the camera still, its nodes keep their visibility through the
+  // occluders that did not move.
   bool incremental_lighting = true;
   // The shading also writes linear radiance (read_hdr_rgb); off, only the tone-mapped image.
   bool hdr_output = true;
@@ -79,6 +83,9 @@ class Presenter {
   // pass; off, on this thread after it. Same rows either way. Not for the first update, in the
   // points mode, or while wall_clock_passes is on.
   bool overlap_lighting = true;
+  // The silhouette resolve filters only the screen tiles that may hold an outline (found on the
+  // host from the read-back view z) and copies the rest; off, it runs over every pixel. Same image.
+  bool resolve_outline_tiles = true;
 
   // Renders the scene at `time` into the presenter's framebuffers.
   FrameStats render(float time);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "runtime/profiling.hpp"
 
@@ -49,6 +50,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   const std::size_t n = input.positions.size();
   const std::vector<Vec4>& positions = input.positions;
   const std::vector<Vec4>& normals = input.normals;
+  const auto active = [&](std::size_t s) { return input.active.empty() || input.active[s] != 0; };
   std::vector<Instance> instances;
   for (std::size_t i = 0; i < input.objects.size(); ++i)
     if (input.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), placements[i]});
@@ -98,7 +100,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   std::vector<float> dynamic = incremental ? rows_ : std::vector<float>(n * kRowFloats, 1.0f);
   std::vector<std::uint32_t> ao_subset, shadow_subset;
   for (std::size_t s = 0; s < n; ++s)
-    if (kernel_receiver[s]) ao_subset.push_back(static_cast<std::uint32_t>(s)), shadow_subset.push_back(static_cast<std::uint32_t>(s));
+    if (kernel_receiver[s] && active(s)) ao_subset.push_back(static_cast<std::uint32_t>(s)), shadow_subset.push_back(static_cast<std::uint32_t>(s));
 
   // Runs (receiver, light) queries through `through` (the CSM tables stay on the device, only the
   // instances are placed); no instances: all lit. Batches of any size: the chunked kernel's
@@ -121,9 +123,9 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
 
   // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
   const std::uint32_t samples = settings.ao_samples;
+  const auto pattern_at = [&](std::size_t s) { return input.pattern_of.empty() ? pattern_of_[s] : input.pattern_of[s]; };
   const auto directions_of = [&](std::size_t s, Vec4* out) {
-    const std::uint32_t pattern = input.pattern_of.empty() ? pattern_of_[s] : input.pattern_of[s];
-    ao_directions(normals[s], &patterns_[std::size_t{pattern} * samples], samples, settings.ground, out);
+    ao_directions(normals[s], &patterns_[std::size_t{pattern_at(s)} * samples], samples, settings.ground, out);
   };
 
   if (incremental) {
@@ -140,16 +142,42 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       (moving ? moving_instances : static_instances).push_back(instances[k]);
       if (moving) reaches.push_back(instance_reaches[k]);
     }
-    // The cache of visibility through the static occluders, rebuilt when the moving set changes.
+    // The cache of visibility through the static occluders, rebuilt when the moving set changes, and
+    // per receiver when its input differs from the one its entries were made for (bit for bit), or
+    // it was inactive since (its entries are dropped then).
     const bool rebuild = cached_movers_ != moved;
     if (rebuild) {
       static_lit_.assign(do_ao ? n * words : 0, 0);
       lit_mask_.assign(static_lit_.size(), 0);
       static_shadow_.assign(do_shadows ? n * keys * points : 0, 1.0f);
       static_directions_.assign(do_ao ? n * samples : 0, Vec4{});
+      cached_.assign(n, 0);
+      cached_positions_.assign(n, Vec4{});
+      cached_normals_.assign(n, Vec4{});
+      cached_patterns_.assign(n, 0);
+    }
+    std::vector<char> stale(n, 0);
+    for (std::size_t s = 0; s < n; ++s) {
+      if (kernel_receiver[s]) continue;
+      if (!active(s)) {
+        cached_[s] = 0;
+        continue;
+      }
+      const std::uint32_t pattern = do_ao ? pattern_at(s) : 0;
+      stale[s] = !cached_[s] || std::memcmp(&cached_positions_[s], &positions[s], sizeof(Vec4)) != 0 ||
+                 std::memcmp(&cached_normals_[s], &normals[s], sizeof(Vec4)) != 0 || cached_patterns_[s] != pattern;
+      if (!stale[s]) continue;
+      cached_[s] = 1;
+      cached_positions_[s] = positions[s];
+      cached_normals_[s] = normals[s];
+      cached_patterns_[s] = pattern;
+      if (do_ao) std::fill_n(static_lit_.begin() + static_cast<std::ptrdiff_t>(s * words), words, std::uint64_t{0});
+      if (do_shadows) std::fill_n(static_shadow_.begin() + static_cast<std::ptrdiff_t>(s * keys * points), keys * points, 1.0f);
+    }
+    {
       QueryBatch ao_batch;
       for (std::size_t s = 0; s < n && do_ao; ++s) {
-        if (kernel_receiver[s]) continue;
+        if (!stale[s]) continue;
         Vec4* d = &static_directions_[s * samples];
         directions_of(s, d);
         for (std::uint32_t j = 0; j < samples; ++j)
@@ -162,7 +190,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       }
       QueryBatch shadow_batch;
       for (std::size_t s = 0; s < n && do_shadows; ++s) {
-        if (kernel_receiver[s]) continue;
+        if (!stale[s]) continue;
         for (std::size_t k = 0; k < keys; ++k)
           for (std::size_t j = 0; j < light_points[k].size(); ++j)
             shadow_batch.add(lifted[s], {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f},
@@ -184,7 +212,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
     QueryBatch ao_batch;
     std::vector<Cone> cones;
     for (std::size_t s = 0; s < n && do_ao && !reaches.empty(); ++s) {
-      if (kernel_receiver[s]) continue;
+      if (kernel_receiver[s] || !active(s)) continue;
       // No lit direction left to test (all occluded by the static occluders or below the floor).
       if (std::all_of(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
                       mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words), [](std::uint64_t w) { return w == 0; }))
@@ -203,8 +231,8 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       if (!(lit[k] > 0.0f)) mask[bit / 64] &= ~(std::uint64_t{1} << (bit % 64));
     }
     for (std::size_t s = 0; s < n && do_ao; ++s) {
-      if (kernel_receiver[s]) continue;
-      const bool changed = rebuild || !std::equal(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
+      if (kernel_receiver[s] || !active(s)) continue;
+      const bool changed = stale[s] || !std::equal(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
                                                   mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words),
                                                   lit_mask_.begin() + static_cast<std::ptrdiff_t>(s * words));
       if (!changed) continue;
@@ -232,7 +260,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
     std::vector<float> shadow = static_shadow_;
     QueryBatch shadow_batch;
     for (std::size_t s = 0; s < n && do_shadows && !reaches.empty(); ++s) {
-      if (kernel_receiver[s]) continue;
+      if (kernel_receiver[s] || !active(s)) continue;
       const glm::vec3 lift(lifted[s].x, lifted[s].y, lifted[s].z);
       cones_from(lift, cones);
       for (std::size_t k = 0; k < keys; ++k)
@@ -246,7 +274,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
     const std::vector<float> visible = run_queries(moving_instances, shadow_batch.receivers, shadow_batch.lights, filter);
     for (std::size_t k = 0; k < shadow_batch.where.size(); ++k) shadow[shadow_batch.where[k]] *= visible[k];
     for (std::size_t s = 0; s < n && do_shadows; ++s) {
-      if (kernel_receiver[s]) continue;
+      if (kernel_receiver[s] || !active(s)) continue;
       for (std::size_t k = 0; k < keys; ++k) {
         float sum = 0.0f;
         for (std::size_t j = 0; j < light_points[k].size(); ++j) sum += shadow[(s * keys + k) * points + j];

@@ -8,7 +8,9 @@
 // last update, the same settings): the moved objects' splats as in the full update; every other
 // splat from its cached visibility through the static occluders and new queries through the moved
 // ones where those can answer "occluded"; a splat whose set of lit AO directions changed gets its
-// row from that set (csm_ao_finish, as the AO kernel does). Both give the same rows bit for bit,
+// row from that set (csm_ao_finish, as the AO kernel does); a receiver whose position, normal or
+// pattern changed since it was last cached (pixels that move, or come into view) is queried through
+// the static occluders again, on its own. Both give the same rows bit for bit,
 // and the same as the AO kernel and one visibility batch through all instances
 // (key_light_visibility). Cross-map PCF and a negative bias always take the full update.
 #include <cstdint>
@@ -46,9 +48,11 @@ class SplatLighting {
   struct Receivers {
     std::vector<Vec4> positions, normals;  // world space, per splat
     std::vector<Object> objects;                   // the objects with a CSM; other splats (a floor) belong to none
-    // Per receiver its AO pattern; empty: the constructor's. Receivers that change between updates
-    // (pixels) take the full update (allow_incremental false): the incremental one caches directions.
+    // Per receiver its AO pattern; empty: the constructor's.
     std::vector<std::uint32_t> pattern_of;
+    // Per receiver whether it is lit in this update (empty: all). An inactive receiver is not queried
+    // and its row is left unspecified; its slot keeps a place for it (a pixel hidden this frame).
+    std::vector<std::uint8_t> active;
   };
   struct Update {
     std::vector<std::pair<std::string, double>> stages;  // name, ms
@@ -92,6 +96,11 @@ class SplatLighting {
   std::vector<std::uint64_t> static_lit_, lit_mask_;
   std::vector<float> static_shadow_;
   std::vector<Vec4> static_directions_;  // per splat and sample: its AO direction, w = |d| (0: below the floor)
+  // Per splat the input its cache entries were made for (cached_: they hold it), so that a receiver
+  // that changed is queried through the static occluders again.
+  std::vector<char> cached_;
+  std::vector<Vec4> cached_positions_, cached_normals_;
+  std::vector<std::uint32_t> cached_patterns_;
 };
 
 }  // namespace splatcl::csm

@@ -38,6 +38,7 @@
 #define BINDING_LIST_INDICES 3
 #define BINDING_SPLAT_STATICS 4
 #define BINDING_SPLAT_LIGHTING 5
+#define BINDING_RESOLVE_TILES 6  /* the silhouette resolve's screen rectangles */
 
 /* Texture units of the shading pass: the G-buffer's four targets, then the per-pixel inputs. */
 #define UNIT_WEIGHT_ALBEDO 0

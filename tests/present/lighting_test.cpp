@@ -1,10 +1,12 @@
 // The presenter's per-splat lighting: ambient occlusion following a moved occluder, the incremental
-// update equal to a full recomputation, settings changed without motion, and the lighting beside the
-// visibility pass on a worker thread equal to the serial order.
+// update equal to a full recomputation (per splat and on the floor's pixel lattice), settings
+// changed without motion, and the lighting beside the visibility pass on a worker thread equal to
+// the serial order.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <iterator>
+#include <set>
 
 #include "presenter_test_support.hpp"
 
@@ -130,6 +132,42 @@ TEST_F(PresenterTest, OverlappedLightingEqualsSerialLighting) {
     EXPECT_EQ(a.lighting_receivers, b.lighting_receivers) << time;
     EXPECT_EQ(overlapped.splat_lighting(), serial.splat_lighting()) << time;
     EXPECT_EQ(overlapped.read_display_rgb(), serial.read_display_rgb()) << time;
+  }
+}
+
+// The floor's pixel lattice kept incrementally (nodes keep their visibility through the occluders
+// that did not move while the camera is still) gives the image of the full update every frame bit
+// for bit: the torus orbiting, nodes hidden and uncovered by it, a pause, a camera move and motion
+// after it; and with the camera still most nodes are served from the cache.
+TEST_F(PresenterTest, IncrementalFloorLatticeEqualsFullRecomputation) {
+  const Scene scene = test_scene();
+  { Presenter warm(scene, *runtime_, 16, 16, SPLATCL_TEST_CACHE); }
+  Presenter incremental(scene, *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+  Presenter full(scene, *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+  full.incremental_lighting = false;
+  // The first frame is a full update; a frame whose set of moving occluders differs from the last
+  // one's (motion starts or stops) and the first after a camera move re-cache every node.
+  const float d = 1.0f / 30;
+  const float times[] = {0.0f, d, 2 * d, 3 * d, 3 * d, 3 * d, 0.6f, 0.6f + d, 0.6f + 2 * d, 0.6f + 3 * d, 0.6f + 4 * d};
+  const std::set<std::size_t> served = {2, 3, 5, 7, 10};
+  for (std::size_t step = 0; step < std::size(times); ++step) {
+    if (step == 8) {  // the camera moves between two frames with motion
+      for (Presenter* p : {&incremental, &full}) p->scene().camera.eye = {1.5f, 4.0f, 7.8f};
+    }
+    const FrameStats a = incremental.render(times[step]), b = full.render(times[step]);
+    ASSERT_GT(b.floor_nodes, 500u);
+    ASSERT_EQ(a.floor_nodes, b.floor_nodes) << "step " << step;
+    EXPECT_EQ(b.floor_receivers, b.floor_nodes);
+    if (served.count(step)) {
+      EXPECT_LT(a.floor_receivers, b.floor_nodes / 4) << "step " << step;
+    } else {
+      EXPECT_EQ(a.floor_receivers, a.floor_nodes) << "step " << step;
+    }
+    if (step == 5) {
+      EXPECT_EQ(a.floor_receivers, 0u);  // paused: nothing to recompute
+    }
+    EXPECT_TRUE(incremental.read_display_rgb() == full.read_display_rgb()) << "step " << step;
+    EXPECT_TRUE(incremental.read_hdr_rgb() == full.read_hdr_rgb()) << "step " << step;
   }
 }
 

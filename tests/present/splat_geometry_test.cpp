@@ -11,6 +11,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "present/passes.hpp"
 #include "presenter_test_support.hpp"
 
 namespace splatcl::present {
@@ -192,6 +193,35 @@ TEST_F(PresenterTest, SilhouettesAreAntialiased) {
   EXPECT_GE(blended, outline * 9 / 10) << blended << " of " << outline << " outline pixels";
   EXPECT_GT(unchanged_sky, 1000u);
   EXPECT_EQ(changed_sky, 0u);
+}
+
+// The resolve over the tiles that may hold an outline gives the image of the resolve over every
+// pixel bit for bit: the default scene from its camera, with the torus at two times, and from a
+// camera that puts more outline and horizon in view; and it filters less than half of the tiles.
+TEST_F(PresenterTest, SilhouetteResolveOnOutlineTilesEqualsTheFullScreenResolve) {
+  const Scene scene = test_scene();
+  Presenter tiles(scene, *runtime_, 320, 240, SPLATCL_TEST_CACHE);
+  Presenter everywhere(scene, *runtime_, 320, 240, SPLATCL_TEST_CACHE);
+  everywhere.resolve_outline_tiles = false;
+  for (const int step : {0, 1, 2}) {
+    if (step == 2) {
+      for (Presenter* p : {&tiles, &everywhere}) p->scene().camera.eye = {4.0f, 1.5f, 5.0f};
+    }
+    const float time = step == 1 ? 1.3f : 0.0f;
+    tiles.render(time);
+    everywhere.render(time);
+    const std::vector<float> a = tiles.read_display_rgb(), b = everywhere.read_display_rgb();
+    ASSERT_EQ(a.size(), b.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
+    EXPECT_EQ(differ, 0u) << "step " << step;
+    const std::size_t area = 320 * 240;
+    std::size_t filtered = 0;
+    for (const auto& r : outline_rectangles(tiles.read_view_z(), 320, 240, tiles.scene().quality.antialias))
+      filtered += static_cast<std::size_t>((r[2] - r[0]) * (r[3] - r[1]));
+    EXPECT_GT(filtered, 0u);
+    EXPECT_LT(filtered, area / 2) << "step " << step;
+  }
 }
 
 }  // namespace
