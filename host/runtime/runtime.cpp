@@ -197,6 +197,13 @@ Runtime::Runtime(const DeviceInfo& info) : info_(info) {
   }
 }
 
+Runtime::~Runtime() {
+  try {
+    if (queue_()) queue_.finish();
+  } catch (...) {  // a failed command already reported its error; nothing is left to wait for
+  }
+}
+
 std::shared_ptr<Runtime> Runtime::create(const std::string& selector) {
   return std::make_shared<Runtime>(choose_device(selector));
 }

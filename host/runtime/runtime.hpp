@@ -58,6 +58,11 @@ Shape parse_shape(const std::string& text);
 class Runtime {
  public:
   explicit Runtime(const DeviceInfo& info);
+  // Waits for every command still queued: a kernel left behind by a stage that threw would
+  // otherwise still be compiling (PoCL builds lazily, on a worker thread) while the process exits.
+  ~Runtime();
+  Runtime(const Runtime&) = delete;
+  Runtime& operator=(const Runtime&) = delete;
   // Convenience: choose_device(selector) then construct.
   static std::shared_ptr<Runtime> create(const std::string& selector = "");
 
