@@ -92,14 +92,16 @@ case "${1:-build}" in
     # Release: every implementation visible; the devices.* tests rerun the kernel tests on each device
     # that is not the default (tests/devices/on_devices.sh; $SPLATCL_TEST_DEVICES narrows the list).
     (. "$opencl_dir/env" && ctest --test-dir build --output-on-failure -j "$jobs")
-    # ASan+UBSan: PoCL only (the system's ICD files), without the reruns and without the package tests
+    # ASan+UBSan: PoCL only (the system's ICD files), without the reruns, without the Release pass's slowest
+    # runs on the shared models and the Slurm cluster (the same code runs here on small inputs), and without the package tests
     # (they rebuild the library for a consumer: minutes, for code this pass already covers). LeakSanitizer on, with the
     # third-party libraries' leaks in tests/lsan.supp. intercept_tls_get_addr=0: the leak check's
     # tracer crashes on a bogus dynamic TLS range after some PoCL runs (GCC 12's runtime); glibc's
     # dynamic TLS blocks are heap blocks reached from each thread's DTV, so they are still scanned.
     build_config build-asan -DSPLATCL_SANITIZE=ON -DSPLATCL_BUILD_BENCH_PEERS=OFF -DSPLATCL_DEVICE_TESTS=OFF
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-      LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0 ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE package
+      LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0 ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE package \
+      -E "HoldsOnTheSharedModels|render_scans_scene|batch_slurm"
     # ThreadSanitizer on the threaded tests only: the presenter's lighting worker beside its
     # visibility pass and the thread pools that build its assets. A third build, of the presenter's
     # test program alone; it reuses the Release pass's asset cache. Mesa's own races: tests/tsan.supp.
