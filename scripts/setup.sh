@@ -92,9 +92,10 @@ case "${1:-build}" in
     # Release: every implementation visible; the devices.* tests rerun the kernel tests on each device
     # that is not the default (tests/devices/on_devices.sh; $SPLATCL_TEST_DEVICES narrows the list).
     (. "$opencl_dir/env" && ctest --test-dir build --output-on-failure -j "$jobs")
-    # ASan+UBSan: PoCL only (the system's ICD files), without the reruns, without the Release pass's slowest
-    # runs on the shared models and the Slurm cluster (the same code runs here on small inputs), and without the package tests
-    # (they rebuild the library for a consumer: minutes, for code this pass already covers). LeakSanitizer on, with the
+    # ASan+UBSan: PoCL only (the system's ICD files), without the reruns, without the three slowest
+    # runs on the shared models and the Slurm cluster (their code runs here on small inputs), and
+    # without the package tests (they rebuild the library for a consumer: minutes, for code this pass
+    # already covers). LeakSanitizer on, with the
     # third-party libraries' leaks in tests/lsan.supp. intercept_tls_get_addr=0: the leak check's
     # tracer crashes on a bogus dynamic TLS range after some PoCL runs (GCC 12's runtime); glibc's
     # dynamic TLS blocks are heap blocks reached from each thread's DTV, so they are still scanned.
