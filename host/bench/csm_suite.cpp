@@ -33,7 +33,7 @@ using splatcl::Vec4;
 
 constexpr const char* kModelName = "stanford-bunny";
 constexpr const char* kModelFile = "stanford-bunny.obj";
-constexpr std::uint32_t kSeed = 0xC5A1u;
+constexpr std::uint32_t kCsmSeed = 0xC5A1u;
 
 // Standard sizes; --quick shrinks them, --scaling size multiplies the per-case counts.
 struct CsmSizes {
@@ -271,9 +271,9 @@ void bench_queries(Session& session, const Mesh& mesh, const CsmSizes& sizes) {
   csm::AoRequest request;
   request.positions = floor.receivers;
   request.normals = floor.normals;
-  request.patterns = csm::make_patterns(csm::PatternSet::HammersleyRotated, csm::kDefaultPatterns, csm::kDefaultSamples, kSeed);
+  request.patterns = csm::make_patterns(csm::PatternSet::HammersleyRotated, csm::kDefaultPatterns, csm::kDefaultSamples, kCsmSeed);
   request.samples = csm::kDefaultSamples;
-  request.pattern_of = csm::choose_patterns(floor.receivers.size(), csm::kDefaultPatterns, kSeed);
+  request.pattern_of = csm::choose_patterns(floor.receivers.size(), csm::kDefaultPatterns, kCsmSeed);
   const std::uint64_t samples = std::uint64_t{floor.receivers.size()} * request.samples;
   std::vector<Vec4> ao_expected;
   session.measure(reference_case("ao", samples, "samples", problem), {},

@@ -20,7 +20,7 @@ namespace {
 namespace prim = splatcl::primitives;
 
 // Fixed seed: the same inputs on every run and machine.
-constexpr std::uint64_t kSeed = 0x5EED5EEDu;
+constexpr std::uint64_t kPrimitivesSeed = 0x5EED5EEDu;
 
 std::vector<std::uint64_t> random_keys_64(std::size_t n, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -40,7 +40,7 @@ std::uint64_t streaming_floor_bytes(std::size_t n, unsigned bits, std::size_t ke
 
 void bench_scan(Session& session, std::size_t n) {
   Runtime& runtime = session.runtime();
-  const auto values = random_keys(n, 16, kSeed);
+  const auto values = random_keys(n, 16, kPrimitivesSeed);
   std::vector<std::uint32_t> expected(n);
   prim::reference::scan(values, expected, prim::ScanKind::Exclusive);
   // The least memory traffic: read every value, write every sum.
@@ -68,8 +68,8 @@ void bench_scan(Session& session, std::size_t n) {
 
 void bench_compact_flagged(Session& session, std::size_t n) {
   Runtime& runtime = session.runtime();
-  const auto values = random_keys(n, 32, kSeed + 1);
-  const auto flags = random_keys(n, 1, kSeed + 2);  // about half kept
+  const auto values = random_keys(n, 32, kPrimitivesSeed + 1);
+  const auto flags = random_keys(n, 1, kPrimitivesSeed + 2);  // about half kept
   const auto expected = prim::reference::keep_flagged(values, flags);
   const Json flagged_bytes{{"bytes", 8 * n + 4 * expected.size()}};  // values and flags in, kept values out
 
@@ -100,7 +100,7 @@ void bench_compact_flagged(Session& session, std::size_t n) {
 void bench_compact_unique(Session& session, std::size_t n) {
   Runtime& runtime = session.runtime();
   // Sorted cluster keys: runs of equal keys, as the cluster stage produces them.
-  auto keys = random_keys(n, kClusterKeyBits, kSeed + 3);
+  auto keys = random_keys(n, kClusterKeyBits, kPrimitivesSeed + 3);
   std::sort(keys.begin(), keys.end());
   const auto expected = prim::reference::unique(keys);
   const Json unique_bytes{{"bytes", 4 * n + 4 * expected.size()}};  // keys in, unique keys out
@@ -192,7 +192,7 @@ void bench_radix_sort(Session& session, const std::string& name, const std::vect
 // Radix sort then unique of 20-bit keys: the distinct cluster keys of a frame.
 void bench_sort_unique(Session& session, std::size_t n) {
   Runtime& runtime = session.runtime();
-  const auto keys = random_keys(n, kClusterKeyBits, kSeed + 4);
+  const auto keys = random_keys(n, kClusterKeyBits, kPrimitivesSeed + 4);
   std::vector<std::uint32_t> sorted = keys;
   std::sort(sorted.begin(), sorted.end());
   const auto expected = prim::reference::unique(sorted);
@@ -244,12 +244,12 @@ void run_primitives_suite(Session& session) {
   bench_scan(session, n);
   bench_compact_flagged(session, n);
   bench_compact_unique(session, n);
-  bench_radix_sort<std::uint32_t>(session, "radix-sort-u32", random_keys(n, kClusterKeyBits, kSeed + 5), {}, kClusterKeyBits);
-  bench_radix_sort<std::uint32_t>(session, "radix-sort-u32", random_keys(n, 32, kSeed + 6), {}, 32);
+  bench_radix_sort<std::uint32_t>(session, "radix-sort-u32", random_keys(n, kClusterKeyBits, kPrimitivesSeed + 5), {}, kClusterKeyBits);
+  bench_radix_sort<std::uint32_t>(session, "radix-sort-u32", random_keys(n, 32, kPrimitivesSeed + 6), {}, 32);
   std::vector<std::uint32_t> indices(n);
   std::iota(indices.begin(), indices.end(), 0u);
-  bench_radix_sort<std::uint32_t>(session, "radix-sort-kv", random_keys(n, 32, kSeed + 7), indices, 32);
-  bench_radix_sort<std::uint64_t>(session, "radix-sort-u64", random_keys_64(n, kSeed + 8), {}, 64);
+  bench_radix_sort<std::uint32_t>(session, "radix-sort-kv", random_keys(n, 32, kPrimitivesSeed + 7), indices, 32);
+  bench_radix_sort<std::uint64_t>(session, "radix-sort-u64", random_keys_64(n, kPrimitivesSeed + 8), {}, 64);
   bench_sort_unique(session, n);
   measure_ceilings(session, session.options().quick ? kQuickStreamArrayBytes : kStreamArrayBytes);
 }

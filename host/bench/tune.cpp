@@ -23,7 +23,7 @@ using prim::LaunchParameters;
 using prim::Primitive;
 
 constexpr Primitive kPrimitives[] = {Primitive::Scan, Primitive::Compact, Primitive::RadixSort};
-constexpr std::uint64_t kSeed = 0x70E5u;
+constexpr std::uint64_t kTuneSeed = 0x70E5u;
 
 // The values `bench tune` tries for each parameter; the defaults are among them.
 std::vector<std::int64_t> candidate_values(const std::string& name) {
@@ -50,7 +50,7 @@ class Workload {
 // Exclusive scan of 16-bit values.
 class ScanWorkload : public Workload {
  public:
-  ScanWorkload(Runtime& runtime, std::size_t n) : runtime_(runtime), n_(n), values_(random_keys(n, 16, kSeed)), expected_(n) {
+  ScanWorkload(Runtime& runtime, std::size_t n) : runtime_(runtime), n_(n), values_(random_keys(n, 16, kTuneSeed)), expected_(n) {
     prim::reference::scan(values_, expected_, prim::ScanKind::Exclusive);
     in_ = upload(runtime, values_, "scan input");
     out_ = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(cl_uint), "scan output");
@@ -75,7 +75,7 @@ class ScanWorkload : public Workload {
 class CompactWorkload : public Workload {
  public:
   CompactWorkload(Runtime& runtime, std::size_t n) : runtime_(runtime), n_(n) {
-    auto keys = random_keys(n, kClusterKeyBits, kSeed + 1);
+    auto keys = random_keys(n, kClusterKeyBits, kTuneSeed + 1);
     std::sort(keys.begin(), keys.end());
     expected_ = prim::reference::unique(keys);
     in_ = upload(runtime, keys, "unique input");
@@ -101,7 +101,7 @@ class CompactWorkload : public Workload {
 class RadixSortWorkload : public Workload {
  public:
   RadixSortWorkload(Runtime& runtime, std::size_t n) : runtime_(runtime), n_(n) {
-    const auto keys = random_keys(n, kClusterKeyBits, kSeed + 2);
+    const auto keys = random_keys(n, kClusterKeyBits, kTuneSeed + 2);
     expected_ = keys;
     std::sort(expected_.begin(), expected_.end());
     in_ = upload(runtime, keys, "sort input");

@@ -120,7 +120,7 @@ int run_splats(const SplatsOptions& o) {
   if (!o.stats.empty()) outputs.write(o.stats, [&](const std::string& path) { write_file_atomically(path, stats.dump(2) + "\n"); });
   if (!o.render.empty()) {
     progress.show("rendering " + o.render);
-    RenderOptions view;
+    splats::RenderOptions view;
     view.random_colors = colors.field == ColorField::Grey && !colors.texture;
     outputs.write(o.render, [&](const std::string& path) { render_splats(path, records, view); });
   }

@@ -55,6 +55,6 @@ add_test(NAME cli.error_tuning_refused COMMAND ${EXPECT_ERROR} "tuning-refused.j
 # (tests/cli/gpu_check_test.sh). Not in the sanitizer pass: a shell script drives the Release binary's steps.
 if(NOT SPLATCL_SANITIZE)
   add_test(NAME cli.gpu_check COMMAND ${NEEDS_FILE} ${BENCH_MODEL} ${CMAKE_CURRENT_SOURCE_DIR}/cli/gpu_check_test.sh
-           ${CMAKE_SOURCE_DIR}/scripts/gpu-check.sh ${CMAKE_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/gpu-check)
+           ${PROJECT_SOURCE_DIR}/scripts/gpu-check.sh ${PROJECT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/gpu-check)
   set_tests_properties(cli.gpu_check PROPERTIES SKIP_RETURN_CODE 77)
 endif()

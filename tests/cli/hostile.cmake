@@ -74,7 +74,7 @@ set_tests_properties(hostile.mesh_warning_csm_build PROPERTIES
 # a valid checksum (tests/cli/make_hostile_files.cpp) and header bit flips are refused with one line
 # naming the file and the fault.
 add_executable(splatcl_make_hostile_files ${CMAKE_CURRENT_SOURCE_DIR}/cli/make_hostile_files.cpp)
-target_include_directories(splatcl_make_hostile_files PRIVATE ${CMAKE_SOURCE_DIR}/host)
+target_include_directories(splatcl_make_hostile_files PRIVATE ${PROJECT_SOURCE_DIR}/host)
 target_link_libraries(splatcl_make_hostile_files PRIVATE splatcl_csm splatcl_splats)
 add_test(NAME hostile.csm_good COMMAND splatcl csm build ${SPLATS_CUBE} -o ${HOSTILE_DIR}/hostile-good.csm --maps 16 --res 8 --reference)
 set_tests_properties(hostile.csm_good PROPERTIES FIXTURES_SETUP hostile_csm)

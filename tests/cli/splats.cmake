@@ -14,7 +14,7 @@ set_tests_properties(cli.splats_verify PROPERTIES FIXTURES_REQUIRED splats_cube)
 # verify measures the surface, whoever made the splats: hand-made splat files with a known truth
 # (tests/cli/make_test_splats.cpp) on the unit square pass, or fail naming the file and the bound.
 add_executable(splatcl_make_test_splats cli/make_test_splats.cpp)
-target_include_directories(splatcl_make_test_splats PRIVATE ${CMAKE_SOURCE_DIR}/host)
+target_include_directories(splatcl_make_test_splats PRIVATE ${PROJECT_SOURCE_DIR}/host)
 target_link_libraries(splatcl_make_test_splats PRIVATE splatcl_splats)
 set(VERIFY_PLANE ${CMAKE_CURRENT_BINARY_DIR}/verify-plane.obj)
 file(WRITE ${VERIFY_PLANE} "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")

@@ -11,6 +11,7 @@
 #include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
 #include "core/mesh.hpp"
+#include "csm/visibility.hpp"
 
 namespace splatcl::csm::testing {
 
@@ -18,6 +19,9 @@ using splatcl::Mesh;
 using splatcl::Vec3;
 
 inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
+
+// A placement that moves by (x, y, z).
+inline Transform translation(double x, double y, double z) { return {1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z, 0, 0, 0, 1}; }
 
 inline std::string model_path(const std::string& name) {
   const std::string path = std::string(SPLATCL_MODELS_DIR) + "/" + name;

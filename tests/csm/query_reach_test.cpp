@@ -7,9 +7,12 @@
 #include <numbers>
 
 #include "csm/query_reach.hpp"
+#include "csm_test_support.hpp"
 
 namespace splatcl::csm {
 namespace {
+
+using testing::translation;
 
 CsmInfo unit_info() {
   CsmInfo info;
@@ -18,8 +21,6 @@ CsmInfo unit_info() {
   info.sphere = {{0.5f, 0.0f, 0.0f}, 2.0f};
   return info;
 }
-
-Transform translation(double x, double y, double z) { return {1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z, 0, 0, 0, 1}; }
 
 TEST(CsmQueryReach, MapSlackIsSmallForSimilaritiesAndPiOtherwise) {
   CsmInfo info = unit_info();

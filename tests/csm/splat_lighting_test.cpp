@@ -47,8 +47,6 @@ const Fixture& fixture() {
 
 SplatLighting make_lighting(const Fixture& f) { return SplatLighting(runtime(), {&f.slab, &f.block}, f.patterns, f.pattern_of); }
 
-Transform translation(double x, double y, double z) { return {1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z, 0, 0, 0, 1}; }
-
 TEST(CsmSplatLighting, FullUpdateEqualsTheAoKernelAndOneVisibilityBatch) {
   const Fixture& f = fixture();
   SplatLighting lighting = make_lighting(f);

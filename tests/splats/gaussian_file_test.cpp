@@ -23,6 +23,8 @@
 namespace splatcl::splats {
 namespace {
 
+using testing::temp_path;
+
 // ---- An independent binary little-endian PLY reader (float properties of one element) ----
 
 struct Ply {
@@ -107,10 +109,6 @@ V rotate(const double q[4], V p) {
   const V t = cross3(r, p);
   const V t2 = cross3(r, t);
   return {p.x + 2 * q[0] * t.x + 2 * t2.x, p.y + 2 * q[0] * t.y + 2 * t2.y, p.z + 2 * q[0] * t.z + 2 * t2.z};
-}
-
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("splatcl-gaussian-" + name)).string();
 }
 
 const std::vector<std::string> kExpectedNames = {"x",       "y",       "z",       "nx",      "ny",      "nz",

@@ -17,12 +17,6 @@ namespace {
 
 using namespace testing;
 
-std::string temp_file(const std::string& name, const std::string& contents) {
-  const auto path = std::filesystem::temp_directory_path() / ("splatcl-splats-" + name);
-  std::ofstream(path) << contents;
-  return path.string();
-}
-
 void expect_error_naming(const std::function<void()>& action, const std::string& text) {
   try {
     action();

@@ -18,12 +18,6 @@ namespace {
 
 using namespace testing;
 
-std::string temp_file(const std::string& name, const std::string& contents) {
-  const auto path = std::filesystem::temp_directory_path() / ("splatcl-hygiene-" + name);
-  std::ofstream(path, std::ios::binary) << contents;
-  return path.string();
-}
-
 // The Error load_mesh throws for `path`: one line naming the file and containing `text`.
 void expect_refused(const std::string& path, const std::string& text) {
   try {

@@ -13,7 +13,6 @@ namespace {
 
 using namespace testing;
 
-std::string temp_path(const std::string& name) { return (std::filesystem::temp_directory_path() / ("splatcl-splats-" + name)).string(); }
 
 PipelineOptions options_with(float eps, const std::string& sampling = "vertices") {
   PipelineOptions options;

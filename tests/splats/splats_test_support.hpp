@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -19,9 +20,22 @@ namespace splatcl::splats::testing {
 
 inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
 
+// A path in the system's temporary folder for this test's file `name` ("cube.obj").
+inline std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("splatcl-splats-" + name)).string();
+}
+// temp_path(name), written with `contents` (bytes as they are).
+inline std::string temp_file(const std::string& name, const std::string& contents) {
+  const std::string path = temp_path(name);
+  std::ofstream(path, std::ios::binary) << contents;
+  return path;
+}
+
 // A test model from SPLATCL_MODELS_DIR (data/models by default), or "" when it is absent.
 inline std::string model_path(const std::string& name) {
-  const std::string path = std::string(SPLATCL_MODELS_DIR) + "/" + name;
+  // Joined as a path: GCC 12 warns falsely (-Warray-bounds) on `std::string(...) + "/" + name` once
+  // it is inlined into a unity batch of these tests.
+  const std::string path = (std::filesystem::path(SPLATCL_MODELS_DIR) / name).string();
   return std::filesystem::exists(path) ? path : std::string();
 }
 
