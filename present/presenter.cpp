@@ -674,78 +674,125 @@ std::vector<SplatDraw> Presenter::splat_draws(const std::vector<glm::mat4>& plac
   return draws;
 }
 
-FrameStats Presenter::render(float time) {
-  Impl& g = *impl_;
-  const Quality& q = scene_.quality;
-  const FrameSettings settings = FrameSettings::parse(q);
-  g.timers.wall = wall_clock_passes;
+// One render()'s state, passed from step to step.
+struct Presenter::Frame {
+  FrameSettings settings;
   FrameStats stats;
-  Stopwatch frame_clock;
-  stats.splats = static_cast<std::uint32_t>(splat_ao_.size());
-
   std::vector<glm::mat4> placements;
-  for (const ObjectSpec& o : scene_.objects) placements.push_back(o.placement(time));
-  // The per-splat lighting (CL) of moved occluders runs on a worker thread beside the visibility
-  // pass, which does not read it: llvmpipe bins the splats on one thread and the lighting's host
-  // code leaves the CL device idle in between, so each fills the other's idle core. finish_lighting
-  // joins it and uploads the rows before the first pass that reads them. Only the worker uses the
-  // CL device meanwhile, only this thread GL.
-  // The first update runs on this thread: it builds the CL programs while llvmpipe compiles its
-  // shaders, and both would then use LLVM at once.
+  // The per-splat lighting of moved occluders, when it runs this frame (start_lighting).
   std::future<FrameStats> lighting;
+  glm::vec3 eye{};
+  glm::mat4 view{1}, proj{1};
+  ViewFrame view_frame;
+  std::vector<float> view_z;  // read back from the G-buffer
+  // The scene's lights in view space, and as the shading's rows (layout::kLightRowFloats each).
+  std::vector<cluster::PointLight> lights;
+  std::vector<float> light_rows;
+  LightListBuilder* builder = nullptr;
+  FrameLightLists lists;
+  // Per pixel: key-light visibility (4 floats) and (bent normal, AO); empty where the shading takes
+  // the splats' values.
+  std::vector<float> pixel_shadow;
+  std::vector<Vec4> pixel_ao;
+  // light_pixels' inputs: the G-buffer's normals, the objects' CSMs and the covered floor pixels.
+  std::vector<float> normals;
+  std::vector<const csm::Csm*> csms;
+  std::vector<CoveredPixel> floor;
+};
+
+FrameStats Presenter::render(float time) {
+  Frame f;
+  f.settings = FrameSettings::parse(scene_.quality);
+  impl_->timers.wall = wall_clock_passes;
+  Stopwatch frame_clock;
+  f.stats.splats = static_cast<std::uint32_t>(splat_ao_.size());
+  for (const ObjectSpec& o : scene_.objects) f.placements.push_back(o.placement(time));
+  start_lighting(f);
+  if (f.settings.mode == RenderMode::Points) finish_lighting(f);
+
+  const Camera& cam = scene_.camera;
+  f.eye = {cam.eye.x, cam.eye.y, cam.eye.z};
+  f.view = glm::lookAt(f.eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
+  f.proj = glm::perspective(cam.fov_y, static_cast<float>(width_) / static_cast<float>(height_), cam.near_plane, cam.far_plane);
+  f.view_frame = view_frame(cam);
+  draw_splats(f);
+
+  // Readback of the view-space depth for the cluster stage.
+  Stopwatch clock;
+  f.view_z = read_view_z();
+  f.stats.stages.push_back({"readback: depth", clock.elapsed_ms()});
+  build_light_lists(f);
+  light_pixels(f);
+  upload_frame_inputs(f);
+  shade(f);
+  impl_->timers.collect(f.stats.stages);
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+    throw Error(fmt::format("OpenGL error 0x{:x} while rendering a frame", error));
+  f.stats.frame_ms = frame_clock.elapsed_ms();
+  return std::move(f.stats);
+}
+
+// The per-splat lighting (CL) of moved occluders runs on a worker thread beside the visibility
+// pass, which does not read it: llvmpipe bins the splats on one thread and the lighting's host code
+// leaves the CL device idle in between, so each fills the other's idle core. finish_lighting joins it
+// and uploads the rows before the first pass that reads them. Only the worker uses the CL device
+// meanwhile, only this thread GL. The first update runs on this thread: it builds the CL programs
+// while llvmpipe compiles its shaders, and both would then use LLVM at once.
+void Presenter::start_lighting(Frame& f) {
+  Impl& g = *impl_;
   // Also when a lighting setting changed (the viewer's AO and shadow toggles), moving or not.
-  const bool relight = !g.have_lighting || placements != g.last_placements || g.lighting_signature != lighting_settings(settings);
-  const bool overlap = overlap_lighting && !wall_clock_passes && g.have_lighting && settings.mode != RenderMode::Points;
-  if (relight) {
-    lighting = std::async(overlap ? std::launch::async : std::launch::deferred,
-                          [this, placements, settings] {
+  const bool relight =
+      !g.have_lighting || f.placements != g.last_placements || g.lighting_signature != lighting_settings(f.settings);
+  if (!relight) return;
+  const bool overlap = overlap_lighting && !wall_clock_passes && g.have_lighting && f.settings.mode != RenderMode::Points;
+  f.lighting = std::async(overlap ? std::launch::async : std::launch::deferred,
+                          [this, placements = f.placements, settings = f.settings] {
                             FrameStats worker;
                             update_splat_lighting(placements, settings, worker);
                             return worker;
                           });
-  }
-  const auto finish_lighting = [&] {
-    if (!lighting.valid()) return;
-    const FrameStats worker = lighting.get();
-    stats.stages.insert(stats.stages.end(), worker.stages.begin(), worker.stages.end());
-    stats.ao_updated = worker.ao_updated;
-    stats.lighting_receivers = worker.lighting_receivers;
-    Stopwatch clock;
-    if (!g.upload_rows.empty())
-      glNamedBufferSubData(g.dynamic_vbo.get(), 0, static_cast<GLsizeiptr>(g.upload_rows.size() * sizeof(float)), g.upload_rows.data());
-    stats.stages.push_back({"upload: splat AO/shadows", clock.elapsed_ms()});
-    g.last_placements = placements;
-    g.have_lighting = true;
-  };
-  if (settings.mode == RenderMode::Points) finish_lighting();
+}
 
-  const Camera& cam = scene_.camera;
-  const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
-  const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
-  const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
-  const glm::mat4 proj = glm::perspective(cam.fov_y, aspect, cam.near_plane, cam.far_plane);
+void Presenter::finish_lighting(Frame& f) {
+  if (!f.lighting.valid()) return;
+  Impl& g = *impl_;
+  const FrameStats worker = f.lighting.get();
+  f.stats.stages.insert(f.stats.stages.end(), worker.stages.begin(), worker.stages.end());
+  f.stats.ao_updated = worker.ao_updated;
+  f.stats.lighting_receivers = worker.lighting_receivers;
+  Stopwatch clock;
+  if (!g.upload_rows.empty())
+    glNamedBufferSubData(g.dynamic_vbo.get(), 0, static_cast<GLsizeiptr>(g.upload_rows.size() * sizeof(float)), g.upload_rows.data());
+  f.stats.stages.push_back({"upload: splat AO/shadows", clock.elapsed_ms()});
+  g.last_placements = f.placements;
+  g.have_lighting = true;
+}
+
+// The splats into the G-buffer: points, or the visibility and accumulation passes.
+void Presenter::draw_splats(Frame& f) {
+  Impl& g = *impl_;
+  const Quality& q = scene_.quality;
   const bool footprints = debug_view == DebugView::Footprints;
-
   glViewport(0, 0, width_, height_);
   glBindVertexArray(g.empty_vao.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_STATICS, g.static_vbo.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_LIGHTING, g.dynamic_vbo.get());
   SplatFrame splat_frame;
-  splat_frame.view = view;
-  splat_frame.proj = proj;
-  splat_frame.eye = eye;
+  splat_frame.view = f.view;
+  splat_frame.proj = f.proj;
+  splat_frame.eye = f.eye;
   splat_frame.scale = q.splat_scale;
   // The per-splat ambient term (splat_head.glsl): 2 = the AO itself for the AO view.
   splat_frame.ambient = debug_view == DebugView::AmbientOcclusion ? 2 : ambient_occlusion ? 0 : 1;
   splat_frame.sh = g.sh.data();
-  const std::vector<SplatDraw> draws = splat_draws(placements, eye, stats.splats);
+  const std::vector<SplatDraw> draws = splat_draws(f.placements, f.eye, f.stats.splats);
   glDisable(GL_CULL_FACE);
   // The accumulation targets are the G-buffer; the fourth holds key lights 1-3 only.
   const GBuffer& gbuffer = g.targets->gbuffer;
   gbuffer.bind_and_clear(scene_.key_lights.size() > 1 ? 4 : 3);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  if (settings.mode == RenderMode::Points) {
+  if (f.settings.mode == RenderMode::Points) {
     g.timers.begin("gl: points");
     g.point_pass->run(splat_frame, draws, height_, footprints);
     g.timers.end();
@@ -754,126 +801,129 @@ FrameStats Presenter::render(float time) {
     g.visibility_pass->run(gbuffer, splat_frame, draws, q.depth_offset);
     g.timers.end();
     glFlush();  // llvmpipe rasterises the binned pass while this thread waits for the lighting
-    finish_lighting();
+    finish_lighting(f);
     g.timers.begin("gl: splat accumulation");
     g.accumulation_pass->run(gbuffer, splat_frame, draws, q.gaussian, footprints);
     g.timers.end();
   }
   glDisable(GL_DEPTH_TEST);
+}
 
-  // Readback of the view-space depth for the cluster stage.
-  Stopwatch clock;
-  const std::vector<float> view_z = read_view_z();
-  stats.stages.push_back({"readback: depth", clock.elapsed_ms()});
-
-  // Lights in view space.
-  const ViewFrame frame = view_frame(cam);
-  std::vector<cluster::PointLight> lights(scene_.lights.size());
-  std::vector<float> light_data(std::max<std::size_t>(lights.size(), 1) * layout::kLightRowFloats, 0.0f);
-  for (std::size_t i = 0; i < lights.size(); ++i) {
+// The lights in view space and their lists from the shading method's builder.
+void Presenter::build_light_lists(Frame& f) {
+  Impl& g = *impl_;
+  f.lights.resize(scene_.lights.size());
+  f.light_rows.assign(std::max<std::size_t>(f.lights.size(), 1) * layout::kLightRowFloats, 0.0f);
+  for (std::size_t i = 0; i < f.lights.size(); ++i) {
     const Light& l = scene_.lights[i];
-    lights[i] = {frame.point_to_view({l.position.x, l.position.y, l.position.z}), l.radius, {l.color.x, l.color.y, l.color.z}};
-    const float row[layout::kLightRowFloats] = {lights[i].center.x, lights[i].center.y, lights[i].center.z, 1.0f / (l.radius * l.radius),
-                          l.color.x, l.color.y, l.color.z, 0};
-    std::copy(row, row + layout::kLightRowFloats, light_data.begin() + static_cast<std::ptrdiff_t>(layout::kLightRowFloats * i));
+    f.lights[i] = {f.view_frame.point_to_view({l.position.x, l.position.y, l.position.z}), l.radius, {l.color.x, l.color.y, l.color.z}};
+    const float row[layout::kLightRowFloats] = {f.lights[i].center.x, f.lights[i].center.y, f.lights[i].center.z,
+                                                1.0f / (l.radius * l.radius), l.color.x, l.color.y, l.color.z, 0};
+    std::copy(row, row + layout::kLightRowFloats, f.light_rows.begin() + static_cast<std::ptrdiff_t>(layout::kLightRowFloats * i));
   }
+  const ShadingMethod shading = f.settings.shading;
+  f.builder = shading == ShadingMethod::Brute || f.lights.empty() ? static_cast<LightListBuilder*>(g.brute_force_lights.get())
+              : shading == ShadingMethod::Clustered              ? static_cast<LightListBuilder*>(g.clustered_lists.get())
+                                                                 : g.tiled_lists.get();
+  f.lists = f.builder->build(f.view_z, f.lights, f.stats.stages);
+  f.stats.clusters = f.lists.clusters;
+  f.stats.light_indices = f.lists.light_indices;
+}
 
-  LightListBuilder& builder = settings.shading == ShadingMethod::Brute || lights.empty()
-                                  ? static_cast<LightListBuilder&>(*g.brute_force_lights)
-                              : settings.shading == ShadingMethod::Clustered ? static_cast<LightListBuilder&>(*g.clustered_lists)
-                                                                              : *g.tiled_lists;
-  const bool brute = builder.brute_force();
-  const cluster::ClusterLayout& layout = builder.layout();
-  FrameLightLists frame_lists = builder.build(view_z, lights, stats.stages);
-  stats.clusters = frame_lists.clusters;
-  stats.light_indices = frame_lists.light_indices;
-  const std::vector<std::uint32_t>& pixel_list = frame_lists.pixel_list;
-  const cluster::LightLists& lists = frame_lists.lists;
-
-  // Per-pixel key-light shadows and AO through the same CSM tables: of every covered pixel in the
-  // quality modes, else of the floor's pixels (floor_per_pixel), so that the floor's shadows and AO
-  // do not step at its splat spacing; the shading takes the splats' values elsewhere.
+// Per-pixel key-light shadows and AO through the same CSM tables: of every covered pixel in the
+// quality modes, else of the floor's pixels (floor_per_pixel), so that the floor's shadows and AO
+// do not step at its splat spacing; the shading takes the splats' values elsewhere.
+void Presenter::light_pixels(Frame& f) {
+  Impl& g = *impl_;
+  const FrameSettings& settings = f.settings;
   const bool shadow_pixels = settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
   const bool ao_pixels = pixel_ao && ambient_occlusion;
-  const bool floor_pixel_shadows = floor_per_pixel && scene_.floor.enabled && !shadow_pixels &&
-                                   settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
-  const bool floor_pixel_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
-  std::vector<float> pixel_shadow;
-  std::vector<Vec4> pixel_ao_values;
-  if (shadow_pixels || ao_pixels || floor_pixel_shadows || floor_pixel_ao) {
-    std::vector<const csm::Csm*> csms;
-    for (const ObjectAssets& a : assets_) csms.push_back(&a.csm);
-    const std::vector<float> normals = read_normals();
-    const std::vector<CoveredPixel> covered = covered_pixels(layout, frame, view_z);
-    // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
-    if (g.pixel_pattern_of.size() != view_z.size()) g.pixel_pattern_of = csm::choose_patterns(view_z.size(), kAoPatterns, kAoSeed);
-    if (shadow_pixels) {
-      Stopwatch c;
-      pixel_shadow = pixel_shadows(scene_, covered, view_z.size(), normals, placements, csms, settings.filter, *g.lighting);
-      stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
-    }
-    if (ao_pixels) {
-      Stopwatch c;
-      pixel_ao_values = pixel_occlusion(scene_, covered, view_z.size(), normals, placements, csms, g.ao_patterns,
-                                        g.pixel_pattern_of, *g.lighting);
-      stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
-    }
-    if (floor_pixel_shadows || floor_pixel_ao) {
-      Stopwatch c;
-      // The floor's pixels as receivers of no object: the per-splat lighting's queries, culled per
-      // occluder instance (csm/query_reach.hpp), the same rows as the AO kernel and PCF batches.
-      // Evaluated on a lattice of every kFloorStep-th pixel in x and y (the floor's shadows and AO
-      // are soft: 1/16 of the queries), then interpolated to every floor pixel. One receiver per
-      // lattice node, active where its pixel is on the floor: with the camera and the frame size
-      // unchanged since the last frame, a node whose pixel shows the same floor point keeps its
-      // visibility through the occluders that did not move (the incremental update, rows equal to
-      // the full update's bit for bit), and only the moved ones are queried.
-      const std::vector<CoveredPixel> floor = floor_pixels(scene_, covered, normals);
-      const auto w = static_cast<std::size_t>(width_);
-      const std::size_t columns = lattice_size(width_), nodes = columns * lattice_size(height_);
-      csm::SplatLighting::Receivers receivers;
-      receivers.positions.assign(nodes, Vec4{});
-      receivers.normals.assign(nodes, Vec4{});
-      receivers.pattern_of.assign(nodes, 0);
-      receivers.active.assign(nodes, 0);
-      for (const CoveredPixel& pixel : floor) {
-        if ((pixel.index % w) % kFloorStep != 0 || (pixel.index / w) % kFloorStep != 0) continue;
-        const std::size_t node = (pixel.index / w) / kFloorStep * columns + (pixel.index % w) / kFloorStep;
-        receivers.positions[node] = vec4({pixel.world.x, pixel.world.y, pixel.world.z});
-        receivers.normals[node] = vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]});
-        receivers.pattern_of[node] = g.pixel_pattern_of[pixel.index];
-        receivers.active[node] = 1;
-      }
-      for (std::size_t i = 0; i < scene_.objects.size(); ++i) receivers.objects.push_back({0, 0, scene_.objects[i].occluder});
-      csm::SplatLighting::Settings floor_settings = lighting_settings_of(scene_, ambient_occlusion, settings);
-      floor_settings.ao = floor_pixel_ao;
-      floor_settings.shadows = floor_pixel_shadows;
-      if (!g.floor_lighting) g.floor_lighting = std::make_unique<csm::SplatLighting>(runtime_, csms, g.ao_patterns, std::vector<std::uint32_t>{});
-      std::vector<csm::Transform> transforms;
-      for (const glm::mat4& placement : placements) transforms.push_back(to_transform(placement));
-      // A moved camera moves every node's floor point: the full update, cheaper than re-caching all.
-      const bool same_view = g.floor_view == view && g.floor_proj == proj;
-      g.floor_view = view;
-      g.floor_proj = proj;
-      const csm::SplatLighting::Update update =
-          g.floor_lighting->update(receivers, transforms, floor_settings, incremental_lighting && same_view);
-      stats.floor_receivers = update.receivers;
-      stats.floor_nodes = static_cast<std::uint32_t>(std::count(receivers.active.begin(), receivers.active.end(), std::uint8_t{1}));
-      const FloorLattice lattice = floor_lattice(g.floor_lighting->rows(), receivers.active, width_, height_);
-      if (floor_pixel_ao) pixel_ao_values.assign(view_z.size(), Vec4{0, 1, 0, -1});
-      if (floor_pixel_shadows) pixel_shadow.assign(view_z.size() * 4, -1.0f);
-      for (const CoveredPixel& pixel : floor) {
-        float row[kLightingRow];
-        if (!lattice.interpolate(pixel.index % w, pixel.index / w, row)) continue;  // keeps the splats' values
-        if (floor_pixel_ao) pixel_ao_values[pixel.index] = {row[0], row[1], row[2], row[3]};
-        if (floor_pixel_shadows) std::copy(row + kVisibilityAt, row + kLightingRow, &pixel_shadow[4 * pixel.index]);
-      }
-      stats.stages.push_back({"cl: floor pixel shadows and AO", c.elapsed_ms()});
-    }
+  const bool floor_shadows = floor_per_pixel && scene_.floor.enabled && !shadow_pixels && settings.shadows == ShadowMode::Splat &&
+                             !scene_.key_lights.empty();
+  const bool floor_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
+  if (!shadow_pixels && !ao_pixels && !floor_shadows && !floor_ao) return;
+  for (const ObjectAssets& a : assets_) f.csms.push_back(&a.csm);
+  f.normals = read_normals();
+  const std::vector<CoveredPixel> covered = covered_pixels(f.builder->layout(), f.view_frame, f.view_z);
+  // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
+  if (g.pixel_pattern_of.size() != f.view_z.size()) g.pixel_pattern_of = csm::choose_patterns(f.view_z.size(), kAoPatterns, kAoSeed);
+  if (shadow_pixels) {
+    Stopwatch c;
+    f.pixel_shadow = pixel_shadows(scene_, covered, f.view_z.size(), f.normals, f.placements, f.csms, settings.filter, *g.lighting);
+    f.stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
   }
+  if (ao_pixels) {
+    Stopwatch c;
+    f.pixel_ao = pixel_occlusion(scene_, covered, f.view_z.size(), f.normals, f.placements, f.csms, g.ao_patterns,
+                                 g.pixel_pattern_of, *g.lighting);
+    f.stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+  }
+  if (floor_shadows || floor_ao) {
+    Stopwatch c;
+    f.floor = floor_pixels(scene_, covered, f.normals);
+    light_floor_pixels(f, floor_shadows, floor_ao);
+    f.stats.stages.push_back({"cl: floor pixel shadows and AO", c.elapsed_ms()});
+  }
+}
 
-  // Upload lights, lists and the per-pixel list index.
-  clock.restart();
+// The floor's pixels as receivers of no object: the per-splat lighting's queries, culled per
+// occluder instance (csm/query_reach.hpp), the same rows as the AO kernel and PCF batches.
+// Evaluated on a lattice of every kFloorStep-th pixel in x and y (the floor's shadows and AO are
+// soft: 1/16 of the queries), then interpolated to every floor pixel. One receiver per lattice
+// node, active where its pixel is on the floor: with the camera and the frame size unchanged since
+// the last frame, a node whose pixel shows the same floor point keeps its visibility through the
+// occluders that did not move (the incremental update, rows equal to the full update's bit for
+// bit), and only the moved ones are queried.
+void Presenter::light_floor_pixels(Frame& f, bool shadows, bool ao) {
+  Impl& g = *impl_;
+  const std::vector<float>& normals = f.normals;
+  const auto w = static_cast<std::size_t>(width_);
+  const std::size_t columns = lattice_size(width_), nodes = columns * lattice_size(height_);
+  csm::SplatLighting::Receivers receivers;
+  receivers.positions.assign(nodes, Vec4{});
+  receivers.normals.assign(nodes, Vec4{});
+  receivers.pattern_of.assign(nodes, 0);
+  receivers.active.assign(nodes, 0);
+  for (const CoveredPixel& pixel : f.floor) {
+    if ((pixel.index % w) % kFloorStep != 0 || (pixel.index / w) % kFloorStep != 0) continue;
+    const std::size_t node = (pixel.index / w) / kFloorStep * columns + (pixel.index % w) / kFloorStep;
+    receivers.positions[node] = vec4({pixel.world.x, pixel.world.y, pixel.world.z});
+    receivers.normals[node] = vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]});
+    receivers.pattern_of[node] = g.pixel_pattern_of[pixel.index];
+    receivers.active[node] = 1;
+  }
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) receivers.objects.push_back({0, 0, scene_.objects[i].occluder});
+  csm::SplatLighting::Settings floor_settings = lighting_settings_of(scene_, ambient_occlusion, f.settings);
+  floor_settings.ao = ao;
+  floor_settings.shadows = shadows;
+  if (!g.floor_lighting)
+    g.floor_lighting = std::make_unique<csm::SplatLighting>(runtime_, f.csms, g.ao_patterns, std::vector<std::uint32_t>{});
+  std::vector<csm::Transform> transforms;
+  for (const glm::mat4& placement : f.placements) transforms.push_back(to_transform(placement));
+  // A moved camera moves every node's floor point: the full update, cheaper than re-caching all.
+  const bool same_view = g.floor_view == f.view && g.floor_proj == f.proj;
+  g.floor_view = f.view;
+  g.floor_proj = f.proj;
+  const csm::SplatLighting::Update update =
+      g.floor_lighting->update(receivers, transforms, floor_settings, incremental_lighting && same_view);
+  f.stats.floor_receivers = update.receivers;
+  f.stats.floor_nodes = static_cast<std::uint32_t>(std::count(receivers.active.begin(), receivers.active.end(), std::uint8_t{1}));
+  const FloorLattice lattice = floor_lattice(g.floor_lighting->rows(), receivers.active, width_, height_);
+  const std::size_t pixels = f.view_z.size();
+  if (ao) f.pixel_ao.assign(pixels, Vec4{0, 1, 0, -1});
+  if (shadows) f.pixel_shadow.assign(pixels * 4, -1.0f);
+  for (const CoveredPixel& pixel : f.floor) {
+    float row[kLightingRow];
+    if (!lattice.interpolate(pixel.index % w, pixel.index / w, row)) continue;  // keeps the splats' values
+    if (ao) f.pixel_ao[pixel.index] = {row[0], row[1], row[2], row[3]};
+    if (shadows) std::copy(row + kVisibilityAt, row + kLightingRow, &f.pixel_shadow[4 * pixel.index]);
+  }
+}
+
+// The lights, their lists, the per-pixel list index and the per-pixel lighting to the GL buffers.
+void Presenter::upload_frame_inputs(Frame& f) {
+  Impl& g = *impl_;
+  Stopwatch clock;
   const auto upload = [&](GLuint buffer, const void* data, std::size_t bytes) {
     // Bound buffers must not be empty: short contents are padded to 16 bytes.
     std::array<std::uint8_t, 16> padded{};
@@ -884,43 +934,48 @@ FrameStats Presenter::render(float time) {
     }
     glNamedBufferData(buffer, static_cast<GLsizeiptr>(bytes), data, GL_STREAM_DRAW);
   };
-  upload(g.ssbo[0].get(), light_data.data(), light_data.size() * sizeof(float));
+  const cluster::LightLists& lists = f.lists.lists;
+  upload(g.ssbo[0].get(), f.light_rows.data(), f.light_rows.size() * sizeof(float));
   upload(g.ssbo[1].get(), lists.offsets.data(), lists.offsets.size() * 4);
   upload(g.ssbo[2].get(), lists.counts.data(), lists.counts.size() * 4);
   upload(g.ssbo[3].get(), lists.indices.data(), lists.indices.size() * 4);
   const PixelInputs& pixel = g.targets->pixel;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(pixel.light_list.get(), 0, 0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, pixel_list.data());
-  if (!pixel_ao_values.empty())
-    glTextureSubImage2D(pixel.ao.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_ao_values.data());
-  if (!pixel_shadow.empty())
-    glTextureSubImage2D(pixel.shadow.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, pixel_shadow.data());
+  glTextureSubImage2D(pixel.light_list.get(), 0, 0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, f.lists.pixel_list.data());
+  if (!f.pixel_ao.empty()) glTextureSubImage2D(pixel.ao.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, f.pixel_ao.data());
+  if (!f.pixel_shadow.empty())
+    glTextureSubImage2D(pixel.shadow.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, f.pixel_shadow.data());
   g.heat_max = 1;
   for (const std::uint32_t c : lists.counts) g.heat_max = std::max(g.heat_max, c);
-  stats.heat_max = g.heat_max;
-  stats.stages.push_back({"upload: lights+lists", clock.elapsed_ms()});
+  f.stats.heat_max = g.heat_max;
+  f.stats.stages.push_back({"upload: lights+lists", clock.elapsed_ms()});
+}
 
-  // Final shading.
+// The final shading, then the silhouette resolve.
+void Presenter::shade(Frame& f) {
+  Impl& g = *impl_;
+  const Quality& q = scene_.quality;
   g.timers.begin("gl: shading");
   const GLuint bindings[4] = {BINDING_LIGHTS, BINDING_LIST_OFFSETS, BINDING_LIST_COUNTS, BINDING_LIST_INDICES};
   for (std::size_t i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bindings[i], g.ssbo[i].get());
   const int keys = static_cast<int>(scene_.key_lights.size());
   ShadeVariant variant;
   variant.debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
-  variant.brute_force = brute;
-  variant.pixel_shadows = !pixel_shadow.empty();
-  variant.pixel_ao = !pixel_ao_values.empty();
+  variant.brute_force = f.builder->brute_force();
+  variant.pixel_shadows = !f.pixel_shadow.empty();
+  variant.pixel_ao = !f.pixel_ao.empty();
   variant.hdr_output = hdr_output;
-  variant.key_count = settings.shadows == ShadowMode::Off ? 0 : keys;
+  variant.key_count = f.settings.shadows == ShadowMode::Off ? 0 : keys;
   variant.specular = q.specular > 0;
+  const cluster::ClusterLayout& layout = f.builder->layout();
   ShadeFrame shade_frame;
-  shade_frame.view = view;
+  shade_frame.view = f.view;
   shade_frame.tan_half = {layout.tan_half_x, layout.tan_half_y};
   shade_frame.viewport = {static_cast<float>(width_), static_cast<float>(height_)};
-  shade_frame.light_count = static_cast<int>(lights.size());
+  shade_frame.light_count = static_cast<int>(f.lights.size());
   for (int k = 0; k < variant.key_count; ++k) {
     const Light& l = scene_.key_lights[static_cast<std::size_t>(k)];
-    const cluster::Vec3 c = frame.point_to_view({l.position.x, l.position.y, l.position.z});
+    const cluster::Vec3 c = f.view_frame.point_to_view({l.position.x, l.position.y, l.position.z});
     shade_frame.key_center[k] = {c.x, c.y, c.z, 1.0f / (l.radius * l.radius)};
     shade_frame.key_color[k] = l.color;
   }
@@ -930,7 +985,7 @@ FrameStats Presenter::render(float time) {
   shade_frame.shininess = q.shininess;
   glBindVertexArray(g.empty_vao.get());
   ShadingTargets& shading = g.targets->shading;
-  g.shading_pass.run(shading.framebuffer(hdr_output), gbuffer, pixel, variant, shade_frame);
+  g.shading_pass.run(shading.framebuffer(hdr_output), g.targets->gbuffer, g.targets->pixel, variant, shade_frame);
   g.hdr_written = hdr_output;
   g.timers.end();
   // Debug views show the G-buffer's values as they are, unfiltered.
@@ -938,17 +993,12 @@ FrameStats Presenter::render(float time) {
   if (shading.resolved) {
     g.timers.begin("gl: silhouette resolve");
     // Only the tiles that may hold an outline are filtered, the rest copied.
-    g.resolve_pass->run(shading.resolved_framebuffer(), shading.shaded_framebuffer(), shading.shaded_display(), gbuffer,
+    g.resolve_pass->run(shading.resolved_framebuffer(), shading.shaded_framebuffer(), shading.shaded_display(), g.targets->gbuffer,
                         q.antialias,
-                        resolve_outline_tiles ? outline_rectangles(view_z, width_, height_, q.antialias)
+                        resolve_outline_tiles ? outline_rectangles(f.view_z, width_, height_, q.antialias)
                                               : std::vector<std::array<std::int32_t, 4>>{{0, 0, width_, height_}});
     g.timers.end();
   }
-  g.timers.collect(stats.stages);
-  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
-    throw Error(fmt::format("OpenGL error 0x{:x} while rendering a frame", error));
-  stats.frame_ms = frame_clock.elapsed_ms();
-  return stats;
 }
 
 std::vector<float> Presenter::read_display_rgb() const { return impl_->targets->shading.read_display_rgb(); }

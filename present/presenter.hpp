@@ -133,6 +133,16 @@ class Presenter {
   // LOD on the prefix of its LOD sequence that may hold entries in their interval; `drawn` counts
   // the splats the vertex shader keeps (unchanged with LOD off).
   std::vector<SplatDraw> splat_draws(const std::vector<glm::mat4>& placements, glm::vec3 eye, std::uint32_t& drawn) const;
+  // The steps of render(), in order, on one frame's state (presenter.cpp).
+  struct Frame;
+  void start_lighting(Frame& frame);
+  void finish_lighting(Frame& frame);  // before the first pass that reads the per-splat lighting
+  void draw_splats(Frame& frame);
+  void build_light_lists(Frame& frame);
+  void light_pixels(Frame& frame);
+  void light_floor_pixels(Frame& frame, bool shadows, bool ao);
+  void upload_frame_inputs(Frame& frame);
+  void shade(Frame& frame);
 };
 
 // Irradiance SH (9 RGB coefficients) of the sky's radiance, by numerical projection.
