@@ -54,7 +54,8 @@ Module load_module() {
     module.failure = dlerror();
   }
   if (!handle) {
-    if (module.failure.empty()) module.failure = std::string(kModuleName) + " not found beside the executable or in ../lib/splatcl";
+    // Appended, not `std::string(kModuleName) + "..."`: GCC 12 warns falsely (-Warray-bounds) on that.
+    if (module.failure.empty()) (module.failure = kModuleName) += " not found beside the executable or in ../lib/splatcl";
     module.failure = "the image module is missing (" + module.failure + "; set SPLATCL_OIIO_MODULE to its path)";
     return module;
   }

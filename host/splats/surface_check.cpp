@@ -24,7 +24,7 @@ std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t salt, std::uint64_t 
 }
 
 // A splat in double with the ellipse frame made unit; valid == false for a degenerate one.
-struct Ellipse {
+struct CheckedEllipse {
   DVec3 c, u, v, n;
   double a = 0, b = 0;
   bool clipped = false;
@@ -37,8 +37,8 @@ struct Ellipse {
 
 bool finite3(Vec3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
-Ellipse prepare(const SplatRecord& s) {
-  Ellipse e;
+CheckedEllipse prepare(const SplatRecord& s) {
+  CheckedEllipse e;
   if (!finite3(s.center) || !finite3(s.normal) || !finite3(s.major) || !finite3(s.minor) || !std::isfinite(s.clip_x) ||
       !std::isfinite(s.clip_y) || std::isnan(s.clip_offset))
     return e;
@@ -69,7 +69,7 @@ Ellipse prepare(const SplatRecord& s) {
   return e;
 }
 
-DVec3 at(const Ellipse& e, double x, double y) { return e.c + x * e.u + y * e.v; }
+DVec3 at(const CheckedEllipse& e, double x, double y) { return e.c + x * e.u + y * e.v; }
 
 // ceil(x) clamped to [lo, hi], for any x (huge, infinite or NaN included).
 std::size_t clamped_count(double x, std::size_t lo, std::size_t hi) {
@@ -89,10 +89,10 @@ struct SplatPoints {
   double rim_step = 0;
 };
 
-DVec3 rim_point(const Ellipse& e, double angle) { return at(e, e.a * std::cos(angle), e.b * std::sin(angle)); }
-bool kept(const Ellipse& e, double angle) { return !e.clipped || std::cos(angle) * e.wx + std::sin(angle) * e.wy <= e.d; }
+DVec3 rim_point(const CheckedEllipse& e, double angle) { return at(e, e.a * std::cos(angle), e.b * std::sin(angle)); }
+bool kept(const CheckedEllipse& e, double angle) { return !e.clipped || std::cos(angle) * e.wx + std::sin(angle) * e.wy <= e.d; }
 
-void splat_points(const Ellipse& e, std::size_t index, const SurfaceCheckOptions& options, SplatPoints& out) {
+void splat_points(const CheckedEllipse& e, std::size_t index, const SurfaceCheckOptions& options, SplatPoints& out) {
   out.points.clear();
   out.rim_angles.clear();
   SplitMix64 random{stream_seed(options.seed, kSplatSalt, index)};
@@ -140,7 +140,7 @@ struct SplatResult {
 // needs its distance when it may raise a maximum or lie beyond ε: one within the lower of the two
 // (a cheaper query, which stops at the first triangle near enough) changes nothing, so the rim
 // goes first and the interior then mostly takes that query.
-SplatResult measure_splat(const Ellipse& e, std::size_t index, const SurfaceCheckOptions& options, const Surface& surface, double limit,
+SplatResult measure_splat(const CheckedEllipse& e, std::size_t index, const SurfaceCheckOptions& options, const Surface& surface, double limit,
                           SplatPoints& scratch) {
   SplatResult r;
   const double eps_slack = options.eps * (1 + options.slack);
@@ -188,7 +188,7 @@ SplatResult measure_splat(const Ellipse& e, std::size_t index, const SurfaceChec
 
 // The axis-aligned box of the region where the ellipse covers a surface point: the ellipse grown
 // by the slack, thickened by ε (1 + slack) along every axis.
-BoxTree::Box coverage_box(const Ellipse& e, double eps_slack, double slack) {
+BoxTree::Box coverage_box(const CheckedEllipse& e, double eps_slack, double slack) {
   const double grow = std::sqrt(1 + slack) * (1 + 1e-9);
   const auto extent = [&](double ux, double vx) { return grow * std::hypot(e.a * ux, e.b * vx) + eps_slack * (1 + 1e-9); };
   const DVec3 r{extent(e.u.x, e.v.x), extent(e.u.y, e.v.y), extent(e.u.z, e.v.z)};
@@ -328,7 +328,7 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
   }
   const double eps = options.eps, slack = options.slack, eps_slack = eps * (1 + slack);
 
-  std::vector<Ellipse> ellipses(splats.size());
+  std::vector<CheckedEllipse> ellipses(splats.size());
   std::vector<std::uint32_t> valid;  // coverage tree item → splat index
   std::vector<BoxTree::Box> boxes;
   for (std::size_t j = 0; j < splats.size(); ++j) {
@@ -361,7 +361,7 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
     double radius = 0;
     bool found = false;
     coverage.visit(p.position, radius, [&](std::uint32_t item, double&) {
-      const Ellipse& e = ellipses[valid[item]];
+      const CheckedEllipse& e = ellipses[valid[item]];
       const DVec3 d = p.position - e.c;
       if (!(std::fabs(dot(e.n, d)) <= eps_slack)) return false;
       const double x = dot(e.u, d), y = dot(e.v, d);
@@ -427,7 +427,7 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
     report_progress("checking splats", static_cast<double>(first) / static_cast<double>(splats.size()));
     parallel_for(std::min(kSplatRound, splats.size() - first), 16, [&](std::size_t i, std::size_t worker) {
       const std::size_t j = first + i;
-      const Ellipse& e = ellipses[j];
+      const CheckedEllipse& e = ellipses[j];
       if (!e.valid) return;
       const Surface::Nearest centre = surface.nearest(e.c);
       flipped[j] = centre.triangle != UINT32_MAX && dot(e.n, surface.triangles()[centre.triangle].normal) < 0;
