@@ -62,6 +62,7 @@ int run_view(const ViewOptions& o) {
   initial.debug_view = presenter.debug_view;
   initial.ambient_occlusion = presenter.ambient_occlusion;
   initial.pixel_ao = presenter.pixel_ao;
+  initial.floor_pixels = presenter.floor_per_pixel;
   initial.panel = !o.no_panel;
   initial.paused = o.paused;
   viewer::Controls controls(s, initial);
@@ -96,6 +97,7 @@ int run_view(const ViewOptions& o) {
     presenter.debug_view = v.debug_view;
     presenter.ambient_occlusion = v.ambient_occlusion;
     presenter.pixel_ao = v.pixel_ao;
+    presenter.floor_per_pixel = v.floor_pixels;
 
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window, &fw, &fh);

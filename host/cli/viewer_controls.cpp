@@ -133,6 +133,7 @@ Controls::Controls(present::Scene& scene, const ViewState& state)
       // L toggles LOD between off and the scene's threshold (1 pixel when the scene has it off), B Blinn-Phong.
       lod_on_(scene.quality.lod_error > 0 ? scene.quality.lod_error : 1.0f),
       specular_on_(scene.quality.specular > 0 ? scene.quality.specular : 0.5f),
+      antialias_on_(scene.quality.antialias > 0 ? scene.quality.antialias : present::Quality{}.antialias),
       down_since_(kHeld.size(), -1.0) {
   write_camera();
 }

@@ -86,6 +86,7 @@ struct Bounds {
 struct ViewState {
   present::DebugView debug_view = present::DebugView::Final;
   bool ambient_occlusion = true, pixel_ao = false;
+  bool floor_pixels = true;  // the floor's AO and key-light shadows per pixel (Presenter::floor_per_pixel)
   bool paused = false, panel = true, quit = false;
   std::size_t selected = 0;        // object index (when the scene has objects)
   unsigned screenshots = 0;        // screenshots asked for and not yet taken (P)
@@ -129,9 +130,11 @@ class Controls {
   // World bounds of the objects' meshes at `time` (the floor square when there are none).
   Bounds scene_bounds(float time) const;
 
-  // The values L and B switch on: the scene's LOD threshold and Blinn-Phong strength, or 1 pixel and 0.5.
+  // The values L and B switch on: the scene's LOD threshold and Blinn-Phong strength, or 1 pixel and 0.5;
+  // and the panel's silhouette resolve: the scene's depth jump, or quality.antialias's default.
   float lod_on() const { return lod_on_; }
   float specular_on() const { return specular_on_; }
+  float antialias_on() const { return antialias_on_; }
   const Orbit& orbit() const { return orbit_; }
   Orbit& orbit() { return orbit_; }
   ViewState& state() { return state_; }
@@ -150,7 +153,7 @@ class Controls {
   Orbit orbit_, home_;
   std::vector<present::ObjectSpec> initial_objects_;
   std::vector<const Mesh*> meshes_;
-  float lod_on_, specular_on_;
+  float lod_on_, specular_on_, antialias_on_;
   float aspect_ = 1;  // of the last apply()'s window
   // Held keys: since when each is down (negative: up), and the time of the last apply().
   std::vector<double> down_since_;
