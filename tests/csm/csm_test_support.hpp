@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/test_models.hpp"
 #include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
 #include "core/mesh.hpp"
@@ -23,10 +24,7 @@ inline Runtime& runtime() { return splatcl::testing::shared_runtime(); }
 // A placement that moves by (x, y, z).
 inline Transform translation(double x, double y, double z) { return {1, 0, 0, x, 0, 1, 0, y, 0, 0, 1, z, 0, 0, 0, 1}; }
 
-inline std::string model_path(const std::string& name) {
-  const std::string path = std::string(SPLATCL_MODELS_DIR) + "/" + name;
-  return std::filesystem::exists(path) ? path : std::string();
-}
+using splatcl::testing::model_path;
 
 // Axis-aligned closed boxes (outward quads), one mesh.
 inline Mesh boxes_mesh(const std::vector<std::pair<Vec3, Vec3>>& boxes, const std::string& name = "boxes") {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/test_models.hpp"
 #include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
 #include "core/mesh.hpp"
@@ -31,13 +32,7 @@ inline std::string temp_file(const std::string& name, const std::string& content
   return path;
 }
 
-// A test model from SPLATCL_MODELS_DIR (data/models by default), or "" when it is absent.
-inline std::string model_path(const std::string& name) {
-  // Joined as a path: GCC 12 warns falsely (-Warray-bounds) on `std::string(...) + "/" + name` once
-  // it is inlined into a unity batch of these tests.
-  const std::string path = (std::filesystem::path(SPLATCL_MODELS_DIR) / name).string();
-  return std::filesystem::exists(path) ? path : std::string();
-}
+using splatcl::testing::model_path;
 
 // A flat square [0, size]² in z = 0, split into cells × cells quads.
 inline Mesh plane_mesh(unsigned cells, float size = 1.0f) {
