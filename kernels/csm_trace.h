@@ -51,8 +51,12 @@ CSM_INLINE float csm_box_entry(CSM_TGLOBAL const CsmNode* n, const float* o, con
   return (tmin <= tmax && tmax >= 0.0f && tmin <= limit) ? tmin : INFINITY;
 }
 
-// Ray-triangle distance (Möller–Trumbore, edges inclusive), INFINITY on a miss.
-CSM_INLINE float csm_triangle_hit(CSM_TGLOBAL const CsmTriangle* tri, const float* o, const float* dir) {
+// Ray-triangle distance (Möller–Trumbore), INFINITY on a miss, with the barycentric bounds
+// widened by `edge_tolerance`: 0 is the capture's test (edges inclusive); a small positive
+// value closes the cracks that float rounding leaves along edges shared by two triangles, which a
+// primary ray through such an edge sees as a hole (the scene ray caster's test).
+CSM_INLINE float csm_triangle_hit_within(CSM_TGLOBAL const CsmTriangle* tri, const float* o, const float* dir,
+                                         float edge_tolerance) {
   const float e1x = tri->e1[0], e1y = tri->e1[1], e1z = tri->e1[2];
   const float e2x = tri->e2[0], e2y = tri->e2[1], e2z = tri->e2[2];
   const float px = dir[1] * e2z - dir[2] * e2y, py = dir[2] * e2x - dir[0] * e2z, pz = dir[0] * e2y - dir[1] * e2x;
@@ -61,12 +65,17 @@ CSM_INLINE float csm_triangle_hit(CSM_TGLOBAL const CsmTriangle* tri, const floa
   const float inv_det = 1.0f / det;
   const float tx = o[0] - tri->v0[0], ty = o[1] - tri->v0[1], tz = o[2] - tri->v0[2];
   const float u = (tx * px + ty * py + tz * pz) * inv_det;
-  if (u < 0.0f || u > 1.0f) return INFINITY;
+  if (u < -edge_tolerance || u > 1.0f + edge_tolerance) return INFINITY;
   const float qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
   const float v = (dir[0] * qx + dir[1] * qy + dir[2] * qz) * inv_det;
-  if (v < 0.0f || u + v > 1.0f) return INFINITY;
+  if (v < -edge_tolerance || u + v > 1.0f + edge_tolerance) return INFINITY;
   const float t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
   return t > 0.0f ? t : INFINITY;
+}
+
+// The capture's ray-triangle distance: edges inclusive.
+CSM_INLINE float csm_triangle_hit(CSM_TGLOBAL const CsmTriangle* tri, const float* o, const float* dir) {
+  return csm_triangle_hit_within(tri, o, dir, 0.0f);
 }
 
 typedef struct {

@@ -10,7 +10,7 @@
 
 #include "csm/csm_file.hpp"
 #include "present/lod.hpp"
-#include "present/scene.hpp"
+#include "core/scene.hpp"
 #include "runtime/runtime.hpp"
 #include "core/mesh.hpp"
 #include "splats/splat_file.hpp"

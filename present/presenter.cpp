@@ -16,6 +16,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "cluster/cluster.hpp"
+#include "cluster/scene_input.hpp"
 #include "csm/ao.hpp"
 #include "csm/query_reach.hpp"
 #include "csm/splat_lighting.hpp"
@@ -812,11 +813,10 @@ void Presenter::draw_splats(Frame& f) {
 // The lights in view space and their lists from the shading method's builder.
 void Presenter::build_light_lists(Frame& f) {
   Impl& g = *impl_;
-  f.lights.resize(scene_.lights.size());
+  f.lights = cluster::view_lights(scene_.lights, f.view_frame);
   f.light_rows.assign(std::max<std::size_t>(f.lights.size(), 1) * layout::kLightRowFloats, 0.0f);
   for (std::size_t i = 0; i < f.lights.size(); ++i) {
     const Light& l = scene_.lights[i];
-    f.lights[i] = {f.view_frame.point_to_view({l.position.x, l.position.y, l.position.z}), l.radius, {l.color.x, l.color.y, l.color.z}};
     const float row[layout::kLightRowFloats] = {f.lights[i].center.x, f.lights[i].center.y, f.lights[i].center.z,
                                                 1.0f / (l.radius * l.radius), l.color.x, l.color.y, l.color.z, 0};
     std::copy(row, row + layout::kLightRowFloats, f.light_rows.begin() + static_cast<std::ptrdiff_t>(layout::kLightRowFloats * i));

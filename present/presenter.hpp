@@ -21,7 +21,7 @@
 #include <glm/glm.hpp>
 
 #include "present/assets.hpp"
-#include "present/scene.hpp"
+#include "core/scene.hpp"
 #include "runtime/runtime.hpp"
 
 namespace splatcl::present {

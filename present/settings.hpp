@@ -3,7 +3,7 @@
 // scene file (the viewer and the tests change it between frames); render() parses it once at the
 // start of each frame, so no pass, light-list stage or lighting worker compares strings.
 #include "csm/visibility.hpp"
-#include "present/scene.hpp"
+#include "core/scene.hpp"
 
 namespace splatcl::present {
 

@@ -12,7 +12,9 @@
 #include "bench/suites.hpp"
 #include "cluster/cluster.hpp"
 #include "cluster/reference.hpp"
-#include "cluster/test_scene.hpp"
+#include "cluster/scene_input.hpp"
+#include "core/scene.hpp"
+#include "core/scene_ray_cast.hpp"
 
 namespace splatcl::bench {
 namespace {
@@ -22,9 +24,8 @@ namespace clu = splatcl::cluster;
 constexpr std::uint32_t kWidth = 1920;
 constexpr std::uint32_t kHeight = 1080;
 constexpr std::uint32_t kTileSize = 32;
-constexpr std::uint64_t kSceneSeed = 1;
 constexpr std::uint32_t kLightCounts[] = {1024, 16384, 262144};
-// Light radii at 1k lights (the scene generator's defaults). Radii shrink with the cube root of the
+// Light radii at 1k lights. Radii shrink with the cube root of the
 // count, so every count fills the scene with about the same light density per cluster, as a
 // many-light scene does; otherwise 256k lights would each reach thousands of clusters.
 constexpr std::uint32_t kBaseLightCount = 1024;
@@ -40,10 +41,11 @@ struct ShapedPipeline {
   std::unique_ptr<clu::ClusterPipeline> pipeline;
 };
 
-// A ray-cast frame of the generator's random scene, with the window depth a GL depth buffer holds.
+// A ray-cast frame of the default scene (data/presenter-scene.json), with the window depth a GL
+// depth buffer holds.
 struct Frame {
-  clu::Scene scene;
-  clu::DepthFrame depth;
+  Scene scene;
+  DepthFrame depth;
   std::vector<float> window_depth;
   clu::ClusterConfig config;
 };
@@ -54,8 +56,8 @@ constexpr std::uint32_t kQuickHeight = 180;
 
 Frame make_frame(std::uint32_t width, std::uint32_t height) {
   Frame frame;
-  frame.scene = clu::random_scene(kSceneSeed);
-  frame.depth = clu::ray_cast(frame.scene, width, height);
+  frame.scene = default_scene();
+  frame.depth = ray_cast(frame.scene, width, height);
   frame.window_depth = clu::window_depth(frame.depth, frame.scene.camera);
   frame.config = clu::cluster_config(frame.scene.camera, width, height, kTileSize, kTileSize);
   return frame;
@@ -68,8 +70,12 @@ std::pair<float, float> light_radius_range(std::uint32_t count) {
 
 std::vector<clu::PointLight> make_lights(Frame& frame, std::uint32_t count) {
   const auto [radius_min, radius_max] = light_radius_range(count);
-  frame.scene.lights = clu::RandomLights{count, radius_min, radius_max, kSceneSeed + count};
-  return clu::view_lights(frame.scene, frame.depth);
+  // The scene's generator, over its floor at its heights, with a seed per count.
+  frame.scene.generated.radius_min = radius_min;
+  frame.scene.generated.radius_max = radius_max;
+  frame.scene.generated.seed = count;
+  set_generated_light_count(frame.scene, count);
+  return clu::view_lights(frame.scene.lights, view_frame(frame.scene.camera));
 }
 
 // Times stage(pipeline, profiler) on every pipeline as an OpenCL row of case `name`, then calls

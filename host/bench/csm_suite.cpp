@@ -74,7 +74,7 @@ csm::SphereGrid capture_grid(std::uint32_t maps) {
 
 #ifdef SPLATCL_HAVE_EMBREE
 // The BVH's triangles as corners relative to the sphere centre: the same geometry both capture.
-std::vector<float> triangle_corners(const csm::Bvh& bvh) {
+std::vector<float> triangle_corners(const Bvh& bvh) {
   std::vector<float> corners;
   corners.reserve(bvh.triangles.size() * 9);
   for (const auto& t : bvh.triangles) {

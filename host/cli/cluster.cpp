@@ -1,5 +1,6 @@
-// splatcl cluster: the clustered-shading back end on a scene's depth buffer — ray cast, keys,
-// compaction, bounds, light assignment — with a summary, images and a JSON summary.
+// splatcl cluster: the clustered-shading back end on a scene's depth buffer — ray cast on the host
+// (core/scene_ray_cast.hpp), keys, compaction, bounds, light assignment — with a summary, images and
+// a JSON summary.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -14,7 +15,9 @@
 #include "cli/commands.hpp"
 #include "cluster/cluster.hpp"
 #include "cluster/shading.hpp"
-#include "cluster/test_scene.hpp"
+#include "cluster/scene_input.hpp"
+#include "core/scene.hpp"
+#include "core/scene_ray_cast.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
 #include "io/output_files.hpp"
@@ -56,10 +59,7 @@ std::pair<std::uint32_t, std::uint32_t> parse_dimensions(const std::string& text
   return {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)};
 }
 
-Scene load_scene(const std::string& path) {
-  if (path.empty()) return parse_scene(embedded_data().at("default-scene.json"), "default scene (data/default-scene.json)");
-  return parse_scene(read_text_file(path, "scene"), path);
-}
+Scene load_cluster_scene(const std::string& path) { return path.empty() ? default_scene() : load_scene(path); }
 
 // Random colour per cluster index, so neighbouring clusters are told apart in the image.
 std::vector<float> cluster_image(const ClusterList& clusters) {
@@ -78,13 +78,11 @@ int run_cluster(const ClusterOptions& o) {
   const auto [tile_w, tile_h] = parse_dimensions(o.tile, "--tile");
   const Compaction compaction = parse_compaction(o.compaction);
   const Assignment assignment = parse_assignment(o.assignment);
-  Scene scene = load_scene(o.scene_path);
+  Scene scene = load_cluster_scene(o.scene_path);
   if (o.light_count) {
     if (*o.light_count < 0 || *o.light_count > kMaxSceneLights)
       throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.light_count, kMaxSceneLights));
-    auto* random = std::get_if<RandomLights>(&scene.lights);
-    if (!random) throw Error("--lights applies to scenes with generated lights; " + o.scene_path + " lists its lights explicitly");
-    random->count = static_cast<std::uint32_t>(*o.light_count);
+    set_generated_light_count(scene, static_cast<std::uint32_t>(*o.light_count));
   }
   // The four outputs writable before any work; staged and committed together at the end.
   const std::vector<std::string> output_names = {"lights-per-cluster.png", "clusters.png", "shaded.png", "summary.json"};
@@ -99,7 +97,7 @@ int run_cluster(const ClusterOptions& o) {
   const ClusterConfig config = cluster_config(scene.camera, width, height, tile_w, tile_h, o.normal_bits);
   Stopwatch cast_clock;
   const DepthFrame frame = ray_cast(scene, width, height);
-  const std::vector<PointLight> lights = view_lights(scene, frame);
+  const std::vector<PointLight> lights = view_lights(scene.lights, view_frame(scene.camera));
   const double cast_ms = cast_clock.elapsed_ms();
 
   ClusterPipeline pipeline(*runtime, config, parse_shape(o.shape));
@@ -152,7 +150,7 @@ int run_cluster(const ClusterOptions& o) {
   float max_difference = 0.0f;
   for (std::size_t i = 0; i < shaded.size(); ++i) max_difference = std::max(max_difference, std::abs(shaded[i] - reference[i]));
 
-  fmt::print("scene      {}\n", o.scene_path.empty() ? "default (data/default-scene.json)" : o.scene_path);
+  fmt::print("scene      {}, {} objects at time {:g}\n", scene.source, scene.objects.size(), scene.time);
   fmt::print("device     {} ({} shape)\n", runtime->info().name, to_string(pipeline.shape() == Shape::Auto ? runtime->resolve(Shape::Auto) : pipeline.shape()));
   fmt::print("frame      {}x{}, {} covered pixels ({:.1f}%), ray cast in {:.1f} ms\n", width, height, covered,
              100.0 * static_cast<double>(covered) / static_cast<double>(layout.pixel_count()), cast_ms);
@@ -192,7 +190,7 @@ int run_cluster(const ClusterOptions& o) {
     std::transform(shaded.begin(), shaded.end(), tone_mapped.begin(), [](float c) { return c / (1.0f + c); });
     image("shaded.png", tone_mapped);
     nlohmann::json summary = {
-        {"scene", o.scene_path.empty() ? "data/default-scene.json" : o.scene_path},
+        {"scene", scene.source},
         {"device", runtime->info().name},
         {"width", width}, {"height", height}, {"tile", {tile_w, tile_h}},
         {"tiles", {layout.tiles_x, layout.tiles_y}}, {"slices", layout.slice_count}, {"key_bits", layout.key_bits},
@@ -217,14 +215,14 @@ Action register_cluster(CLI::App& app) {
                                  "bounds and light assignment on the OpenCL device; prints a summary");
   auto o = std::make_shared<ClusterOptions>();
   add_device_option(*sub, o->device);
-  sub->add_option("scene", o->scene_path, "Scene JSON (schema in docs/clustered-shading.md); default: the embedded data/default-scene.json");
+  sub->add_option("scene", o->scene_path, "Scene JSON, as render and view read it (schema in docs/presenter.md; its meshes and floor are ray cast, splat-file objects are refused); default: the embedded data/presenter-scene.json");
   sub->add_option("-o,--output", o->output_dir, "Directory for lights-per-cluster.png, clusters.png, shaded.png and summary.json (created if missing)");
   sub->add_option("--size", o->size, "Frame size WIDTHxHEIGHT")->capture_default_str();
   sub->add_option("--tile", o->tile, "Tile size WIDTHxHEIGHT in pixels")->capture_default_str();
   sub->add_option("--compaction", o->compaction, "global-sort, tile-sort (the thesis's per-tile sort) or bitmask")->capture_default_str();
   sub->add_option("--assignment", o->assignment, "Light assignment: brute or bvh")->capture_default_str();
   sub->add_option("--shape", o->shape, "Kernel shape: auto (by device type), cpu or gpu")->capture_default_str();
-  sub->add_option("--lights", o->light_count, "Number of generated lights (overrides the scene's count)");
+  sub->add_option("--lights", o->light_count, "Number of generated lights (replaces the scene's generated lights; listed lights stay)");
   sub->add_flag("--normal-bits", o->normal_bits, "Add the normal-cone bits to the key (Olsson et al. 2012 extension)");
   sub->add_flag("--window-depth", o->window_depth, "Feed the kernels OpenGL window depth instead of view-space z");
   return [o] { return run_cluster(*o); };

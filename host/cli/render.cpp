@@ -50,7 +50,7 @@ int run_render(const RenderOptions& o) {
   check_distinct_outputs({{"-o", o.output}, {"--json", o.json}});
   if (!(std::isfinite(o.dt) && o.dt >= 0)) throw Error(fmt::format("--dt {} is not a time step in seconds (finite, not negative)", o.dt));
   if (o.time && !std::isfinite(*o.time)) throw Error(fmt::format("--time {} is not a scene time in seconds (finite)", *o.time));
-  const present::Scene scene = o.scene.load();
+  const splatcl::Scene scene = o.scene.load();
   auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::offscreen();
   ProgressLine progress("render");

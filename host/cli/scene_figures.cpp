@@ -2,14 +2,14 @@
 
 namespace splatcl::cli {
 
-std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, const present::Scene& scene) {
+std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, const splatcl::Scene& scene) {
   std::vector<ObjectFigures> out;
   for (std::size_t i = 0; i < scene.objects.size() && i < presenter.object_count(); ++i) {
     const present::ObjectAssets& a = presenter.assets(i);
     ObjectFigures f;
     f.name = scene.objects[i].name;
     f.occluder = scene.objects[i].occluder;
-    const present::MeshSpec& mesh = scene.objects[i].mesh;
+    const splatcl::MeshSpec& mesh = scene.objects[i].mesh;
     const bool splat_file = !mesh.splat_path.empty();
     f.source = splat_file ? "splat file " + mesh.splat_path : mesh.path.empty() ? "procedural " + mesh.procedural : "mesh " + mesh.path;
     f.vertices = splat_file ? 0 : a.mesh.vertices.size();
@@ -54,8 +54,8 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
   return list;
 }
 
-nlohmann::json settings_json(const present::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao) {
-  const present::Quality& q = scene.quality;
+nlohmann::json settings_json(const splatcl::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao) {
+  const splatcl::Quality& q = scene.quality;
   return {{"shading", q.shading},
           {"mode", q.mode},
           {"shadows", q.shadows},

@@ -28,11 +28,11 @@ struct ObjectFigures {
   std::string key;                    // asset cache key
 };
 
-std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, const present::Scene& scene);
+std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, const splatcl::Scene& scene);
 nlohmann::json to_json(const std::vector<ObjectFigures>& objects);
 
 // The modes and toggles of a frame: shading baseline, mode, shadows, AO (on, per pixel), LOD,
 // Blinn-Phong, debug view, splat scale k, depth ε, light count.
-nlohmann::json settings_json(const present::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao);
+nlohmann::json settings_json(const splatcl::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao);
 
 }  // namespace splatcl::cli

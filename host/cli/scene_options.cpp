@@ -6,8 +6,8 @@
 
 namespace splatcl::cli {
 
-present::Scene SceneOptions::load() const {
-  present::Scene s = scene.empty() ? present::default_scene() : present::load_scene(scene);
+splatcl::Scene SceneOptions::load() const {
+  splatcl::Scene s = scene.empty() ? splatcl::default_scene() : splatcl::load_scene(scene);
   present::apply_overrides(s, overrides);
   return s;
 }

@@ -8,7 +8,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "present/assets.hpp"
-#include "present/scene.hpp"
+#include "present/overrides.hpp"
 
 namespace splatcl::cli {
 
@@ -19,7 +19,7 @@ struct SceneOptions {
   DeviceOptions device;
 
   // The scene file, or the default scene, with the overrides applied.
-  present::Scene load() const;
+  splatcl::Scene load() const;
   std::string cache_dir() const;
 };
 

@@ -46,7 +46,7 @@ int run_view(const ViewOptions& o) {
   if (o.screenshot_on_exit && o.seconds <= 0) throw Error("--screenshot-on-exit needs --seconds (the time of the last frame)");
   if (!std::filesystem::is_directory(o.screenshot_dir))
     throw Error(fmt::format("--screenshots {}: not a directory", o.screenshot_dir));
-  const present::Scene scene = o.scene.load();
+  const splatcl::Scene scene = o.scene.load();
   auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::window(width, height, "splatcl view");
   GLFWwindow* window = context->glfw_window();
@@ -57,7 +57,7 @@ int run_view(const ViewOptions& o) {
   presenter.hdr_output = false;  // the window and screenshots show the tone-mapped image
   std::fprintf(stderr, "%s\n", kHelpKeys);
 
-  present::Scene& s = presenter.scene();
+  splatcl::Scene& s = presenter.scene();
   viewer::ViewState initial;
   initial.debug_view = presenter.debug_view;
   initial.ambient_occlusion = presenter.ambient_occlusion;

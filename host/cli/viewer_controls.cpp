@@ -124,7 +124,7 @@ std::string step(const std::string& value, const std::vector<std::string>& value
   return values[backwards ? (i + n - 1) % n : (i + 1) % n];
 }
 
-Controls::Controls(present::Scene& scene, const ViewState& state)
+Controls::Controls(splatcl::Scene& scene, const ViewState& state)
     : scene_(scene),
       state_(state),
       orbit_(Orbit::from_camera(scene.camera)),
@@ -133,7 +133,7 @@ Controls::Controls(present::Scene& scene, const ViewState& state)
       // L toggles LOD between off and the scene's threshold (1 pixel when the scene has it off), B Blinn-Phong.
       lod_on_(scene.quality.lod_error > 0 ? scene.quality.lod_error : 1.0f),
       specular_on_(scene.quality.specular > 0 ? scene.quality.specular : 0.5f),
-      antialias_on_(scene.quality.antialias > 0 ? scene.quality.antialias : present::Quality{}.antialias),
+      antialias_on_(scene.quality.antialias > 0 ? scene.quality.antialias : splatcl::Quality{}.antialias),
       down_since_(kHeld.size(), -1.0) {
   write_camera();
 }
@@ -242,7 +242,7 @@ std::optional<std::size_t> Controls::pick(double x, double y, glm::ivec2 window,
 
 void Controls::move_selected(float dx, float dy, float dz, float time) {
   if (scene_.objects.empty()) return;
-  present::ObjectSpec& obj = scene_.objects[state_.selected % scene_.objects.size()];
+  splatcl::ObjectSpec& obj = scene_.objects[state_.selected % scene_.objects.size()];
   if (obj.animation.orbit_radius > 0 && (dx != 0 || dz != 0)) {
     // Stop the orbit where the object is now.
     obj.position = glm::vec3(obj.placement(time)[3]);
@@ -277,7 +277,7 @@ void Controls::on_key(const Event& e, float time) {
   if (e.captured) return;
   const bool press = e.action == Action::Press, repeat = e.action == Action::Repeat;
   const bool shift = (e.mods & mod::Shift) != 0;
-  present::Quality& q = scene_.quality;
+  splatcl::Quality& q = scene_.quality;
   // Zoom keys repeat while held; every other key acts once per press.
   if (press || repeat) {
     if (e.code == key::Equal || e.code == key::KeypadAdd) return zoom(1);

@@ -15,7 +15,7 @@
 
 #include "core/camera.hpp"
 #include "present/presenter.hpp"
-#include "present/scene.hpp"
+#include "core/scene.hpp"
 #include "core/mesh.hpp"
 
 namespace splatcl::cli::viewer {
@@ -100,7 +100,7 @@ class Controls {
  public:
   // Works on `scene` (camera, objects, quality), which must outlive it. The scene's camera at this
   // point is the one R returns to, its objects' placements the ones Shift+R returns to.
-  Controls(present::Scene& scene, const ViewState& state = {});
+  Controls(splatcl::Scene& scene, const ViewState& state = {});
 
   // Each object's mesh (model space), in scene order, for picking and fit-to-scene; objects
   // without one are neither picked nor framed (the floor frames an empty scene).
@@ -139,7 +139,7 @@ class Controls {
   Orbit& orbit() { return orbit_; }
   ViewState& state() { return state_; }
   const ViewState& state() const { return state_; }
-  present::Scene& scene() { return scene_; }
+  splatcl::Scene& scene() { return scene_; }
   // The camera of the current orbit (the scene's up, field of view and planes).
   Camera camera() const;
 
@@ -148,10 +148,10 @@ class Controls {
   static constexpr double kClickPixels = 4;  // a press and release closer than this is a click (pick)
 
  private:
-  present::Scene& scene_;
+  splatcl::Scene& scene_;
   ViewState state_;
   Orbit orbit_, home_;
-  std::vector<present::ObjectSpec> initial_objects_;
+  std::vector<splatcl::ObjectSpec> initial_objects_;
   std::vector<const Mesh*> meshes_;
   float lod_on_, specular_on_, antialias_on_;
   float aspect_ = 1;  // of the last apply()'s window

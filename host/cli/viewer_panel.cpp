@@ -144,8 +144,8 @@ GlfwInput::Hooks Panel::hooks() const {
 void Panel::build(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time) {
   tooltip_ = false;
   ViewState& v = controls.state();
-  present::Scene& s = controls.scene();
-  present::Quality& q = s.quality;
+  splatcl::Scene& s = controls.scene();
+  splatcl::Quality& q = s.quality;
 
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
@@ -181,9 +181,9 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
     ImGui::SliderFloat("depth offset eps", &q.depth_offset, 0.0f, 0.2f, "%.4f");
     int lights = static_cast<int>(s.generated.count);
     const int explicit_lights = static_cast<int>(s.lights.size() - s.generated.count);
-    if (ImGui::SliderInt("generated lights", &lights, 0, static_cast<int>(present::kMaxSceneLights) - explicit_lights, "%d",
+    if (ImGui::SliderInt("generated lights", &lights, 0, static_cast<int>(splatcl::kMaxSceneLights) - explicit_lights, "%d",
                          ImGuiSliderFlags_Logarithmic))
-      present::set_generated_light_count(s, static_cast<std::uint32_t>(std::max(lights, 0)));
+      splatcl::set_generated_light_count(s, static_cast<std::uint32_t>(std::max(lights, 0)));
     // Generated lights come from "lights": {"count": N}; listed ones from an explicit array.
     ImGui::Text("%zu point lights (%u generated, %d listed), %zu key lights", s.lights.size(), s.generated.count, explicit_lights,
                 s.key_lights.size());

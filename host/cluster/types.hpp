@@ -10,10 +10,6 @@ namespace splatcl::cluster {
 
 using splatcl::Vec3;
 
-// The most point lights a scene may have (a random count, a list, or --lights): more is refused
-// with one line before anything is allocated (docs/reliability.md). The presenter shares it.
-inline constexpr std::uint32_t kMaxSceneLights = 1u << 20;
-
 // Finite point light (thesis §2.4.3): no influence at distance ≥ radius.
 struct PointLight {
   Vec3 center;  // view space when handed to the cluster stage

@@ -10,7 +10,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "csm/bvh.hpp"
+#include "core/bvh.hpp"
 #include "csm/capture.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/error.hpp"

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "core/device_vector.hpp"
-#include "csm/bvh.hpp"
+#include "core/bvh.hpp"
 #include "csm/sphere_grid.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "csm/bvh.hpp"
+#include "core/bvh.hpp"
 #include "runtime/error.hpp"
 #include "core/parallel.hpp"
 
@@ -31,42 +31,6 @@ Vec3 random_direction(std::mt19937& rng) {
   return {s * std::cos(phi), y, s * std::sin(phi)};
 }
 
-// Nearest triangle hit along o + t·dir (t > 0) and its index, or t = INFINITY: the primary rays
-// need the hit triangle's normal, which first_two_hits does not return.
-struct Hit {
-  float t = INFINITY;
-  std::uint32_t triangle = 0;
-};
-
-Hit closest_hit(const Bvh& bvh, const float o[3], const float dir[3], const float inv[3]) {
-  Hit best;
-  if (bvh.nodes.empty()) return best;
-  std::uint32_t stack[kBvhMaxDepth + 2];
-  std::uint32_t top = 0;
-  stack[top++] = 0;
-  while (top) {
-    const BvhNode& node = bvh.nodes[stack[--top]];
-    float t0 = 0, t1 = best.t;
-    for (int k = 0; k < 3; ++k) {
-      float a = (node.lo[k] - o[k]) * inv[k], b = (node.hi[k] - o[k]) * inv[k];
-      if (a > b) std::swap(a, b);
-      t0 = std::max(t0, a);
-      t1 = std::min(t1, b);
-    }
-    if (t0 > t1) continue;
-    if (node.count == 0) {
-      const auto self = static_cast<std::uint32_t>(&node - bvh.nodes.data());
-      stack[top++] = node.index;
-      stack[top++] = self + 1;
-      continue;
-    }
-    for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
-      const float t = triangle_hit(bvh.triangles[k], o, dir);
-      if (t > 0 && t < best.t) best = {t, k};
-    }
-  }
-  return best;
-}
 
 }  // namespace
 
@@ -102,7 +66,7 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
       const Vec3 d = normalized(forward + x * right + y * up);
       const float o[3] = {eye.x, eye.y, eye.z}, dir[3] = {d.x, d.y, d.z};
       const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
-      const Hit h = closest_hit(bvh, o, dir, inv);
+      const ClosestHit h = closest_hit(bvh, o, dir, inv);
       const float t = h.t;
       hit[p] = t == INFINITY ? Vec4{0, 0, 0, 0} : Vec4{c.x + eye.x + t * d.x, c.y + eye.y + t * d.y, c.z + eye.z + t * d.z, 1};
       if (t == INFINITY) return;

@@ -1,6 +1,6 @@
 #include "csm/sphere_grid.hpp"
 
-#include "csm/bvh.hpp"
+#include "core/bvh.hpp"
 
 #include <cmath>
 #include <numbers>

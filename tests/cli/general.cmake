@@ -18,5 +18,16 @@ add_test(NAME cli.error_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device mat
 add_test(NAME cli.error_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> cluster missing.json)
 add_test(NAME cli.error_bad_size COMMAND ${EXPECT_ERROR} "--size" $<TARGET_FILE:splatcl> cluster --size 12by7)
 add_test(NAME cli.error_bad_compaction COMMAND ${EXPECT_ERROR} "compaction" $<TARGET_FILE:splatcl> cluster --compaction quick)
-file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/broken-scene.json "{\"objects\": [{\"type\": \"cone\"}]}")
-add_test(NAME cli.error_broken_scene COMMAND ${EXPECT_ERROR} "broken-scene.json" $<TARGET_FILE:splatcl> cluster ${CMAKE_CURRENT_BINARY_DIR}/broken-scene.json)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/broken-scene.json "{\"objects\": [{\"mesh\": {\"procedural\": \"cone\"}}]}")
+add_test(NAME cli.error_broken_scene COMMAND ${EXPECT_ERROR} "broken-scene.json: 'procedural' is 'cone', not one of: sphere, torus, box$"
+         $<TARGET_FILE:splatcl> cluster ${CMAKE_CURRENT_BINARY_DIR}/broken-scene.json)
+# The scene of render and view: a listed light stays beside --lights generated ones; a splat-file
+# object has no mesh to ray cast.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/cluster-listed-light.json
+     "{\"objects\": [{\"mesh\": {\"procedural\": \"box\"}, \"position\": [0, 0.5, 0]}], \"lights\": [{\"position\": [0, 1, 0], \"radius\": 2}]}")
+add_test(NAME cli.cluster_listed_and_generated_lights COMMAND ${EXPECT_OUTPUT} --match "^scene +.*cluster-listed-light.json, 1 objects at time 0$"
+         --match "^lights +6, [1-9][0-9]* list entries" --match "^check +clustered vs brute-force shading: max difference 0 over 6 lights$"
+         -- $<TARGET_FILE:splatcl> cluster ${CMAKE_CURRENT_BINARY_DIR}/cluster-listed-light.json --lights 5 --size 64x48)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/cluster-splat-object.json "{\"objects\": [{\"name\": \"scan\", \"splats\": \"scan.ply\"}]}")
+add_test(NAME cli.error_cluster_splat_object COMMAND ${EXPECT_ERROR} "cluster-splat-object.json: objects\\[0\\] \\(scan\\) is a splat file: the ray caster draws meshes and the floor only$"
+         $<TARGET_FILE:splatcl> cluster ${CMAKE_CURRENT_BINARY_DIR}/cluster-splat-object.json)

@@ -1,8 +1,9 @@
 #pragma once
-// Shared by the cluster tests: one runtime per process, frames from the test-scene generator,
-// and the invariant checks every variant must pass.
+// Shared by the cluster tests: one runtime per process, ray-cast frames of random scenes, and the
+// invariant checks every variant must pass.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <set>
@@ -11,11 +12,68 @@
 #include "runtime/test_runtime.hpp"
 #include "cluster/cluster.hpp"
 #include "cluster/reference.hpp"
-#include "cluster/test_scene.hpp"
+#include "cluster/scene_input.hpp"
+#include "core/scene.hpp"
+#include "core/scene_ray_cast.hpp"
 
 namespace splatcl::cluster::testing {
 
 inline Runtime& test_runtime() { return splatcl::testing::shared_runtime(); }
+
+// SplitMix64: the same sequence on every platform (unlike std distributions).
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : state_(seed) {}
+  // Uniform in [lo, hi).
+  float uniform(float lo, float hi) {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return lo + (hi - lo) * static_cast<float>(z >> 40) * 0x1.0p-24f;
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+// A scene of `spheres` spheres and `boxes` boxes standing on a floor within [−extent, extent] in
+// x and z, a camera looking at it from a seed-chosen direction, and `light_count` generated lights
+// over the floor up to 0.4·extent high. Deterministic per seed.
+inline Scene random_scene(std::uint64_t seed, std::uint32_t light_count = 200, std::uint32_t spheres = 12,
+                          std::uint32_t boxes = 8, float extent = 10.0f) {
+  Random random(seed);
+  const float e = extent;
+  Scene scene;
+  scene.source = "random scene " + std::to_string(seed);
+  scene.floor.size = 2.4f * e;
+  for (std::uint32_t i = 0; i < spheres; ++i) {
+    ObjectSpec sphere;
+    sphere.mesh.procedural = "sphere";
+    sphere.mesh.radius = random.uniform(0.03f, 0.15f) * e;
+    sphere.mesh.segments = 24;
+    sphere.mesh.rings = 12;
+    sphere.position = {random.uniform(-e, e), sphere.mesh.radius + random.uniform(0, 0.2f) * e, random.uniform(-e, e)};
+    scene.objects.push_back(sphere);
+  }
+  for (std::uint32_t i = 0; i < boxes; ++i) {
+    ObjectSpec box;
+    box.mesh.procedural = "box";
+    box.mesh.size = {random.uniform(0.05f, 0.3f) * e, random.uniform(0.05f, 0.4f) * e, random.uniform(0.05f, 0.3f) * e};
+    box.mesh.rings = 1;
+    box.position = {random.uniform(-e, e), 0.5f * box.mesh.size.y, random.uniform(-e, e)};
+    scene.objects.push_back(box);
+  }
+  const float angle = random.uniform(0.0f, 6.2831853f);
+  const float distance = random.uniform(1.2f, 1.8f) * e;
+  scene.camera.eye = {distance * std::cos(angle), random.uniform(0.2f, 0.6f) * e, distance * std::sin(angle)};
+  scene.camera.target = {0, 0, 0};
+  scene.camera.near_plane = 0.1f;
+  scene.camera.far_plane = 10.0f * e;
+  scene.generated = {0, 0.3f, 2.5f, 0.0f, 0.4f * e, e, 0.6f, seed + 1000};
+  set_generated_light_count(scene, light_count);
+  return scene;
+}
 
 // A ray-cast random scene with its lights, ready for the pipeline.
 struct Frame {
@@ -27,13 +85,11 @@ struct Frame {
 
 inline Frame make_frame(std::uint64_t seed, std::uint32_t width, std::uint32_t height, std::uint32_t tile_width = 32,
                         std::uint32_t tile_height = 32, bool normal_bits = false, std::uint32_t light_count = 200) {
-  RandomSceneOptions options;
-  options.lights = {light_count, 0.3f, 2.5f, seed + 1000};
   Frame frame;
-  frame.scene = random_scene(seed, options);
+  frame.scene = random_scene(seed, light_count);
   frame.depth = ray_cast(frame.scene, width, height);
   frame.config = cluster_config(frame.scene.camera, width, height, tile_width, tile_height, normal_bits);
-  frame.lights = view_lights(frame.scene, frame.depth);
+  frame.lights = view_lights(frame.scene.lights, view_frame(frame.scene.camera));
   return frame;
 }
 

@@ -12,7 +12,7 @@
 #include "present/assets.hpp"
 #include "present/context.hpp"
 #include "present/presenter.hpp"
-#include "present/scene.hpp"
+#include "core/scene.hpp"
 #include "runtime/error.hpp"
 #include "runtime/runtime.hpp"
 

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "present/overrides.hpp"
 #include "presenter_test_support.hpp"
 
 namespace splatcl::present {

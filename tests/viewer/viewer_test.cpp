@@ -12,7 +12,7 @@
 
 #include "cli/viewer_controls.hpp"
 #include "cli/viewer_glfw.hpp"
-#include "present/scene.hpp"
+#include "core/scene.hpp"
 
 namespace {
 
@@ -21,12 +21,12 @@ using namespace splatcl::cli::viewer;
 
 // The default scene (torus, sphere, box) with its meshes, and controls on it.
 struct Fixture {
-  present::Scene scene = present::default_scene();
+  splatcl::Scene scene = splatcl::default_scene();
   std::vector<Mesh> meshes;
   std::unique_ptr<Controls> controls;
   glm::ivec2 window{640, 480};
   Fixture() {
-    for (const auto& o : scene.objects) meshes.push_back(present::make_object_mesh(o.mesh, scene.directory));
+    for (const auto& o : scene.objects) meshes.push_back(splatcl::make_object_mesh(o.mesh, scene.directory));
     controls = std::make_unique<Controls>(scene);
     std::vector<const Mesh*> pointers;
     for (const auto& m : meshes) pointers.push_back(&m);
@@ -409,7 +409,7 @@ TEST(GlfwInput, InstalledCallbacksQueueEveryEvent) {
     EXPECT_EQ(input.queue().size(), 0u);
 
     // The queue into the controls: ten shading steps, one zoom of two wheel steps.
-    present::Scene scene = present::default_scene();
+    splatcl::Scene scene = splatcl::default_scene();
     Controls controls(scene);
     const float d = controls.orbit().distance;
     controls.apply(events, glfwGetTime(), {320, 240}, 0);

@@ -1,7 +1,8 @@
 #pragma once
-// The presenter's scene: objects (a mesh file or a procedural mesh, a rigid placement, simple
-// animation), a floor, many point lights (explicit or generated), shadowed key lights, a camera,
-// an ambient sky and quality settings. The JSON schema is documented in docs/presenter.md.
+// The scene of every stage that renders a view (the presenter, and `splatcl cluster`, which ray casts
+// it): objects (a mesh file, a procedural mesh or a splat file, a rigid placement, simple animation),
+// a floor, many point lights (explicit or generated), shadowed key lights, a camera, an ambient sky
+// and the presenter's quality settings. The JSON schema is documented in docs/presenter.md.
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -13,11 +14,10 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "cluster/types.hpp"
 #include "core/camera.hpp"
 #include "core/mesh.hpp"
 
-namespace splatcl::present {
+namespace splatcl {
 
 // A mesh file (path relative to the scene file), one of the procedural shapes, or a ready-made
 // splat file (splatcl's splat PLY or a 3D Gaussian Splatting PLY) that is used as it is.
@@ -109,11 +109,12 @@ struct Light {
   float size = 0.0f;  // key lights: radius of the spherical emitter sampled for soft shadows (0 = point)
 };
 
+// The most point lights a scene may have (listed, generated, --lights): more is refused with one
+// line before anything is allocated (docs/reliability.md).
+inline constexpr std::uint32_t kMaxSceneLights = 1u << 20;
+
 // Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
 // bright hues from a seeded generator.
-// The most point lights a scene may have (listed, generated, --lights): the cluster stage's limit.
-using cluster::kMaxSceneLights;
-
 struct GeneratedLights {
   std::uint32_t count = 0;
   float radius_min = 0.8f, radius_max = 2.5f;
@@ -211,29 +212,7 @@ Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory);
 // A path of the scene (mesh, texture, splat file), relative to the scene file's directory.
 std::string scene_path(const std::string& path, const std::string& directory);
 
-}  // namespace splatcl::present
-
-namespace splatcl::present {
-
-// "WIDTHxHEIGHT" with both in 1..8192; Error naming `what` otherwise.
-std::pair<int, int> parse_frame_size(const std::string& text, const char* what);
-
 // Replaces the generated lights by `count` lights of the same spec (explicit lights stay).
 void set_generated_light_count(Scene& scene, std::uint32_t count);
 
-}  // namespace splatcl::present
-
-namespace splatcl::present {
-
-// Command-line overrides of the quality settings; empty strings keep the scene's value. Error
-// names the option for a value outside its set.
-struct Overrides {
-  std::string shading, mode, shadows;
-  // Unset keeps the scene's value; a given value out of range (negative, NaN) is an error.
-  std::optional<long long> lights;  // generated light count
-  std::optional<double> lod;        // LOD error threshold in pixels
-  std::optional<double> specular;   // Blinn-Phong strength, 0 = off
-};
-void apply_overrides(Scene& scene, const Overrides& overrides);
-
-}  // namespace splatcl::present
+}  // namespace splatcl

@@ -1,4 +1,4 @@
-#include "csm/bvh.hpp"
+#include "core/bvh.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 
 #include "runtime/error.hpp"
 
-namespace splatcl::csm {
+namespace splatcl {
 namespace {
 
 struct Bounds {
@@ -234,6 +234,36 @@ float inverse_direction(float d) {
   return d == 0.0f ? 1e30f : 1.0f / d;
 }
 
+ClosestHit closest_hit(const Bvh& bvh, const float o[3], const float dir[3], const float inv[3], float edge_tolerance) {
+  ClosestHit best;
+  if (bvh.nodes.empty()) return best;
+  std::uint32_t stack[kBvhMaxDepth + 2];
+  std::uint32_t top = 0;
+  stack[top++] = 0;
+  while (top) {
+    const BvhNode& node = bvh.nodes[stack[--top]];
+    float t0 = 0, t1 = best.t;
+    for (int k = 0; k < 3; ++k) {
+      float a = (node.lo[k] - o[k]) * inv[k], b = (node.hi[k] - o[k]) * inv[k];
+      if (a > b) std::swap(a, b);
+      t0 = std::max(t0, a);
+      t1 = std::min(t1, b);
+    }
+    if (t0 > t1) continue;
+    if (node.count == 0) {
+      const auto self = static_cast<std::uint32_t>(&node - bvh.nodes.data());
+      stack[top++] = node.index;
+      stack[top++] = self + 1;
+      continue;
+    }
+    for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
+      const float t = device_trace::csm_triangle_hit_within(&bvh.triangles[k], o, dir, edge_tolerance);
+      if (t > 0 && t < best.t) best = {t, k};
+    }
+  }
+  return best;
+}
+
 bool any_hit(const Bvh& bvh, const float o[3], const float dir[3], float t_max) {
   if (bvh.nodes.empty()) return false;
   const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
@@ -242,4 +272,4 @@ bool any_hit(const Bvh& bvh, const float o[3], const float dir[3], float t_max) 
   return hits.t1 < t_max;
 }
 
-}  // namespace splatcl::csm
+}  // namespace splatcl

@@ -1,4 +1,4 @@
-#include "present/scene.hpp"
+#include "core/scene.hpp"
 
 #include <fmt/format.h>
 
@@ -13,14 +13,12 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "csm/build.hpp"
-#include "csm/sphere_grid.hpp"
 #include "io/json_keys.hpp"
 #include "io/text_file.hpp"
 #include "runtime/embedded.hpp"
 #include "runtime/error.hpp"
 
-namespace splatcl::present {
+namespace splatcl {
 namespace {
 
 using nlohmann::json;
@@ -133,12 +131,10 @@ void read_asset_quality(const Reader& r, const json& q, Quality& Q) {
   Q.splat_bound = r.text(q, "splat_bound", Q.splat_bound, {"thesis", "two-sided"});
   Q.eps_diagonal = r.positive(q, "eps_diagonal", Q.eps_diagonal);
   Q.csm_maps = r.count(q, "csm_maps", Q.csm_maps, 16, 65536);
-  try {
-    const csm::BuildOptions grid_of;  // the presenter's maps use the build's default distribution and order
-    (void)csm::SphereGrid(grid_of.distribution, grid_of.order, grid_of.pole, Q.csm_maps);
-  } catch (const Error&) {
+  // The presenter's CSMs use the build's default uniform distribution: its maps lie on a G x G grid.
+  const auto grid = static_cast<std::uint32_t>(std::lround(std::sqrt(static_cast<double>(Q.csm_maps))));
+  if (grid * grid != Q.csm_maps)
     r.fail("csm_maps", fmt::format("{} is not a perfect square (the maps lie on a uniform G x G grid, e.g. 1024 or 4096)", Q.csm_maps));
-  }
   Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);
 }
 
@@ -480,19 +476,6 @@ Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
   return make_mesh(v, f, fmt::format("procedural {}", spec.procedural));
 }
 
-}  // namespace splatcl::present
-
-namespace splatcl::present {
-
-std::pair<int, int> parse_frame_size(const std::string& text, const char* what) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
-      w > 8192 || h > 8192)
-    throw Error(fmt::format("{} '{}' is not WIDTHxHEIGHT with sides in 1..8192", what, text));
-  return {w, h};
-}
-
 void set_generated_light_count(Scene& scene, std::uint32_t count) {
   scene.lights.resize(scene.lights.size() - scene.generated.count);
   scene.generated.count = count;
@@ -500,41 +483,4 @@ void set_generated_light_count(Scene& scene, std::uint32_t count) {
   scene.lights.insert(scene.lights.end(), generated.begin(), generated.end());
 }
 
-}  // namespace splatcl::present
-
-namespace splatcl::present {
-
-void apply_overrides(Scene& scene, const Overrides& o) {
-  const auto pick = [](const std::string& value, const char* option, std::initializer_list<const char*> allowed,
-                       std::string& target) {
-    if (value.empty()) return;
-    std::string list;
-    for (const char* a : allowed) {
-      if (value == a) {
-        target = value;
-        return;
-      }
-      list += (list.empty() ? "" : ", ") + std::string(a);
-    }
-    throw Error(fmt::format("{} '{}' is not one of: {}", option, value, list));
-  };
-  pick(o.shading, "--shading", {"clustered", "tiled", "brute"}, scene.quality.shading);
-  pick(o.mode, "--mode", {"splats", "points"}, scene.quality.mode);
-  pick(o.shadows, "--shadows", {"splat", "pixel", "off"}, scene.quality.shadows);
-  if (o.lod) {
-    if (!(*o.lod >= 0 && *o.lod <= 1000)) throw Error(fmt::format("--lod {} is not a pixel error in [0, 1000]", *o.lod));
-    scene.quality.lod_error = static_cast<float>(*o.lod);
-  }
-  if (o.specular) {
-    if (!(*o.specular >= 0 && *o.specular <= 100))
-      throw Error(fmt::format("--specular {} is not a highlight strength in [0, 100]", *o.specular));
-    scene.quality.specular = static_cast<float>(*o.specular);
-  }
-  if (o.lights) {
-    if (*o.lights < 0 || *o.lights > kMaxSceneLights)
-      throw Error(fmt::format("--lights {} is not a light count in [0, {}]", *o.lights, kMaxSceneLights));
-    set_generated_light_count(scene, static_cast<std::uint32_t>(*o.lights));
-  }
-}
-
-}  // namespace splatcl::present
+}  // namespace splatcl

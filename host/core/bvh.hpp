@@ -3,7 +3,9 @@
 // area heuristic, flattened depth-first so the OpenCL kernels (kernels/csm_trace.h) and the native
 // traversal here walk the same nodes in the same order with the same float operations.
 //
-// Coordinates are relative to an origin (the bounding sphere's centre) to keep float error small.
+// Coordinates are relative to an origin (a bounding sphere's centre, a camera's eye) to keep float
+// error small. Core holds it because the CSM capture and the scene ray caster (core/scene_ray_cast.hpp)
+// both trace it.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -11,8 +13,7 @@
 #include "core/geometry.hpp"
 #include "core/mesh.hpp"
 
-namespace splatcl::csm {
-
+namespace splatcl {
 
 // The node, triangle and traversal of kernels/csm_trace.h, shared with the capture kernel.
 namespace device_trace {
@@ -56,6 +57,15 @@ struct TwoHits {
 };
 TwoHits first_two_hits(const Bvh& bvh, const float o[3], const float dir[3], const float inv[3], float eps);
 
+// The nearest triangle hit along o + t·dir (t > 0) and its index in bvh.triangles, t = INFINITY on
+// a miss: what a primary ray needs (the hit triangle gives the normal). `edge_tolerance` widens
+// each triangle's barycentric bounds (csm_triangle_hit_within): 0 tests as the capture does.
+struct ClosestHit {
+  float t = INFINITY;
+  std::uint32_t triangle = 0;
+};
+ClosestHit closest_hit(const Bvh& bvh, const float o[3], const float dir[3], const float inv[3], float edge_tolerance = 0.0f);
+
 // Whether any triangle is hit at 0 < t < t_max (exact visibility for ground truth).
 bool any_hit(const Bvh& bvh, const float o[3], const float dir[3], float t_max);
 
@@ -66,4 +76,4 @@ float inverse_direction(float d);
 // Ray-triangle distance (Möller–Trumbore, edges inclusive), INFINITY on a miss (csm_triangle_hit).
 float triangle_hit(const BvhTriangle& tri, const float o[3], const float dir[3]);
 
-}  // namespace splatcl::csm
+}  // namespace splatcl

@@ -1,0 +1,29 @@
+#include "cluster/scene_input.hpp"
+
+#include "cluster/layout.hpp"
+
+namespace splatcl::cluster {
+
+static_assert(kNoSurfaceViewZ == kBackgroundViewZ, "a ray-cast miss must read as the cluster stage's background");
+
+std::vector<float> window_depth(const DepthFrame& frame, const Camera& camera) {
+  std::vector<float> depth(frame.view_z.size());
+  for (std::size_t p = 0; p < depth.size(); ++p) {
+    const float z = frame.view_z[p];
+    depth[p] = (-z >= camera.near_plane && -z <= camera.far_plane)
+                   ? window_depth_from_view_z(z, camera.near_plane, camera.far_plane)
+                   : 1.0f;
+  }
+  return depth;
+}
+
+std::vector<PointLight> view_lights(const std::vector<Light>& lights, const ViewFrame& view) {
+  std::vector<PointLight> result(lights.size());
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const Light& l = lights[i];
+    result[i] = {view.point_to_view({l.position.x, l.position.y, l.position.z}), l.radius, {l.color.x, l.color.y, l.color.z}};
+  }
+  return result;
+}
+
+}  // namespace splatcl::cluster

@@ -1,0 +1,99 @@
+#include "core/scene_ray_cast.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/bvh.hpp"
+#include "core/camera.hpp"
+#include "core/parallel.hpp"
+#include "runtime/error.hpp"
+
+namespace splatcl {
+namespace {
+
+// Barycentric slack of the primary rays' triangle test: without it a ray exactly through an edge
+// that two triangles share may miss both (a one-pixel hole on a column aligned with a meridian).
+constexpr float kEdgeTolerance = 1e-5f;
+
+// A triangle of world-space corners as the BVH holds it: relative to `origin`.
+BvhTriangle relative_triangle(Vec3 a, Vec3 b, Vec3 c, Vec3 origin) {
+  BvhTriangle t{};
+  const Vec3 v0 = a - origin, e1 = b - a, e2 = c - a;
+  const float values[3][3] = {{v0.x, v0.y, v0.z}, {e1.x, e1.y, e1.z}, {e2.x, e2.y, e2.z}};
+  for (int k = 0; k < 3; ++k) {
+    t.v0[k] = values[0][k];
+    t.e1[k] = values[1][k];
+    t.e2[k] = values[2][k];
+  }
+  return t;
+}
+
+// Every surface of the scene at its time, relative to the camera's eye (small float error near
+// the camera, where depth matters most).
+std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye) {
+  std::vector<BvhTriangle> triangles;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const ObjectSpec& object = scene.objects[i];
+    if (!object.mesh.splat_path.empty())
+      throw Error(fmt::format("{}: objects[{}] ({}) is a splat file: the ray caster draws meshes and the floor only",
+                              scene.source, i, object.name));
+    Mesh mesh = make_fitted_mesh(object, scene.directory);
+    const glm::mat4 placement = object.placement(scene.time);
+    for (Vec3& v : mesh.vertices) {
+      const glm::vec4 p = placement * glm::vec4(v.x, v.y, v.z, 1.0f);
+      v = {p.x, p.y, p.z};
+    }
+    const std::vector<BvhTriangle> object_triangles = mesh_triangles(mesh, eye);
+    triangles.insert(triangles.end(), object_triangles.begin(), object_triangles.end());
+  }
+  if (scene.floor.enabled) {
+    const float h = 0.5f * scene.floor.size, y = scene.floor.y;
+    const Vec3 corners[4] = {{-h, y, -h}, {-h, y, h}, {h, y, h}, {h, y, -h}};
+    triangles.push_back(relative_triangle(corners[0], corners[1], corners[2], eye));
+    triangles.push_back(relative_triangle(corners[0], corners[2], corners[3], eye));
+  }
+  return triangles;
+}
+
+}  // namespace
+
+DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t height, unsigned threads) {
+  if (width == 0 || height == 0) throw Error("ray_cast: frame size must be at least 1x1");
+  const Camera& camera = scene.camera;
+  const ViewFrame frame = view_frame(camera);
+  const Bvh bvh = build_bvh(scene_triangles(scene, frame.eye));
+  const float tan_y = std::tan(0.5f * camera.fov_y);
+  const float tan_x = tan_y * static_cast<float>(width) / static_cast<float>(height);
+
+  DepthFrame result;
+  result.width = width;
+  result.height = height;
+  result.view_z.assign(std::size_t{width} * height, kNoSurfaceViewZ);
+  result.normals.assign(std::size_t{width} * height, Vec3{});
+  const auto cast_row = [&](std::uint32_t y) {
+    for (std::uint32_t x = 0; x < width; ++x) {
+      const float ndc_x = (static_cast<float>(x) + 0.5f) * 2.0f / static_cast<float>(width) - 1.0f;
+      const float ndc_y = (static_cast<float>(y) + 0.5f) * 2.0f / static_cast<float>(height) - 1.0f;
+      // A direction with unit forward component: t along it is the view distance. The ray starts
+      // on the near plane, so that nothing nearer is hit.
+      const Vec3 d = frame.direction_to_world({ndc_x * tan_x, ndc_y * tan_y, -1.0f});
+      const float dir[3] = {d.x, d.y, d.z};
+      const float origin[3] = {camera.near_plane * d.x, camera.near_plane * d.y, camera.near_plane * d.z};
+      const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
+      const ClosestHit hit = closest_hit(bvh, origin, dir, inv, kEdgeTolerance);
+      const float distance = camera.near_plane + hit.t;
+      if (hit.t == INFINITY || distance > camera.far_plane) continue;
+      const BvhTriangle& tri = bvh.triangles[hit.triangle];
+      Vec3 normal = normalized(cross(Vec3{tri.e1[0], tri.e1[1], tri.e1[2]}, Vec3{tri.e2[0], tri.e2[1], tri.e2[2]}));
+      if (dot(normal, d) > 0.0f) normal = normal * -1.0f;
+      const std::size_t p = std::size_t{y} * width + x;
+      result.view_z[p] = -distance;
+      result.normals[p] = {dot(normal, frame.right), dot(normal, frame.up), dot(normal, frame.back)};
+    }
+  };
+  parallel_for(height, 1, [&](std::size_t y, std::size_t) { cast_row(static_cast<std::uint32_t>(y)); }, threads);
+  return result;
+}
+
+}  // namespace splatcl
