@@ -14,7 +14,7 @@ namespace {
 TEST(ParallelFor, EveryIndexOnceWithAWorkerIndexBelowTheWorkerCount) {
   for (const std::size_t n : {0u, 1u, 7u, 1000u, 100003u})
     for (const std::size_t block : {1u, 3u, 256u}) {
-      SCOPED_TRACE(testing::Message() << "n " << n << ", block " << block);
+      SCOPED_TRACE(::testing::Message() << "n " << n << ", block " << block);
       std::vector<std::atomic<int>> seen(n);
       const std::size_t workers = worker_count(n, block);
       std::atomic<bool> bad_worker{false};
