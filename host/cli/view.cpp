@@ -30,7 +30,8 @@ constexpr const char* kHelpKeys =
     "      Shift+R reset objects | Tab/Shift+Tab select object, arrows move it along the view (right, forward), PgUp/PgDn lift, Q/E rotate |\n"
     "      1-8 views (final, albedo, normals, ao, clusters, shadows, depth, footprints) | C/Shift+C shading clustered/tiled/brute |\n"
     "      M splats/points | L level of detail on/off | B Blinn-Phong highlights on/off | O ambient occlusion | A AO per splat/pixel |\n"
-    "      H/Shift+H shadows splat/pixel/off | F1 panel on/off | Space pause | P screenshot | Esc quit";
+    "      G floor's AO and shadows per pixel/splat | S silhouette resolve on/off | H/Shift+H shadows splat/pixel/off |\n"
+    "      F1 panel on/off | Space pause | P screenshot | Esc quit";
 
 struct ViewOptions {
   SceneOptions scene;

@@ -301,6 +301,8 @@ void Controls::on_key(const Event& e, float time) {
     case key::B: q.specular = q.specular > 0 ? 0.0f : specular_on_; break;
     case key::O: state_.ambient_occlusion = !state_.ambient_occlusion; break;
     case key::A: state_.pixel_ao = !state_.pixel_ao; break;
+    case key::G: state_.floor_pixels = !state_.floor_pixels; break;
+    case key::S: q.antialias = q.antialias > 0 ? 0.0f : antialias_on_; break;
     case key::F: fit(time); break;
     case key::R:
       if (shift) reset_objects();

@@ -24,7 +24,8 @@ namespace splatcl::cli::viewer {
 // adapter passes GLFW's codes through unchanged.
 namespace key {
 inline constexpr int Space = 32, Apostrophe = 39, Minus = 45, Equal = 61, Num0 = 48, Num1 = 49, Num8 = 56;
-inline constexpr int A = 65, B = 66, C = 67, E = 69, F = 70, H = 72, L = 76, M = 77, O = 79, P = 80, Q = 81, R = 82;
+inline constexpr int A = 65, B = 66, C = 67, E = 69, F = 70, G = 71, H = 72, L = 76, M = 77, O = 79, P = 80, Q = 81, R = 82,
+                     S = 83;
 inline constexpr int Escape = 256, Tab = 258, Right = 262, Left = 263, Down = 264, Up = 265, PageUp = 266, PageDown = 267;
 inline constexpr int F1 = 290, KeypadSubtract = 333, KeypadAdd = 334;
 }  // namespace key
@@ -131,7 +132,7 @@ class Controls {
   Bounds scene_bounds(float time) const;
 
   // The values L and B switch on: the scene's LOD threshold and Blinn-Phong strength, or 1 pixel and 0.5;
-  // and the panel's silhouette resolve: the scene's depth jump, or quality.antialias's default.
+  // and S's (and the panel's) silhouette resolve: the scene's depth jump, or quality.antialias's default.
   float lod_on() const { return lod_on_; }
   float specular_on() const { return specular_on_; }
   float antialias_on() const { return antialias_on_; }

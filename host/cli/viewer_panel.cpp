@@ -167,8 +167,8 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
     ImGui::Checkbox("ambient occlusion [O]", &v.ambient_occlusion);
     ImGui::SameLine();
     ImGui::Checkbox("per pixel [A]", &v.pixel_ao);
-    ImGui::Checkbox("floor's AO and shadows per pixel", &v.floor_pixels);
-    toggle_with_slider("silhouette resolve", "depth jump", q.antialias, controls.antialias_on(), 0.01f, 1.0f);
+    ImGui::Checkbox("floor's AO and shadows per pixel [G]", &v.floor_pixels);
+    toggle_with_slider("silhouette resolve [S]", "depth jump", q.antialias, controls.antialias_on(), 0.01f, 1.0f);
     toggle_with_slider("level of detail [L]", "px##lod", q.lod_error, controls.lod_on(), 0.1f, 16.0f);
     toggle_with_slider("Blinn-Phong [B]", "strength", q.specular, controls.specular_on(), 0.01f, 4.0f);
     static constexpr std::array<const char*, 8> kViews = {"1 final",    "2 albedo",  "3 normals", "4 ao",

@@ -117,6 +117,32 @@ TEST(ViewerControls, AutoRepeatOfAModeKeyIsNoStep) {
   EXPECT_TRUE(f.controls->state().quit);
 }
 
+// G and S: what the panel's "floor's AO and shadows per pixel" and "silhouette resolve" boxes set,
+// also from the keyboard (the view loop hands floor_pixels to Presenter::floor_per_pixel, and the
+// presenter reads quality.antialias every frame).
+TEST(ViewerControls, FloorAndSilhouetteKeysToggleThePanelsSettings) {
+  Fixture f;
+  ASSERT_TRUE(f.controls->state().floor_pixels);
+  const float depth_jump = f.scene.quality.antialias;
+  ASSERT_GT(depth_jump, 0.0f);
+  f.controls->apply(f.taps(key::G, 1, 0, 0.1), 0.2, f.window, 0);
+  f.controls->apply(f.taps(key::S, 1, 1, 0.1), 1.2, f.window, 0);
+  EXPECT_FALSE(f.controls->state().floor_pixels);
+  EXPECT_EQ(f.scene.quality.antialias, 0.0f);
+  // Three taps of each within one frame: three toggles each, back to where they were before the last.
+  std::vector<Event> events = f.taps(key::G, 3, 2.0, 0.02);
+  for (const Event& e : f.taps(key::S, 3, 2.0, 0.02)) events.push_back(e);
+  f.controls->apply(events, 2.2, f.window, 0);
+  EXPECT_TRUE(f.controls->state().floor_pixels);
+  EXPECT_EQ(f.scene.quality.antialias, depth_jump);  // the scene's own depth jump comes back
+  // A scene with the resolve off: S switches it on at the default depth jump.
+  splatcl::Scene off = splatcl::default_scene();
+  off.quality.antialias = 0.0f;
+  Controls controls(off);
+  controls.apply(f.taps(key::S, 1, 0, 0.1), 0.2, f.window, 0);
+  EXPECT_EQ(off.quality.antialias, splatcl::Quality{}.antialias);
+}
+
 TEST(ViewerControls, WheelZoomChangesTheDistanceAndTheSceneCamera) {
   Fixture f;
   const float d0 = f.controls->orbit().distance;
