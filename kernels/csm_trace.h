@@ -1,7 +1,7 @@
 // Coherent shadow maps: BVH traversal for the ray-cast capture (csm_capture.cl) and the host's
-// exact visibility. Written once, in the common subset of OpenCL C and C++ (scalar floats,
-// + − × ÷ and comparisons, no contraction), so the kernel and the native traversal
-// (host/csm/bvh.cpp, which includes this file inside a namespace) walk the same nodes in the same
+// exact visibility and scene ray caster. Written once, in the common subset of OpenCL C and C++
+// (scalar floats, + − × ÷ and comparisons, no contraction), so the kernel and the native traversal
+// (host/core/bvh.cpp, which includes this file inside a namespace) walk the same nodes in the same
 // order and return the same floats.
 #ifndef SPLATCL_CSM_TRACE_H
 #define SPLATCL_CSM_TRACE_H
