@@ -1,6 +1,7 @@
 // Uses splatcl as a library would be used: a radix sort on the OpenCL device checked against
-// std::sort, and the splats of a generated sphere checked against the sphere. Exits non-zero, with
-// a line saying why, when a result is wrong.
+// std::sort, the splats of a generated sphere checked against the sphere, and the embedded default
+// scene ray cast. Exits non-zero, with a line saying why, when a result is wrong. It also includes
+// a header that includes a kernel header (csm/visibility.hpp: kernels/csm_query.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -12,6 +13,8 @@
 #include <splatcl/primitives/primitives.hpp>
 #include <splatcl/runtime/runtime.hpp>
 #include <splatcl/core/mesh.hpp>
+#include <splatcl/core/scene_ray_cast.hpp>
+#include <splatcl/csm/visibility.hpp>
 #include <splatcl/splats/pipeline.hpp>
 
 // Only the splatcl/ tree is visible: the sources' own include root (host/) stays inside the project.
@@ -80,6 +83,12 @@ int main() {
       if (!(radius <= 1 + 2 * options.fit.eps && radius >= 0.98)) return fail("a splat centre is off the sphere");
     }
     std::printf("splats: %zu from %zu samples on %s\n", splats.size(), run.samples.size(), run.fit_backend.c_str());
+
+    const splatcl::DepthFrame frame = splatcl::ray_cast(splatcl::default_scene(), 32, 24);
+    std::size_t covered = 0;
+    for (const float z : frame.view_z) covered += z < 0;
+    if (covered < frame.view_z.size() / 2) return fail("the default scene's ray cast covers less than half the frame");
+    std::printf("scene: %zu of %zu pixels covered\n", covered, frame.view_z.size());
     return 0;
   } catch (const std::exception& error) {
     std::fprintf(stderr, "consumer: %s\n", error.what());
