@@ -5,9 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <random>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -21,8 +19,6 @@
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
 #include "io/output_files.hpp"
-#include "io/text_file.hpp"
-#include "runtime/embedded.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cli {
