@@ -16,19 +16,6 @@ namespace {
 // that two triangles share may miss both (a one-pixel hole on a column aligned with a meridian).
 constexpr float kEdgeTolerance = 1e-5f;
 
-// A triangle of world-space corners as the BVH holds it: relative to `origin`.
-BvhTriangle relative_triangle(Vec3 a, Vec3 b, Vec3 c, Vec3 origin) {
-  BvhTriangle t{};
-  const Vec3 v0 = a - origin, e1 = b - a, e2 = c - a;
-  const float values[3][3] = {{v0.x, v0.y, v0.z}, {e1.x, e1.y, e1.z}, {e2.x, e2.y, e2.z}};
-  for (int k = 0; k < 3; ++k) {
-    t.v0[k] = values[0][k];
-    t.e1[k] = values[1][k];
-    t.e2[k] = values[2][k];
-  }
-  return t;
-}
-
 // Every surface of the scene at its time, relative to the camera's eye (small float error near
 // the camera, where depth matters most).
 std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye) {
@@ -49,9 +36,9 @@ std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye) {
   }
   if (scene.floor.enabled) {
     const float h = 0.5f * scene.floor.size, y = scene.floor.y;
-    const Vec3 corners[4] = {{-h, y, -h}, {-h, y, h}, {h, y, h}, {h, y, -h}};
-    triangles.push_back(relative_triangle(corners[0], corners[1], corners[2], eye));
-    triangles.push_back(relative_triangle(corners[0], corners[2], corners[3], eye));
+    const Mesh floor = make_mesh({{-h, y, -h}, {-h, y, h}, {h, y, h}, {h, y, -h}}, {{0, 1, 2, 3}}, "floor");
+    const std::vector<BvhTriangle> floor_triangles = mesh_triangles(floor, eye);
+    triangles.insert(triangles.end(), floor_triangles.begin(), floor_triangles.end());
   }
   return triangles;
 }

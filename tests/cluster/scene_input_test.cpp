@@ -28,14 +28,17 @@ TEST(SceneInput, WindowDepthIsTheProjectionsAndOneForBackground) {
   Camera camera;
   camera.near_plane = 0.5f;
   camera.far_plane = 50.0f;
-  DepthFrame frame{4, 1, {kNoSurfaceViewZ, -0.5f, -50.0f, -60.0f}, std::vector<Vec3>(4)};
-  const auto depth = window_depth(frame, camera);
+  const std::vector<float> view_z = {kNoSurfaceViewZ, -0.5f, -5.0f, -20.0f, -50.0f, -60.0f};
+  const auto depth = window_depth({6, 1, view_z, std::vector<Vec3>(6)}, camera);
+  // OpenGL's perspective projection in double: z_ndc = (f + n) / (f − n) + 2 f n / ((f − n) z),
+  // window depth (z_ndc + 1) / 2; background and beyond the far plane read 1.
+  const double n = 0.5, f = 50.0;
   EXPECT_EQ(depth[0], 1.0f);
-  EXPECT_FLOAT_EQ(depth[1], 0.0f);
-  EXPECT_FLOAT_EQ(depth[2], 1.0f);
-  EXPECT_EQ(depth[3], 1.0f);  // beyond the far plane
-  EXPECT_EQ(depth, window_depth(frame, camera));
-  EXPECT_FLOAT_EQ(window_depth_from_view_z(-5.0f, 0.5f, 50.0f), window_depth({1, 1, {-5.0f}, {Vec3{}}}, camera)[0]);
+  for (std::size_t i = 1; i + 1 < view_z.size(); ++i) {
+    const double ndc = (f + n) / (f - n) + 2 * f * n / ((f - n) * view_z[i]);
+    EXPECT_NEAR(depth[i], 0.5 * (ndc + 1), 1e-6) << "view z " << view_z[i];
+  }
+  EXPECT_EQ(depth[5], 1.0f);
 }
 
 TEST(SceneInput, RandomScenesAreDeterministicAndLitAroundTheirGeometry) {

@@ -90,7 +90,7 @@ TEST(SceneRayCast, TessellatedSphereMatchesTheAnalyticSphere) {
       EXPECT_NEAR(std::sqrt(dot(n, n)), 1.0f, 1e-5f);
       EXPECT_GT(n.x * nx + n.y * ny + n.z * nz, std::cos(std::numbers::pi / 16)) << "pixel " << x << "," << y;
     }
-  EXPECT_GT(checked, 250u);  // about 3/4 of the sphere's 366 pixels
+  EXPECT_GT(checked, 250u);  // 277 pixels face the camera this well at 81 x 61
 }
 
 TEST(SceneRayCast, FloorIsThePlaneAndRowZeroIsTheBottom) {

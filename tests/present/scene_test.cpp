@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "csm/build.hpp"
+#include "csm/sphere_grid.hpp"
 #include "present/overrides.hpp"
 #include "presenter_test_support.hpp"
 
@@ -39,6 +41,29 @@ TEST(PresenterScene, ErrorsNameTheSourceAndField) {
   EXPECT_NE(message("{\"objects\": [{\"name\": \"a\"}]}").find("'mesh' is missing in a"), std::string::npos);
   EXPECT_THROW(parse_frame_size("640by480", "--size"), Error);
   EXPECT_EQ(parse_frame_size("640x480", "--size"), std::make_pair(640, 480));
+}
+
+// The scene reader (core) checks csm_maps itself, as a perfect square; the assets build their maps
+// with csm's default distribution and order. The two rules must agree on every count the reader
+// allows.
+TEST(PresenterScene, CsmMapCountsAreExactlyThoseTheDefaultGridTakes) {
+  const csm::BuildOptions defaults;
+  for (std::uint32_t maps = 16; maps <= 65536; maps += (maps < 1100 ? 1 : 97)) {
+    bool grid_takes = true;
+    try {
+      (void)csm::grid_shape(defaults.distribution, defaults.order, maps);
+    } catch (const Error&) {
+      grid_takes = false;
+    }
+    bool scene_takes = true;
+    try {
+      (void)parse_scene(R"({"objects": [], "quality": {"csm_maps": )" + std::to_string(maps) + "}}", "maps.json", ".");
+    } catch (const Error&) {
+      scene_takes = false;
+    }
+    ASSERT_EQ(scene_takes, grid_takes) << maps << " maps";
+  }
+  EXPECT_NO_THROW(parse_scene(R"({"objects": [], "quality": {"csm_maps": 65536}})", "maps.json", "."));
 }
 
 TEST(PresenterScene, ProceduralMeshesAndCacheKeys) {
