@@ -28,25 +28,37 @@ inline float4 canonical_sign(float4 a) {
 
 __kernel void splat_frames(__global const float4* positions, __global const float4* normals,
                            __global const uint* neighbors, uint k, __global const float* kth_distance,
-                           uint count, __global Frame* frames) {
+                           float crease_cos, uint count, __global Frame* frames) {
   const size_t i = get_global_id(0);
   if (i >= count) return;
   const float4 p0 = positions[i];
   const float di = kth_distance[i];
   const float scale = di > 0.0f ? 1.0f / di : 1.0f;
   __global const uint* row = neighbors + i * (size_t)k;
+  // The neighbours on the sample's side of a crease; with fewer than two there is no plane, and
+  // every neighbour is taken.
+  const float4 n0 = normals[i];
+  uint taken = 0;
+  for (uint r = 0; r < k; ++r) {
+    const float4 nr = normals[row[r]];
+    taken += splat_same_side_of_crease(n0.x, n0.y, n0.z, nr.x, nr.y, nr.z, crease_cos) ? 1u : 0u;
+  }
+  const bool take_all = taken < 2u || taken == k;
+#define SPLAT_TAKEN(r) (take_all || splat_same_side_of_crease(n0.x, n0.y, n0.z, normals[row[r]].x, normals[row[r]].y, normals[row[r]].z, crease_cos))
   // Mean of the scaled offsets from p0 (p0 itself contributes zero).
   float mx = 0.0f, my = 0.0f, mz = 0.0f;
   for (uint r = 0; r < k; ++r) {
+    if (!SPLAT_TAKEN(r)) continue;
     const float4 w = (positions[row[r]] - p0) * scale;
     mx += w.x, my += w.y, mz += w.z;
   }
-  const float inv = 1.0f / (float)(k + 1);
+  const float inv = 1.0f / (float)((take_all ? k : taken) + 1);
   mx *= inv, my *= inv, mz *= inv;
   float a[3][3];
   {
     float xx = mx * mx, xy = mx * my, xz = mx * mz, yy = my * my, yz = my * mz, zz = mz * mz;  // p0's term
     for (uint r = 0; r < k; ++r) {
+      if (!SPLAT_TAKEN(r)) continue;
       const float4 w = (positions[row[r]] - p0) * scale;
       const float x = w.x - mx, y = w.y - my, z = w.z - mz;
       xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
@@ -55,6 +67,7 @@ __kernel void splat_frames(__global const float4* positions, __global const floa
     a[1][0] = xy * inv, a[1][1] = yy * inv, a[1][2] = yz * inv;
     a[2][0] = xz * inv, a[2][1] = yz * inv, a[2][2] = zz * inv;
   }
+#undef SPLAT_TAKEN
   float e[3][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
   for (int sweep = 0; sweep < 10; ++sweep) {
     if (a[0][1] == 0.0f && a[0][2] == 0.0f && a[1][2] == 0.0f) break;

@@ -41,6 +41,16 @@ inline float splat_size_rule(float e1, float e2, int stop, bool at_accepted) {
   return stop == STOP_COLOR ? e2 + (e2 - e1) : e2;
 }
 
+// Whether neighbour normal (bx, by, bz) takes part in the PCA frame of a sample with normal
+// (ax, ay, az): within the crease angle (crease_cos = its cosine; -1 or less takes every neighbour,
+// as the thesis does). An undefined (zero) normal on either side is taken. An extension: the
+// thesis's frame averages across a sharp edge, which tilts the splats there (bevels) off both faces.
+inline bool splat_same_side_of_crease(float ax, float ay, float az, float bx, float by, float bz, float crease_cos) {
+  if (crease_cos <= -1.0f) return true;
+  if ((ax == 0.0f && ay == 0.0f && az == 0.0f) || (bx == 0.0f && by == 0.0f && bz == 0.0f)) return true;
+  return ax * bx + ay * by + az * bz >= crease_cos;
+}
+
 // Sort key of a candidate at in-plane offset (x, y): its distance (circle phase) or
 // λ = x²/(b² − y²) (ellipse phase with minor axis b), −1 when unusable.
 inline float splat_growth_key(bool ellipse, float x, float y, float b) {

@@ -118,6 +118,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     // Colour sources enter the key only when used, so grey objects keep their cache entries.
     splat_parameters = fmt::format("splats v1 sampling={} eps_diagonal={:.9g}", q.sampling, q.eps_diagonal);
     if (q.splat_bound != "thesis") splat_parameters += " bound=" + q.splat_bound;
+    if (q.crease_angle < 180) splat_parameters += fmt::format(" crease={:.9g}", q.crease_angle);
     if (object.splat_colors) {
       if (!object.texture.empty()) {
         texture_path = scene_path(object.texture, scene.directory);
@@ -157,6 +158,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     params.samples = q.sampling;
     params.eps_diag = q.eps_diagonal;
     params.thesis_only = q.splat_bound == "thesis";
+    params.crease_angle = q.crease_angle;
     if (object.splat_colors) {
       params.color_tol = static_cast<int>(object.color_tolerance);
       if (!texture_path.empty())

@@ -130,6 +130,8 @@ void read_asset_quality(const Reader& r, const json& q, Quality& Q) {
   if (Q.sampling.empty()) r.fail("sampling", "must not be empty (auto, vertices, grid:N or spacing:D)");
   Q.splat_bound = r.text(q, "splat_bound", Q.splat_bound, {"thesis", "two-sided"});
   Q.eps_diagonal = r.positive(q, "eps_diagonal", Q.eps_diagonal);
+  Q.crease_angle = r.positive(q, "crease_angle", Q.crease_angle);
+  if (Q.crease_angle > 180) r.fail("crease_angle", fmt::format("must be in (0, 180] degrees, got {}", Q.crease_angle));
   Q.csm_maps = r.count(q, "csm_maps", Q.csm_maps, 16, 65536);
   // The presenter's CSMs use the build's default uniform distribution: its maps lie on a G x G grid.
   const auto grid = static_cast<std::uint32_t>(std::lround(std::sqrt(static_cast<double>(Q.csm_maps))));
@@ -163,16 +165,17 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
   if (j.contains("quality")) {
     // Only what shapes the object's own assets; the frame's settings stay the scene's.
     const json& q = r.object(j, "quality");
-    r.known_keys(q, fmt::format("objects[{}].quality", index), {"sampling", "splat_bound", "eps_diagonal", "csm_maps", "csm_resolution"});
+    r.known_keys(q, fmt::format("objects[{}].quality", index), {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution"});
     Quality read;
     read_asset_quality(r, q, read);
     AssetQualityOverrides& over = o.quality;
     if (q.contains("sampling")) over.sampling = read.sampling;
     if (q.contains("splat_bound")) over.splat_bound = read.splat_bound;
     if (q.contains("eps_diagonal")) over.eps_diagonal = read.eps_diagonal;
+    if (q.contains("crease_angle")) over.crease_angle = read.crease_angle;
     if (q.contains("csm_maps")) over.csm_maps = read.csm_maps;
     if (q.contains("csm_resolution")) over.csm_resolution = read.csm_resolution;
-    if (!o.mesh.splat_path.empty() && (over.sampling || over.splat_bound || over.eps_diagonal))
+    if (!o.mesh.splat_path.empty() && (over.sampling || over.splat_bound || over.eps_diagonal || over.crease_angle))
       r.fail("quality", fmt::format("{}: a splat file's splats are used as they are (only csm_maps and csm_resolution apply)", o.name));
   }
   if (!o.mesh.splat_path.empty() && (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")))
@@ -224,6 +227,7 @@ Quality object_quality(const Quality& scene_quality, const ObjectSpec& object) {
   q.sampling = over.sampling.value_or(q.sampling);
   q.splat_bound = over.splat_bound.value_or(q.splat_bound);
   q.eps_diagonal = over.eps_diagonal.value_or(q.eps_diagonal);
+  q.crease_angle = over.crease_angle.value_or(q.crease_angle);
   q.csm_maps = over.csm_maps.value_or(q.csm_maps);
   q.csm_resolution = over.csm_resolution.value_or(q.csm_resolution);
   return q;
@@ -321,7 +325,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   if (j.contains("quality")) {
     const json& q = r.object(j, "quality");
     r.known_keys(q, "quality",
-                 {"sampling", "splat_bound", "eps_diagonal", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "splat_scale", "surface_clip", "antialias", "depth_offset",
+                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "splat_scale", "surface_clip", "antialias", "depth_offset",
                   "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "floor_pixels", "lod_error",
                   "lod_leaf", "specular", "shininess"});
     Quality& Q = scene.quality;

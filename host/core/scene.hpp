@@ -69,7 +69,7 @@ struct FitTransform {
 // Per-object overrides of the scene's quality settings that shape the cached assets.
 struct AssetQualityOverrides {
   std::optional<std::string> sampling, splat_bound;
-  std::optional<float> eps_diagonal;
+  std::optional<float> eps_diagonal, crease_angle;
   std::optional<std::uint32_t> csm_maps, csm_resolution;
 };
 
@@ -135,6 +135,10 @@ struct Quality {
   // meshes uses at a finer ε.
   std::string splat_bound = "two-sided";
   float eps_diagonal = 0.001f;  // splat ε as a fraction of the mesh's bounding-box diagonal (splatcl splats --eps-diag)
+  // Sharp edges for the splats (splatcl splats --crease-angle, degrees): faces meeting at more than
+  // this keep their own normals and splats, which the surface fit then clips at the edge; 180 = none.
+  // Applies with either splat_bound.
+  float crease_angle = 60.0f;
   std::uint32_t csm_maps = 1024, csm_resolution = 64;
   std::uint32_t ao_samples = 16;
   float ao_bias = 0.02f;       // CSM depth bias of AO and shadow queries, world units
@@ -144,7 +148,7 @@ struct Quality {
   // Splats fitted to the mesh as loaded (splats::clip_to_surface): cut by a line where they overhang
   // a sharp edge, their major axis shortened where they stand off a curved surface, by more than
   // this × the mesh's bounding-box diagonal; 0 = drawn as in the splat file.
-  float surface_clip = 0.003f;
+  float surface_clip = 0.0025f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse
   // Silhouette anti-aliasing of the final view's tone-mapped image (ResolvePass in

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <numbers>
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
@@ -55,6 +56,12 @@ void validate(const FitOptions& options) {
     throw Error(fmt::format("--max-covered must be in 4..{}, not {}", kMaxCoveredLimit, options.max_covered));
   if (options.color_tolerance < 0 || options.color_tolerance > 255)
     throw Error(fmt::format("--color-tol must be in 0..255, not {}", options.color_tolerance));
+  if (!(options.crease_degrees > 0 && options.crease_degrees <= 180))
+    throw Error(fmt::format("--crease-angle must be in (0, 180] degrees, not {}", options.crease_degrees));
+}
+
+float crease_cosine(float crease_degrees) {
+  return crease_degrees >= 180.0f ? -2.0f : static_cast<float>(std::cos(static_cast<double>(crease_degrees) * std::numbers::pi / 180.0));
 }
 
 FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoods& neighbors, const FitOptions& options,
@@ -85,7 +92,8 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
       result.frames = *frames;
     } else {
       cl::Kernel kernel = runtime.kernel("splat_fit.cl", "splat_frames", build);
-      set_args(kernel, positions, normals, neighbor_buffer, k, kth, static_cast<cl_uint>(n), frame_buffer);
+      set_args(kernel, positions, normals, neighbor_buffer, k, kth, crease_cosine(options.crease_degrees), static_cast<cl_uint>(n),
+               frame_buffer);
       t.frames_ms += event_ms(enqueue_1d(queue, kernel, n, 0, profiler, "splat frames"));
       result.frames.resize(n);
       queue.enqueueReadBuffer(frame_buffer, CL_TRUE, 0, n * sizeof(Frame), result.frames.data());

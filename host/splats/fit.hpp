@@ -49,6 +49,12 @@ struct FitOptions {
   // violator (d2, λ2, or beyond for colour) - a point that by definition lies more than ε off the
   // splat's plane, so nearly every corrected splat leaves the surface at its rim.
   bool size_at_accepted = false;
+  // Crease-aware frames (an extension): a sample's PCA frame takes only the neighbours whose normal
+  // lies within this angle of its own, so that splats on a sharp edge (a box's, a CAD part's) lie in
+  // one face's plane instead of bevelling it; 180 takes every neighbour, as the thesis does.
+  // Surfaces whose normals turn less than this between neighbouring samples get the thesis's frames
+  // bit for bit.
+  float crease_degrees = 180.0f;
   // Growth kernel shape (design.md): Cpu = a few workers each growing blocks of consecutive splats
   // with scratch kept warm in its cache; Gpu = one work-item per splat. Auto picks by device type.
   // Both give the same splats.
@@ -81,6 +87,9 @@ struct Rows {
   const std::uint32_t* begin(std::size_t i) const { return items.data() + offsets[i]; }
   const std::uint32_t* end(std::size_t i) const { return items.data() + offsets[i + 1]; }
 };
+
+// FitOptions::crease_degrees as the frames' cosine threshold (-2 for 180: every neighbour).
+float crease_cosine(float crease_degrees);
 
 struct FitResult {
   std::vector<Frame> frames;

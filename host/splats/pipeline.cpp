@@ -122,7 +122,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   } else {
     run.fit_backend = "reference";
     std::vector<Frame> frames;
-    phase("pca", [&] { frames = reference::fit_frames(run.samples, run.neighbors); });
+    phase("pca", [&] { frames = reference::fit_frames(run.samples, run.neighbors, growth.crease_degrees); });
     phase("growth+safe", [&] { run.fit = reference::grow_splats(run.samples, run.neighbors, frames, growth); });
   }
   std::optional<Surface> surface;
@@ -187,6 +187,7 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
           {"literal_lambda", options.fit.literal_lambda},
           {"retest_violator", options.fit.retest_violator},
           {"clip", options.fit.clip},
+          {"crease_angle", options.fit.crease_degrees},
           {"size_at_accepted", options.fit.size_at_accepted},
           {"clipped_splats", clipped},
           {"surface_bound", run.surface_bound},

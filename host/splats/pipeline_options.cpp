@@ -23,6 +23,9 @@ const std::vector<ParameterInfo>& splat_parameters() {
       {"max_covered", "Growth cap: a splat stops growing when it covers this many samples (keeps flat regions linear), 4..1048576", false, false, true},
       {"thesis_only", "Only the thesis's method: its size corrections, no surface bound on splat size, no gap filling, no growth "
                       "cap (the two-sided bound is then not guaranteed)", true},
+      {"crease_angle", "Crease angle in degrees, (0, 180]: where faces meet at more than it (a sharp edge), the samples beside the "
+                       "edge keep their face's normal and a splat's frame takes only the neighbours on its side, so the splats lie in "
+                       "the faces instead of bevelling the edge; 180 is the thesis's frames (the default with thesis_only)", false, false, true},
       {"k", "Neighbourhood size, 1..1024", false, false, true},
       {"rounds", "Optimisation rounds (relaxation + removal), 0..1000", false, false, true},
       {"literal_lambda", "Read lambda in the size corrections literally instead of as the axis ratio sqrt(lambda)", true},
@@ -46,6 +49,10 @@ void set_parameter(SplatParameters& p, const std::string& name, const nlohmann::
   } else if (key == "eps_diag") {
     p.eps_diag = number_parameter(name, value);
     if (!(p.eps_diag > 0 && std::isfinite(p.eps_diag))) throw Error(fmt::format("'{}' must be positive, got {}", name, shown_value(value)));
+  } else if (key == "crease_angle") {
+    const double degrees = number_parameter(name, value);
+    if (!(degrees > 0 && degrees <= 180)) throw Error(fmt::format("'{}' must be in (0, 180] degrees, got {}", name, shown_value(value)));
+    p.crease_angle = degrees;
   } else if (key == "k") {
     p.k = static_cast<unsigned>(integer_parameter(name, value, 1, 1024));
   } else if (key == "samples") {
@@ -75,6 +82,8 @@ void set_parameter(SplatParameters& p, const std::string& name, const nlohmann::
   }
 }
 
+double crease_angle(const SplatParameters& p) { return p.crease_angle.value_or(p.thesis_only ? 180.0 : kDefaultCreaseAngle); }
+
 void validate(const SplatParameters& p) {
   auto in_key = [](const char* key, auto&& check) {
     try {
@@ -95,6 +104,7 @@ nlohmann::json to_json(const SplatParameters& p) {
           {"max_samples", p.max_samples},
           {"max_covered", p.max_covered},
           {"thesis_only", p.thesis_only},
+          {"crease_angle", crease_angle(p)},
           {"color_tol", p.color_tol},
           {"color_field", p.color_field},
           {"texture", p.texture},
@@ -115,6 +125,8 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   options.fit.literal_lambda = p.literal_lambda;
   options.fit.retest_violator = p.retest_violator;
   options.fit.clip = p.clip;
+  options.fit.crease_degrees = static_cast<float>(crease_angle(p));
+  options.sampling.crease_degrees = options.fit.crease_degrees;
   options.sampling.max_samples = p.max_samples;
   options.fit.max_covered = p.thesis_only ? kMaxCoveredLimit : p.max_covered;
   options.surface_bound = !p.thesis_only;

@@ -2,6 +2,7 @@
 // The splat stage's build parameters, one list for `splatcl splats` (options --NAME) and
 // `splatcl batch` (manifest keys NAME): their defaults, parsing and validation, and their
 // translation into the pipeline's options and colour source for one mesh.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,14 @@ struct SplatParameters {
   std::string texture;               // image through the mesh's texture coordinates; empty: none
   unsigned rounds = 5;               // optimisation rounds
   bool clip = false, literal_lambda = false, retest_violator = false;
+  // Crease angle in degrees (FitOptions::crease_degrees); unset: kDefaultCreaseAngle, or 180 (the
+  // thesis's frames) with thesis_only.
+  std::optional<double> crease_angle;
 };
+
+inline constexpr double kDefaultCreaseAngle = 60;
+// The crease angle the parameters resolve to.
+double crease_angle(const SplatParameters& params);
 
 // Every parameter, in the order of `splatcl splats --help`.
 const std::vector<ParameterInfo>& splat_parameters();

@@ -32,23 +32,34 @@ Vec3 canonical_sign(Vec3 a) {
 
 Vec3 scaled(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
 
-Frame frame_of(const Samples& samples, const Neighborhoods& nb, std::size_t i) {
+Frame frame_of(const Samples& samples, const Neighborhoods& nb, std::size_t i, float crease_cos) {
   const std::uint32_t k = nb.k;
   const Vec3 p0 = xyz(samples.positions[i]);
   const float di = nb.kth_distance[i];
   const float scale = di > 0.0f ? 1.0f / di : 1.0f;
   const std::uint32_t* row = nb.indices.data() + i * k;
+  const Vec4 n0 = samples.normals[i];
+  const auto same_side = [&](std::uint32_t r) {
+    const Vec4 nr = samples.normals[row[r]];
+    return device::splat_same_side_of_crease(n0.x, n0.y, n0.z, nr.x, nr.y, nr.z, crease_cos);
+  };
+  std::uint32_t taken = 0;
+  for (std::uint32_t r = 0; r < k; ++r) taken += same_side(r) ? 1 : 0;
+  const bool take_all = taken < 2 || taken == k;
+  const auto in_frame = [&](std::uint32_t r) { return take_all || same_side(r); };
   float mx = 0.0f, my = 0.0f, mz = 0.0f;
   for (std::uint32_t r = 0; r < k; ++r) {
+    if (!in_frame(r)) continue;
     const Vec3 w = scaled(xyz(samples.positions[row[r]]) - p0, scale);
     mx += w.x, my += w.y, mz += w.z;
   }
-  const float inv = 1.0f / static_cast<float>(k + 1);
+  const float inv = 1.0f / static_cast<float>((take_all ? k : taken) + 1);
   mx *= inv, my *= inv, mz *= inv;
   float a[3][3];
   {
     float xx = mx * mx, xy = mx * my, xz = mx * mz, yy = my * my, yz = my * mz, zz = mz * mz;
     for (std::uint32_t r = 0; r < k; ++r) {
+      if (!in_frame(r)) continue;
       const Vec3 w = scaled(xyz(samples.positions[row[r]]) - p0, scale);
       const float x = w.x - mx, y = w.y - my, z = w.z - mz;
       xx += x * x, xy += x * y, xz += x * z, yy += y * y, yz += y * z, zz += z * z;
@@ -260,9 +271,10 @@ std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods&
 
 }  // namespace
 
-std::vector<Frame> fit_frames(const Samples& samples, const Neighborhoods& neighbors) {
+std::vector<Frame> fit_frames(const Samples& samples, const Neighborhoods& neighbors, float crease_degrees) {
   std::vector<Frame> frames(samples.size());
-  parallel_for(samples.size(), 256, [&](std::size_t i, std::size_t) { frames[i] = frame_of(samples, neighbors, i); });
+  const float cosine = crease_cosine(crease_degrees);
+  parallel_for(samples.size(), 256, [&](std::size_t i, std::size_t) { frames[i] = frame_of(samples, neighbors, i, cosine); });
   return frames;
 }
 
@@ -287,7 +299,7 @@ FitResult grow_splats(const Samples& samples, const Neighborhoods& neighbors, co
 }
 
 FitResult fit_splats(const Samples& samples, const Neighborhoods& neighbors, const FitOptions& options) {
-  return grow_splats(samples, neighbors, fit_frames(samples, neighbors), options);
+  return grow_splats(samples, neighbors, fit_frames(samples, neighbors, options.crease_degrees), options);
 }
 
 }  // namespace splatcl::splats::reference

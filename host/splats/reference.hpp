@@ -7,7 +7,8 @@
 
 namespace splatcl::splats::reference {
 
-std::vector<Frame> fit_frames(const Samples& samples, const Neighborhoods& neighbors);
+// crease_degrees: FitOptions::crease_degrees.
+std::vector<Frame> fit_frames(const Samples& samples, const Neighborhoods& neighbors, float crease_degrees);
 
 // Grows every splat from the given frames; FitResult::frames is set to `frames`.
 FitResult grow_splats(const Samples& samples, const Neighborhoods& neighbors, const std::vector<Frame>& frames,

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <numeric>
 
 #include "io/image_codec.hpp"
@@ -140,8 +141,8 @@ struct SampleBuilder {
 // `ids` are the polygon's corner indices (into Mesh::corners); `first_edge` picks the corner that
 // starts the rectangle's x axis (the thesis's rule is corner 0; the spacing mode takes the start of
 // the longest edge, so a sliver's rectangle hugs it instead of spanning its long edge squared).
-void sample_face(const Mesh& mesh, const std::uint32_t* input_ids, std::uint32_t count, std::uint32_t first_edge, double d,
-                 const ColorSource& colors, SampleBuilder& out) {
+void sample_face(const Mesh& mesh, const std::vector<Vec3>& normal_at_corner, const std::uint32_t* input_ids, std::uint32_t count,
+                 std::uint32_t first_edge, double d, const ColorSource& colors, SampleBuilder& out) {
   if (count < 3) return;
   std::vector<std::uint32_t> rotated(count);
   for (std::uint32_t c = 0; c < count; ++c) rotated[c] = input_ids[(c + first_edge) % count];
@@ -193,9 +194,8 @@ void sample_face(const Mesh& mesh, const std::uint32_t* input_ids, std::uint32_t
       }
       const std::uint32_t i0 = ids[0], i1 = ids[tri], i2 = ids[tri + 1];
       const Vec3 p = origin + static_cast<float>(x) * ex + static_cast<float>(y) * ey;
-      const Vec3 n = normalized(static_cast<float>(w0) * mesh.normals[mesh.corners[i0]] +
-                                static_cast<float>(w1) * mesh.normals[mesh.corners[i1]] +
-                                static_cast<float>(w2) * mesh.normals[mesh.corners[i2]]);
+      const Vec3 n = normalized(static_cast<float>(w0) * normal_at_corner[i0] + static_cast<float>(w1) * normal_at_corner[i1] +
+                                static_cast<float>(w2) * normal_at_corner[i2]);
       float uv[2] = {0, 0};
       if (mesh.has_texcoords()) {
         for (int k = 0; k < 2; ++k)
@@ -205,6 +205,50 @@ void sample_face(const Mesh& mesh, const std::uint32_t* input_ids, std::uint32_t
       out.add(p, length(n) > 0 ? n : normal, colors.at(p, mesh.has_texcoords() ? uv : nullptr));
     }
   }
+}
+
+// Per face corner, the normal its face's samples interpolate: the vertex normal, unless the faces
+// around the vertex meet at a crease (two of them more than crease_degrees apart); then the mean
+// normal of those within crease_degrees of this corner's face (auto-smooth), so that the samples
+// beside a sharp edge keep their face's normal instead of the edge's average. 180: vertex normals.
+std::vector<Vec3> corner_normals(const Mesh& mesh, float crease_degrees) {
+  std::vector<Vec3> normals(mesh.corners.size());
+  for (std::size_t c = 0; c < mesh.corners.size(); ++c) normals[c] = mesh.normals[mesh.corners[c]];
+  if (crease_degrees >= 180) return normals;
+  const float cos_crease = static_cast<float>(std::cos(static_cast<double>(crease_degrees) * std::numbers::pi / 180.0));
+  const std::size_t faces = mesh.face_count();
+  std::vector<Vec3> face_normal(faces);
+  std::vector<std::uint32_t> face_of_corner(mesh.corners.size());
+  for (std::size_t f = 0; f < faces; ++f) {
+    const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+    std::vector<std::uint32_t> ids(end - begin);
+    std::iota(ids.begin(), ids.end(), begin);
+    face_normal[f] = polygon_normal(mesh, ids.data(), end - begin);
+    for (std::uint32_t c = begin; c < end; ++c) face_of_corner[c] = static_cast<std::uint32_t>(f);
+  }
+  // The corners at each vertex (compressed rows).
+  std::vector<std::uint32_t> first(mesh.vertices.size() + 1, 0), at_vertex(mesh.corners.size());
+  for (const std::uint32_t v : mesh.corners) ++first[v + 1];
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) first[v + 1] += first[v];
+  std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+  for (std::size_t c = 0; c < mesh.corners.size(); ++c) at_vertex[fill[mesh.corners[c]]++] = static_cast<std::uint32_t>(c);
+  for (std::size_t c = 0; c < mesh.corners.size(); ++c) {
+    const Vec3 own = face_normal[face_of_corner[c]];
+    if (length(own) == 0) continue;
+    const std::uint32_t v = mesh.corners[c];
+    Vec3 sum{};
+    bool crease = false;
+    for (std::uint32_t r = first[v]; r < first[v + 1]; ++r) {
+      const Vec3 other = face_normal[face_of_corner[at_vertex[r]]];
+      if (length(other) == 0) continue;
+      if (dot(own, other) >= cos_crease)
+        sum = sum + other;
+      else
+        crease = true;
+    }
+    if (crease) normals[c] = normalized(sum);
+  }
+  return normals;
 }
 
 // Keeps the first sample at each exact position, in order.
@@ -376,9 +420,13 @@ Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const Colo
   std::vector<const float*> vertex_uv(mesh.vertices.size(), nullptr);
   if (mesh.has_texcoords())
     for (std::size_t c = mesh.corners.size(); c-- > 0;) vertex_uv[mesh.corners[c]] = mesh.corner_texcoords[c].data();
+  // A vertex sample on a crease takes the normal of its first face corner's side.
+  const std::vector<Vec3> normal_at_corner = corner_normals(mesh, options.crease_degrees);
+  std::vector<Vec3> vertex_normal = mesh.normals;
+  for (std::size_t c = mesh.corners.size(); c-- > 0;) vertex_normal[mesh.corners[c]] = normal_at_corner[c];
   builder.samples.positions.reserve(mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    builder.add(mesh.vertices[v], mesh.normals[v], colors.at(mesh.vertices[v], vertex_uv[v]));
+    builder.add(mesh.vertices[v], vertex_normal[v], colors.at(mesh.vertices[v], vertex_uv[v]));
   builder.samples.vertex_samples = mesh.vertices.size();
   if (options.mode != SampleMode::Vertices) {
     double d = 0;
@@ -411,7 +459,7 @@ Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const Colo
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
       for_each_sampled_polygon(mesh, f, [&](const std::uint32_t* ids, std::uint32_t count) {
         const std::uint32_t first = options.mode == SampleMode::FaceGrid ? 0 : longest_edge_start(mesh, ids, count);
-        sample_face(mesh, ids, count, first, d, colors, builder);
+        sample_face(mesh, normal_at_corner, ids, count, first, d, colors, builder);
       });
     }
   }

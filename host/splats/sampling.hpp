@@ -57,6 +57,10 @@ struct SamplingOptions {
   // made, or, for the automatic spacing (coarsen), made at a coarser spacing with a note.
   std::size_t max_samples = kDefaultMaxSamples;
   bool coarsen = false;
+  // Samples beside an edge whose faces meet at more than this angle take their own face's normal,
+  // not the vertex normals' average across the edge (see FitOptions::crease_degrees); 180: the
+  // mesh's vertex normals everywhere, as the thesis does.
+  float crease_degrees = 180.0f;
 };
 
 // Parses "auto", "vertices", "grid:N" or "spacing:D" (N, D > 0, fractional allowed). Throws Error otherwise.

@@ -17,8 +17,10 @@ constexpr double kBetweenPointsReserve = 0.1;
 // Squares a certification may visit before the splat counts as failing (and is made smaller).
 constexpr std::size_t kCertifyBudget = 8192;
 // Coverage cells are refined down to this fraction of ε; below it, a cell that no one splat holds
-// whole is checked at its corners, edge midpoints and centre.
-constexpr double kFinestCell = 1.0 / 16.0;
+// whole is checked at its corners, edge midpoints and centre. At ε/16 a slit of ~ε/150 where
+// three face-planar splats meet beside a crease slipped through (tests/splats/two_sided_test.cpp,
+// the creased part); ε/64 doubles the gap search (bunny 224 → 457 ms).
+constexpr double kFinestCell = 1.0 / 64.0;
 constexpr std::size_t kMaxGapRounds = 6;
 // Gap splats are made in parallel ahead of the walk that places them, from this far ahead, for
 // gaps this many mean gap-splat sizes apart.
@@ -585,10 +587,41 @@ SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord
       leaving += lo < 1;
     }
     if (leaving == 0) return;
-    // One run of directions off the surface is an edge; the whole rim, or runs on opposite sides,
-    // a curved surface under an elongated splat, whose major axis is shortened (never below the minor).
+    // At a convex corner (a box's) no single line keeps only the surface: the directions on it lie
+    // within less than half the rim, or the line its off-surface directions ask for would pass
+    // behind its centre. It is shrunk, both axes, to its shortest reach; the faces' splats beside it cover the corner.
+    const auto shrink_into_corner = [&] {
+      double shortest = 1;
+      for (int k = 0; k < kDirections; ++k) shortest = std::min(shortest, reach[k]);
+      for (float* c : {&s.major.x, &s.major.y, &s.major.z, &s.minor.x, &s.minor.y, &s.minor.z}) *c = static_cast<float>(*c * shortest);
+      ++counts.cornered;
+    };
+    // A lone direction on the surface between two off it (one that slides along an edge, or through
+    // a corner) counts as off: it would split one run in two.
+    bool on[kDirections];
+    for (int k = 0; k < kDirections; ++k) on[k] = reach[k] >= 1;
+    if (kDirections - leaving > 1)
+      for (int k = 0; k < kDirections; ++k)
+        on[k] = on[k] && !(reach[(k + kDirections - 1) % kDirections] < 1 && reach[(k + 1) % kDirections] < 1);
+    // One run of directions off the surface is an edge (or a corner); the whole rim, or runs on
+    // opposite sides, a curved surface under an elongated splat, whose major axis is shortened
+    // (never below the minor).
     int runs = 0;
-    for (int k = 0; k < kDirections; ++k) runs += reach[k] < 1 && reach[(k + kDirections - 1) % kDirections] >= 1;
+    for (int k = 0; k < kDirections; ++k) runs += !on[k] && on[(k + kDirections - 1) % kDirections];
+    // A corner keeps the directions of a wedge (and maybe the edges' own) within half the rim: the
+    // largest circular gap between two directions on the surface is more than half of it. A curved
+    // surface keeps two opposite runs (around the minor axis) or none.
+    int first_on = -1, last_on = -1, largest_gap = 0;
+    for (int k = 0; k < kDirections; ++k) {
+      if (!on[k]) continue;
+      if (last_on >= 0)
+        largest_gap = std::max(largest_gap, k - last_on);
+      else
+        first_on = k;
+      last_on = k;
+    }
+    if (first_on >= 0) largest_gap = std::max(largest_gap, first_on + kDirections - last_on);
+    if (first_on >= 0 && 2 * largest_gap > kDirections) return shrink_into_corner();
     if (runs != 1) {
       double along_u = 1;
       for (int k = 0; k < kDirections; ++k)
@@ -617,13 +650,13 @@ SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord
       const double theta = 2 * std::numbers::pi * k / kDirections;
       offset = std::min(offset, reach[k] * (dx * e.a * std::cos(theta) + dy * e.b * std::sin(theta)));
     }
-    if (!(offset > 0)) return;
+    if (!(offset > 0)) return shrink_into_corner();
     s.clip_x = static_cast<float>(dx), s.clip_y = static_cast<float>(dy), s.clip_offset = static_cast<float>(offset);
     ++counts.clipped;
   };
   std::vector<SurfaceClipStats> per_worker(worker_count(splats.size(), 64));
   parallel_for(splats.size(), 64, [&](std::size_t i, std::size_t w) { fit_one(splats[i], per_worker[w]); });
-  for (const SurfaceClipStats& c : per_worker) stats.clipped += c.clipped, stats.shortened += c.shortened;
+  for (const SurfaceClipStats& c : per_worker) stats.clipped += c.clipped, stats.shortened += c.shortened, stats.cornered += c.cornered;
   return stats;
 }
 

@@ -93,8 +93,10 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
 // one run of directions (past a sharp edge) it gets a clip line there; where it leaves it in
 // several runs or all round (a curved surface under an elongated splat, seen edge-on as a fin past
 // the silhouette), its major semi-axis is shortened to the reach along it, never below the minor.
+// One that leaves it in a single run of more than half its rim, or whose clip line would pass behind
+// its centre, sits at a convex corner: both axes are shrunk to its shortest reach (`cornered`).
 struct SurfaceClipStats {
-  std::size_t clipped = 0, shortened = 0;
+  std::size_t clipped = 0, shortened = 0, cornered = 0;
 };
 SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance);
 

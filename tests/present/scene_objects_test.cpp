@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -89,6 +90,9 @@ TEST(SceneObjects, FitAndObjectQualityAreCheckedLikeEveryOtherKey) {
   refused("{" + box + R"(, "quality": {"shading": "tiled"}})", "'shading' is not a key of objects[0].quality");
   refused("{" + box + R"(, "quality": {"eps_diagonal": -1}})", "'eps_diagonal' must be positive");
   refused("{" + box + R"(, "quality": {"csm_maps": 1000}})", "'csm_maps' 1000 is not a perfect square");
+  refused("{" + box + R"(, "quality": {"crease_angle": 0}})", "'crease_angle' must be positive");
+  refused("{" + box + R"(, "quality": {"crease_angle": 200}})", "'crease_angle' must be in (0, 180] degrees");
+  refused(R"({"splats": "a.ply", "quality": {"crease_angle": 30}})", "a splat file's splats are used as they are");
   refused("{" + box + R"(, "splats": "a.ply"})", "give either \"mesh\"");
   refused(R"({"name": "x"})", "'mesh' is missing in x");
   refused(R"({"splats": "a.ply", "texture": "t.png"})", "a splat file brings its own colours");
@@ -100,8 +104,9 @@ TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
   const Scene scene = parse_scene(R"({"objects": [
       {"name": "a", "mesh": {"procedural": "sphere", "segments": 12, "rings": 6}},
       {"name": "b", "mesh": {"procedural": "sphere", "segments": 12, "rings": 6},
-       "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004, "splat_bound": "thesis", "sampling": "grid:1"}}],
-      "quality": {"eps_diagonal": 0.002, "csm_maps": 1024, "csm_resolution": 16}})",
+       "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004, "splat_bound": "thesis", "sampling": "grid:1",
+                   "crease_angle": 30}}],
+      "quality": {"eps_diagonal": 0.002, "csm_maps": 1024, "csm_resolution": 16, "crease_angle": 75}})",
                                   "s.json", ".");
   const Quality a = object_quality(scene.quality, scene.objects[0]), b = object_quality(scene.quality, scene.objects[1]);
   EXPECT_EQ(a.csm_maps, 1024u);
@@ -109,11 +114,13 @@ TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
   EXPECT_FLOAT_EQ(a.eps_diagonal, 0.002f);
   EXPECT_EQ(a.splat_bound, "two-sided");
   EXPECT_EQ(a.sampling, "auto");
+  EXPECT_FLOAT_EQ(a.crease_angle, 75.0f);
   EXPECT_EQ(b.csm_maps, 256u);
   EXPECT_EQ(b.csm_resolution, 32u);
   EXPECT_FLOAT_EQ(b.eps_diagonal, 0.004f);
   EXPECT_EQ(b.splat_bound, "thesis");
   EXPECT_EQ(b.sampling, "grid:1");
+  EXPECT_FLOAT_EQ(b.crease_angle, 30.0f);
   EXPECT_EQ(b.shading, scene.quality.shading);  // the frame's settings stay the scene's
 }
 
@@ -122,7 +129,8 @@ class SceneObjectsRender : public PresenterTest {};
 TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
   const Scene scene = parse_scene(R"({"objects": [
       {"name": "a", "mesh": {"procedural": "box", "rings": 4}},
-      {"name": "b", "mesh": {"procedural": "box", "rings": 4}, "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004}}],
+      {"name": "b", "mesh": {"procedural": "box", "rings": 4}, "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004}},
+      {"name": "c", "mesh": {"procedural": "box", "rings": 4}, "quality": {"crease_angle": 180}}],
       "quality": {"eps_diagonal": 0.002, "csm_resolution": 16}})",
                                   "s.json", ".");
   const ObjectAssets a = load_object_assets(scene.objects[0], scene, SPLATCL_TEST_CACHE, *runtime_);
@@ -132,6 +140,19 @@ TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
   EXPECT_EQ(b.csm.info.resolution, 32u);
   EXPECT_EQ(b.csm.info.maps, 256u);
   EXPECT_NE(a.key, b.key);
+  // The crease angle shapes the splats: without it the box's splats bevel its edges.
+  const ObjectAssets c = load_object_assets(scene.objects[2], scene, SPLATCL_TEST_CACHE, *runtime_);
+  EXPECT_NE(a.key, c.key);
+  const auto bevelled = [](const ObjectAssets& assets) {
+    std::size_t count = 0;
+    for (const auto& s : assets.splats) {
+      const float largest = std::max({std::fabs(s.normal.x), std::fabs(s.normal.y), std::fabs(s.normal.z)});
+      count += largest < std::cos(glm::radians(8.0f)) * length(s.normal);
+    }
+    return count;
+  };
+  EXPECT_EQ(bevelled(a), 0u);
+  EXPECT_GT(bevelled(c), 0u);
 }
 
 // A mesh object, and the same splats read from a splatcl splat file and from a 3DGS export, drawn

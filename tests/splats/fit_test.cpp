@@ -65,7 +65,7 @@ void expect_frames_close(const std::vector<Frame>& device, const std::vector<Fra
 }
 
 void compare(const Input& in, const FitOptions& options) {
-  const std::vector<Frame> frames = reference::fit_frames(in.samples, in.neighbors);
+  const std::vector<Frame> frames = reference::fit_frames(in.samples, in.neighbors, options.crease_degrees);
   FitTimings timings;
   const FitResult device = fit_splats(runtime(), in.samples, in.neighbors, options, nullptr, &timings);
   expect_frames_close(device.frames, frames);
