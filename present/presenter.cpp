@@ -400,14 +400,19 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   Impl& g = *impl_;
   // Assets and the splat arrays: objects in scene order, then the floor, then every object's LOD
   // sequence (originals and tree nodes sorted by e_max). Per instance: centre, normal, major and
-  // minor semi-axes, linear albedo, LOD interval [e_min, e_max), clip line (none: offset FLT_MAX).
+  // minor semi-axes, linear albedo, LOD interval [e_min, e_max), two clip lines (none: offset FLT_MAX).
   constexpr std::size_t kRow = SPLAT_ROW_FLOATS;
   std::vector<float> statics;
-  const auto clip_of = [](const splats::SplatRecord& s) {
-    return std::isfinite(s.clip_offset) ? glm::vec3(s.clip_x, s.clip_y, s.clip_offset) : glm::vec3(0.0f, 0.0f, FLT_MAX);
+  const auto clip_of = [](float x, float y, float offset) {
+    return std::isfinite(offset) ? glm::vec3(x, y, offset) : glm::vec3(0.0f, 0.0f, FLT_MAX);
+  };
+  const auto first_clip = [&](const splats::SplatRecord& s) { return clip_of(s.clip_x, s.clip_y, s.clip_offset); };
+  const auto second_clip = [&](const std::vector<splats::ClipLine>& lines, std::size_t j) {
+    return j < lines.size() ? clip_of(lines[j].x, lines[j].y, lines[j].offset) : glm::vec3(0.0f, 0.0f, FLT_MAX);
   };
   const auto push_splat = [&](glm::vec3 c, glm::vec3 n, glm::vec3 u, glm::vec3 v, glm::vec3 albedo,
-                              glm::vec2 lod = {0.0f, FLT_MAX}, glm::vec3 clip = {0.0f, 0.0f, FLT_MAX}) {
+                              glm::vec2 lod = {0.0f, FLT_MAX}, glm::vec3 clip = {0.0f, 0.0f, FLT_MAX},
+                              glm::vec3 clip2 = {0.0f, 0.0f, FLT_MAX}) {
     layout::SplatRow row{};
     std::copy(&c.x, &c.x + 3, row.center);
     std::copy(&n.x, &n.x + 3, row.normal);
@@ -416,6 +421,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     std::copy(&albedo.x, &albedo.x + 3, row.albedo);
     row.lod[0] = lod.x, row.lod[1] = lod.y;
     std::copy(&clip.x, &clip.x + 3, row.clip);
+    std::copy(&clip2.x, &clip2.x + 3, row.clip2);
     statics.resize(statics.size() + kRow);
     std::memcpy(&statics[statics.size() - kRow], &row, sizeof row);
   };
@@ -427,6 +433,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   std::vector<std::vector<float>> albedo_rows(scene_.objects.size());  // per object, 3 floats per splat
   // Per object its splats as drawn: fitted to the mesh surface (quality.surface_clip).
   std::vector<std::vector<splats::SplatRecord>> fitted(scene_.objects.size());
+  std::vector<std::vector<splats::ClipLine>> corner_clips(scene_.objects.size());
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
@@ -435,12 +442,13 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     // A splat file has no surface but its own discs: its splats are drawn as they are.
     if (scene_.quality.surface_clip > 0 && object.mesh.splat_path.empty())
       splats::clip_to_surface(splats::Surface(assets_.back().mesh), splats,
-                              scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal());
+                              scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal(), scene_.quality.splat_scale, corner_clips[i]);
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
-    for (const auto& s : splats) {
+    for (std::size_t j = 0; j < splats.size(); ++j) {
+      const splats::SplatRecord& s = splats[j];
       const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
       albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
-      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, clip_of(s));
+      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s), second_clip(corner_clips[i], j));
     }
   }
   if (scene_.floor.enabled) {
@@ -470,7 +478,8 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       const std::uint32_t source = tree.source[e];
       const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
       push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
-                 {tree.error_min[e], tree.error_max[e]}, clip_of(s));
+                 {tree.error_min[e], tree.error_max[e]}, first_clip(s),
+                 source < tree.splat_count ? second_clip(corner_clips[i], source) : glm::vec3(0.0f, 0.0f, FLT_MAX));
       g.lod_centers.push_back(g3(s.center));
     }
     g.lod_ranges.push_back(range);

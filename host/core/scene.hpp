@@ -145,9 +145,10 @@ struct Quality {
   // k: multiplies every splat's axes. Above 1, it closes the single-pixel gaps the thesis's splats
   // leave between them in grazing views (tests/present/splat_geometry_test.cpp).
   float splat_scale = 1.05f;
-  // Splats fitted to the mesh as loaded (splats::clip_to_surface): cut by a line where they overhang
-  // a sharp edge, their major axis shortened where they stand off a curved surface, by more than
-  // this × the mesh's bounding-box diagonal; 0 = drawn as in the splat file.
+  // Splats fitted to the mesh as loaded, measured at splat_scale (splats::clip_to_surface): cut by
+  // a line where they overhang a sharp edge (two at a corner), their major axis shortened where
+  // they stand off a curved surface, by more than this × the mesh's bounding-box diagonal; 0 =
+  // drawn as in the splat file.
   float surface_clip = 0.0025f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse

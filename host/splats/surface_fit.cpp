@@ -1,6 +1,8 @@
 #include "splats/surface_fit.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <numbers>
 
 #include "runtime/profiling.hpp"
@@ -557,20 +559,59 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
   return added;
 }
 
-SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance) {
-  constexpr int kDirections = 16, kSteps = 8, kBisections = 4;
+namespace {
+
+// A line through points in a plane, fitted by total least squares: unit normal, its offset
+// (n · p = offset on the line) and the largest distance of a point from it.
+struct FittedLine {
+  double nx = 0, ny = 0, offset = 0, residual = INFINITY;
+};
+FittedLine fit_line(const double* x, const double* y, std::size_t count) {
+  FittedLine line;
+  if (count < 2) return line;
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < count; ++i) mx += x[i], my += y[i];
+  mx /= static_cast<double>(count), my /= static_cast<double>(count);
+  double sxx = 0, sxy = 0, syy = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double dx = x[i] - mx, dy = y[i] - my;
+    sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
+  }
+  // The normal is the eigenvector of the smaller eigenvalue of the 2 × 2 scatter matrix.
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);  // direction of the larger one
+  line.nx = -std::sin(angle), line.ny = std::cos(angle);
+  line.offset = line.nx * mx + line.ny * my;
+  line.residual = 0;
+  for (std::size_t i = 0; i < count; ++i) line.residual = std::max(line.residual, std::fabs(line.nx * x[i] + line.ny * y[i] - line.offset));
+  return line;
+}
+
+}  // namespace
+
+SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance, double scale,
+                                 std::vector<ClipLine>& second_lines) {
+  // 16 directions find the splats that leave the surface; those are measured again along 64, whose
+  // ends on the surface trace where it ends.
+  constexpr int kCoarse = 16, kDirections = 64, kSteps = 8, kBisections = 9;
+  static_assert(kDirections % kCoarse == 0);
+  second_lines.assign(splats.size(), ClipLine{});
   SurfaceClipStats stats;
-  const auto fit_one = [&](SplatRecord& s, SurfaceClipStats& counts) {
-    if (std::isfinite(s.clip_offset)) return;
-    const Ellipse e = ellipse_of(s);
-    if (!(e.a > 0 && e.b > 0)) return;
+  // One pass over a splat: true when it changed only its major axis and is to be measured again.
+  const auto fit_once = [&](SplatRecord& s, ClipLine& second, SurfaceClipStats& counts, bool may_shorten) {
+    // Measured as drawn, with both axes times the splat scale; the clip lines are in model units
+    // (the shaders keep them in place at any scale), the axis factors apply to either size.
+    Ellipse e = ellipse_of(s);
+    e.a *= scale, e.b *= scale;
+    if (!(e.a > 0 && e.b > 0)) return false;
     Surface::Recent recent;
     const auto on_surface = [&](double x, double y) { return surface.within(e.center + x * e.u + y * e.v, tolerance, &recent); };
-    double reach[kDirections];
-    int leaving = 0;
-    for (int k = 0; k < kDirections; ++k) {
+    const auto rim = [&](int k) {
       const double theta = 2 * std::numbers::pi * k / kDirections;
-      const double x = e.a * std::cos(theta), y = e.b * std::sin(theta);
+      return std::array<double, 2>{e.a * std::cos(theta), e.b * std::sin(theta)};
+    };
+    double reach[kDirections];
+    const auto measure = [&](int k) {
+      const auto [x, y] = rim(k);
       // March out in steps of 1/kSteps, then bisect between the last point on the surface and the first off it.
       double lo = 0, hi = 1;
       for (int i = 1; i <= kSteps; ++i) {
@@ -584,17 +625,22 @@ SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord
       if (lo < 1)
         for (int i = 0; i < kBisections; ++i) (on_surface(0.5 * (lo + hi) * x, 0.5 * (lo + hi) * y) ? lo : hi) = 0.5 * (lo + hi);
       reach[k] = lo;
-      leaving += lo < 1;
-    }
-    if (leaving == 0) return;
-    // At a convex corner (a box's) no single line keeps only the surface: the directions on it lie
-    // within less than half the rim, or the line its off-surface directions ask for would pass
-    // behind its centre. It is shrunk, both axes, to its shortest reach; the faces' splats beside it cover the corner.
-    const auto shrink_into_corner = [&] {
+    };
+    bool leaves = false;
+    for (int k = 0; k < kDirections; k += kDirections / kCoarse) measure(k), leaves = leaves || reach[k] < 1;
+    if (!leaves) return false;
+    for (int k = 0; k < kDirections; ++k)
+      if (k % (kDirections / kCoarse) != 0) measure(k);
+    int leaving = 0;
+    for (int k = 0; k < kDirections; ++k) leaving += reach[k] < 1;
+    // Where no lines keep only the surface, both axes are shrunk to the shortest reach (the
+    // splats beside it cover what it gives up).
+    const auto shrink = [&] {
       double shortest = 1;
       for (int k = 0; k < kDirections; ++k) shortest = std::min(shortest, reach[k]);
       for (float* c : {&s.major.x, &s.major.y, &s.major.z, &s.minor.x, &s.minor.y, &s.minor.z}) *c = static_cast<float>(*c * shortest);
-      ++counts.cornered;
+      ++counts.shrunk;
+      return false;
     };
     // A lone direction on the surface between two off it (one that slides along an edge, or through
     // a corner) counts as off: it would split one run in two.
@@ -603,60 +649,127 @@ SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord
     if (kDirections - leaving > 1)
       for (int k = 0; k < kDirections; ++k)
         on[k] = on[k] && !(reach[(k + kDirections - 1) % kDirections] < 1 && reach[(k + 1) % kDirections] < 1);
-    // One run of directions off the surface is an edge (or a corner); the whole rim, or runs on
-    // opposite sides, a curved surface under an elongated splat, whose major axis is shortened
-    // (never below the minor).
-    int runs = 0;
-    for (int k = 0; k < kDirections; ++k) runs += !on[k] && on[(k + kDirections - 1) % kDirections];
-    // A corner keeps the directions of a wedge (and maybe the edges' own) within half the rim: the
-    // largest circular gap between two directions on the surface is more than half of it. A curved
-    // surface keeps two opposite runs (around the minor axis) or none.
-    int first_on = -1, last_on = -1, largest_gap = 0;
-    for (int k = 0; k < kDirections; ++k) {
-      if (!on[k]) continue;
-      if (last_on >= 0)
-        largest_gap = std::max(largest_gap, k - last_on);
-      else
-        first_on = k;
-      last_on = k;
+    std::vector<int> run_starts;
+    for (int k = 0; k < kDirections; ++k)
+      if (!on[k] && on[(k + kDirections - 1) % kDirections]) run_starts.push_back(k);
+    // The surface's end along a run: the last points on it, in order round the rim. A straight
+    // edge puts them on one line, a corner on two; a line goes through the innermost of them.
+    struct Ends {
+      double x[kDirections], y[kDirections];
+      std::size_t count = 0;
+    };
+    const auto ends_of_run = [&](int start) {
+      Ends ends;
+      for (int i = 0, k = start; i < kDirections && !on[k]; ++i, k = (k + 1) % kDirections) {
+        if (reach[k] >= 1) continue;
+        const auto [x, y] = rim(k);
+        ends.x[ends.count] = reach[k] * x, ends.y[ends.count] = reach[k] * y, ++ends.count;
+      }
+      return ends;
+    };
+    // Bisection leaves each end within a/2^(kBisections + 3) of the surface's end along its ray;
+    // the tolerance band curves round a corner's tip, up to (1 − 1/√2) of the tolerance off the
+    // edges' lines. A line allowed more would lean: a wedge-shaped slit along the edge.
+    const double straight = 0.35 * tolerance + std::ldexp(e.a, -(kBisections + 2));
+    const auto outward = [](FittedLine line, const double* x, const double* y, std::size_t count) {
+      double mx = 0, my = 0;
+      for (std::size_t i = 0; i < count; ++i) mx += x[i], my += y[i];
+      if (line.nx * mx + line.ny * my < 0) line.nx = -line.nx, line.ny = -line.ny;
+      line.offset = INFINITY;
+      for (std::size_t i = 0; i < count; ++i) line.offset = std::min(line.offset, line.nx * x[i] + line.ny * y[i]);
+      return line;
+    };
+    const auto one_line = [&](const Ends& ends) {
+      if (ends.count == 1) {
+        const double l = std::hypot(ends.x[0], ends.y[0]);
+        return FittedLine{ends.x[0] / l, ends.y[0] / l, l, 0};
+      }
+      return outward(fit_line(ends.x, ends.y, ends.count), ends.x, ends.y, ends.count);
+    };
+    // The kept part's rim and chords must stay on the surface, the lines in front of the centre.
+    const double verify_tolerance = 1.05 * tolerance;
+    const auto fits = [&](const FittedLine& first, const FittedLine& other) {
+      const bool two = std::isfinite(other.residual);
+      if (!(first.residual <= straight && first.offset > 0) || (two && !(other.residual <= straight && other.offset > 0))) return false;
+      const auto kept = [&](double x, double y) {
+        return x * first.nx + y * first.ny <= first.offset && (!two || x * other.nx + y * other.ny <= other.offset);
+      };
+      for (int k = 0; k < kDirections; ++k) {
+        const auto [x, y] = rim(k);
+        if (reach[k] < 1 && kept(x, y) && !surface.within(e.center + x * e.u + y * e.v, verify_tolerance, &recent)) return false;
+      }
+      for (const FittedLine* line : {&first, &other}) {
+        if (!std::isfinite(line->residual)) continue;
+        // Where the line crosses the ellipse: c + t d, d along the line.
+        const double cx = line->nx * line->offset, cy = line->ny * line->offset, dx = -line->ny, dy = line->nx;
+        const double ia = 1 / (e.a * e.a), ib = 1 / (e.b * e.b);
+        const double qa = dx * dx * ia + dy * dy * ib, qb = 2 * (cx * dx * ia + cy * dy * ib), qc = cx * cx * ia + cy * cy * ib - 1;
+        const double disc = qb * qb - 4 * qa * qc;
+        if (!(disc > 0)) continue;
+        const double t0 = (-qb - std::sqrt(disc)) / (2 * qa), t1 = (-qb + std::sqrt(disc)) / (2 * qa);
+        for (int i = 0; i <= 16; ++i) {
+          const double t = t0 + (t1 - t0) * i / 16, x = cx + t * dx, y = cy + t * dy;
+          if (kept(x * (1 - 1e-9), y * (1 - 1e-9)) && !surface.within(e.center + x * e.u + y * e.v, verify_tolerance, &recent))
+            return false;
+        }
+      }
+      return true;
+    };
+    const auto apply = [&](const FittedLine& first, const FittedLine& other) {
+      s.clip_x = static_cast<float>(first.nx), s.clip_y = static_cast<float>(first.ny), s.clip_offset = static_cast<float>(first.offset);
+      ++counts.clipped;
+      if (std::isfinite(other.residual)) {
+        second = {static_cast<float>(other.nx), static_cast<float>(other.ny), static_cast<float>(other.offset)};
+        ++counts.cornered;
+      }
+      return false;
+    };
+    if (run_starts.size() == 1) {
+      // An edge, or a corner: one line, else two, split where their larger residual is least.
+      const Ends ends = ends_of_run(run_starts[0]);
+      const FittedLine line = one_line(ends);
+      if (fits(line, FittedLine{})) return apply(line, FittedLine{});
+      double best = INFINITY;
+      FittedLine first, other;
+      for (std::size_t j = 2; j + 2 <= ends.count; ++j) {
+        const FittedLine a = fit_line(ends.x, ends.y, j), b = fit_line(ends.x + j, ends.y + j, ends.count - j);
+        if (std::max(a.residual, b.residual) < best) {
+          best = std::max(a.residual, b.residual);
+          first = outward(a, ends.x, ends.y, j);
+          other = outward(b, ends.x + j, ends.y + j, ends.count - j);
+        }
+      }
+      return fits(first, other) ? apply(first, other) : shrink();
     }
-    if (first_on >= 0) largest_gap = std::max(largest_gap, first_on + kDirections - last_on);
-    if (first_on >= 0 && 2 * largest_gap > kDirections) return shrink_into_corner();
-    if (runs != 1) {
+    // Two runs whose ends lie on a line each: two edges, each crossed once (a narrow face, or two
+    // edges beside a corner the rim passes), a line each. Else the whole rim, or runs on opposite
+    // sides: a curved surface under an elongated splat, whose major axis is shortened to the reach
+    // along it (never below the minor) and measured again; else the splat is shrunk.
+    if (run_starts.size() == 2) {
+      const FittedLine first = one_line(ends_of_run(run_starts[0])), other = one_line(ends_of_run(run_starts[1]));
+      if (fits(first, other)) return apply(first, other);
+    }
+    if (may_shorten) {
       double along_u = 1;
       for (int k = 0; k < kDirections; ++k)
         if (std::fabs(std::cos(2 * std::numbers::pi * k / kDirections)) >= std::sqrt(0.5)) along_u = std::min(along_u, reach[k]);
-      const double shrink = std::max(along_u, e.b / e.a);
-      if (shrink >= 1) return;
-      for (float* c : {&s.major.x, &s.major.y, &s.major.z}) *c = static_cast<float>(*c * shrink);
-      ++counts.shortened;
-      return;
+      const double factor = std::max(along_u, e.b / e.a);
+      if (factor < 1) {
+        for (float* c : {&s.major.x, &s.major.y, &s.major.z}) *c = static_cast<float>(*c * factor);
+        ++counts.shortened;
+        return true;
+      }
     }
-    // The clip direction: the mean of the directions (in the splat's metric (u, v) frame) where it
-    // leaves the surface; the line through the nearest of their surface ends.
-    double dx = 0, dy = 0;
-    for (int k = 0; k < kDirections; ++k) {
-      if (reach[k] >= 1) continue;
-      const double theta = 2 * std::numbers::pi * k / kDirections;
-      const double x = e.a * std::cos(theta), y = e.b * std::sin(theta), l = std::hypot(x, y);
-      dx += x / l, dy += y / l;
-    }
-    const double l = std::hypot(dx, dy);
-    if (!(l > 0)) return;
-    dx /= l, dy /= l;
-    double offset = INFINITY;
-    for (int k = 0; k < kDirections; ++k) {
-      if (reach[k] >= 1) continue;
-      const double theta = 2 * std::numbers::pi * k / kDirections;
-      offset = std::min(offset, reach[k] * (dx * e.a * std::cos(theta) + dy * e.b * std::sin(theta)));
-    }
-    if (!(offset > 0)) return shrink_into_corner();
-    s.clip_x = static_cast<float>(dx), s.clip_y = static_cast<float>(dy), s.clip_offset = static_cast<float>(offset);
-    ++counts.clipped;
+    return shrink();
+  };
+  const auto fit_one = [&](SplatRecord& s, ClipLine& second, SurfaceClipStats& counts) {
+    if (std::isfinite(s.clip_offset)) return;
+    if (fit_once(s, second, counts, true)) fit_once(s, second, counts, false);
   };
   std::vector<SurfaceClipStats> per_worker(worker_count(splats.size(), 64));
-  parallel_for(splats.size(), 64, [&](std::size_t i, std::size_t w) { fit_one(splats[i], per_worker[w]); });
-  for (const SurfaceClipStats& c : per_worker) stats.clipped += c.clipped, stats.shortened += c.shortened, stats.cornered += c.cornered;
+  parallel_for(splats.size(), 64, [&](std::size_t i, std::size_t w) { fit_one(splats[i], second_lines[i], per_worker[w]); });
+  for (const SurfaceClipStats& c : per_worker)
+    stats.clipped += c.clipped, stats.shortened += c.shortened, stats.cornered += c.cornered, stats.shrunk += c.shrunk;
   return stats;
 }
 

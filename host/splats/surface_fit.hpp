@@ -18,6 +18,7 @@
 // The thesis's growth bounds a splat only by the heights of the samples it meets; the size
 // corrections and the ellipse phase extrapolate beyond them, and selection guarantees coverage only
 // at the samples. The extensions measure against the mesh itself (splats/surface.hpp).
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -88,16 +89,24 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
                                    std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats);
 
 // Fits every unclipped splat to where the surface is, for drawing the thesis's splats, whose size
-// corrections reach past the last accepted sample: along 16 directions of the ellipse, the reach up
-// to which its points lie within `tolerance` of the surface. Where the splat leaves the surface in
-// one run of directions (past a sharp edge) it gets a clip line there; where it leaves it in
-// several runs or all round (a curved surface under an elongated splat, seen edge-on as a fin past
-// the silhouette), its major semi-axis is shortened to the reach along it, never below the minor.
-// One that leaves it in a single run of more than half its rim, or whose clip line would pass behind
-// its centre, sits at a convex corner: both axes are shrunk to its shortest reach (`cornered`).
-struct SurfaceClipStats {
-  std::size_t clipped = 0, shortened = 0, cornered = 0;
+// corrections reach past the last accepted sample, as drawn with both axes times `scale` (the splat
+// scale k): along 16 directions of the ellipse, then 64 where
+// it leaves the surface, the reach up to which its points lie within `tolerance` of the surface.
+// Where the splat leaves the surface in one run of directions, the ends of the reaches trace where
+// the surface ends: on one line (a sharp edge or a boundary) the splat gets a clip line there, on
+// two (a convex corner) a second one as well, in `second_lines` (one per splat; offset +inf: none),
+// the lines fitted by least squares and moved to the innermost end. Where it leaves it in several
+// runs or all round (a curved surface under an elongated splat, seen edge-on as a fin past the
+// silhouette), its major semi-axis is shortened to the reach along it, never below the minor.
+// Where neither fits (the ends on no two lines, a line behind the centre, or the kept part's rim
+// or chords off the surface), both axes are shrunk to its shortest reach (`shrunk`).
+struct ClipLine {
+  float x = 0, y = 0, offset = INFINITY;  // as SplatRecord's clip line
 };
-SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance);
+struct SurfaceClipStats {
+  std::size_t clipped = 0, shortened = 0, cornered = 0, shrunk = 0;  // cornered: clipped with two lines
+};
+SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance, double scale,
+                                 std::vector<ClipLine>& second_lines);
 
 }  // namespace splatcl::splats

@@ -6,8 +6,9 @@
 #define SPLATCL_PRESENT_SHADER_LAYOUT_H
 
 /* Static splat row (floats, model space): centre, normal, the major and minor semi-axis vectors,
-   linear albedo, the LOD interval [e_min, e_max) in model units, the clip line (unit direction in
-   the (major, minor) frame and the line's distance from the centre along it; FLT_MAX: none). */
+   linear albedo, the LOD interval [e_min, e_max) in model units, two clip lines (unit direction in
+   the (major, minor) frame and the line's distance from the centre along it; FLT_MAX: none; the
+   second one only at a convex corner). */
 #define SPLAT_CENTER 0u
 #define SPLAT_NORMAL 3u
 #define SPLAT_MAJOR 6u
@@ -16,7 +17,8 @@
 #define SPLAT_LOD_MIN 15u
 #define SPLAT_LOD_MAX 16u
 #define SPLAT_CLIP 17u
-#define SPLAT_ROW_FLOATS 20u
+#define SPLAT_CLIP2 20u
+#define SPLAT_ROW_FLOATS 23u
 
 /* Lighting row (world space), the per-splat CL results: vec4 bent normal xyz + AO, then vec4
    visibility of key lights 0-3. */
@@ -57,7 +59,7 @@
 namespace splatcl::present::layout {
 
 struct SplatRow {
-  float center[3], normal[3], major[3], minor[3], albedo[3], lod[2], clip[3];
+  float center[3], normal[3], major[3], minor[3], albedo[3], lod[2], clip[3], clip2[3];
 };
 static_assert(sizeof(SplatRow) == SPLAT_ROW_FLOATS * sizeof(float));
 static_assert(offsetof(SplatRow, center) == SPLAT_CENTER * sizeof(float));
@@ -68,6 +70,7 @@ static_assert(offsetof(SplatRow, albedo) == SPLAT_ALBEDO * sizeof(float));
 static_assert(offsetof(SplatRow, lod) == SPLAT_LOD_MIN * sizeof(float));
 static_assert(SPLAT_LOD_MAX == SPLAT_LOD_MIN + 1u);
 static_assert(offsetof(SplatRow, clip) == SPLAT_CLIP * sizeof(float));
+static_assert(offsetof(SplatRow, clip2) == SPLAT_CLIP2 * sizeof(float));
 
 struct LightingRow {
   float bent_ao[4];     // bent normal xyz, AO

@@ -3,8 +3,8 @@
 #include "splat_head.glsl"
 out vec2 v_local;
 out vec3 v_view_pos;
-// The clip line in ellipse coordinates: a pixel is kept where dot(v_local, xy) <= z.
-flat out vec3 v_clip;
+// The clip lines in ellipse coordinates: a pixel is kept where dot(v_local, xy) <= z for both.
+flat out vec3 v_clip, v_clip2;
 uniform float u_depth_offset;  // ε of the visibility pass, 0 in the accumulation pass
 void main() {
   vec3 c, n;
@@ -15,6 +15,7 @@ void main() {
   if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); return; }
   // The clip line is where the surface ends (a sharp edge), so it stays put when k scales the splat.
   v_clip = vec3(a_clip.x * length(a_major), a_clip.y * length(a_minor), a_clip.z / u_scale);
+  v_clip2 = vec3(a_clip2.x * length(a_major), a_clip2.y * length(a_minor), a_clip2.z / u_scale);
   int j = gl_VertexID % 3;
   vec2 corner = j == 0 ? vec2(0.0, 2.0) : vec2(j == 1 ? -1.7320508 : 1.7320508, -1.0);
   // The triangle lies in the splat's plane, so the rasterised depth is the ray-cast depth of that plane

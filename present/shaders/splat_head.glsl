@@ -23,7 +23,7 @@ flat out vec3 v_normal;
 flat out vec3 v_ambient;
 flat out vec4 v_shadow;
 flat out uint v_id;
-vec3 a_major, a_minor, a_clip;
+vec3 a_major, a_minor, a_clip, a_clip2;
 vec3 static3(uint o) { return vec3(splat_statics[o], splat_statics[o + 1u], splat_statics[o + 2u]); }
 bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
   uint o = SPLAT_ROW_FLOATS * s;
@@ -33,6 +33,7 @@ bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
   a_major = static3(o + SPLAT_MAJOR);
   a_minor = static3(o + SPLAT_MINOR);
   a_clip = static3(o + SPLAT_CLIP);
+  a_clip2 = static3(o + SPLAT_CLIP2);
   v_albedo = static3(o + SPLAT_ALBEDO);
   v_normal = n;
 #ifdef VISIBILITY_PASS

@@ -86,16 +86,28 @@ void look_at(Scene& scene, glm::vec3 eye, glm::vec3 target) {
 // more than a pixel beyond the outline (without the fit, the sphere's close-up has hundreds:
 // elongated splats standing off the curved surface show as fins past its silhouette; without the
 // crease angle the box's splats bevelled its edges, 846 and 1,051 pixels in its first two views).
+// The plain box is the box in one colour, the CAD part a user brings, with the splat bound a user
+// scene gets (two-sided). With the default scene's thesis bound its splats are the largest (no
+// colour edges split them): before the fit measured them at the drawn scale k and cut those that
+// leave across two edges along both, they overhung its edges by 459 and 991 pixels; now they keep
+// within the outline, but leave notches along the edges (626 holes in the corner close-up, not
+// bounded here): the thesis's splats there are elongated with gaps between them, some of zero size.
 TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
   // The torus is tilted 70° about x, so x lies in its plane; the box is turned 30° about y.
   const float c30 = std::cos(glm::radians(30.0f)), s30 = std::sin(glm::radians(30.0f));
   const glm::vec3 box_x(c30, 0.0f, -s30), box_z(s30, 0.0f, c30);
+  const std::vector<View> plain_box_views{{"face on, top edge-on", 3.0f * box_z + glm::vec3(0.0f, 0.02f, 0.0f)},
+                                          {"two faces grazing", 3.0f * glm::normalize(box_z + 6.0f * box_x) + glm::vec3(0.0f, 0.3f, 0.0f)},
+                                          {"corner close-up", 1.6f * glm::normalize(box_x + box_z + glm::vec3(0.0f, 1.0f, 0.0f))},
+                                          {"from above", {1.8f, 1.7f, 1.8f}}};
   const struct {
     const char* object;
     std::vector<View> views;
   } cases[] = {
       {"torus", {{"default", {-2.07f, 3.3f, 6.75f}}, {"edge-on", {4.0f, 0.0f, 0.0f}}, {"grazing", {4.0f, 0.35f, 0.0f}}, {"close-up", {0.0f, 0.9f, 1.6f}}}},
       {"sphere", {{"default", {1.6f, 3.5f, 8.9f}}, {"close-up", {0.0f, 0.4f, 1.9f}}, {"from above", {0.0f, 3.0f, 0.2f}}}},
+      {"plain box", plain_box_views},
+      {"plain box (thesis)", plain_box_views},
       {"box", {{"face on, top edge-on", 3.0f * box_z + glm::vec3(0.0f, 0.02f, 0.0f)},
                {"two faces grazing", 3.0f * glm::normalize(box_z + 6.0f * box_x) + glm::vec3(0.0f, 0.3f, 0.0f)},
                {"corner close-up", 1.6f * glm::normalize(box_x + box_z + glm::vec3(0.0f, 1.0f, 0.0f))}}},
@@ -103,7 +115,14 @@ TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
   for (const auto& c : cases) {
     for (const bool fitted : {true, false}) {
       if (!fitted && std::string(c.object) != "sphere") continue;
-      Scene scene = single_object(c.object);
+      const std::string object = c.object;
+      const bool plain = object.starts_with("plain box"), thesis_bound = object == "plain box (thesis)";
+      Scene scene = single_object(plain ? "box" : c.object);
+      if (plain) {
+        scene.objects[0].splat_colors = false;
+        scene.objects[0].color_tolerance = 255;
+        if (!thesis_bound) scene.objects[0].quality.splat_bound = "two-sided";
+      }
       ASSERT_EQ(scene.objects.size(), 1u) << c.object;
       if (!fitted) scene.quality.surface_clip = 0;
       const glm::vec3 centre(scene.objects[0].placement(0.0f) * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
@@ -122,7 +141,9 @@ TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
           }
           continue;
         }
-        EXPECT_LE(o.holes, o.interior / 1000) << what;
+        if (!thesis_bound) {
+          EXPECT_LE(o.holes, o.interior / 1000) << what;
+        }
         EXPECT_LE(o.beyond, o.mesh / 2000) << what;
       }
     }
