@@ -46,9 +46,13 @@ __kernel void radix_histogram_cpu(__global const KEY_T* keys, __global uint* tab
 }
 
 // Write combining: a digit's elements are staged per aligned run of WC_SLOTS output positions
-// and a full run leaves as one streaming vector store (whole cache lines, no read for ownership),
+// and a full run leaves as streaming vector stores (whole cache lines, no read for ownership),
 // instead of 256 digits x 2 arrays of element stores competing for cache lines and TLB entries.
-#define WC_SLOTS 16
+// A run is 128 bytes of keys (two cache lines): the flush branch, mispredicted once per run, cost
+// more than the larger staging area with 64-byte runs of uint keys (radix sort of 2M 20-bit keys
+// on PoCL and Intel, docs/benchmarks.md); ulong keys keep 16 slots and their staging area's size.
+// The staging area is private: 128 bytes per digit and array, 128 KiB each with 10-bit digits.
+#define WC_SLOTS (128 / (int)sizeof(KEY_T))
 #define KEY_VEC SPLATCL_CONCAT(KEY_T, 16)
 
 // Stores staged output positions [from, to) of digit d element by element (partial runs).
@@ -94,9 +98,11 @@ __kernel void radix_scatter_cpu(__global const KEY_T* keys_in, __global KEY_T* k
     if (slot == WC_SLOTS - 1u) {
       const uint run = position - (WC_SLOTS - 1u);
       if (run >= first[d]) {
-        STREAM_STORE(vload16(0, staged_keys + d * WC_SLOTS), (__global KEY_VEC*)(keys_out + run));
+        for (uint j = 0; j < WC_SLOTS / 16; ++j)
+          STREAM_STORE(vload16(j, staged_keys + d * WC_SLOTS), (__global KEY_VEC*)(keys_out + run) + j);
 #if WITH_VALUES
-        STREAM_STORE(vload16(0, staged_values + d * WC_SLOTS), (__global uint16*)(values_out + run));
+        for (uint j = 0; j < WC_SLOTS / 16; ++j)
+          STREAM_STORE(vload16(j, staged_values + d * WC_SLOTS), (__global uint16*)(values_out + run) + j);
 #endif
       } else {
         // The run starts before this chunk's share of the digit: store only the chunk's own part.
