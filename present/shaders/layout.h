@@ -8,7 +8,8 @@
 /* Static splat row (floats, model space): centre, normal, the major and minor semi-axis vectors,
    linear albedo, the LOD interval [e_min, e_max) in model units, two clip lines (unit direction in
    the (major, minor) frame and the line's distance from the centre along it; FLT_MAX: none; the
-   second one only at a convex corner). */
+   second one only where one line cannot keep the splat on the surface: a convex corner, a narrow
+   face). */
 #define SPLAT_CENTER 0u
 #define SPLAT_NORMAL 3u
 #define SPLAT_MAJOR 6u
