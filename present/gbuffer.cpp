@@ -5,6 +5,8 @@
 
 #include <glm/glm.hpp>
 
+#include "present/shaders/layout.h"
+
 namespace splatcl::present {
 namespace {
 
@@ -93,7 +95,11 @@ std::vector<float> ShadingTargets::read_hdr_rgb() const {
 PixelInputs::PixelInputs(int width, int height)
     : light_list(gl::make_texture(GL_R32UI, width, height)),
       shadow(gl::make_texture(GL_RGBA32F, width, height)),
-      ao(gl::make_texture(GL_RGBA32F, width, height)) {}
+      ao(gl::make_texture(GL_RGBA32F, width, height)),
+      lattice_columns((width + FLOOR_LATTICE_STEP - 1) / FLOOR_LATTICE_STEP),
+      lattice_rows((height + FLOOR_LATTICE_STEP - 1) / FLOOR_LATTICE_STEP),
+      floor_ao(gl::make_texture(GL_RGBA32F, lattice_columns, lattice_rows)),
+      floor_shadow(gl::make_texture(GL_RGBA32F, lattice_columns, lattice_rows)) {}
 
 MeshMaskTarget::MeshMaskTarget(int width, int height)
     : width_(width),

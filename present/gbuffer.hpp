@@ -75,6 +75,10 @@ struct PixelInputs {
   gl::Texture light_list;  // R32UI: index of the pixel's light list, kNoCluster for none
   gl::Texture shadow;      // RGBA32F: key-light visibility 0-3 (per-pixel shadows)
   gl::Texture ao;          // RGBA32F: bent normal, AO (per-pixel AO)
+  // The floor's lighting lattice (FLOOR_LATTICE_STEP pixels apart, lattice_columns × lattice_rows
+  // nodes), RGBA32F: bent normal and AO; key-light visibility 0-3. −1 at nodes off the floor.
+  int lattice_columns, lattice_rows;
+  gl::Texture floor_ao, floor_shadow;
 };
 
 class MeshMaskTarget {

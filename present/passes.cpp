@@ -93,16 +93,17 @@ void PointPass::run(const SplatFrame& frame, const std::vector<SplatDraw>& draws
 std::uint32_t ShadeVariant::key() const {
   return static_cast<std::uint32_t>(debug) | (brute_force ? 1u : 0u) << 3 | (pixel_shadows ? 1u : 0u) << 4 |
          (pixel_ao ? 1u : 0u) << 5 | (hdr_output ? 1u : 0u) << 6 | (specular ? 1u : 0u) << 7 |
-         static_cast<std::uint32_t>(key_count) << 8;
+         static_cast<std::uint32_t>(key_count) << 8 | (floor_ao ? 1u : 0u) << 11 | (floor_shadows ? 1u : 0u) << 12;
 }
 
 namespace {
 std::string shade_defines(const ShadeVariant& v) {
   return fmt::format(
       "#define DEBUG_VIEW {}\n#define BRUTE_FORCE {}\n#define PIXEL_SHADOWS {}\n"
-      "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n",
+      "#define PIXEL_AO {}\n#define HDR_OUTPUT {}\n#define KEY_COUNT {}\n#define SPECULAR {}\n#define FLOOR_AO {}\n"
+      "#define FLOOR_SHADOWS {}\n",
       v.debug, v.brute_force ? 1 : 0, v.pixel_shadows ? 1 : 0, v.pixel_ao ? 1 : 0, v.hdr_output ? 1 : 0, v.key_count,
-      v.specular ? 1 : 0);
+      v.specular ? 1 : 0, v.floor_ao ? 1 : 0, v.floor_shadows ? 1 : 0);
 }
 }  // namespace
 
@@ -116,7 +117,9 @@ ShadingPass::Program::Program(const ShadeVariant& variant)
       sh(program.uniform("u_sh")),
       heat_max(program.uniform("u_heat_max")),
       specular(program.uniform("u_specular")),
-      shininess(program.uniform("u_shininess")) {
+      shininess(program.uniform("u_shininess")),
+      floor_plane(program.uniform("u_floor_plane")),
+      floor_tolerance(program.uniform("u_floor_tolerance")) {
   for (int k = 0; k < MAX_KEY_LIGHTS; ++k) {
     key_center[k] = program.uniform(fmt::format("u_key_center[{}]", k).c_str());
     key_color[k] = program.uniform(fmt::format("u_key_color[{}]", k).c_str());
@@ -142,6 +145,8 @@ void ShadingPass::run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInp
   textures[UNIT_PIXEL_LIST] = pixel.light_list.get();
   textures[UNIT_PIXEL_SHADOW] = pixel.shadow.get();
   textures[UNIT_PIXEL_AO] = pixel.ao.get();
+  textures[UNIT_FLOOR_AO] = pixel.floor_ao.get();
+  textures[UNIT_FLOOR_SHADOW] = pixel.floor_shadow.get();
   glBindTextures(0, SHADING_UNITS, textures);
   glUniformMatrix4fv(p.view, 1, GL_FALSE, glm::value_ptr(frame.view));
   glUniform2f(p.tan_half, frame.tan_half.x, frame.tan_half.y);
@@ -155,6 +160,8 @@ void ShadingPass::run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInp
   glUniform1f(p.heat_max, frame.heat_max);
   glUniform1f(p.specular, frame.specular);
   glUniform1f(p.shininess, frame.shininess);
+  glUniform4fv(p.floor_plane, 1, glm::value_ptr(frame.floor_plane));
+  glUniform1f(p.floor_tolerance, frame.floor_tolerance);
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 

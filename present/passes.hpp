@@ -87,6 +87,8 @@ class PointPass : SplatPass {
 struct ShadeVariant {
   int debug = 0;  // DebugView, footprints drawn as albedo
   bool brute_force = false, pixel_shadows = false, pixel_ao = false, hdr_output = true, specular = false;
+  // The floor's pixels take AO / key-light shadows from the floor's lattice (PixelInputs).
+  bool floor_ao = false, floor_shadows = false;
   int key_count = 0;
   std::uint32_t key() const;
 };
@@ -100,6 +102,10 @@ struct ShadeFrame {
   glm::vec3 key_color[MAX_KEY_LIGHTS] = {};
   const glm::vec3* sh = nullptr;
   float heat_max = 1, specular = 0, shininess = 32;
+  // The floor's plane in view space (n·p + w = height above it) and how far off it a pixel may lie
+  // and still be the floor (the variant's floor_ao / floor_shadows).
+  glm::vec4 floor_plane{0.0f};
+  float floor_tolerance = 0;
 };
 
 class ShadingPass {
@@ -114,7 +120,7 @@ class ShadingPass {
   struct Program {
     explicit Program(const ShadeVariant& variant);
     gl::Program program;
-    GLint view, tan_half, viewport, light_count, sh, heat_max, specular, shininess;
+    GLint view, tan_half, viewport, light_count, sh, heat_max, specular, shininess, floor_plane, floor_tolerance;
     GLint key_center[MAX_KEY_LIGHTS], key_color[MAX_KEY_LIGHTS];
   };
   const Program& program(const ShadeVariant& variant);

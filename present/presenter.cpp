@@ -126,70 +126,92 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
   return covered;
 }
 
-// The floor's lighting rows on the pixel lattice (every kFloorStep-th pixel in x and y), smoothed
-// over each node's 3 × 3 lattice neighbours (each node's 16 AO directions alone leave a grain) and
-// interpolated bilinearly between the four nodes around a pixel, over those that are floor. The
-// bent normal is renormalised; visibility and AO are means. A pixel with no floor node among its
-// four (a sliver of floor between objects) keeps the floor splats' values.
-constexpr std::size_t kFloorStep = 4;
-struct FloorLattice {
-  std::size_t columns = 0, rows = 0;
-  std::vector<float> values;  // kLightingRow per node
-  std::vector<std::uint8_t> present;
-  bool interpolate(std::size_t x, std::size_t y, float* out) const {
-    const std::size_t cx = x / kFloorStep, cy = y / kFloorStep;
-    const float fx = static_cast<float>(x % kFloorStep) / kFloorStep, fy = static_cast<float>(y % kFloorStep) / kFloorStep;
-    float weight_sum = 0.0f;
-    std::fill(out, out + kLightingRow, 0.0f);
-    for (std::size_t k = 0; k < 4; ++k) {
-      const std::size_t nx = cx + (k & 1), ny = cy + (k >> 1);
-      if (nx >= columns || ny >= rows || !present[ny * columns + nx]) continue;
-      // The small floor keeps a present node in play when the pixel lies on a missing node's row or
-      // column, where its bilinear weight would be 0.
-      const float weight = ((k & 1) ? fx : 1.0f - fx) * ((k >> 1) ? fy : 1.0f - fy) + 1e-6f;
-      const float* v = &values[kLightingRow * (ny * columns + nx)];
-      for (std::size_t c = 0; c < kLightingRow; ++c) out[c] += weight * v[c];
-      weight_sum += weight;
-    }
-    if (weight_sum == 0.0f) return false;
-    for (std::size_t c = 0; c < kLightingRow; ++c) out[c] /= weight_sum;
-    const glm::vec3 bent(out[0], out[1], out[2]);
-    if (glm::length(bent) > 0.0f) {
-      const glm::vec3 n = glm::normalize(bent);
-      out[0] = n.x, out[1] = n.y, out[2] = n.z;
-    }
-    return true;
-  }
-};
-
+// The floor's lighting rows on the pixel lattice (every FLOOR_LATTICE_STEP-th pixel in x and y),
+// smoothed over each node's 3 × 3 lattice neighbours that show floor (each node's 16 AO directions
+// alone leave a grain), as the shading's two lattice textures: (bent normal, AO) and key-light
+// visibility per node, −1 at nodes that do not show floor (an object hides the node's floor point,
+// which may lie far behind it, or the node is off the floor). The shading interpolates them to the
+// floor's pixels (shade.frag.glsl, floor_lattice).
+constexpr std::size_t kFloorStep = FLOOR_LATTICE_STEP;
 std::size_t lattice_size(int pixels) { return (static_cast<std::size_t>(pixels) + kFloorStep - 1) / kFloorStep; }
 
-// `rows`: kLightingRow per lattice node (row-major), valid where `present`.
-FloorLattice floor_lattice(const std::vector<float>& rows, const std::vector<std::uint8_t>& present, int width, int height) {
-  FloorLattice raw;
-  raw.columns = lattice_size(width);
-  raw.rows = lattice_size(height);
-  raw.values = rows;
-  raw.present = present;
-  for (std::size_t node = 0; node < present.size(); ++node)
-    if (!present[node]) std::fill_n(&raw.values[kLightingRow * node], kLightingRow, 0.0f);
-  FloorLattice smooth = raw;
-  for (std::size_t y = 0; y < raw.rows; ++y)
-    for (std::size_t x = 0; x < raw.columns; ++x) {
-      if (!raw.present[y * raw.columns + x]) continue;
-      float* out = &smooth.values[kLightingRow * (y * raw.columns + x)];
-      std::fill(out, out + kLightingRow, 0.0f);
+// `rows`: kLightingRow per lattice node (row-major, `columns` wide), valid where `present`.
+void floor_lattice_textures(const std::vector<float>& rows, const std::vector<std::uint8_t>& present, std::size_t columns,
+                            std::vector<float>& ao, std::vector<float>& shadow) {
+  static_assert(kLightingRow == 8 && kVisibilityAt == 4);
+  const std::size_t lattice_rows = present.size() / columns;
+  ao.assign(4 * present.size(), -1.0f);
+  shadow.assign(4 * present.size(), -1.0f);
+  for (std::size_t y = 0; y < lattice_rows; ++y)
+    for (std::size_t x = 0; x < columns; ++x) {
+      const std::size_t node = y * columns + x;
+      if (!present[node]) continue;
+      float mean[kLightingRow] = {};
       float count = 0.0f;
-      for (std::size_t ny = y ? y - 1 : 0; ny <= std::min(raw.rows - 1, y + 1); ++ny)
-        for (std::size_t nx = x ? x - 1 : 0; nx <= std::min(raw.columns - 1, x + 1); ++nx) {
-          if (!raw.present[ny * raw.columns + nx]) continue;
-          const float* v = &raw.values[kLightingRow * (ny * raw.columns + nx)];
-          for (std::size_t c = 0; c < kLightingRow; ++c) out[c] += v[c];
+      for (std::size_t ny = y ? y - 1 : 0; ny <= std::min(lattice_rows - 1, y + 1); ++ny)
+        for (std::size_t nx = x ? x - 1 : 0; nx <= std::min(columns - 1, x + 1); ++nx) {
+          if (!present[ny * columns + nx]) continue;
+          const float* v = &rows[kLightingRow * (ny * columns + nx)];
+          for (std::size_t c = 0; c < kLightingRow; ++c) mean[c] += v[c];
           count += 1.0f;
         }
-      for (std::size_t c = 0; c < kLightingRow; ++c) out[c] /= count;
+      for (std::size_t c = 0; c < 4; ++c) {
+        ao[4 * node + c] = mean[c] / count;
+        shadow[4 * node + c] = mean[kVisibilityAt + c] / count;
+      }
     }
-  return smooth;
+}
+
+// The floor's lattice nodes as receivers: the floor point each node's pixel ray meets, analytic
+// from the camera (so the lattice does not wait for the G-buffer), active where that point lies
+// in front within the far plane and on the drawn floor (its square grown by a floor disc's
+// overhang). The normal is up. Nodes whose floor point an object hides are computed too (the
+// G-buffer says which those are only after the splat passes; floor_nodes_shown).
+csm::SplatLighting::Receivers floor_lattice_receivers(const FloorSpec& floor, const cluster::ClusterLayout& layout,
+                                                      const ViewFrame& frame, const std::vector<std::uint32_t>& pixel_pattern_of) {
+  const std::uint32_t width = layout.config.width, height = layout.config.height;
+  const std::size_t columns = lattice_size(static_cast<int>(width)), nodes = columns * lattice_size(static_cast<int>(height));
+  csm::SplatLighting::Receivers receivers;
+  receivers.positions.assign(nodes, Vec4{});
+  receivers.normals.assign(nodes, Vec4{0, 1, 0, 0});
+  receivers.pattern_of.assign(nodes, 0);
+  receivers.active.assign(nodes, 0);
+  const float height_above = frame.eye.y - floor.y;
+  if (!(height_above > 0.0f)) return receivers;  // the floor faces away: no floor pixel is drawn
+  const float reach = 0.5f * floor.size + 0.75f * floor.size / static_cast<float>(floor.splats_per_side);
+  for (std::uint32_t y = 0; y < height; y += kFloorStep)
+    for (std::uint32_t x = 0; x < width; x += kFloorStep) {
+      const Vec3 ray = frame.direction_to_world(cluster::pixel_view_position(layout, x, y, 1.0f));
+      if (!(ray.y < 0.0f)) continue;
+      const float distance = height_above / -ray.y;  // view depth: the ray has view z −1 per unit
+      if (distance < layout.config.near_plane || distance > layout.config.far_plane) continue;
+      const Vec3 point = frame.eye + ray * distance;
+      if (std::abs(point.x) > reach || std::abs(point.z) > reach) continue;
+      const std::size_t node = (y / kFloorStep) * columns + x / kFloorStep;
+      receivers.positions[node] = {point.x, floor.y, point.z, 0.0f};
+      receivers.pattern_of[node] = pixel_pattern_of[std::size_t{y} * width + x];
+      receivers.active[node] = 1;
+    }
+  return receivers;
+}
+
+// Per lattice node: its floor point is what its pixel shows (the G-buffer's depth puts the pixel on
+// the floor's plane, to the tolerance the shading uses), among the `active` nodes.
+std::vector<std::uint8_t> floor_nodes_shown(const FloorSpec& floor, const cluster::ClusterLayout& layout, const ViewFrame& frame,
+                                            const std::vector<float>& view_z, const std::vector<std::uint8_t>& active) {
+  const std::uint32_t width = layout.config.width;
+  const std::size_t columns = lattice_size(static_cast<int>(width));
+  const float tolerance = 1e-3f * (1.0f + std::abs(floor.y));
+  std::vector<std::uint8_t> shown(active.size(), 0);
+  for (std::size_t node = 0; node < active.size(); ++node) {
+    if (!active[node]) continue;
+    const auto x = static_cast<std::uint32_t>(node % columns * kFloorStep), y = static_cast<std::uint32_t>(node / columns * kFloorStep);
+    const auto d = cluster::pixel_distance(layout, view_z[std::size_t{y} * width + x], cluster::DepthFormat::ViewZ);
+    if (!d) continue;
+    const Vec3 world = frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, *d));
+    shown[node] = std::abs(world.y - floor.y) <= tolerance;
+  }
+  return shown;
 }
 
 // The per-splat lighting's settings for the frame.
@@ -704,10 +726,20 @@ struct Presenter::Frame {
   // the splats' values.
   std::vector<float> pixel_shadow;
   std::vector<Vec4> pixel_ao;
-  // light_pixels' inputs: the G-buffer's normals, the objects' CSMs and the covered floor pixels.
+  // light_pixels' inputs: the G-buffer's normals and the objects' CSMs.
   std::vector<float> normals;
   std::vector<const csm::Csm*> csms;
-  std::vector<CoveredPixel> floor;
+  // The floor's lattice this frame: which of AO and shadows it holds; from light_floor_lattice (on
+  // the worker when it runs there) its nodes' rows, the active nodes, stages and counts; then its
+  // two textures (floor_lattice_textures) over the nodes the G-buffer shows as floor.
+  bool floor_ao = false, floor_shadows = false, floor_on_worker = false;
+  std::vector<float> floor_rows;
+  std::vector<std::uint8_t> floor_active;
+  FrameStats floor_stats;
+  std::vector<float> floor_ao_nodes, floor_shadow_nodes;
+  // The worker thread of the frame's CL lighting (start_lighting). Last, so that it is joined
+  // before anything it uses goes.
+  std::future<void> worker;
 };
 
 FrameStats Presenter::render(float time) {
@@ -717,14 +749,13 @@ FrameStats Presenter::render(float time) {
   Stopwatch frame_clock;
   f.stats.splats = static_cast<std::uint32_t>(splat_ao_.size());
   for (const ObjectSpec& o : scene_.objects) f.placements.push_back(o.placement(time));
-  start_lighting(f);
-  if (f.settings.mode == RenderMode::Points) finish_lighting(f);
-
   const Camera& cam = scene_.camera;
   f.eye = {cam.eye.x, cam.eye.y, cam.eye.z};
   f.view = glm::lookAt(f.eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
   f.proj = glm::perspective(cam.fov_y, static_cast<float>(width_) / static_cast<float>(height_), cam.near_plane, cam.far_plane);
   f.view_frame = view_frame(cam);
+  start_lighting(f);
+  if (f.settings.mode == RenderMode::Points) finish_lighting(f);
   draw_splats(f);
 
   // Readback of the view-space depth for the cluster stage.
@@ -742,25 +773,59 @@ FrameStats Presenter::render(float time) {
   return std::move(f.stats);
 }
 
-// The per-splat lighting (CL) of moved occluders runs on a worker thread beside the visibility
-// pass, which does not read it: llvmpipe bins the splats on one thread and the lighting's host code
-// leaves the CL device idle in between, so each fills the other's idle core. finish_lighting joins it
-// and uploads the rows before the first pass that reads them. Only the worker uses the CL device
-// meanwhile, only this thread GL. The first update runs on this thread: it builds the CL programs
-// while llvmpipe compiles its shaders, and both would then use LLVM at once.
+// The frame's CL lighting: the per-splat lighting of moved occluders (update_splat_lighting), then
+// the floor's lattice (light_floor_lattice). Both run on one worker thread beside the splat passes,
+// which do not read them: llvmpipe bins the splats on one thread and the lighting's host code
+// leaves the CL device idle in between, so each fills the other's idle core. finish_lighting waits
+// for the per-splat rows and uploads them before the first pass that reads them; light_pixels
+// waits for the lattice. Only the worker uses the lighting's CL objects meanwhile, only this
+// thread GL. A first update runs on this thread: it builds the CL programs while llvmpipe compiles
+// its shaders, and both would then use LLVM at once; so do the points mode's (its one pass reads
+// the rows) and every update while the passes are timed by wall clock.
 void Presenter::start_lighting(Frame& f) {
   Impl& g = *impl_;
   // Also when a lighting setting changed (the viewer's AO and shadow toggles), moving or not.
   const bool relight =
       !g.have_lighting || f.placements != g.last_placements || g.lighting_signature != lighting_settings(f.settings);
-  if (!relight) return;
-  const bool overlap = overlap_lighting && !wall_clock_passes && g.have_lighting && f.settings.mode != RenderMode::Points;
-  f.lighting = std::async(overlap ? std::launch::async : std::launch::deferred,
-                          [this, placements = f.placements, settings = f.settings] {
-                            FrameStats worker;
-                            update_splat_lighting(placements, settings, worker);
-                            return worker;
-                          });
+  const bool shadow_pixels = f.settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
+  const bool ao_pixels = pixel_ao && ambient_occlusion;
+  f.floor_shadows = floor_per_pixel && scene_.floor.enabled && !shadow_pixels && f.settings.shadows == ShadowMode::Splat &&
+                    !scene_.key_lights.empty();
+  f.floor_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
+  for (const ObjectAssets& a : assets_) f.csms.push_back(&a.csm);
+  // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
+  const std::size_t pixels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  if (g.pixel_pattern_of.size() != pixels) g.pixel_pattern_of = csm::choose_patterns(pixels, kAoPatterns, kAoSeed);
+
+  const bool may_overlap = overlap_lighting && !wall_clock_passes;
+  const bool splats_on_worker = relight && may_overlap && g.have_lighting && f.settings.mode != RenderMode::Points;
+  f.floor_on_worker = (f.floor_ao || f.floor_shadows) && may_overlap && g.floor_lighting && (!relight || splats_on_worker);
+  if (relight && !splats_on_worker) {
+    f.lighting = std::async(std::launch::deferred, [this, &f] {
+      FrameStats stats;
+      update_splat_lighting(f.placements, f.settings, stats);
+      return stats;
+    });
+  }
+  if (!splats_on_worker && !f.floor_on_worker) return;
+  std::shared_ptr<std::promise<FrameStats>> splat_rows;
+  if (splats_on_worker) {
+    splat_rows = std::make_shared<std::promise<FrameStats>>();
+    f.lighting = splat_rows->get_future();
+  }
+  f.worker = std::async(std::launch::async, [this, &f, splat_rows] {
+    if (splat_rows) {
+      try {
+        FrameStats stats;
+        update_splat_lighting(f.placements, f.settings, stats);
+        splat_rows->set_value(std::move(stats));
+      } catch (...) {
+        splat_rows->set_exception(std::current_exception());  // finish_lighting rethrows it
+        return;
+      }
+    }
+    if (f.floor_on_worker) light_floor_lattice(f);
+  });
 }
 
 void Presenter::finish_lighting(Frame& f) {
@@ -840,71 +905,61 @@ void Presenter::build_light_lists(Frame& f) {
 }
 
 // Per-pixel key-light shadows and AO through the same CSM tables: of every covered pixel in the
-// quality modes, else of the floor's pixels (floor_per_pixel), so that the floor's shadows and AO
+// quality modes, else on the floor's lattice (floor_per_pixel), so that the floor's shadows and AO
 // do not step at its splat spacing; the shading takes the splats' values elsewhere.
 void Presenter::light_pixels(Frame& f) {
   Impl& g = *impl_;
   const FrameSettings& settings = f.settings;
   const bool shadow_pixels = settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
   const bool ao_pixels = pixel_ao && ambient_occlusion;
-  const bool floor_shadows = floor_per_pixel && scene_.floor.enabled && !shadow_pixels && settings.shadows == ShadowMode::Splat &&
-                             !scene_.key_lights.empty();
-  const bool floor_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
-  if (!shadow_pixels && !ao_pixels && !floor_shadows && !floor_ao) return;
-  for (const ObjectAssets& a : assets_) f.csms.push_back(&a.csm);
-  f.normals = read_normals();
-  const std::vector<CoveredPixel> covered = covered_pixels(f.builder->layout(), f.view_frame, f.view_z);
-  // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
-  if (g.pixel_pattern_of.size() != f.view_z.size()) g.pixel_pattern_of = csm::choose_patterns(f.view_z.size(), kAoPatterns, kAoSeed);
-  if (shadow_pixels) {
-    Stopwatch c;
-    f.pixel_shadow = pixel_shadows(scene_, covered, f.view_z.size(), f.normals, f.placements, f.csms, settings.filter, *g.lighting);
-    f.stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
+  if (shadow_pixels || ao_pixels) {
+    f.normals = read_normals();
+    const std::vector<CoveredPixel> covered = covered_pixels(f.builder->layout(), f.view_frame, f.view_z);
+    if (shadow_pixels) {
+      Stopwatch c;
+      f.pixel_shadow = pixel_shadows(scene_, covered, f.view_z.size(), f.normals, f.placements, f.csms, settings.filter, *g.lighting);
+      f.stats.stages.push_back({"cl: pixel shadows", c.elapsed_ms()});
+    }
+    if (ao_pixels) {
+      Stopwatch c;
+      f.pixel_ao = pixel_occlusion(scene_, covered, f.view_z.size(), f.normals, f.placements, f.csms, g.ao_patterns,
+                                   g.pixel_pattern_of, *g.lighting);
+      f.stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+    }
   }
-  if (ao_pixels) {
-    Stopwatch c;
-    f.pixel_ao = pixel_occlusion(scene_, covered, f.view_z.size(), f.normals, f.placements, f.csms, g.ao_patterns,
-                                 g.pixel_pattern_of, *g.lighting);
-    f.stats.stages.push_back({"cl: pixel AO", c.elapsed_ms()});
+  if (!f.floor_ao && !f.floor_shadows) return;
+  Stopwatch wait;
+  if (f.floor_on_worker) {
+    f.worker.get();
+    f.stats.stages.push_back({"wait: floor lattice", wait.elapsed_ms()});
+  } else {
+    light_floor_lattice(f);
   }
-  if (floor_shadows || floor_ao) {
-    Stopwatch c;
-    f.floor = floor_pixels(scene_, covered, f.normals);
-    light_floor_pixels(f, floor_shadows, floor_ao);
-    f.stats.stages.push_back({"cl: floor pixel shadows and AO", c.elapsed_ms()});
-  }
+  f.stats.stages.insert(f.stats.stages.end(), f.floor_stats.stages.begin(), f.floor_stats.stages.end());
+  f.stats.floor_nodes = f.floor_stats.floor_nodes;
+  f.stats.floor_receivers = f.floor_stats.floor_receivers;
+  Stopwatch textures;
+  const std::vector<std::uint8_t> shown = floor_nodes_shown(scene_.floor, g.clustered_lists->layout(), f.view_frame, f.view_z, f.floor_active);
+  floor_lattice_textures(f.floor_rows, shown, lattice_size(width_), f.floor_ao_nodes, f.floor_shadow_nodes);
+  f.stats.stages.push_back({"host: floor lattice textures", textures.elapsed_ms()});
 }
 
-// The floor's pixels as receivers of no object: the per-splat lighting's queries, culled per
-// occluder instance (csm/query_reach.hpp), the same rows as the AO kernel and PCF batches.
-// Evaluated on a lattice of every kFloorStep-th pixel in x and y (the floor's shadows and AO are
-// soft: 1/16 of the queries), then interpolated to every floor pixel. One receiver per lattice
-// node, active where its pixel is on the floor: with the camera and the frame size unchanged since
-// the last frame, a node whose pixel shows the same floor point keeps its visibility through the
-// occluders that did not move (the incremental update, rows equal to the full update's bit for
-// bit), and only the moved ones are queried.
-void Presenter::light_floor_pixels(Frame& f, bool shadows, bool ao) {
+// The floor's lattice nodes (floor_lattice_receivers) as receivers of no object: the per-splat
+// lighting's queries, culled per occluder instance (csm/query_reach.hpp), the same rows as the AO
+// kernel and PCF batches; 1/16 of the floor's pixels (its shadows and AO are soft). With the camera
+// and the frame size unchanged since the last frame every node shows the same floor point and
+// keeps its visibility through the occluders that did not move (the incremental update, rows equal
+// to the full update's bit for bit); only the moved ones are queried. Writes only f.floor_*: it
+// may run on the worker thread.
+void Presenter::light_floor_lattice(Frame& f) {
   Impl& g = *impl_;
-  const std::vector<float>& normals = f.normals;
-  const auto w = static_cast<std::size_t>(width_);
-  const std::size_t columns = lattice_size(width_), nodes = columns * lattice_size(height_);
-  csm::SplatLighting::Receivers receivers;
-  receivers.positions.assign(nodes, Vec4{});
-  receivers.normals.assign(nodes, Vec4{});
-  receivers.pattern_of.assign(nodes, 0);
-  receivers.active.assign(nodes, 0);
-  for (const CoveredPixel& pixel : f.floor) {
-    if ((pixel.index % w) % kFloorStep != 0 || (pixel.index / w) % kFloorStep != 0) continue;
-    const std::size_t node = (pixel.index / w) / kFloorStep * columns + (pixel.index % w) / kFloorStep;
-    receivers.positions[node] = vec4({pixel.world.x, pixel.world.y, pixel.world.z});
-    receivers.normals[node] = vec4({normals[3 * pixel.index], normals[3 * pixel.index + 1], normals[3 * pixel.index + 2]});
-    receivers.pattern_of[node] = g.pixel_pattern_of[pixel.index];
-    receivers.active[node] = 1;
-  }
+  Stopwatch clock;
+  const cluster::ClusterLayout& layout = g.clustered_lists->layout();
+  csm::SplatLighting::Receivers receivers = floor_lattice_receivers(scene_.floor, layout, f.view_frame, g.pixel_pattern_of);
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) receivers.objects.push_back({0, 0, scene_.objects[i].occluder});
   csm::SplatLighting::Settings floor_settings = lighting_settings_of(scene_, ambient_occlusion, f.settings);
-  floor_settings.ao = ao;
-  floor_settings.shadows = shadows;
+  floor_settings.ao = f.floor_ao;
+  floor_settings.shadows = f.floor_shadows;
   if (!g.floor_lighting)
     g.floor_lighting = std::make_unique<csm::SplatLighting>(runtime_, f.csms, g.ao_patterns, std::vector<std::uint32_t>{});
   std::vector<csm::Transform> transforms;
@@ -915,18 +970,11 @@ void Presenter::light_floor_pixels(Frame& f, bool shadows, bool ao) {
   g.floor_proj = f.proj;
   const csm::SplatLighting::Update update =
       g.floor_lighting->update(receivers, transforms, floor_settings, incremental_lighting && same_view);
-  f.stats.floor_receivers = update.receivers;
-  f.stats.floor_nodes = static_cast<std::uint32_t>(std::count(receivers.active.begin(), receivers.active.end(), std::uint8_t{1}));
-  const FloorLattice lattice = floor_lattice(g.floor_lighting->rows(), receivers.active, width_, height_);
-  const std::size_t pixels = f.view_z.size();
-  if (ao) f.pixel_ao.assign(pixels, Vec4{0, 1, 0, -1});
-  if (shadows) f.pixel_shadow.assign(pixels * 4, -1.0f);
-  for (const CoveredPixel& pixel : f.floor) {
-    float row[kLightingRow];
-    if (!lattice.interpolate(pixel.index % w, pixel.index / w, row)) continue;  // keeps the splats' values
-    if (ao) f.pixel_ao[pixel.index] = {row[0], row[1], row[2], row[3]};
-    if (shadows) std::copy(row + kVisibilityAt, row + kLightingRow, &f.pixel_shadow[4 * pixel.index]);
-  }
+  f.floor_stats.floor_receivers = update.receivers;
+  f.floor_stats.floor_nodes = static_cast<std::uint32_t>(std::count(receivers.active.begin(), receivers.active.end(), std::uint8_t{1}));
+  f.floor_rows = g.floor_lighting->rows();
+  f.floor_active = std::move(receivers.active);
+  f.floor_stats.stages.push_back({f.floor_on_worker ? "cl: floor lattice (worker)" : "cl: floor lattice", clock.elapsed_ms()});
 }
 
 // The lights, their lists, the per-pixel list index and the per-pixel lighting to the GL buffers.
@@ -954,6 +1002,12 @@ void Presenter::upload_frame_inputs(Frame& f) {
   if (!f.pixel_ao.empty()) glTextureSubImage2D(pixel.ao.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, f.pixel_ao.data());
   if (!f.pixel_shadow.empty())
     glTextureSubImage2D(pixel.shadow.get(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, f.pixel_shadow.data());
+  if (f.floor_ao)
+    glTextureSubImage2D(pixel.floor_ao.get(), 0, 0, 0, pixel.lattice_columns, pixel.lattice_rows, GL_RGBA, GL_FLOAT,
+                        f.floor_ao_nodes.data());
+  if (f.floor_shadows)
+    glTextureSubImage2D(pixel.floor_shadow.get(), 0, 0, 0, pixel.lattice_columns, pixel.lattice_rows, GL_RGBA, GL_FLOAT,
+                        f.floor_shadow_nodes.data());
   g.heat_max = 1;
   for (const std::uint32_t c : lists.counts) g.heat_max = std::max(g.heat_max, c);
   f.stats.heat_max = g.heat_max;
@@ -975,6 +1029,8 @@ void Presenter::shade(Frame& f) {
   variant.pixel_ao = !f.pixel_ao.empty();
   variant.hdr_output = hdr_output;
   variant.key_count = f.settings.shadows == ShadowMode::Off ? 0 : keys;
+  variant.floor_ao = f.floor_ao;
+  variant.floor_shadows = f.floor_shadows;
   variant.specular = q.specular > 0;
   const cluster::ClusterLayout& layout = f.builder->layout();
   ShadeFrame shade_frame;
@@ -992,6 +1048,9 @@ void Presenter::shade(Frame& f) {
   shade_frame.heat_max = static_cast<float>(g.heat_max);
   shade_frame.specular = q.specular;
   shade_frame.shininess = q.shininess;
+  const glm::vec3 floor_up = glm::mat3(f.view) * glm::vec3(0, 1, 0);  // the floor's normal in view space
+  shade_frame.floor_plane = {floor_up, f.eye.y - scene_.floor.y};
+  shade_frame.floor_tolerance = 1e-3f * (1.0f + std::abs(scene_.floor.y));
   glBindVertexArray(g.empty_vao.get());
   ShadingTargets& shading = g.targets->shading;
   g.shading_pass.run(shading.framebuffer(hdr_output), g.targets->gbuffer, g.targets->pixel, variant, shade_frame);

@@ -79,9 +79,10 @@ class Presenter {
   // GL passes timed by wall clock between glFinish calls instead of timer queries (serialises the
   // frame; on llvmpipe only this splits the time between passes and the depth readback's wait).
   bool wall_clock_passes = false;
-  // The per-splat lighting of moved occluders (CL) runs on a worker thread beside the visibility
-  // pass; off, on this thread after it. Same rows either way. Not for the first update, in the
-  // points mode, or while wall_clock_passes is on.
+  // The per-splat lighting of moved occluders and the floor's lattice (CL) run on a worker thread
+  // beside the splat passes; off, on this thread (after the visibility pass, after the depth
+  // readback). Same rows either way. Not for a first update, the points mode's lighting, or while
+  // wall_clock_passes is on.
   bool overlap_lighting = true;
   // The silhouette resolve filters only the screen tiles that may hold an outline (found on the
   // host from the read-back view z) and copies the rest; off, it runs over every pixel. Same image.
@@ -140,7 +141,7 @@ class Presenter {
   void draw_splats(Frame& frame);
   void build_light_lists(Frame& frame);
   void light_pixels(Frame& frame);
-  void light_floor_pixels(Frame& frame, bool shadows, bool ao);
+  void light_floor_lattice(Frame& frame);
   void upload_frame_inputs(Frame& frame);
   void shade(Frame& frame);
 };

@@ -160,7 +160,7 @@ Action register_render(CLI::App& app) {
   sub->add_flag("--wall-passes", o->wall_passes,
                 "Time each GL pass by wall clock between glFinish calls (serialises the frame) instead of timer queries");
   sub->add_flag("--serial-lighting", o->serial_lighting,
-                "Run the per-splat lighting of moved occluders after the visibility pass instead of beside it (for comparison)");
+                "Run the CL lighting on this thread (the per-splat lighting of moved occluders after the visibility pass, the floor's lattice after the depth readback) instead of on a worker beside the splat passes (for comparison)");
   return [o] { return run_render(*o); };
 }
 

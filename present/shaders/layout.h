@@ -52,7 +52,13 @@
 #define UNIT_PIXEL_LIST 5
 #define UNIT_PIXEL_SHADOW 6
 #define UNIT_PIXEL_AO 7
-#define SHADING_UNITS 8
+#define UNIT_FLOOR_AO 8      /* the floor's lattice: bent normal, AO; -1 where no floor */
+#define UNIT_FLOOR_SHADOW 9  /* the floor's lattice: key-light visibility 0-3; -1 where no floor */
+#define SHADING_UNITS 10
+
+/* The floor's lighting lattice: a node every FLOOR_LATTICE_STEP pixels in x and y (node (i, j) is
+   pixel (i, j) * FLOOR_LATTICE_STEP), interpolated to the floor's pixels by the shading. */
+#define FLOOR_LATTICE_STEP 4
 
 #ifdef __cplusplus
 #include <cstddef>

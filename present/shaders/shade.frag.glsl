@@ -1,7 +1,7 @@
 // Final shading and debug views: HDR and tone-mapped 8-bit. Compiled once per variant: the
 // presenter puts the defines DEBUG_VIEW (0 final, 1 albedo, 2 normals, 3 AO, 4 lights per cluster,
-// 5 shadows, 6 depth), BRUTE_FORCE, PIXEL_SHADOWS, PIXEL_AO, KEY_COUNT, SPECULAR and HDR_OUTPUT
-// after the version line. On llvmpipe every branch on a uniform runs both sides under a mask, so
+// 5 shadows, 6 depth), BRUTE_FORCE, PIXEL_SHADOWS, PIXEL_AO, FLOOR_AO, FLOOR_SHADOWS, KEY_COUNT,
+// SPECULAR and HDR_OUTPUT after the version line. On llvmpipe every branch on a uniform runs both sides under a mask, so
 // the modes are constants and the dead paths are compiled out. The G-buffer is the accumulation
 // targets: every attribute is a Σw-weighted sum divided here.
 #include "layout.h"
@@ -19,6 +19,10 @@ layout(binding = UNIT_SHADOWS) uniform sampler2D g_shadows;
 layout(binding = UNIT_PIXEL_LIST) uniform usampler2D u_pixel_list;
 layout(binding = UNIT_PIXEL_SHADOW) uniform sampler2D u_pixel_shadow;
 layout(binding = UNIT_PIXEL_AO) uniform sampler2D u_pixel_ao_texture;
+layout(binding = UNIT_FLOOR_AO) uniform sampler2D u_floor_ao;
+layout(binding = UNIT_FLOOR_SHADOW) uniform sampler2D u_floor_shadow;
+uniform vec4 u_floor_plane;      // view space: dot(xyz, p) + w = height above the floor
+uniform float u_floor_tolerance;
 uniform mat4 u_view;
 uniform vec2 u_tan_half;       // tan of half the field of view, x and y
 uniform vec2 u_viewport;
@@ -57,10 +61,56 @@ void add_light(vec4 center_inv_r2, vec3 color, vec3 position, vec3 n, vec3 to_ey
 #endif
 }
 
-// Key-light visibility per key light, from the splats or per pixel.
-vec4 key_visibility(ivec2 p, float inv_weight) {
+// A pixel on the floor: on its plane to the tolerance and facing up (objects and the floor blended
+// at a contact keep the splats' values).
+bool on_floor(vec3 position, vec3 n_world) {
+  return abs(dot(u_floor_plane.xyz, position) + u_floor_plane.w) <= u_floor_tolerance && n_world.y > 0.999;
+}
+
+// The floor's lattice at pixel p: bilinear between the four nodes around it, over those that are
+// floor (w ≥ 0); false where none is (a sliver of floor between objects keeps the splats' values).
+bool floor_lattice(sampler2D lattice, ivec2 p, out vec4 value) {
+  ivec2 cell = p / FLOOR_LATTICE_STEP;
+  vec2 f = vec2(p - cell * FLOOR_LATTICE_STEP) / float(FLOOR_LATTICE_STEP);
+  ivec2 size = textureSize(lattice, 0);
+  value = vec4(0.0);
+  float weight_sum = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 node = cell + ivec2(k & 1, k >> 1);
+    if (node.x >= size.x || node.y >= size.y) continue;
+    vec4 v = texelFetch(lattice, node, 0);
+    if (v.w < 0.0) continue;
+    // The small floor keeps a node in play when the pixel lies on a missing node's row or column,
+    // where its bilinear weight would be 0.
+    float weight = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y) + 1e-6;
+    value += weight * v;
+    weight_sum += weight;
+  }
+  if (weight_sum == 0.0) return false;
+  value /= weight_sum;
+  return true;
+}
+
+// The floor's AO and bent normal (renormalised) at p, or false.
+bool floor_ao(ivec2 p, bool is_floor, out vec4 ao) {
+  ao = vec4(0.0);
+#if FLOOR_AO
+  if (is_floor && floor_lattice(u_floor_ao, p, ao)) {
+    if (dot(ao.xyz, ao.xyz) > 0.0) ao.xyz = normalize(ao.xyz);
+    return true;
+  }
+#endif
+  return false;
+}
+
+// Key-light visibility per key light, from the splats, per pixel or from the floor's lattice.
+vec4 key_visibility(ivec2 p, float inv_weight, bool is_floor) {
+#if FLOOR_SHADOWS
+  vec4 lattice;
+  if (is_floor && floor_lattice(u_floor_shadow, p, lattice)) return lattice;
+#endif
 #if PIXEL_SHADOWS
-  // Negative where the pixel was not computed (per-pixel on the floor only): the splats' value.
+  // Negative where not computed: the splats' value.
   vec4 pixel_shadow = texelFetch(u_pixel_shadow, p, 0);
   if (pixel_shadow.x >= 0.0) return pixel_shadow;
 #endif
@@ -78,13 +128,20 @@ vec4 shade(ivec2 p) {
   vec3 albedo = weight_albedo.yzw * inv_weight;
   vec4 z_normal = texelFetch(g_z_normal, p, 0);
   vec3 n_world = normalize(z_normal.yzw);
+  // Same reconstruction as cluster::pixel_view_position, from the same Σw·z / Σw as the cluster stage.
+  float d = -(z_normal.x / weight_albedo.x);
+  vec2 ndc = (vec2(p) + 0.5) * 2.0 / u_viewport - 1.0;
+  vec3 position = vec3(ndc * d * u_tan_half, -d);
+  bool is_floor = (FLOOR_AO != 0 || FLOOR_SHADOWS != 0) && on_floor(position, n_world);
 #if DEBUG_VIEW == 1
   return vec4(albedo, 1.0);
 #elif DEBUG_VIEW == 2
   return vec4(0.5 * n_world + 0.5, 1.0);
 #elif DEBUG_VIEW == 3
   // The splat passes carry the AO itself in the ambient channels for this view; per-pixel AO where
-  // computed (w ≥ 0).
+  // computed (w ≥ 0), or the floor's lattice.
+  vec4 lattice_ao;
+  if (floor_ao(p, is_floor, lattice_ao)) return vec4(vec3(lattice_ao.w), 1.0);
 #if PIXEL_AO
   float pixel_ao = texelFetch(u_pixel_ao_texture, p, 0).w;
   if (pixel_ao >= 0.0) return vec4(vec3(pixel_ao), 1.0);
@@ -95,17 +152,13 @@ vec4 shade(ivec2 p) {
   float count = BRUTE_FORCE != 0 ? float(u_light_count) : (list == NO_LIGHT_LIST ? 0.0 : float(list_counts[list]));
   return vec4(heat(count / u_heat_max), 1.0);
 #elif DEBUG_VIEW == 5
-  vec4 shadow = key_visibility(p, inv_weight);
+  vec4 shadow = key_visibility(p, inv_weight, is_floor);
   float v = 1.0;  // the darkest key light's visibility
   for (int k = 0; k < KEY_COUNT; ++k) v = min(v, shadow[k]);
   return vec4(vec3(v), 1.0);
 #elif DEBUG_VIEW == 6
   return vec4(vec3(-z_normal.x * inv_weight / 20.0), 1.0);
 #else
-  // Same reconstruction as cluster::pixel_view_position, from the same Σw·z / Σw as the cluster stage.
-  float d = -(z_normal.x / weight_albedo.x);
-  vec2 ndc = (vec2(p) + 0.5) * 2.0 / u_viewport - 1.0;
-  vec3 position = vec3(ndc * d * u_tan_half, -d);
   vec3 n = normalize(mat3(u_view) * n_world);
   vec3 to_eye = normalize(-position);
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
@@ -123,13 +176,16 @@ vec4 shade(ivec2 p) {
   }
 #endif
 #if KEY_COUNT > 0
-  vec4 shadow = key_visibility(p, inv_weight);
+  vec4 shadow = key_visibility(p, inv_weight, is_floor);
   for (int k = 0; k < KEY_COUNT; ++k)
     add_light(u_key_center[k], u_key_color[k], position, n, to_eye, shadow[k], diffuse, specular);
 #endif
   // Ambient: sky irradiance around the bent normal times AO (albedo/π · E), evaluated per splat by
-  // the splat passes, or per pixel where that was computed (w ≥ 0: the pixel-AO mode, the floor).
+  // the splat passes, or per pixel where that was computed (w ≥ 0: the pixel-AO mode) or on the
+  // floor from its lattice.
   vec3 ambient = texelFetch(g_shadow_ambient, p, 0).yzw * inv_weight;
+  vec4 lattice_ao;
+  if (floor_ao(p, is_floor, lattice_ao)) ambient = max(sh_irradiance(lattice_ao.xyz), vec3(0.0)) / 3.14159265 * lattice_ao.w;
 #if PIXEL_AO
   vec4 ao = texelFetch(u_pixel_ao_texture, p, 0);
   if (ao.w >= 0.0) ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
