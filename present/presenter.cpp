@@ -107,7 +107,14 @@ struct GpuTimers {
   }
 };
 
+// The world point pixel (x, y) shows at view distance `distance`.
+Vec3 pixel_world(const cluster::ClusterLayout& layout, const ViewFrame& frame, std::uint32_t x, std::uint32_t y, float distance) {
+  return frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, distance));
+}
 
+// How far off the floor's plane a point may lie and still be the floor (the host's tests and the
+// shading's, shade.frag.glsl on_floor).
+float floor_tolerance(const FloorSpec& floor) { return 1e-3f * (1.0f + std::abs(floor.y)); }
 
 // The pixels a splat covers (view z from the G-buffer, 0 = none): index and world position.
 struct CoveredPixel {
@@ -121,7 +128,7 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
     for (std::uint32_t x = 0; x < layout.config.width; ++x) {
       const std::size_t p = std::size_t{y} * std::size_t{layout.config.width} + x;
       const auto d = cluster::pixel_distance(layout, view_z[p], cluster::DepthFormat::ViewZ);
-      if (d) covered.push_back({p, frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, *d))});
+      if (d) covered.push_back({p, pixel_world(layout, frame, x, y, *d)});
     }
   return covered;
 }
@@ -185,7 +192,7 @@ csm::SplatLighting::Receivers floor_lattice_receivers(const FloorSpec& floor, co
       if (!(ray.y < 0.0f)) continue;
       const float distance = height_above / -ray.y;  // view depth: the ray has view z −1 per unit
       if (distance < layout.config.near_plane || distance > layout.config.far_plane) continue;
-      const Vec3 point = frame.eye + ray * distance;
+      const Vec3 point = pixel_world(layout, frame, x, y, distance);
       if (std::abs(point.x) > reach || std::abs(point.z) > reach) continue;
       const std::size_t node = (y / kFloorStep) * columns + x / kFloorStep;
       receivers.positions[node] = {point.x, floor.y, point.z, 0.0f};
@@ -201,14 +208,14 @@ std::vector<std::uint8_t> floor_nodes_shown(const FloorSpec& floor, const cluste
                                             const std::vector<float>& view_z, const std::vector<std::uint8_t>& active) {
   const std::uint32_t width = layout.config.width;
   const std::size_t columns = lattice_size(static_cast<int>(width));
-  const float tolerance = 1e-3f * (1.0f + std::abs(floor.y));
+  const float tolerance = floor_tolerance(floor);
   std::vector<std::uint8_t> shown(active.size(), 0);
   for (std::size_t node = 0; node < active.size(); ++node) {
     if (!active[node]) continue;
     const auto x = static_cast<std::uint32_t>(node % columns * kFloorStep), y = static_cast<std::uint32_t>(node / columns * kFloorStep);
     const auto d = cluster::pixel_distance(layout, view_z[std::size_t{y} * width + x], cluster::DepthFormat::ViewZ);
     if (!d) continue;
-    const Vec3 world = frame.eye + frame.direction_to_world(cluster::pixel_view_position(layout, x, y, *d));
+    const Vec3 world = pixel_world(layout, frame, x, y, *d);
     shown[node] = std::abs(world.y - floor.y) <= tolerance;
   }
   return shown;
@@ -234,7 +241,7 @@ csm::SplatLighting::Settings lighting_settings_of(const Scene& scene, bool ambie
 std::vector<CoveredPixel> floor_pixels(const Scene& scene, const std::vector<CoveredPixel>& covered, const std::vector<float>& normals) {
   std::vector<CoveredPixel> on_floor;
   for (const CoveredPixel& c : covered)
-    if (std::abs(c.world.y - scene.floor.y) <= 1e-3f * (1.0f + std::abs(scene.floor.y)) && normals[3 * c.index + 1] > 0.999f)
+    if (std::abs(c.world.y - scene.floor.y) <= floor_tolerance(scene.floor) && normals[3 * c.index + 1] > 0.999f)
       on_floor.push_back(c);
   return on_floor;
 }
@@ -733,6 +740,8 @@ struct Presenter::Frame {
   // the worker when it runs there) its nodes' rows, the active nodes, stages and counts; then its
   // two textures (floor_lattice_textures) over the nodes the G-buffer shows as floor.
   bool floor_ao = false, floor_shadows = false, floor_on_worker = false;
+  // The quality modes: key-light shadows / AO of every covered pixel (light_pixels).
+  bool shadow_pixels = false, ao_pixels = false;
   std::vector<float> floor_rows;
   std::vector<std::uint8_t> floor_active;
   FrameStats floor_stats;
@@ -787,11 +796,10 @@ void Presenter::start_lighting(Frame& f) {
   // Also when a lighting setting changed (the viewer's AO and shadow toggles), moving or not.
   const bool relight =
       !g.have_lighting || f.placements != g.last_placements || g.lighting_signature != lighting_settings(f.settings);
-  const bool shadow_pixels = f.settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
-  const bool ao_pixels = pixel_ao && ambient_occlusion;
-  f.floor_shadows = floor_per_pixel && scene_.floor.enabled && !shadow_pixels && f.settings.shadows == ShadowMode::Splat &&
-                    !scene_.key_lights.empty();
-  f.floor_ao = floor_per_pixel && scene_.floor.enabled && !ao_pixels && ambient_occlusion;
+  f.shadow_pixels = f.settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
+  f.ao_pixels = pixel_ao && ambient_occlusion;
+  f.floor_shadows = floor_per_pixel && scene_.floor.enabled && f.settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
+  f.floor_ao = floor_per_pixel && scene_.floor.enabled && !f.ao_pixels && ambient_occlusion;
   for (const ObjectAssets& a : assets_) f.csms.push_back(&a.csm);
   // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
   const std::size_t pixels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
@@ -910,8 +918,7 @@ void Presenter::build_light_lists(Frame& f) {
 void Presenter::light_pixels(Frame& f) {
   Impl& g = *impl_;
   const FrameSettings& settings = f.settings;
-  const bool shadow_pixels = settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
-  const bool ao_pixels = pixel_ao && ambient_occlusion;
+  const bool shadow_pixels = f.shadow_pixels, ao_pixels = f.ao_pixels;
   if (shadow_pixels || ao_pixels) {
     f.normals = read_normals();
     const std::vector<CoveredPixel> covered = covered_pixels(f.builder->layout(), f.view_frame, f.view_z);
@@ -1050,7 +1057,7 @@ void Presenter::shade(Frame& f) {
   shade_frame.shininess = q.shininess;
   const glm::vec3 floor_up = glm::mat3(f.view) * glm::vec3(0, 1, 0);  // the floor's normal in view space
   shade_frame.floor_plane = {floor_up, f.eye.y - scene_.floor.y};
-  shade_frame.floor_tolerance = 1e-3f * (1.0f + std::abs(scene_.floor.y));
+  shade_frame.floor_tolerance = floor_tolerance(scene_.floor);
   glBindVertexArray(g.empty_vao.get());
   ShadingTargets& shading = g.targets->shading;
   g.shading_pass.run(shading.framebuffer(hdr_output), g.targets->gbuffer, g.targets->pixel, variant, shade_frame);
