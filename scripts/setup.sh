@@ -92,11 +92,12 @@ case "${1:-build}" in
     # Every test runs once: under ASan+UBSan below, but for those that need the Release build: the
     # devices.* reruns of the kernel tests on every device that is not the default, with every
     # implementation visible (tests/devices/on_devices.sh; $SPLATCL_TEST_DEVICES narrows the list),
-    # the package tests (they build a consumer of the installed and of the embedded library), and the
+    # the package tests (they build a consumer of the installed and of the embedded library), the AO
+    # check against Embree ray casting (the sanitizer build has no Embree), and the
     # runs that take minutes under the sanitizers: the shared models, the batch runs of several
     # processes (shards, resume, a Slurm cluster) and the radix sorts of a million keys. Their code
     # also runs under the sanitizers on smaller inputs.
-    release_only='^(devices|package)\.|HoldsOnTheSharedModels|render_scans_scene|batch_slurm|batch_shards|batch_resume|_n1048579_'
+    release_only='^(devices|package)\.|HoldsOnTheSharedModels|render_scans_scene|batch_slurm|batch_shards|batch_resume|_n1048579_|AmbientOcclusionMatchesRayCast'
     (. "$opencl_dir/env" && ctest --test-dir build --output-on-failure -j "$jobs" -R "$release_only")
     # ASan+UBSan: PoCL only (the system's ICD files). LeakSanitizer on, with the third-party
     # libraries' leaks in tests/lsan.supp. intercept_tls_get_addr=0: the leak check's tracer crashes

@@ -172,10 +172,12 @@ class Tuner {
     std::vector<double> default_runs, best_runs;
     for (int round = 0; round < 2; ++round) {
       append_runs(shape, result.defaults, default_runs);
-      append_runs(shape, result.best, best_runs);
+      // When the search kept the defaults, both series time the same launch: one pooled median, so
+      // that noise between them is not reported as a gain.
+      append_runs(shape, result.best, result.best == result.defaults ? default_runs : best_runs);
     }
     result.default_ms = summarize(default_runs).median_ms;
-    result.best_ms = summarize(best_runs).median_ms;
+    result.best_ms = best_runs.empty() ? result.default_ms : summarize(best_runs).median_ms;
     // A search winner that loses the side-by-side runs was noise: the record keeps the defaults.
     if (result.best_ms >= result.default_ms) {
       result.best = result.defaults;
