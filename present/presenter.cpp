@@ -31,6 +31,7 @@
 #include "present/shaders/layout.h"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
+#include "splats/normal_field.hpp"
 #include "splats/surface_fit.hpp"
 
 namespace splatcl::present {
@@ -439,12 +440,15 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   const auto second_clip = [&](const std::vector<splats::ClipLine>& lines, std::size_t j) {
     return j < lines.size() ? clip_of(lines[j].x, lines[j].y, lines[j].offset) : glm::vec3(0.0f, 0.0f, FLT_MAX);
   };
+  // n: the normal at the centre; du, dv: the Phong splat's normal field (zero: flat).
   const auto push_splat = [&](glm::vec3 c, glm::vec3 n, glm::vec3 u, glm::vec3 v, glm::vec3 albedo,
                               glm::vec2 lod = {0.0f, FLT_MAX}, glm::vec3 clip = {0.0f, 0.0f, FLT_MAX},
-                              glm::vec3 clip2 = {0.0f, 0.0f, FLT_MAX}) {
+                              glm::vec3 clip2 = {0.0f, 0.0f, FLT_MAX}, glm::vec3 du = {}, glm::vec3 dv = {}) {
     layout::SplatRow row{};
     std::copy(&c.x, &c.x + 3, row.center);
     std::copy(&n.x, &n.x + 3, row.normal);
+    std::copy(&du.x, &du.x + 3, row.normal_du);
+    std::copy(&dv.x, &dv.x + 3, row.normal_dv);
     std::copy(&u.x, &u.x + 3, row.major);
     std::copy(&v.x, &v.x + 3, row.minor);
     std::copy(&albedo.x, &albedo.x + 3, row.albedo);
@@ -463,21 +467,33 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   // Per object its splats as drawn: fitted to the mesh surface (quality.surface_clip).
   std::vector<std::vector<splats::SplatRecord>> fitted(scene_.objects.size());
   std::vector<std::vector<splats::ClipLine>> corner_clips(scene_.objects.size());
+  std::vector<std::vector<splats::NormalField>> normal_fields(scene_.objects.size());
+  const auto field_of = [&](std::size_t object, std::size_t j, const splats::SplatRecord& s) {
+    return j < normal_fields[object].size() ? normal_fields[object][j] : splats::NormalField{s.normal, {}, {}};
+  };
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
     std::vector<splats::SplatRecord>& splats = fitted[i];
     splats = assets_.back().splats;
-    // A splat file has no surface but its own discs: its splats are drawn as they are.
-    if (scene_.quality.surface_clip > 0 && object.mesh.splat_path.empty())
-      splats::clip_to_surface(splats::Surface(assets_.back().mesh), splats,
-                              scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal(), scene_.quality.splat_scale, corner_clips[i]);
+    // A splat file has no surface but its own discs: its splats are drawn as they are, flat.
+    if (object.mesh.splat_path.empty()) {
+      const splats::Surface surface(assets_.back().mesh);
+      if (scene_.quality.surface_clip > 0)
+        splats::clip_to_surface(surface, splats, scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal(),
+                                scene_.quality.splat_scale, corner_clips[i]);
+      // Phong splats: each splat's normal field from the mesh's smooth normals.
+      normal_fields[i] = splats::fit_normal_fields(assets_.back().mesh, surface, splats, corner_clips[i],
+                                                   object_quality(scene_.quality, object).crease_angle);
+    }
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
     for (std::size_t j = 0; j < splats.size(); ++j) {
       const splats::SplatRecord& s = splats[j];
       const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
       albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
-      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s), second_clip(corner_clips[i], j));
+      const splats::NormalField field = field_of(i, j, s);
+      push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s),
+                 second_clip(corner_clips[i], j), g3(field.du), g3(field.dv));
     }
   }
   if (scene_.floor.enabled) {
@@ -506,9 +522,12 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     for (std::size_t e = 0; e < tree.size(); ++e) {
       const std::uint32_t source = tree.source[e];
       const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
-      push_splat(g3(s.center), g3(s.normal), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
+      // Tree nodes are flat splats.
+      const splats::NormalField field = source < tree.splat_count ? field_of(i, source, s) : splats::NormalField{s.normal, {}, {}};
+      push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
                  {tree.error_min[e], tree.error_max[e]}, first_clip(s),
-                 source < tree.splat_count ? second_clip(corner_clips[i], source) : glm::vec3(0.0f, 0.0f, FLT_MAX));
+                 source < tree.splat_count ? second_clip(corner_clips[i], source) : glm::vec3(0.0f, 0.0f, FLT_MAX), g3(field.du),
+                 g3(field.dv));
       g.lod_centers.push_back(g3(s.center));
     }
     g.lod_ranges.push_back(range);

@@ -207,6 +207,8 @@ void sample_face(const Mesh& mesh, const std::vector<Vec3>& normal_at_corner, co
   }
 }
 
+}  // namespace
+
 // Per face corner, the normal its face's samples interpolate: the vertex normal, unless the faces
 // around the vertex meet at a crease (two of them more than crease_degrees apart); then the mean
 // normal of those within crease_degrees of this corner's face (auto-smooth), so that the samples
@@ -250,6 +252,8 @@ std::vector<Vec3> corner_normals(const Mesh& mesh, float crease_degrees) {
   }
   return normals;
 }
+
+namespace {
 
 // Keeps the first sample at each exact position, in order.
 void drop_duplicates(Samples& samples) {

@@ -92,4 +92,9 @@ inline constexpr double kFaceSampleMargin = 1e-6;
 // sample, or more than the budget allows (see SamplingOptions::max_samples).
 Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const ColorSource& colors);
 
+// Per face corner (Mesh::corners), the crease-aware normal the face's samples interpolate: the
+// vertex normal, or where the faces around the vertex meet at more than crease_degrees, the mean
+// normal of those within crease_degrees of the corner's face (auto-smooth). 180: vertex normals.
+std::vector<Vec3> corner_normals(const Mesh& mesh, float crease_degrees);
+
 }  // namespace splatcl::splats

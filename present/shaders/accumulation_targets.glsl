@@ -17,9 +17,10 @@ vec3 hash_color(uint id) {
   uint h = id * 2654435761u; h ^= h >> 15; h *= 2246822519u; h ^= h >> 13;
   return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0;
 }
-void write_splat(float w, float view_z) {
+// normal: the world shading normal at the pixel (unit).
+void write_splat(float w, float view_z, vec3 normal) {
   o_weight_albedo = vec4(w, w * (u_footprints != 0 ? hash_color(v_id) : v_albedo));
-  o_z_normal = vec4(w * view_z, w * v_normal);
+  o_z_normal = vec4(w * view_z, w * normal);
   o_shadow_ambient = vec4(w * v_shadow.x, w * v_ambient);
   o_shadows = vec4(w * v_shadow.yzw, 0.0);
 }

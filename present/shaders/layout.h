@@ -9,7 +9,8 @@
    linear albedo, the LOD interval [e_min, e_max) in model units, two clip lines (unit direction in
    the (major, minor) frame and the line's distance from the centre along it; FLT_MAX: none; the
    second one only where one line cannot keep the splat on the surface: a convex corner, a narrow
-   face). */
+   face), and the Phong splat's normal field (splats::NormalField): the shading normal at
+   centre + x·major + y·minor is normal + x·normal_du + y·normal_dv (zero: flat). */
 #define SPLAT_CENTER 0u
 #define SPLAT_NORMAL 3u
 #define SPLAT_MAJOR 6u
@@ -19,7 +20,9 @@
 #define SPLAT_LOD_MAX 16u
 #define SPLAT_CLIP 17u
 #define SPLAT_CLIP2 20u
-#define SPLAT_ROW_FLOATS 23u
+#define SPLAT_NORMAL_DU 23u
+#define SPLAT_NORMAL_DV 26u
+#define SPLAT_ROW_FLOATS 29u
 
 /* Lighting row (world space), the per-splat CL results: vec4 bent normal xyz + AO, then vec4
    visibility of key lights 0-3. */
@@ -66,7 +69,7 @@
 namespace splatcl::present::layout {
 
 struct SplatRow {
-  float center[3], normal[3], major[3], minor[3], albedo[3], lod[2], clip[3], clip2[3];
+  float center[3], normal[3], major[3], minor[3], albedo[3], lod[2], clip[3], clip2[3], normal_du[3], normal_dv[3];
 };
 static_assert(sizeof(SplatRow) == SPLAT_ROW_FLOATS * sizeof(float));
 static_assert(offsetof(SplatRow, center) == SPLAT_CENTER * sizeof(float));
@@ -78,6 +81,8 @@ static_assert(offsetof(SplatRow, lod) == SPLAT_LOD_MIN * sizeof(float));
 static_assert(SPLAT_LOD_MAX == SPLAT_LOD_MIN + 1u);
 static_assert(offsetof(SplatRow, clip) == SPLAT_CLIP * sizeof(float));
 static_assert(offsetof(SplatRow, clip2) == SPLAT_CLIP2 * sizeof(float));
+static_assert(offsetof(SplatRow, normal_du) == SPLAT_NORMAL_DU * sizeof(float));
+static_assert(offsetof(SplatRow, normal_dv) == SPLAT_NORMAL_DV * sizeof(float));
 
 struct LightingRow {
   float bent_ao[4];     // bent normal xyz, AO

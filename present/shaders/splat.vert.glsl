@@ -5,6 +5,9 @@ out vec2 v_local;
 out vec3 v_view_pos;
 // The clip lines in ellipse coordinates: a pixel is kept where dot(v_local, xy) <= z for both.
 flat out vec3 v_clip, v_clip2;
+// The Phong splat's shading normal (world space, not normalised): linear in the ellipse coordinates,
+// so the rasteriser's perspective-correct interpolation over the splat's plane is exact.
+out vec3 v_shading_normal;
 uniform float u_depth_offset;  // ε of the visibility pass, 0 in the accumulation pass
 void main() {
   vec3 c, n;
@@ -12,7 +15,7 @@ void main() {
   // Culled splats (back-facing, or outside their LOD interval) are moved outside the clip volume.
   // The splat passes cost per primitive on llvmpipe more than per pixel: one triangle circumscribing
   // the ellipse (inradius 1 in ellipse coordinates) is cheaper than a quad of two.
-  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); return; }
+  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); v_shading_normal = vec3(0.0); return; }
   // The clip line is where the surface ends (a sharp edge), so it stays put when k scales the splat.
   v_clip = vec3(a_clip.x * length(a_major), a_clip.y * length(a_minor), a_clip.z / u_scale);
   v_clip2 = vec3(a_clip2.x * length(a_major), a_clip2.y * length(a_minor), a_clip2.z / u_scale);
@@ -22,6 +25,12 @@ void main() {
   // at every pixel (perspective correct), and v_local is the pixel's ellipse coordinate.
   vec3 p = c + u_scale * (corner.x * (m * a_major) + corner.y * (m * a_minor));
   v_local = corner;
+#ifdef VISIBILITY_PASS
+  v_shading_normal = vec3(0.0);  // the visibility pass writes depth only
+#else
+  uint o = SPLAT_ROW_FLOATS * (uint(gl_VertexID) / 3u);
+  v_shading_normal = m * (static3(o + SPLAT_NORMAL) + u_scale * (corner.x * static3(o + SPLAT_NORMAL_DU) + corner.y * static3(o + SPLAT_NORMAL_DV)));
+#endif
   v_view_pos = (u_view * vec4(p, 1.0)).xyz;
   // The visibility pass pushes each corner back by ε along its view ray. Done per vertex rather than
   // per pixel, the fragment shader writes no depth and llvmpipe keeps its early depth test; across

@@ -4,7 +4,7 @@
 // Static rows (SPLAT_ROW_FLOATS floats, model space) and lighting rows (LIGHTING_ROW_VEC4S vec4,
 // world space) as layout.h lays them out.
 // splat_head gives the world centre c, normal n and model rotation m, sets the flat outputs, and
-// tells whether the splat is drawn (it faces the eye and, with LOD on, the eye distance puts its
+// tells whether the splat is drawn (its plane faces the eye and, with LOD on, the eye distance puts its
 // error in its interval: the point-rendering thesis's sequential point tree test, §5.3.1). The
 // ambient term is evaluated per splat, where the AO is known: irradiance of the sky around the bent
 // normal times AO (u_ambient 0), around the normal without AO (1), or the AO itself as grey (2,
@@ -53,5 +53,9 @@ bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
     float e = length(u_eye - c) * u_lod;
     if (e < splat_statics[o + SPLAT_LOD_MIN] || e >= splat_statics[o + SPLAT_LOD_MAX]) return false;
   }
-  return dot(n, u_eye - c) > 0.0;
+  // Faces the eye by its plane (major × minor on the normal's side), not by its shading normal: the
+  // Phong splat's normal field leaves the row's normal a little off the plane, and which splats are
+  // drawn is the geometry's business (a splat file's flat splats and the mesh's give the same depth).
+  vec3 plane = cross(a_major, a_minor);
+  return dot(m * (dot(plane, static3(o + SPLAT_NORMAL)) < 0.0 ? -plane : plane), u_eye - c) > 0.0;
 }

@@ -156,8 +156,10 @@ TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
 }
 
 // A mesh object, and the same splats read from a splatcl splat file and from a 3DGS export, drawn
-// alone with the same camera: the splat file gives the very same image (same splat rows); the 3DGS
-// export the same within its float round trip; the discs' shadow map shades the floor as the mesh's.
+// alone with the same camera: the splat file gives the very same depth (same splat geometry) and an
+// image within a level or two (the mesh object's splats shade with normal fields fitted to the
+// mesh, Phong splats; a splat file's are flat); the 3DGS export the same within its float round
+// trip; the discs' shadow map shades the floor as the mesh's.
 TEST_F(SceneObjectsRender, SplatFilesDrawAsTheMeshObjectTheyCameFrom) {
   const std::string dir = temp_dir("splat-files");
   const std::string sphere = R"("mesh": {"procedural": "sphere", "radius": 1, "segments": 24, "rings": 12}, "quality": {"eps_diagonal": 0.004})";
@@ -186,11 +188,13 @@ TEST_F(SceneObjectsRender, SplatFilesDrawAsTheMeshObjectTheyCameFrom) {
     EXPECT_EQ(from_file.splats[i].major, built.splats[i].major);
   }
 
+  std::vector<float> view_z;  // of the last render
   const auto render = [&](const Scene& scene, bool shadows) {
     Presenter presenter(scene, *runtime_, 160, 120, SPLATCL_TEST_CACHE);
     presenter.scene().quality.shadows = shadows ? "splat" : "off";
     presenter.ambient_occlusion = shadows;
     presenter.render(0.0f);
+    view_z = presenter.read_view_z();
     return presenter.read_display_rgb();
   };
   const auto mean_difference = [](const std::vector<float>& a, const std::vector<float>& b) {
@@ -199,8 +203,11 @@ TEST_F(SceneObjectsRender, SplatFilesDrawAsTheMeshObjectTheyCameFrom) {
     return sum / static_cast<double>(a.size());
   };
   const std::vector<float> reference = render(mesh_scene, false);
-  EXPECT_EQ(render(ours, false), reference) << "the same splats, the same image";
-  EXPECT_LT(mean_difference(render(gaussian, false), reference), 1.0 / 255.0);
+  const std::vector<float> reference_z = view_z;
+  const double flat = mean_difference(render(ours, false), reference);
+  EXPECT_EQ(view_z, reference_z) << "the same splats, the same depth";
+  EXPECT_LT(flat, 2.0 / 255.0) << "mean difference " << flat * 255 << "/255";
+  EXPECT_LT(mean_difference(render(gaussian, false), reference), 2.0 / 255.0);
   // Shadows and AO from the discs' CSM instead of the mesh's: the sphere's own shading and its
   // shadow on the floor agree to a few levels.
   const double lit = mean_difference(render(ours, true), render(mesh_scene, true));

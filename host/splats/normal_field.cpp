@@ -1,0 +1,124 @@
+#include "splats/normal_field.hpp"
+
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "core/parallel.hpp"
+#include "math/dvec3.hpp"
+#include "splats/sampling.hpp"
+
+namespace splatcl::splats {
+namespace {
+
+// The fit's points in ellipse coordinates: the centre, 6 at radius 0.45 and 12 at 0.9.
+constexpr std::size_t kInnerPoints = 6, kOuterPoints = 12, kPoints = 1 + kInnerPoints + kOuterPoints;
+// Fewer kept points than this leave the splat flat: a line of points cannot fix two gradients.
+constexpr std::size_t kMinPoints = 6;
+
+std::array<std::array<double, 2>, kPoints> fit_points() {
+  std::array<std::array<double, 2>, kPoints> points{};
+  std::size_t i = 1;
+  for (std::size_t k = 0; k < kInnerPoints; ++k, ++i) {
+    const double a = 2.0 * std::numbers::pi * static_cast<double>(k) / kInnerPoints;
+    points[i] = {0.45 * std::cos(a), 0.45 * std::sin(a)};
+  }
+  for (std::size_t k = 0; k < kOuterPoints; ++k, ++i) {
+    const double a = 2.0 * std::numbers::pi * (static_cast<double>(k) + 0.5) / kOuterPoints;
+    points[i] = {0.9 * std::cos(a), 0.9 * std::sin(a)};
+  }
+  return points;
+}
+
+// The smooth normal at q, the closest point of triangle t: its corners' normals interpolated by
+// barycentric weights (the face normal where they cancel).
+DVec3 smooth_normal(const SurfaceTriangle& t, const std::vector<Vec3>& corner_normal, DVec3 q) {
+  const DVec3 n = cross(t.b - t.a, t.c - t.a);
+  const double area2 = dot(n, n);
+  if (!(area2 > 0)) return t.normal;
+  const double wa = dot(cross(t.b - q, t.c - q), n) / area2, wb = dot(cross(t.c - q, t.a - q), n) / area2;
+  const double wc = 1.0 - wa - wb;
+  const DVec3 s = wa * DVec3(corner_normal[t.corners[0]]) + wb * DVec3(corner_normal[t.corners[1]]) +
+                  wc * DVec3(corner_normal[t.corners[2]]);
+  return length(s) > 0 ? normalized(s) : t.normal;
+}
+
+bool kept_by(float x, float y, float offset, double px, double py) { return !(px * x + py * y > offset); }
+
+// Solves the 3 × 3 symmetric system m · r = b (Cramer's rule); false when it is singular.
+bool solve3(const double m[3][3], const double b[3], double r[3]) {
+  const auto det = [](double a00, double a01, double a02, double a10, double a11, double a12, double a20, double a21, double a22) {
+    return a00 * (a11 * a22 - a12 * a21) - a01 * (a10 * a22 - a12 * a20) + a02 * (a10 * a21 - a11 * a20);
+  };
+  const double d = det(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
+  if (!(std::fabs(d) > 1e-9)) return false;
+  r[0] = det(b[0], m[0][1], m[0][2], b[1], m[1][1], m[1][2], b[2], m[2][1], m[2][2]) / d;
+  r[1] = det(m[0][0], b[0], m[0][2], m[1][0], b[1], m[1][2], m[2][0], b[2], m[2][2]) / d;
+  r[2] = det(m[0][0], m[0][1], b[0], m[1][0], m[1][1], b[1], m[2][0], m[2][1], b[2]) / d;
+  return true;
+}
+
+}  // namespace
+
+std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surface, const std::vector<SplatRecord>& splats,
+                                           const std::vector<ClipLine>& second_lines, float crease_degrees,
+                                           NormalFieldStats* stats) {
+  const std::vector<Vec3> corner_normal = corner_normals(mesh, crease_degrees);
+  const double cos_crease = std::cos(static_cast<double>(crease_degrees) * std::numbers::pi / 180.0);
+  const auto points = fit_points();
+  std::vector<NormalField> fields(splats.size());
+  std::vector<unsigned char> fitted(splats.size(), 0);
+  parallel_for(splats.size(), 64, [&](std::size_t i, std::size_t) {
+    const SplatRecord& s = splats[i];
+    NormalField& field = fields[i];
+    field = {s.normal, {}, {}};
+    const DVec3 c(s.center), major(s.major), minor(s.minor), n = normalized(DVec3(s.normal));
+    const double la = length(major), lb = length(minor);
+    if (!(la > 0 && lb > 0) || !(length(n) > 0)) return;
+    const DVec3 ua = (1.0 / la) * major, ub = (1.0 / lb) * minor;
+    const double limit = lb + 0.25 * la;
+    const ClipLine second = i < second_lines.size() ? second_lines[i] : ClipLine{};
+    // Normal equations of n(x, y) = n0 + x·du + y·dv over the kept points, per component.
+    double m[3][3] = {}, b[3][3] = {};  // b[component][row]
+    std::size_t kept = 0;
+    Surface::Recent recent;
+    for (const auto& [px, py] : points) {
+      if (!kept_by(s.clip_x, s.clip_y, s.clip_offset, px * la, py * lb) || !kept_by(second.x, second.y, second.offset, px * la, py * lb))
+        continue;
+      const DVec3 p = c + (px * la) * ua + (py * lb) * ub;
+      const Surface::Nearest near = surface.nearest(p, limit, &recent);
+      if (near.triangle == UINT32_MAX) continue;
+      const SurfaceTriangle& t = surface.triangles()[near.triangle];
+      const DVec3 q = closest_point(t, p);
+      DVec3 normal = smooth_normal(t, corner_normal, q);
+      if (dot(normal, n) < 0) normal = -1.0 * normal;
+      if (dot(normal, n) < cos_crease) continue;
+      const double x = dot(q - c, ua) / la, y = dot(q - c, ub) / lb;
+      const double row[3] = {1.0, x, y};
+      const double value[3] = {normal.x, normal.y, normal.z};
+      for (int r = 0; r < 3; ++r) {
+        for (int k = 0; k < 3; ++k) m[r][k] += row[r] * row[k];
+        for (int comp = 0; comp < 3; ++comp) b[comp][r] += row[r] * value[comp];
+      }
+      ++kept;
+    }
+    if (kept < kMinPoints) return;
+    double r[3][3];  // r[component] = (n0, du, dv) of that component
+    for (int comp = 0; comp < 3; ++comp)
+      if (!solve3(m, b[comp], r[comp])) return;
+    const Vec3 centre = to_float({r[0][0], r[1][0], r[2][0]}), du = to_float({r[0][1], r[1][1], r[2][1]}),
+               dv = to_float({r[0][2], r[1][2], r[2][2]});
+    // A field that turns away from the splat at its centre (a fit over a fold) is not kept.
+    if (!finite(centre) || !finite(du) || !finite(dv) || !(dot(DVec3(centre), n) > cos_crease * length(DVec3(centre)))) return;
+    field = {centre, du, dv};
+    fitted[i] = 1;
+  });
+  if (stats) {
+    stats->fitted = 0;
+    for (const unsigned char f : fitted) stats->fitted += f;
+    stats->flat = splats.size() - stats->fitted;
+  }
+  return fields;
+}
+
+}  // namespace splatcl::splats
