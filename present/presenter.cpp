@@ -476,15 +476,17 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
     std::vector<splats::SplatRecord>& splats = fitted[i];
     splats = assets_.back().splats;
-    // A splat file has no surface but its own discs: its splats are drawn as they are, flat.
+    // Phong splats: each splat's normal field from the mesh's smooth normals. A splat file has no
+    // surface but its own discs: its splats are drawn as they are, their fields from their neighbours.
+    const float crease_angle = object_quality(scene_.quality, object).crease_angle;
     if (object.mesh.splat_path.empty()) {
       const splats::Surface surface(assets_.back().mesh);
       if (scene_.quality.surface_clip > 0)
         splats::clip_to_surface(surface, splats, scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal(),
                                 scene_.quality.splat_scale, corner_clips[i]);
-      // Phong splats: each splat's normal field from the mesh's smooth normals.
-      normal_fields[i] = splats::fit_normal_fields(assets_.back().mesh, surface, splats, corner_clips[i],
-                                                   object_quality(scene_.quality, object).crease_angle);
+      normal_fields[i] = splats::fit_normal_fields(assets_.back().mesh, surface, splats, corner_clips[i], crease_angle);
+    } else {
+      normal_fields[i] = splats::fit_normal_fields_from_splats(splats, crease_angle);
     }
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
     for (std::size_t j = 0; j < splats.size(); ++j) {

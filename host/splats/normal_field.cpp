@@ -6,6 +6,7 @@
 
 #include "core/parallel.hpp"
 #include "math/dvec3.hpp"
+#include "splats/neighbors.hpp"
 #include "splats/sampling.hpp"
 
 namespace splatcl::splats {
@@ -15,6 +16,11 @@ namespace {
 constexpr std::size_t kInnerPoints = 6, kOuterPoints = 12, kPoints = 1 + kInnerPoints + kOuterPoints;
 // Fewer kept points than this leave the splat flat: a line of points cannot fix two gradients.
 constexpr std::size_t kMinPoints = 6;
+// Splat files: the nearest splats, those whose centres lie within this many major semi-axes, with
+// the splat's own normal at its centre; at least this many points in all.
+constexpr unsigned kSplatNeighbours = 12;
+constexpr double kSplatReach = 2.0;
+constexpr std::size_t kMinSplatPoints = 4;
 
 std::array<std::array<double, 2>, kPoints> fit_points() {
   std::array<std::array<double, 2>, kPoints> points{};
@@ -58,6 +64,47 @@ bool solve3(const double m[3][3], const double b[3], double r[3]) {
   return true;
 }
 
+
+// Least squares of n(x, y) = centre + x·du + y·dv over unit normals at ellipse coordinates (x, y),
+// one 3 × 3 system shared by the three components.
+class FieldFit {
+ public:
+  void add(double x, double y, DVec3 normal) {
+    const double row[3] = {1.0, x, y};
+    const double value[3] = {normal.x, normal.y, normal.z};
+    for (int r = 0; r < 3; ++r) {
+      for (int k = 0; k < 3; ++k) m_[r][k] += row[r] * row[k];
+      for (int comp = 0; comp < 3; ++comp) b_[comp][r] += row[r] * value[comp];
+    }
+    ++points_;
+  }
+  std::size_t points() const { return points_; }
+  // The field, unless it is singular (the points on a line) or turns more than the crease angle
+  // away from the splat's normal n at its centre (a fit over a fold).
+  bool solve(DVec3 n, double cos_crease, NormalField& field) const {
+    double r[3][3];  // r[component] = (centre, du, dv) of that component
+    for (int comp = 0; comp < 3; ++comp)
+      if (!solve3(m_, b_[comp], r[comp])) return false;
+    const Vec3 centre = to_float({r[0][0], r[1][0], r[2][0]}), du = to_float({r[0][1], r[1][1], r[2][1]}),
+               dv = to_float({r[0][2], r[1][2], r[2][2]});
+    if (!finite(centre) || !finite(du) || !finite(dv) || !(dot(DVec3(centre), n) > cos_crease * length(DVec3(centre)))) return false;
+    field = {centre, du, dv};
+    return true;
+  }
+
+ private:
+  double m_[3][3] = {}, b_[3][3] = {};  // b_[component][row]
+  std::size_t points_ = 0;
+};
+
+// Counts the fitted fields into stats.
+void count(const std::vector<unsigned char>& fitted, NormalFieldStats* stats) {
+  if (!stats) return;
+  stats->fitted = 0;
+  for (const unsigned char f : fitted) stats->fitted += f;
+  stats->flat = fitted.size() - stats->fitted;
+}
+
 }  // namespace
 
 std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surface, const std::vector<SplatRecord>& splats,
@@ -78,9 +125,7 @@ std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surf
     const DVec3 ua = (1.0 / la) * major, ub = (1.0 / lb) * minor;
     const double limit = lb + 0.25 * la;
     const ClipLine second = i < second_lines.size() ? second_lines[i] : ClipLine{};
-    // Normal equations of n(x, y) = n0 + x·du + y·dv over the kept points, per component.
-    double m[3][3] = {}, b[3][3] = {};  // b[component][row]
-    std::size_t kept = 0;
+    FieldFit fit;
     Surface::Recent recent;
     for (const auto& [px, py] : points) {
       if (!kept_by(s.clip_x, s.clip_y, s.clip_offset, px * la, py * lb) || !kept_by(second.x, second.y, second.offset, px * la, py * lb))
@@ -93,31 +138,47 @@ std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surf
       DVec3 normal = smooth_normal(t, corner_normal, q);
       if (dot(normal, n) < 0) normal = -1.0 * normal;
       if (dot(normal, n) < cos_crease) continue;
-      const double x = dot(q - c, ua) / la, y = dot(q - c, ub) / lb;
-      const double row[3] = {1.0, x, y};
-      const double value[3] = {normal.x, normal.y, normal.z};
-      for (int r = 0; r < 3; ++r) {
-        for (int k = 0; k < 3; ++k) m[r][k] += row[r] * row[k];
-        for (int comp = 0; comp < 3; ++comp) b[comp][r] += row[r] * value[comp];
-      }
-      ++kept;
+      fit.add(dot(q - c, ua) / la, dot(q - c, ub) / lb, normal);
     }
-    if (kept < kMinPoints) return;
-    double r[3][3];  // r[component] = (n0, du, dv) of that component
-    for (int comp = 0; comp < 3; ++comp)
-      if (!solve3(m, b[comp], r[comp])) return;
-    const Vec3 centre = to_float({r[0][0], r[1][0], r[2][0]}), du = to_float({r[0][1], r[1][1], r[2][1]}),
-               dv = to_float({r[0][2], r[1][2], r[2][2]});
-    // A field that turns away from the splat at its centre (a fit over a fold) is not kept.
-    if (!finite(centre) || !finite(du) || !finite(dv) || !(dot(DVec3(centre), n) > cos_crease * length(DVec3(centre)))) return;
-    field = {centre, du, dv};
-    fitted[i] = 1;
+    if (fit.points() >= kMinPoints && fit.solve(n, cos_crease, field)) fitted[i] = 1;
   });
-  if (stats) {
-    stats->fitted = 0;
-    for (const unsigned char f : fitted) stats->fitted += f;
-    stats->flat = splats.size() - stats->fitted;
+  count(fitted, stats);
+  return fields;
+}
+
+std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRecord>& splats, float crease_degrees,
+                                                       NormalFieldStats* stats) {
+  const double cos_crease = std::cos(static_cast<double>(crease_degrees) * std::numbers::pi / 180.0);
+  std::vector<NormalField> fields(splats.size());
+  for (std::size_t i = 0; i < splats.size(); ++i) fields[i] = {splats[i].normal, {}, {}};
+  std::vector<unsigned char> fitted(splats.size(), 0);
+  if (splats.size() < 2) {
+    count(fitted, stats);
+    return fields;
   }
+  std::vector<Vec4> centres(splats.size());
+  for (std::size_t i = 0; i < splats.size(); ++i) centres[i] = to_vec4(splats[i].center);
+  const Neighborhoods near = find_neighbors(centres, kSplatNeighbours);
+  parallel_for(splats.size(), 256, [&](std::size_t i, std::size_t) {
+    const SplatRecord& s = splats[i];
+    const DVec3 c(s.center), major(s.major), minor(s.minor), n = normalized(DVec3(s.normal));
+    const double la = length(major), lb = length(minor);
+    if (!(la > 0 && lb > 0) || !(length(n) > 0)) return;
+    const DVec3 ua = (1.0 / la) * major, ub = (1.0 / lb) * minor;
+    FieldFit fit;
+    fit.add(0.0, 0.0, n);
+    for (std::uint32_t k = 0; k < near.k; ++k) {
+      const SplatRecord& other = splats[near.row(i)[k]];
+      const DVec3 d = DVec3(other.center) - c;
+      if (length(d) > kSplatReach * la) break;  // rows are sorted by distance
+      DVec3 normal = normalized(DVec3(other.normal));
+      if (dot(normal, n) < 0) normal = -1.0 * normal;
+      if (dot(normal, n) < cos_crease || std::fabs(dot(d, n)) > la) continue;  // across a crease, or another sheet
+      fit.add(dot(d, ua) / la, dot(d, ub) / lb, normal);
+    }
+    if (fit.points() >= kMinSplatPoints && fit.solve(n, cos_crease, fields[i])) fitted[i] = 1;
+  });
+  count(fitted, stats);
   return fields;
 }
 

@@ -32,4 +32,12 @@ std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surf
                                            const std::vector<ClipLine>& second_lines, float crease_degrees,
                                            NormalFieldStats* stats = nullptr);
 
+// For splats with no mesh (a splat file): the field of each splat fitted to its own normal at its
+// centre and to the normals of its nearest splats (up to 12, centres within two major semi-axes),
+// at their centres' ellipse coordinates, as the Phong splatting paper does; neighbours more than
+// crease_degrees off (turned to the splat's side first) or farther off its plane than its major
+// semi-axis (another sheet) are left out; with fewer than 3 neighbours the splat stays flat.
+std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRecord>& splats, float crease_degrees,
+                                                       NormalFieldStats* stats = nullptr);
+
 }  // namespace splatcl::splats

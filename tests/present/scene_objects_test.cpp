@@ -4,6 +4,8 @@
 // splat-file objects against the mesh object whose splats they hold, rendered side by side.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -157,9 +159,9 @@ TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
 
 // A mesh object, and the same splats read from a splatcl splat file and from a 3DGS export, drawn
 // alone with the same camera: the splat file gives the very same depth (same splat geometry) and an
-// image within a level or two (the mesh object's splats shade with normal fields fitted to the
-// mesh, Phong splats; a splat file's are flat); the 3DGS export the same within its float round
-// trip; the discs' shadow map shades the floor as the mesh's.
+// image within a quarter of a level (the Phong splats' normal fields: the mesh object's fitted to the mesh, the
+// splat file's to the neighbouring splats); the 3DGS export the same within its float round trip;
+// the discs' shadow map shades the floor as the mesh's.
 TEST_F(SceneObjectsRender, SplatFilesDrawAsTheMeshObjectTheyCameFrom) {
   const std::string dir = temp_dir("splat-files");
   const std::string sphere = R"("mesh": {"procedural": "sphere", "radius": 1, "segments": 24, "rings": 12}, "quality": {"eps_diagonal": 0.004})";
@@ -204,10 +206,13 @@ TEST_F(SceneObjectsRender, SplatFilesDrawAsTheMeshObjectTheyCameFrom) {
   };
   const std::vector<float> reference = render(mesh_scene, false);
   const std::vector<float> reference_z = view_z;
-  const double flat = mean_difference(render(ours, false), reference);
-  EXPECT_EQ(view_z, reference_z) << "the same splats, the same depth";
-  EXPECT_LT(flat, 2.0 / 255.0) << "mean difference " << flat * 255 << "/255";
-  EXPECT_LT(mean_difference(render(gaussian, false), reference), 2.0 / 255.0);
+  const double flat = mean_difference(render(ours, false), reference);  // of the splat file
+  const std::vector<float> ours_z = view_z;
+  const double gaussian_difference = mean_difference(render(gaussian, false), reference);
+  std::printf("splat file against the mesh object: mean difference %.3f/255 (3DGS export %.3f/255)\n", flat * 255, gaussian_difference * 255);
+  EXPECT_EQ(ours_z, reference_z) << "the same splats, the same depth";
+  EXPECT_LT(flat, 0.25 / 255.0);
+  EXPECT_LT(gaussian_difference, 0.25 / 255.0);
   // Shadows and AO from the discs' CSM instead of the mesh's: the sphere's own shading and its
   // shadow on the floor agree to a few levels.
   const double lit = mean_difference(render(ours, true), render(mesh_scene, true));

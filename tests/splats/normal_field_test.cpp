@@ -114,5 +114,56 @@ TEST(NormalField, FarOrDegenerateSplatsStayFlat) {
   EXPECT_TRUE(fit_normal_fields(mesh, surface, {}, {}, 60.0f).empty());
 }
 
+// A splat file's fields come from the neighbouring splats: splats on the unit sphere with their true
+// normals (as a splat file of a smooth object holds them) follow the sphere between the centres;
+// on two faces of a cube no field bends across the edge; too few splats stay flat.
+TEST(NormalField, FromNeighbouringSplatsFollowsTheSphereAndKeepsEdges) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> gauss;
+  std::vector<SplatRecord> sphere;
+  for (int i = 0; i < 2000; ++i) {
+    const DVec3 d = normalized(DVec3(gauss(rng), gauss(rng), gauss(rng)));
+    const DVec3 u = any_perpendicular(d), v = cross(d, u);
+    SplatRecord s;
+    s.center = to_float(d), s.normal = to_float(d), s.major = to_float(0.08 * u), s.minor = to_float(0.06 * v);
+    sphere.push_back(s);
+  }
+  NormalFieldStats stats;
+  const std::vector<NormalField> fields = fit_normal_fields_from_splats(sphere, 60.0f, &stats);
+  EXPECT_GE(stats.fitted, sphere.size() * 99 / 100);
+  double field_sum = 0, flat_sum = 0;
+  std::size_t points = 0;
+  for (std::size_t i = 0; i < sphere.size(); ++i)
+    for (const auto& [x, y] : {std::pair{0.8, 0.0}, {-0.8, 0.0}, {0.0, 0.8}, {0.0, -0.8}}) {
+      const DVec3 p = DVec3(sphere[i].center) + x * DVec3(sphere[i].major) + y * DVec3(sphere[i].minor);
+      field_sum += angle_degrees(field_normal(fields[i], x, y), normalized(p));
+      flat_sum += angle_degrees(DVec3(sphere[i].normal), normalized(p));
+      ++points;
+    }
+  std::printf("splats on the unit sphere: mean angle to the true normal %.2f° (flat %.2f°)\n", field_sum / static_cast<double>(points),
+              flat_sum / static_cast<double>(points));
+  EXPECT_LT(field_sum, 0.25 * flat_sum);
+
+  std::vector<SplatRecord> faces;  // a grid on the cube's top face (z = 1) and on its side y = 1
+  for (int a = 0; a < 10; ++a)
+    for (int b = 0; b < 10; ++b) {
+      SplatRecord top, side;
+      const float s = 0.05f + 0.1f * static_cast<float>(a), t = 0.05f + 0.1f * static_cast<float>(b);
+      top.center = {s, t, 1.0f}, top.normal = {0, 0, 1}, top.major = {0.07f, 0, 0}, top.minor = {0, 0.07f, 0};
+      side.center = {s, 1.0f, t}, side.normal = {0, -1, 0}, side.major = {0.07f, 0, 0}, side.minor = {0, 0, 0.07f};  // inward: turned
+      faces.push_back(top), faces.push_back(side);
+    }
+  const std::vector<NormalField> face_fields = fit_normal_fields_from_splats(faces, 60.0f);
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    for (const auto& [x, y] : {std::pair{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, -1.0}})
+      EXPECT_LT(angle_degrees(field_normal(face_fields[i], x, y), DVec3(faces[i].normal)), 1e-3) << "splat " << i;
+
+  EXPECT_TRUE(fit_normal_fields_from_splats({}, 60.0f).empty());
+  NormalFieldStats few;
+  const auto pair = fit_normal_fields_from_splats({sphere[0], sphere[1]}, 60.0f, &few);
+  EXPECT_EQ(few.flat, 2u);
+  EXPECT_EQ(pair[0].centre, sphere[0].normal);
+}
+
 }  // namespace
 }  // namespace splatcl::splats
