@@ -503,11 +503,17 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     const float spacing = f.size / static_cast<float>(f.splats_per_side);
     const float radius = 0.75f * spacing;  // overlapping discs cover the square without holes
     objects_.push_back({statics.size() / kRow, std::size_t{f.splats_per_side} * f.splats_per_side, -1});
+    // The discs along the square's sides are cut by a clip line at the side (two at a corner), so
+    // its outline is straight, not scalloped (at least 2 discs per side: one line per axis).
+    const std::uint32_t last = f.splats_per_side - 1;
+    const auto side = [&](std::uint32_t j, glm::vec2 outward) {
+      return j == 0 ? glm::vec3(-outward, 0.5f * spacing) : j == last ? glm::vec3(outward, 0.5f * spacing) : glm::vec3(0.0f, 0.0f, FLT_MAX);
+    };
     for (std::uint32_t i = 0; i < f.splats_per_side; ++i)
       for (std::uint32_t k = 0; k < f.splats_per_side; ++k)
         push_splat({-0.5f * f.size + (static_cast<float>(i) + 0.5f) * spacing, f.y,
                     -0.5f * f.size + (static_cast<float>(k) + 0.5f) * spacing},
-                   {0, 1, 0}, {radius, 0, 0}, {0, 0, radius}, f.color);
+                   {0, 1, 0}, {radius, 0, 0}, {0, 0, radius}, f.color, {0.0f, FLT_MAX}, side(i, {1.0f, 0.0f}), side(k, {0.0f, 1.0f}));
   }
   const std::size_t splat_count = statics.size() / kRow;
   splat_ao_.assign(splat_count, glm::vec4(0, 1, 0, 1));

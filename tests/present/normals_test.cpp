@@ -5,29 +5,12 @@
 
 #include <cstdio>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "presenter_test_support.hpp"
 
 namespace splatcl::present {
 namespace {
 
 using namespace testing;
-
-struct PixelRay {
-  glm::vec3 eye, dir;
-  glm::mat4 view;
-};
-// The eye ray through pixel (x, y) (row 0 at the bottom, as the G-buffer reads back).
-PixelRay pixel_ray(const Scene& scene, int width, int height, int x, int y) {
-  const Camera& cam = scene.camera;
-  const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
-  const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
-  const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane);
-  const glm::vec3 far_point = glm::unProject(glm::vec3(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 1.0f), view, proj,
-                                             glm::vec4(0, 0, width, height));
-  return {eye, glm::normalize(far_point - eye), view};
-}
 
 double degrees_between(glm::vec3 a, glm::vec3 b) {
   return glm::degrees(std::acos(std::clamp(static_cast<double>(glm::dot(glm::normalize(a), glm::normalize(b))), -1.0, 1.0)));
@@ -60,7 +43,7 @@ TEST_F(PresenterTest, PhongSplatsShadeALowPolySphereSmoothly) {
       for (int x = 0; x < width; ++x) {
         const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
         if (view_z[p] == 0.0f) continue;
-        const PixelRay ray = pixel_ray(scene, width, height, x, y);
+        const PixelRay ray = pixel_ray(scene, width, height, static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
         const float along = (ray.view * glm::vec4(ray.dir, 0.0f)).z;
         const glm::vec3 point = ray.eye + ray.dir * (view_z[p] / along);
         const glm::vec3 truth = glm::normalize(point - ball.position);

@@ -9,6 +9,8 @@
 #include <memory>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "present/assets.hpp"
 #include "present/context.hpp"
 #include "present/presenter.hpp"
@@ -37,6 +39,21 @@ inline Scene test_scene() {
   Scene scene = default_scene();
   scene.floor.splats_per_side = 48;
   return scene;
+}
+
+// The eye ray through the centre of pixel (x, y) of a width × height frame of the scene's camera
+// (row 0 at the bottom, as the presenter's read-backs give the rows), and the view matrix.
+struct PixelRay {
+  glm::vec3 eye, dir;
+  glm::mat4 view;
+};
+inline PixelRay pixel_ray(const Scene& scene, int width, int height, float x, float y) {
+  const Camera& cam = scene.camera;
+  const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
+  const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
+  const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane);
+  const glm::vec3 far_point = glm::unProject(glm::vec3(x, y, 1.0f), view, proj, glm::vec4(0, 0, width, height));
+  return {eye, glm::normalize(far_point - eye), view};
 }
 
 // The last render's splat coverage against the triangle meshes rendered with the same camera:

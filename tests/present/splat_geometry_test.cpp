@@ -242,5 +242,42 @@ TEST_F(PresenterTest, SilhouetteResolveOnOutlineTilesEqualsTheFullScreenResolve)
   }
 }
 
+// The floor alone, its corner seen from above at a slant (4 × 4 units, 16 discs per side, 0.25
+// apart, where a disc's overhang would be 0.06 units): against the true square, a pixel whose four
+// corners' rays all meet the floor plane inside the square must be covered and one whose four all
+// meet it outside (or miss it) must not. Uncut, the discs along the sides made a scalloped outline
+// past the square.
+TEST_F(PresenterTest, FloorOutlineIsTheSquare) {
+  Scene scene = test_scene();
+  scene.objects.clear();
+  scene.floor.size = 4.0f, scene.floor.splats_per_side = 16;
+  scene.camera.eye = {3.4f, 1.6f, 3.0f}, scene.camera.target = {1.8f, 0.0f, 1.9f};
+  const int width = 160, height = 120;
+  Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
+  presenter.render(0.0f);
+  const std::vector<std::uint8_t> covered = presenter.read_coverage();
+  const float half = 0.5f * scene.floor.size;
+  const auto inside = [&](float x, float y) {
+    const PixelRay ray = pixel_ray(scene, width, height, x, y);
+    if (ray.dir.y >= 0.0f) return false;
+    const glm::vec3 q = ray.eye + ray.dir * ((scene.floor.y - ray.eye.y) / ray.dir.y);
+    return std::abs(q.x) <= half && std::abs(q.z) <= half;
+  };
+  std::size_t square = 0, holes = 0, overhang = 0, outside = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const int corners = inside(static_cast<float>(x), static_cast<float>(y)) + inside(static_cast<float>(x + 1), static_cast<float>(y)) +
+                          inside(static_cast<float>(x), static_cast<float>(y + 1)) + inside(static_cast<float>(x + 1), static_cast<float>(y + 1));
+      const bool splat = covered[static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x)] != 0;
+      if (corners == 4) ++square, holes += !splat;
+      if (corners == 0) ++outside, overhang += splat;
+    }
+  std::printf("floor corner: %zu holes in %zu pixels inside the square, %zu covered of %zu outside\n", holes, square, overhang, outside);
+  ASSERT_GT(square, 2000u);
+  ASSERT_GT(outside, 2000u);
+  EXPECT_EQ(holes, 0u);
+  EXPECT_EQ(overhang, 0u);
+}
+
 }  // namespace
 }  // namespace splatcl::present
