@@ -468,6 +468,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   std::vector<std::vector<splats::SplatRecord>> fitted(scene_.objects.size());
   std::vector<std::vector<splats::ClipLine>> corner_clips(scene_.objects.size());
   std::vector<std::vector<splats::NormalField>> normal_fields(scene_.objects.size());
+  std::vector<std::vector<splats::NormalField>> node_fields(scene_.objects.size());  // the LOD tree's nodes (mesh objects)
   const auto field_of = [&](std::size_t object, std::size_t j, const splats::SplatRecord& s) {
     return j < normal_fields[object].size() ? normal_fields[object][j] : splats::NormalField{s.normal, {}, {}};
   };
@@ -485,6 +486,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
         splats::clip_to_surface(surface, splats, scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal(),
                                 scene_.quality.splat_scale, corner_clips[i]);
       normal_fields[i] = splats::fit_normal_fields(assets_.back().mesh, surface, splats, corner_clips[i], crease_angle);
+      node_fields[i] = splats::fit_normal_fields(assets_.back().mesh, surface, assets_.back().tree.nodes, {}, crease_angle);
     } else {
       normal_fields[i] = splats::fit_normal_fields_from_splats(splats, crease_angle);
     }
@@ -530,8 +532,11 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     for (std::size_t e = 0; e < tree.size(); ++e) {
       const std::uint32_t source = tree.source[e];
       const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
-      // Tree nodes are flat splats.
-      const splats::NormalField field = source < tree.splat_count ? field_of(i, source, s) : splats::NormalField{s.normal, {}, {}};
+      // A splat file's tree nodes are flat splats.
+      const std::size_t node = source - tree.splat_count;
+      const splats::NormalField field = source < tree.splat_count ? field_of(i, source, s)
+                                        : node < node_fields[i].size() ? node_fields[i][node]
+                                                                       : splats::NormalField{s.normal, {}, {}};
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
                  {tree.error_min[e], tree.error_max[e]}, first_clip(s),
                  source < tree.splat_count ? second_clip(corner_clips[i], source) : glm::vec3(0.0f, 0.0f, FLT_MAX), g3(field.du),

@@ -32,12 +32,15 @@ TEST_F(PresenterTest, PhongSplatsShadeALowPolySphereSmoothly) {
   scene.quality.sampling = "auto", scene.quality.splat_bound = "two-sided", scene.quality.eps_diagonal = 0.001f;
   scene.camera.eye = {0.0f, 2.4f, 3.6f}, scene.camera.target = {0.0f, 1.2f, 0.0f};
   const int width = 160, height = 120;
-  double mean[2] = {0, 0}, worst[2] = {0, 0};
-  std::size_t pixels[2] = {0, 0};
-  for (const int mode : {0, 1}) {
-    scene.quality.mode = mode == 0 ? "splats" : "points";
+  // 0: splats, 1: points (flat), 2: splats with LOD at 12 pixels (the LOD tree's nodes have fields too).
+  double mean[3] = {0, 0, 0}, worst[3] = {0, 0, 0};
+  std::size_t pixels[3] = {0, 0, 0};
+  std::uint32_t drawn[3] = {0, 0, 0};
+  for (const int mode : {0, 1, 2}) {
+    scene.quality.mode = mode == 1 ? "points" : "splats";
+    scene.quality.lod_error = mode == 2 ? 12.0f : 0.0f;
     Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
-    presenter.render(0.0f);
+    drawn[mode] = presenter.render(0.0f).splats;
     const std::vector<float> view_z = presenter.read_view_z(), normals = presenter.read_normals();
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
@@ -54,12 +57,14 @@ TEST_F(PresenterTest, PhongSplatsShadeALowPolySphereSmoothly) {
     mean[mode] /= static_cast<double>(std::max<std::size_t>(pixels[mode], 1));
   }
   std::printf("low-poly sphere, G-buffer normal against the true sphere: Phong splats mean %.2f° (worst %.2f°) over %zu pixels; "
-              "flat splats (points mode) mean %.2f° (worst %.2f°)\n",
-              mean[0], worst[0], pixels[0], mean[1], worst[1]);
+              "flat splats (points mode) mean %.2f° (worst %.2f°); LOD at 12 px, %u of %u splats drawn: mean %.2f° (worst %.2f°)\n",
+              mean[0], worst[0], pixels[0], mean[1], worst[1], drawn[2], drawn[0], mean[2], worst[2]);
   ASSERT_GT(pixels[0], 2000u);
   EXPECT_LT(mean[0], 0.5);
   EXPECT_LT(mean[0], 0.1 * mean[1]);
   EXPECT_LT(worst[0], 4.0);
+  EXPECT_LT(drawn[2], drawn[0] / 2);
+  EXPECT_LT(mean[2], 0.25 * mean[1]);
 }
 
 // The default scene's box (per-splat colours, 20 cells per face, turned 30° about y) alone: every
