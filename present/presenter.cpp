@@ -379,6 +379,10 @@ struct Presenter::Impl {
   ShadingPass shading_pass;
   gl::Buffer static_vbo, dynamic_vbo;
   gl::VertexArray empty_vao;
+  // Per object, each splat's shading normal at its centre (its Phong field's, model space): the
+  // per-splat AO and shadow receivers face it, so their hemispheres follow the smooth surface the
+  // shading shows rather than a low-poly mesh's facets.
+  std::vector<std::vector<glm::vec3>> receiver_normals;
   // Everything sized by the frame, made again by resize().
   struct Targets {
     Targets(int width, int height) : gbuffer(width, height), shading(width, height), pixel(width, height), mesh(width, height) {}
@@ -468,6 +472,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   std::vector<std::vector<splats::SplatRecord>> fitted(scene_.objects.size());
   std::vector<std::vector<splats::ClipLine>> corner_clips(scene_.objects.size());
   std::vector<std::vector<splats::NormalField>> normal_fields(scene_.objects.size());
+  g.receiver_normals.assign(scene_.objects.size(), {});
   std::vector<std::vector<splats::NormalField>> node_fields(scene_.objects.size());  // the LOD tree's nodes (mesh objects)
   const auto field_of = [&](std::size_t object, std::size_t j, const splats::SplatRecord& s) {
     return j < normal_fields[object].size() ? normal_fields[object][j] : splats::NormalField{s.normal, {}, {}};
@@ -498,6 +503,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       const splats::NormalField field = field_of(i, j, s);
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s),
                  second_clip(corner_clips[i], j), g3(field.du), g3(field.dv));
+      g.receiver_normals[i].push_back(glm::normalize(g3(field.centre)));
     }
   }
   if (scene_.floor.enabled) {
@@ -668,7 +674,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
       } else {
         const auto& rec = assets_[static_cast<std::size_t>(r.asset)].splats[s];
         c = glm::vec3(m * glm::vec4(rec.center.x, rec.center.y, rec.center.z, 1.0f));
-        nrm = glm::normalize(glm::mat3(m) * glm::vec3(rec.normal.x, rec.normal.y, rec.normal.z));
+        nrm = glm::normalize(glm::mat3(m) * g.receiver_normals[static_cast<std::size_t>(r.asset)][s]);
       }
       positions[r.first + s] = vec4(c);
       normals[r.first + s] = vec4(nrm);

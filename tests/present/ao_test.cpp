@@ -117,6 +117,38 @@ TEST_F(PresenterTest, FloorShadingDoesNotDependOnTheFloorSplatSpacing) {
   }
 }
 
+// A sphere of 12 × 6 facets alone over the floor (a user scene's quality): only the floor occludes
+// it, so each splat's AO should be the true sphere's (1 + n.y) / 2 at its centre (n radial, not
+// the mesh's). The receivers face the Phong splats' smooth normal: the AO follows the sphere, not
+// its facets, which the splats' own facet normals would put a mean |Δ| of `facet` off.
+TEST_F(PresenterTest, AmbientOcclusionOfALowPolySphereFollowsTheSmoothSurface) {
+  Scene scene = test_scene();
+  ObjectSpec ball;
+  ball.name = "ball";
+  ball.mesh.procedural = "sphere";
+  ball.mesh.radius = 1.2f, ball.mesh.segments = 12, ball.mesh.rings = 6;
+  ball.position = {0.0f, 1.2f, 0.0f};
+  scene.objects = {ball};
+  scene.quality.sampling = "auto", scene.quality.splat_bound = "two-sided", scene.quality.eps_diagonal = 0.001f;
+  Presenter presenter(scene, *runtime_, 64, 48, SPLATCL_TEST_CACHE);
+  presenter.render(0.0f);
+  const auto [first, count] = presenter.object_splats(0);
+  const auto& splats = presenter.assets(0).splats;
+  double error = 0, facet = 0;
+  for (std::size_t s = 0; s < count; ++s) {
+    const glm::vec3 centre(splats[s].center.x, splats[s].center.y, splats[s].center.z);
+    const float truth = 0.5f * (1.0f + glm::normalize(centre).y);
+    error += std::abs(presenter.splat_ao()[first + s].w - truth);
+    facet += std::abs(0.5f * (1.0f + splats[s].normal.y) - truth);
+  }
+  error /= static_cast<double>(count), facet /= static_cast<double>(count);
+  std::printf("low-poly sphere AO against the true sphere's (1 + n.y) / 2: mean |difference| %.4f over %zu splats (facet normals: %.4f)\n",
+              error, count, facet);
+  ASSERT_GT(count, 500u);
+  EXPECT_LT(error, 0.01);
+  EXPECT_LT(error, 0.2 * facet);
+}
+
 #ifdef SPLATCL_TEST_EMBREE
 // The presenter's AO view against AO ray-cast with Embree on the meshes (ray_occlusion.hpp): per
 // pixel of the default scene at 160 × 120, the eye ray's first hit on a mesh or the floor square,
