@@ -122,14 +122,7 @@ TEST_F(PresenterTest, FloorShadingDoesNotDependOnTheFloorSplatSpacing) {
 // the mesh's). The receivers face the Phong splats' smooth normal: the AO follows the sphere, not
 // its facets, which the splats' own facet normals would put a mean |Δ| of `facet` off.
 TEST_F(PresenterTest, AmbientOcclusionOfALowPolySphereFollowsTheSmoothSurface) {
-  Scene scene = test_scene();
-  ObjectSpec ball;
-  ball.name = "ball";
-  ball.mesh.procedural = "sphere";
-  ball.mesh.radius = 1.2f, ball.mesh.segments = 12, ball.mesh.rings = 6;
-  ball.position = {0.0f, 1.2f, 0.0f};
-  scene.objects = {ball};
-  scene.quality.sampling = "auto", scene.quality.splat_bound = "two-sided", scene.quality.eps_diagonal = 0.001f;
+  Scene scene = low_poly_ball_scene();
   Presenter presenter(scene, *runtime_, 64, 48, SPLATCL_TEST_CACHE);
   presenter.render(0.0f);
   const auto [first, count] = presenter.object_splats(0);

@@ -20,16 +20,9 @@ double degrees_between(glm::vec3 a, glm::vec3 b) {
 // G-buffer normal against the true sphere's radial direction at the pixel's surface point (its
 // view depth). Points mode, which writes each splat's own normal, is the flat baseline.
 TEST_F(PresenterTest, PhongSplatsShadeALowPolySphereSmoothly) {
-  Scene scene = test_scene();
-  ObjectSpec ball;
-  ball.name = "ball";
-  ball.mesh.procedural = "sphere";
-  ball.mesh.radius = 1.2f, ball.mesh.segments = 12, ball.mesh.rings = 6;
-  ball.position = {0.0f, 1.2f, 0.0f};
-  scene.objects = {ball};
+  Scene scene = low_poly_ball_scene();
+  const ObjectSpec& ball = scene.objects[0];
   scene.floor.enabled = false;
-  // A user scene's splats (the default scene's thesis bound leaves this mesh full of holes).
-  scene.quality.sampling = "auto", scene.quality.splat_bound = "two-sided", scene.quality.eps_diagonal = 0.001f;
   scene.camera.eye = {0.0f, 2.4f, 3.6f}, scene.camera.target = {0.0f, 1.2f, 0.0f};
   const int width = 160, height = 120;
   // 0: splats, 1: points (flat), 2: splats with LOD at 12 pixels (the LOD tree's nodes have fields too).

@@ -41,6 +41,21 @@ inline Scene test_scene() {
   return scene;
 }
 
+// A sphere of radius 1.2 in 12 × 6 facets (30° apart) resting on the floor at the origin, alone in
+// the small default scene, with a user scene's splat quality (two-sided; the default scene's thesis
+// bound leaves this mesh full of holes).
+inline Scene low_poly_ball_scene() {
+  Scene scene = test_scene();
+  ObjectSpec ball;
+  ball.name = "ball";
+  ball.mesh.procedural = "sphere";
+  ball.mesh.radius = 1.2f, ball.mesh.segments = 12, ball.mesh.rings = 6;
+  ball.position = {0.0f, 1.2f, 0.0f};
+  scene.objects = {ball};
+  scene.quality.sampling = "auto", scene.quality.splat_bound = "two-sided", scene.quality.eps_diagonal = 0.001f;
+  return scene;
+}
+
 // The eye ray through the centre of pixel (x, y) of a width × height frame of the scene's camera
 // (row 0 at the bottom, as the presenter's read-backs give the rows), and the view matrix.
 struct PixelRay {
