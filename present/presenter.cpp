@@ -31,6 +31,7 @@
 #include "present/shaders/layout.h"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
+#include "splats/neighbors.hpp"
 #include "splats/normal_field.hpp"
 #include "splats/surface_fit.hpp"
 
@@ -168,6 +169,57 @@ void floor_lattice_textures(const std::vector<float>& rows, const std::vector<st
         shadow[4 * node + c] = mean[kVisibilityAt + c] / count;
       }
     }
+}
+
+// Per splat of an object, its neighbours in compressed rows: index[first[i] .. first[i + 1]).
+struct AoNeighbours {
+  std::vector<std::uint32_t> first{0}, index;
+};
+
+// The splats each splat's ambient occlusion is averaged with: its 8 nearest (centres), those within
+// twice its major semi-axis whose receiver normal is within 25° of its own. 16 directions per splat
+// leave a splat's AO a noisy estimate (an occluder a few units away is hit by one direction or by
+// none), which showed as speckle on smooth surfaces; the mean over the splat's neighbourhood on the
+// same side of the surface keeps the AO's variation at the splat spacing and lowers the noise.
+AoNeighbours ao_smoothing_neighbours(const std::vector<splats::SplatRecord>& splats, const std::vector<glm::vec3>& normals) {
+  AoNeighbours near;
+  if (splats.size() < 2) {
+    near.first.assign(splats.size() + 1, 0);
+    return near;
+  }
+  std::vector<Vec4> centres(splats.size());
+  for (std::size_t i = 0; i < splats.size(); ++i) centres[i] = to_vec4(splats[i].center);
+  const splats::Neighborhoods knn = splats::find_neighbors(centres, 8);
+  const float cos_limit = std::cos(glm::radians(25.0f));
+  for (std::size_t i = 0; i < splats.size(); ++i) {
+    const float reach = 2.0f * length(splats[i].major);
+    for (std::uint32_t k = 0; k < knn.k; ++k) {
+      const std::uint32_t j = knn.row(i)[k];
+      if (length(splats[j].center - splats[i].center) <= reach && glm::dot(normals[i], normals[j]) >= cos_limit) near.index.push_back(j);
+    }
+    near.first.push_back(static_cast<std::uint32_t>(near.index.size()));
+  }
+  return near;
+}
+
+// Replaces each splat's AO (and bent normal) in `rows` (one object's lighting rows) by the mean over
+// itself and its neighbours.
+void smooth_ao(const AoNeighbours& near, float* rows) {
+  const std::size_t n = near.first.size() - 1;
+  std::vector<float> ao(4 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    glm::vec4 sum(rows[kLightingRow * i], rows[kLightingRow * i + 1], rows[kLightingRow * i + 2], rows[kLightingRow * i + 3]);
+    for (std::uint32_t r = near.first[i]; r < near.first[i + 1]; ++r) {
+      const float* o = rows + kLightingRow * near.index[r];
+      sum += glm::vec4(o[0], o[1], o[2], o[3]);
+    }
+    const float count = static_cast<float>(near.first[i + 1] - near.first[i] + 1);
+    const glm::vec3 bent(sum);
+    const glm::vec3 own(rows[kLightingRow * i], rows[kLightingRow * i + 1], rows[kLightingRow * i + 2]);
+    const glm::vec3 mean_bent = glm::length(bent) > 0.0f ? glm::normalize(bent) : own;
+    ao[4 * i] = mean_bent.x, ao[4 * i + 1] = mean_bent.y, ao[4 * i + 2] = mean_bent.z, ao[4 * i + 3] = sum.w / count;
+  }
+  for (std::size_t i = 0; i < n; ++i) std::copy(&ao[4 * i], &ao[4 * i] + 4, rows + kLightingRow * i);
 }
 
 // The floor's lattice nodes as receivers: the floor point each node's pixel ray meets, analytic
@@ -383,6 +435,8 @@ struct Presenter::Impl {
   // per-splat AO and shadow receivers face it, so their hemispheres follow the smooth surface the
   // shading shows rather than a low-poly mesh's facets.
   std::vector<std::vector<glm::vec3>> receiver_normals;
+  // Per object, the splats whose AO each splat's is averaged with (ao_smoothing_neighbours).
+  std::vector<AoNeighbours> ao_neighbours;
   // Everything sized by the frame, made again by resize().
   struct Targets {
     Targets(int width, int height) : gbuffer(width, height), shading(width, height), pixel(width, height), mesh(width, height) {}
@@ -506,6 +560,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       g.receiver_normals[i].push_back(glm::normalize(g3(field.centre)));
     }
   }
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) g.ao_neighbours.push_back(ao_smoothing_neighbours(fitted[i], g.receiver_normals[i]));
   if (scene_.floor.enabled) {
     const FloorSpec& f = scene_.floor;
     const float spacing = f.size / static_cast<float>(f.splats_per_side);
@@ -694,6 +749,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   stats.lighting_receivers = update.receivers;
   std::vector<float> dynamic = g.lighting->rows();
   g.lighting_signature = signature;
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) smooth_ao(g.ao_neighbours[i], dynamic.data() + objects_[i].first * kLightingRow);
   for (std::size_t s = 0; s < n; ++s)
     splat_ao_[s] = {dynamic[kLightingRow * s], dynamic[kLightingRow * s + 1], dynamic[kLightingRow * s + 2], dynamic[kLightingRow * s + 3]};
   // LOD sequences: an original splat's entry takes its row, a tree node the mean of the rows of the
