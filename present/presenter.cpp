@@ -749,7 +749,9 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
   stats.lighting_receivers = update.receivers;
   std::vector<float> dynamic = g.lighting->rows();
   g.lighting_signature = signature;
+  const Stopwatch smoothing;
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) smooth_ao(g.ao_neighbours[i], dynamic.data() + objects_[i].first * kLightingRow);
+  stats.stages.push_back({"host: AO smoothing", smoothing.elapsed_ms()});
   for (std::size_t s = 0; s < n; ++s)
     splat_ao_[s] = {dynamic[kLightingRow * s], dynamic[kLightingRow * s + 1], dynamic[kLightingRow * s + 2], dynamic[kLightingRow * s + 3]};
   // LOD sequences: an original splat's entry takes its row, a tree node the mean of the rows of the
