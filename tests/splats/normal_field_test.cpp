@@ -73,6 +73,55 @@ TEST(NormalField, FollowsTheTrueSphereOnALowPolyMesh) {
   }
 }
 
+// The fit works in ellipse coordinates, so it is the same at any scale: the icosphere of 80 facets
+// scaled to radius 10⁻¹² and 10¹², and splats on such spheres fitted from their neighbours, give
+// fields as close to the true sphere as at radius 1.
+TEST(NormalField, HugeAndTinyCoordinatesFitTheSame) {
+  double mesh_worst[3] = {0, 0, 0}, splat_worst[3] = {0, 0, 0};
+  const double scales[3] = {1.0, 1e-12, 1e12};
+  for (int k = 0; k < 3; ++k) {
+    const double scale = scales[k];
+    Mesh mesh = icosphere_mesh(1);
+    for (Vec3& v : mesh.vertices) v = to_float(scale * DVec3(v));
+    const Surface surface(mesh);
+    std::mt19937 rng(5);
+    std::normal_distribution<double> gauss;
+    std::vector<SplatRecord> splats;
+    for (int i = 0; i < 100; ++i)
+      splats.push_back(facet_splat(surface, scale * normalized(DVec3(gauss(rng), gauss(rng), gauss(rng))), 0.18 * scale, 0.12 * scale, 0.3 * i));
+    NormalFieldStats stats;
+    const std::vector<NormalField> fields = fit_normal_fields(mesh, surface, splats, {}, 60.0f, &stats);
+    EXPECT_EQ(stats.fitted, splats.size()) << "scale " << scale;
+    for (std::size_t i = 0; i < splats.size(); ++i)
+      for (const auto& [x, y] : {std::pair{0.0, 0.0}, {0.7, 0.0}, {0.0, -0.7}}) {
+        const DVec3 p = DVec3(splats[i].center) + x * DVec3(splats[i].major) + y * DVec3(splats[i].minor);
+        mesh_worst[k] = std::max(mesh_worst[k], angle_degrees(field_normal(fields[i], x, y), normalized(p)));
+      }
+    std::vector<SplatRecord> on_sphere;  // a splat file's splats: on the true sphere, true normals
+    for (int i = 0; i < 1000; ++i) {
+      const DVec3 d = normalized(DVec3(gauss(rng), gauss(rng), gauss(rng))), u = any_perpendicular(d);
+      SplatRecord s;
+      s.center = to_float(scale * d), s.normal = to_float(d), s.major = to_float(0.1 * scale * u), s.minor = to_float(0.08 * scale * cross(d, u));
+      on_sphere.push_back(s);
+    }
+    NormalFieldStats from_splats;
+    const std::vector<NormalField> splat_fields = fit_normal_fields_from_splats(on_sphere, 60.0f, &from_splats);
+    EXPECT_GE(from_splats.fitted, on_sphere.size() * 99 / 100) << "scale " << scale;
+    for (std::size_t i = 0; i < on_sphere.size(); ++i) {
+      const DVec3 p = DVec3(on_sphere[i].center) + 0.8 * DVec3(on_sphere[i].major);
+      splat_worst[k] = std::max(splat_worst[k], angle_degrees(field_normal(splat_fields[i], 0.8, 0.0), normalized(p)));
+    }
+  }
+  std::printf("worst angle to the true sphere at radius 1, 1e-12, 1e12: mesh fit %.3f° %.3f° %.3f°, from splats %.3f° %.3f° %.3f°\n",
+              mesh_worst[0], mesh_worst[1], mesh_worst[2], splat_worst[0], splat_worst[1], splat_worst[2]);
+  EXPECT_LT(mesh_worst[0], 3.0);
+  EXPECT_LT(splat_worst[0], 6.0);
+  for (int k = 1; k < 3; ++k) {
+    EXPECT_NEAR(mesh_worst[k], mesh_worst[0], 0.01);
+    EXPECT_NEAR(splat_worst[k], splat_worst[0], 0.01);
+  }
+}
+
 TEST(NormalField, StaysFlatBesideSharpEdgesOnEitherWinding) {
   for (const bool inside_out : {false, true}) {
     const Mesh mesh = inside_out ? inside_out_cube_mesh() : cube_mesh();
