@@ -528,9 +528,6 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   std::vector<std::vector<splats::NormalField>> normal_fields(scene_.objects.size());
   g.receiver_normals.assign(scene_.objects.size(), {});
   std::vector<std::vector<splats::NormalField>> node_fields(scene_.objects.size());  // the LOD tree's nodes (mesh objects)
-  const auto field_of = [&](std::size_t object, std::size_t j, const splats::SplatRecord& s) {
-    return j < normal_fields[object].size() ? normal_fields[object][j] : splats::NormalField{s.normal, {}, {}};
-  };
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
@@ -554,7 +551,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       const splats::SplatRecord& s = splats[j];
       const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
       albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
-      const splats::NormalField field = field_of(i, j, s);
+      const splats::NormalField& field = normal_fields[i][j];
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s),
                  second_clip(corner_clips[i], j), g3(field.du), g3(field.dv));
       g.receiver_normals[i].push_back(glm::normalize(g3(field.centre)));
@@ -595,7 +592,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
       // A splat file's tree nodes are flat splats.
       const std::size_t node = source - tree.splat_count;
-      const splats::NormalField field = source < tree.splat_count ? field_of(i, source, s)
+      const splats::NormalField field = source < tree.splat_count ? normal_fields[i][source]
                                         : node < node_fields[i].size() ? node_fields[i][node]
                                                                        : splats::NormalField{s.normal, {}, {}};
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},

@@ -39,13 +39,9 @@ std::array<std::array<double, 2>, kPoints> fit_points() {
 // The smooth normal at q, the closest point of triangle t: its corners' normals interpolated by
 // barycentric weights (the face normal where they cancel).
 DVec3 smooth_normal(const SurfaceTriangle& t, const std::vector<Vec3>& corner_normal, DVec3 q) {
-  const DVec3 n = cross(t.b - t.a, t.c - t.a);
-  const double area2 = dot(n, n);
-  if (!(area2 > 0)) return t.normal;
-  const double wa = dot(cross(t.b - q, t.c - q), n) / area2, wb = dot(cross(t.c - q, t.a - q), n) / area2;
-  const double wc = 1.0 - wa - wb;
-  const DVec3 s = wa * DVec3(corner_normal[t.corners[0]]) + wb * DVec3(corner_normal[t.corners[1]]) +
-                  wc * DVec3(corner_normal[t.corners[2]]);
+  const Barycentric w = barycentric(t, q);
+  const DVec3 s = w.a * DVec3(corner_normal[t.corners[0]]) + w.b * DVec3(corner_normal[t.corners[1]]) +
+                  w.c * DVec3(corner_normal[t.corners[2]]);
   return length(s) > 0 ? normalized(s) : t.normal;
 }
 
@@ -63,7 +59,6 @@ bool solve3(const double m[3][3], const double b[3], double r[3]) {
   r[2] = det(m[0][0], m[0][1], b[0], m[1][0], m[1][1], b[1], m[2][0], m[2][1], b[2]) / d;
   return true;
 }
-
 
 // Least squares of n(x, y) = centre + x·du + y·dv over unit normals at ellipse coordinates (x, y),
 // one 3 × 3 system shared by the three components.

@@ -1,9 +1,10 @@
 #pragma once
 // Phong splats (Botsch, Spernat and Kobbelt, "Phong Splatting", 2004): a splat carries a linear
 // normal field over its ellipse, so that neighbouring flat splats shade as one smooth surface
-// instead of showing the facets of a low-poly mesh or the splats' own tilts as dashes. The field is
-// fitted to the mesh's own smooth normals (its crease-aware corner normals interpolated over each
-// triangle), never to the splats, so a sharp edge stays sharp.
+// instead of showing the facets of a low-poly mesh or the splats' own tilts as dashes. With a mesh,
+// the field is fitted to the mesh's own smooth normals (its crease-aware corner normals interpolated
+// over each triangle), so a sharp edge stays sharp; without one (a splat file), to the neighbouring
+// splats' normals.
 #include <vector>
 
 #include "math/vec3.hpp"
@@ -27,7 +28,8 @@ struct NormalFieldStats {
 // the splat's clip lines keep, `second_lines` as clip_to_surface gives them, or empty), each taking
 // the smooth normal of its nearest surface point; points whose normal is more than crease_degrees
 // from the splat's (the other side of a sharp edge) or whose surface point lies farther than the
-// minor semi-axis plus a quarter of the major (a hole or a gap under the splat) are left out. Normals on the splat's back side are turned to its front.
+// minor semi-axis plus a quarter of the major (a hole or a gap under the splat) are left out.
+// Normals on the splat's back side are turned to its front. Fewer than 6 points: flat.
 std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surface, const std::vector<SplatRecord>& splats,
                                            const std::vector<ClipLine>& second_lines, float crease_degrees,
                                            NormalFieldStats* stats = nullptr);

@@ -69,6 +69,14 @@ std::uint32_t BoxTree::ancestor(std::uint32_t item, int levels) const {
   return node;
 }
 
+Barycentric barycentric(const SurfaceTriangle& t, DVec3 p) {
+  const DVec3 e1 = t.b - t.a, e2 = t.c - t.a, w = p - t.a;
+  const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), dw1 = dot(w, e1), dw2 = dot(w, e2);
+  const double den = d11 * d22 - d12 * d12;
+  const double s = den != 0 ? (d22 * dw1 - d12 * dw2) / den : 0, r = den != 0 ? (d11 * dw2 - d12 * dw1) / den : 0;
+  return {1 - s - r, s, r};
+}
+
 DVec3 closest_point(const SurfaceTriangle& t, DVec3 p) {
   const DVec3 ab = t.b - t.a, ac = t.c - t.a, ap = p - t.a;
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);

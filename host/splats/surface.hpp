@@ -116,6 +116,12 @@ struct SurfaceTriangle {
 // The closest point of triangle t to p (Ericson, Real-Time Collision Detection §5.1.5, in double).
 DVec3 closest_point(const SurfaceTriangle& t, DVec3 p);
 
+// Barycentric weights (of a, b, c) of p projected into t's plane; (1, 0, 0) for a degenerate t.
+struct Barycentric {
+  double a = 1, b = 0, c = 0;
+};
+Barycentric barycentric(const SurfaceTriangle& t, DVec3 p);
+
 // The fan triangles of every face, without those of zero or non-finite area.
 std::vector<SurfaceTriangle> surface_triangles(const Mesh& mesh);
 

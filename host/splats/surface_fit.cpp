@@ -446,15 +446,11 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
 
 Rgba8 color_at(const Mesh& mesh, const ColorSource& colors, const SurfaceTriangle& t, DVec3 p) {
   if (!mesh.has_texcoords()) return colors.at(to_float(p), nullptr);
-  // Barycentric weights of p in t.
-  const DVec3 e1 = t.b - t.a, e2 = t.c - t.a, w = p - t.a;
-  const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), dw1 = dot(w, e1), dw2 = dot(w, e2);
-  const double den = d11 * d22 - d12 * d12;
-  const double s = den != 0 ? (d22 * dw1 - d12 * dw2) / den : 0, r = den != 0 ? (d11 * dw2 - d12 * dw1) / den : 0;
+  const Barycentric w = barycentric(t, p);
   float uv[2];
   for (int k = 0; k < 2; ++k)
-    uv[k] = static_cast<float>((1 - s - r) * mesh.corner_texcoords[t.corners[0]][k] + s * mesh.corner_texcoords[t.corners[1]][k] +
-                               r * mesh.corner_texcoords[t.corners[2]][k]);
+    uv[k] = static_cast<float>(w.a * mesh.corner_texcoords[t.corners[0]][k] + w.b * mesh.corner_texcoords[t.corners[1]][k] +
+                               w.c * mesh.corner_texcoords[t.corners[2]][k]);
   return colors.at(to_float(p), uv);
 }
 
