@@ -1,7 +1,8 @@
 // The splat passes' vertex shader: one triangle around each splat's ellipse. Compiled with
 // VISIBILITY_PASS defined for pass 1, which reads no lighting rows.
 #include "splat_head.glsl"
-out vec2 v_local;
+// The ellipse coordinate times the visibility pass's w scale (splat_local.glsl).
+out vec3 v_local_scaled;
 out vec3 v_view_pos;
 // The clip lines in ellipse coordinates: a pixel is kept where dot(v_local, xy) <= z for both.
 flat out vec3 v_clip, v_clip2;
@@ -15,16 +16,15 @@ void main() {
   // Culled splats (back-facing, or outside their LOD interval) are moved outside the clip volume.
   // The splat passes cost per primitive on llvmpipe more than per pixel: one triangle circumscribing
   // the ellipse (inradius 1 in ellipse coordinates) is cheaper than a quad of two.
-  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local = vec2(2.0); v_view_pos = vec3(0.0); v_shading_normal = vec3(0.0); return; }
+  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local_scaled = vec3(2.0, 2.0, 1.0); v_view_pos = vec3(0.0); v_shading_normal = vec3(0.0); return; }
   // The clip line is where the surface ends (a sharp edge), so it stays put when k scales the splat.
   v_clip = vec3(a_clip.x * length(a_major), a_clip.y * length(a_minor), a_clip.z / u_scale);
   v_clip2 = vec3(a_clip2.x * length(a_major), a_clip2.y * length(a_minor), a_clip2.z / u_scale);
   int j = gl_VertexID % 3;
   vec2 corner = j == 0 ? vec2(0.0, 2.0) : vec2(j == 1 ? -1.7320508 : 1.7320508, -1.0);
   // The triangle lies in the splat's plane, so the rasterised depth is the ray-cast depth of that plane
-  // at every pixel (perspective correct), and v_local is the pixel's ellipse coordinate.
+  // at every pixel (perspective correct), and the interpolated corner is the pixel's ellipse coordinate.
   vec3 p = c + u_scale * (corner.x * (m * a_major) + corner.y * (m * a_minor));
-  v_local = corner;
 #ifdef VISIBILITY_PASS
   v_shading_normal = vec3(0.0);  // the visibility pass writes depth only
 #else
@@ -35,5 +35,7 @@ void main() {
   // The visibility pass pushes each corner back by ε along its view ray. Done per vertex rather than
   // per pixel, the fragment shader writes no depth and llvmpipe keeps its early depth test; across
   // a splat the offset differs from ε by a second-order amount in the splat's angular size.
-  gl_Position = u_proj * vec4(v_view_pos * (1.0 + u_depth_offset / length(v_view_pos)), 1.0);
+  float push = 1.0 + u_depth_offset / length(v_view_pos);
+  gl_Position = u_proj * vec4(v_view_pos * push, 1.0);
+  v_local_scaled = vec3(corner, 1.0) * push;
 }
