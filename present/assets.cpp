@@ -129,9 +129,14 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
       if (object.color_tolerance < 255) splat_parameters += fmt::format(" tolerance={}", object.color_tolerance);
     }
   }
-  const LodOptions lod_options{q.lod_leaf, 32, 0.1f};
-  const std::string tree_parameters = fmt::format("{}|tree v1 leaf={} grid={} overlap={:.9g}", splat_parameters,
-                                                  lod_options.leaf_splats, lod_options.grid, lod_options.overlap);
+  // The drawn splats' fit (its gap splats are cached, and the LOD tree is built over them too).
+  const bool fit_drawn = !splat_file && q.surface_clip > 0;
+  const std::string gap_parameters =
+      fit_drawn ? fmt::format("{}|drawn gaps v1 surface_clip={:.9g} scale={:.9g}", splat_parameters, q.surface_clip, q.splat_scale)
+                : splat_parameters;
+  const LodOptions tree_options{q.lod_leaf, 32, 0.1f};
+  const std::string tree_parameters = fmt::format("{}|tree v1 leaf={} grid={} overlap={:.9g}", gap_parameters,
+                                                  tree_options.leaf_splats, tree_options.grid, tree_options.overlap);
   const std::string csm_parameters = fmt::format("csm v1 maps={} resolution={}", q.csm_maps, q.csm_resolution);
   assets.key = asset_key(assets.mesh, splat_parameters + "|" + csm_parameters);
   std::error_code ec;
@@ -140,6 +145,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   const std::string splat_path = fmt::format("{}/{}.splats.ply", cache_dir, asset_key(assets.mesh, splat_parameters));
   const std::string csm_path = fmt::format("{}/{}.csm", cache_dir, asset_key(assets.mesh, csm_parameters));
   const std::string tree_path = fmt::format("{}/{}.spt", cache_dir, asset_key(assets.mesh, tree_parameters));
+  const std::string gap_path = fmt::format("{}/{}.gaps.ply", cache_dir, asset_key(assets.mesh, gap_parameters));
 
   // A cache entry that cannot be read (truncated, corrupted, written by an older version) is
   // rebuilt and overwritten rather than failing the render.
@@ -173,7 +179,43 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     splats::write_splat_file(splat_path, assets.splats, splats::splat_file_info(setup, run, assets.mesh.source));
     report(fmt::format("{} splats from {} faces in {}", assets.splats.size(), assets.mesh.face_count(), seconds(step.elapsed_ms())), true);
   }
-  if (assets.splats_cached && std::filesystem::exists(tree_path)) {
+  assets.drawn = assets.splats;
+  assets.second_clips.assign(assets.drawn.size(), splats::ClipLine{});
+  if (fit_drawn) {
+    const splats::Surface surface(assets.mesh);
+    const double tolerance = q.surface_clip * assets.mesh.bounds().diagonal();
+    splats::clip_to_surface(surface, assets.drawn, tolerance, q.splat_scale, assets.second_clips);
+    std::vector<splats::SplatRecord> gaps;
+    if (assets.splats_cached && std::filesystem::exists(gap_path)) {
+      try {
+        gaps = splats::read_splat_file(gap_path).splats;
+        assets.gaps_cached = true;
+      } catch (const Error&) {
+      }
+    }
+    if (!assets.gaps_cached) {
+      const Stopwatch step;
+      report("gap splats of the splats as drawn");
+      splats::SurfaceFitStats stats;
+      gaps = splats::cover_drawn_gaps(surface, assets.drawn, assets.second_clips, tolerance, q.splat_scale, stats);
+      splats::SplatFileInfo info;  // what the reader checks; the cache key holds the parameters
+      info.model = assets.mesh.source;
+      info.sampling = "gaps";
+      info.eps = static_cast<float>(tolerance);
+      info.k = 1;
+      info.color_source = "nearest splat";
+      splats::write_splat_file(gap_path, gaps, info);
+      report(fmt::format("{} gap splats of the splats as drawn in {}", gaps.size(), seconds(step.elapsed_ms())), true);
+    }
+    assets.gap_splats = gaps.size();
+    assets.splats.insert(assets.splats.end(), gaps.begin(), gaps.end());
+    // Drawn like the others: cut at a sharp edge they overhang at the splat scale.
+    std::vector<splats::ClipLine> gap_corners;
+    splats::clip_to_surface(surface, gaps, tolerance, q.splat_scale, gap_corners);
+    assets.drawn.insert(assets.drawn.end(), gaps.begin(), gaps.end());
+    assets.second_clips.insert(assets.second_clips.end(), gap_corners.begin(), gap_corners.end());
+  }
+  if (assets.splats_cached && (!fit_drawn || assets.gaps_cached) && std::filesystem::exists(tree_path)) {
     try {
       assets.tree = read_splat_tree(tree_path, static_cast<std::uint32_t>(assets.splats.size()));
       assets.tree_cached = true;
@@ -183,7 +225,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   if (!assets.tree_cached) {
     const Stopwatch step;
     report("LOD tree");
-    assets.tree = build_splat_tree(assets.splats, lod_options);
+    assets.tree = build_splat_tree(assets.splats, tree_options);
     write_splat_tree(tree_path, assets.tree);
     report(fmt::format("LOD tree of {} splats in {}", assets.splats.size(), seconds(step.elapsed_ms())), true);
   }

@@ -14,16 +14,25 @@
 #include "runtime/runtime.hpp"
 #include "core/mesh.hpp"
 #include "splats/splat_file.hpp"
+#include "splats/surface_fit.hpp"
 
 namespace splatcl::present {
 
 struct ObjectAssets {
   Mesh mesh;  // the fitted mesh; for a splat file, its splats as hexagonal discs (the CSM's geometry)
+  // The splats as built (or read from the splat file), then the gap splats of the fit below.
   std::vector<splats::SplatRecord> splats;
+  // The same splats as drawn (a mesh object with quality.surface_clip): each fitted to the surface
+  // at the splat scale k (splats::clip_to_surface: clip lines at sharp edges, `second_clips` at
+  // corners, shortened where it stands off a curved surface), and gap splats where the fitted
+  // splats leave the surface uncovered (splats::cover_drawn_gaps). Else `splats` as they are.
+  std::vector<splats::SplatRecord> drawn;
+  std::vector<splats::ClipLine> second_clips;  // one per drawn splat (offset +inf: none)
+  std::size_t gap_splats = 0;                  // the last ones of `splats` and `drawn`
   SplatTree tree;  // level-of-detail hierarchy over `splats`
   csm::Csm csm;
   std::string key;  // cache key (hex)
-  bool splats_cached = false, tree_cached = false, csm_cached = false;
+  bool splats_cached = false, gaps_cached = false, tree_cached = false, csm_cached = false;
   double build_ms = 0;
 };
 

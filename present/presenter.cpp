@@ -522,27 +522,21 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     return glm::pow(glm::vec3(c.r, c.g, c.b) / 255.0f, glm::vec3(2.2f));
   };
   std::vector<std::vector<float>> albedo_rows(scene_.objects.size());  // per object, 3 floats per splat
-  // Per object its splats as drawn: fitted to the mesh surface (quality.surface_clip).
-  std::vector<std::vector<splats::SplatRecord>> fitted(scene_.objects.size());
-  std::vector<std::vector<splats::ClipLine>> corner_clips(scene_.objects.size());
   std::vector<std::vector<splats::NormalField>> normal_fields(scene_.objects.size());
   g.receiver_normals.assign(scene_.objects.size(), {});
   std::vector<std::vector<splats::NormalField>> node_fields(scene_.objects.size());  // the LOD tree's nodes (mesh objects)
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
-    std::vector<splats::SplatRecord>& splats = fitted[i];
-    splats = assets_.back().splats;
+    const ObjectAssets& assets = assets_.back();
+    const std::vector<splats::SplatRecord>& splats = assets.drawn;  // fitted to the mesh surface (quality.surface_clip)
     // Phong splats: each splat's normal field from the mesh's smooth normals. A splat file has no
     // surface but its own discs: its splats are drawn as they are, their fields from their neighbours.
     const float crease_angle = object_quality(scene_.quality, object).crease_angle;
     if (object.mesh.splat_path.empty()) {
-      const splats::Surface surface(assets_.back().mesh);
-      if (scene_.quality.surface_clip > 0)
-        splats::clip_to_surface(surface, splats, scene_.quality.surface_clip * assets_.back().mesh.bounds().diagonal(),
-                                scene_.quality.splat_scale, corner_clips[i]);
-      normal_fields[i] = splats::fit_normal_fields(assets_.back().mesh, surface, splats, corner_clips[i], crease_angle);
-      node_fields[i] = splats::fit_normal_fields(assets_.back().mesh, surface, assets_.back().tree.nodes, {}, crease_angle);
+      const splats::Surface surface(assets.mesh);
+      normal_fields[i] = splats::fit_normal_fields(assets.mesh, surface, splats, assets.second_clips, crease_angle);
+      node_fields[i] = splats::fit_normal_fields(assets.mesh, surface, assets.tree.nodes, {}, crease_angle);
     } else {
       normal_fields[i] = splats::fit_normal_fields_from_splats(splats, crease_angle);
     }
@@ -553,11 +547,11 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
       const splats::NormalField& field = normal_fields[i][j];
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s),
-                 second_clip(corner_clips[i], j), g3(field.du), g3(field.dv));
+                 second_clip(assets.second_clips, j), g3(field.du), g3(field.dv));
       g.receiver_normals[i].push_back(glm::normalize(g3(field.centre)));
     }
   }
-  for (std::size_t i = 0; i < scene_.objects.size(); ++i) g.ao_neighbours.push_back(ao_smoothing_neighbours(fitted[i], g.receiver_normals[i]));
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) g.ao_neighbours.push_back(ao_smoothing_neighbours(assets_[i].drawn, g.receiver_normals[i]));
   if (scene_.floor.enabled) {
     const FloorSpec& f = scene_.floor;
     const float spacing = f.size / static_cast<float>(f.splats_per_side);
@@ -580,7 +574,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const SplatTree& tree = assets_[i].tree;
     Impl::LodRange range{statics.size() / kRow, tree.size(), {}, 0.0f};
-    const auto& splats = fitted[i];
+    const auto& splats = assets_[i].drawn;
     glm::vec3 lo(FLT_MAX), hi(-FLT_MAX);
     for (const auto& s : splats) lo = glm::min(lo, g3(s.center)), hi = glm::max(hi, g3(s.center));
     if (!splats.empty()) range.center = 0.5f * (lo + hi);
@@ -597,7 +591,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
                                                                        : splats::NormalField{s.normal, {}, {}};
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
                  {tree.error_min[e], tree.error_max[e]}, first_clip(s),
-                 source < tree.splat_count ? second_clip(corner_clips[i], source) : glm::vec3(0.0f, 0.0f, FLT_MAX), g3(field.du),
+                 source < tree.splat_count ? second_clip(assets_[i].second_clips, source) : glm::vec3(0.0f, 0.0f, FLT_MAX), g3(field.du),
                  g3(field.dv));
       g.lod_centers.push_back(g3(s.center));
     }

@@ -15,6 +15,7 @@ std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, c
     f.vertices = splat_file ? 0 : a.mesh.vertices.size();
     f.faces = splat_file ? 0 : a.mesh.face_count();
     f.splats = a.splats.size();
+    f.gap_splats = a.gap_splats;
     f.lod_entries = a.tree.size();
     f.csm_maps = a.csm.info.maps;
     f.csm_resolution = a.csm.info.resolution;
@@ -23,7 +24,7 @@ std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, c
     f.csm_segments_per_pixel = pixels > 0 ? static_cast<double>(f.csm_segments) / pixels : 0;
     f.csm_bytes = sizeof(std::uint32_t) * a.csm.offsets.size() + sizeof(float) * a.csm.depth.size() +
                   sizeof(std::uint32_t) * a.csm.end.size();
-    f.splats_cached = a.splats_cached, f.tree_cached = a.tree_cached, f.csm_cached = a.csm_cached;
+    f.splats_cached = a.splats_cached, f.gaps_cached = a.gaps_cached, f.tree_cached = a.tree_cached, f.csm_cached = a.csm_cached;
     f.build_ms = a.build_ms;
     f.key = a.key;
     out.push_back(std::move(f));
@@ -40,6 +41,7 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
                     {"vertices", f.vertices},
                     {"faces", f.faces},
                     {"splats", f.splats},
+                    {"gap_splats", f.gap_splats},
                     {"lod_entries", f.lod_entries},
                     {"csm_maps", f.csm_maps},
                     {"csm_resolution", f.csm_resolution},
@@ -47,6 +49,7 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
                     {"csm_segments_per_pixel", f.csm_segments_per_pixel},
                     {"csm_bytes", f.csm_bytes},
                     {"splats_cached", f.splats_cached},
+                    {"gaps_cached", f.gaps_cached},
                     {"tree_cached", f.tree_cached},
                     {"csm_cached", f.csm_cached},
                     {"build_ms", f.build_ms},

@@ -18,12 +18,13 @@ struct ObjectFigures {
   std::string source;  // "mesh FILE", "procedural SHAPE" or "splat file FILE"
   std::size_t vertices = 0, faces = 0;  // of the mesh; 0 for a splat file (its CSM's discs are not a mesh)
   std::size_t splats = 0;       // the object's splats (LOD off)
+  std::size_t gap_splats = 0;   // of them, added where the splats as drawn left the surface uncovered
   std::size_t lod_entries = 0;  // splats and octree nodes of its LOD tree
   std::uint32_t csm_maps = 0, csm_resolution = 0;
   std::size_t csm_segments = 0;
   double csm_segments_per_pixel = 0;  // segments over maps × resolution² pixels
   std::size_t csm_bytes = 0;          // the CSM in memory: offsets, depths and end indices
-  bool splats_cached = false, tree_cached = false, csm_cached = false;
+  bool splats_cached = false, gaps_cached = false, tree_cached = false, csm_cached = false;
   double build_ms = 0;                // building (or loading) the assets
   std::string key;                    // asset cache key
 };

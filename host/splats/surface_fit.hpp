@@ -31,11 +31,13 @@
 
 namespace splatcl::splats {
 
-// A splat as the checks see it: unit axes, semi-axis lengths, the clip line (offset +inf: none).
+// A splat as the checks see it: unit axes, semi-axis lengths, the clip line (offset +inf: none)
+// and a second one (a corner, clip_to_surface; only the coverage tests read it).
 struct Ellipse {
   DVec3 center, normal, u, v;
   double a = 0, b = 0;
   double clip_x = 0, clip_y = 0, clip_offset = INFINITY;
+  double clip2_x = 0, clip2_y = 0, clip2_offset = INFINITY;
 };
 Ellipse ellipse_of(const SplatRecord& splat);
 // A grown splat, its axes from its frame (so a splat of zero size still has directions).
@@ -108,5 +110,19 @@ struct SurfaceClipStats {
 };
 SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord>& splats, double tolerance, double scale,
                                  std::vector<ClipLine>& second_lines);
+
+// After clip_to_surface: the splats to add so that every point of the surface lies within
+// `tolerance` of a splat (both clip lines) that contains its projection and faces its way: the gap
+// filling above, over the fitted splats. The thesis's splats leave gaps between them (their
+// selection covers the samples, not the surface), and the fit makes more where it shortens or
+// shrinks a splat. Coverage is checked at the splats' own size, so the splat scale k they are
+// drawn at is the overlap that keeps a view at an angle from seeing between two splats at
+// different heights. An added splat is as large as the surface allows with every point of it, as
+// drawn at `scale` (k), certified within `tolerance`; it is unclipped (clip_to_surface then cuts it
+// at a sharp edge) and takes the colour of the nearest same-facing splat's centre (a grey 128 when
+// there is none).
+std::vector<SplatRecord> cover_drawn_gaps(const Surface& surface, const std::vector<SplatRecord>& splats,
+                                          const std::vector<ClipLine>& second_lines, double tolerance, double scale,
+                                          SurfaceFitStats& stats);
 
 }  // namespace splatcl::splats

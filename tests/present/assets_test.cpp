@@ -20,6 +20,8 @@ TEST_F(PresenterTest, AssetsComeFromTheCacheTheSecondTime) {
   { Presenter warm(scene, *runtime_, 32, 32, SPLATCL_TEST_CACHE); }
   Presenter presenter(scene, *runtime_, 32, 32, SPLATCL_TEST_CACHE);
   EXPECT_TRUE(presenter.assets(0).splats_cached);
+  EXPECT_TRUE(presenter.assets(0).gaps_cached);
+  EXPECT_TRUE(presenter.assets(0).tree_cached);
   EXPECT_TRUE(presenter.assets(0).csm_cached);
   EXPECT_GT(presenter.assets(0).splats.size(), 500u);
 }
@@ -37,16 +39,18 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
     std::ofstream(entry.path(), std::ios::trunc) << "not a cache entry";
     ++corrupted;
   }
-  ASSERT_EQ(corrupted, 3u);  // splats, LOD tree, CSM
+  ASSERT_EQ(corrupted, 4u);  // splats, the drawn splats' gap splats, LOD tree, CSM
   {
     Presenter rebuilt(scene, *runtime_, 32, 32, dir.string());
     EXPECT_FALSE(rebuilt.assets(0).splats_cached);
+    EXPECT_FALSE(rebuilt.assets(0).gaps_cached);
     EXPECT_FALSE(rebuilt.assets(0).tree_cached);
     EXPECT_FALSE(rebuilt.assets(0).csm_cached);
     EXPECT_GT(rebuilt.assets(0).splats.size(), 500u);
   }
   Presenter cached(scene, *runtime_, 32, 32, dir.string());
   EXPECT_TRUE(cached.assets(0).splats_cached);
+  EXPECT_TRUE(cached.assets(0).gaps_cached);
   EXPECT_TRUE(cached.assets(0).tree_cached);
   EXPECT_TRUE(cached.assets(0).csm_cached);
   std::filesystem::remove_all(dir);
