@@ -138,6 +138,9 @@ void read_asset_quality(const Reader& r, const json& q, Quality& Q) {
   if (grid * grid != Q.csm_maps)
     r.fail("csm_maps", fmt::format("{} is not a perfect square (the maps lie on a uniform G x G grid, e.g. 1024 or 4096)", Q.csm_maps));
   Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);
+  Q.surface_clip = r.number(q, "surface_clip", Q.surface_clip);
+  if (!(Q.surface_clip >= 0 && Q.surface_clip <= 0.1f))
+    r.fail("surface_clip", fmt::format("must be in [0, 0.1] (a share of the mesh's diagonal; 0 = drawn as built), got {}", Q.surface_clip));
 }
 
 ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
@@ -165,7 +168,8 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
   if (j.contains("quality")) {
     // Only what shapes the object's own assets; the frame's settings stay the scene's.
     const json& q = r.object(j, "quality");
-    r.known_keys(q, fmt::format("objects[{}].quality", index), {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution"});
+    r.known_keys(q, fmt::format("objects[{}].quality", index),
+                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "surface_clip"});
     Quality read;
     read_asset_quality(r, q, read);
     AssetQualityOverrides& over = o.quality;
@@ -175,7 +179,8 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
     if (q.contains("crease_angle")) over.crease_angle = read.crease_angle;
     if (q.contains("csm_maps")) over.csm_maps = read.csm_maps;
     if (q.contains("csm_resolution")) over.csm_resolution = read.csm_resolution;
-    if (!o.mesh.splat_path.empty() && (over.sampling || over.splat_bound || over.eps_diagonal || over.crease_angle))
+    if (q.contains("surface_clip")) over.surface_clip = read.surface_clip;
+    if (!o.mesh.splat_path.empty() && (over.sampling || over.splat_bound || over.eps_diagonal || over.crease_angle || over.surface_clip))
       r.fail("quality", fmt::format("{}: a splat file's splats are used as they are (only csm_maps and csm_resolution apply)", o.name));
   }
   if (!o.mesh.splat_path.empty() && (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")))
@@ -230,6 +235,7 @@ Quality object_quality(const Quality& scene_quality, const ObjectSpec& object) {
   q.crease_angle = over.crease_angle.value_or(q.crease_angle);
   q.csm_maps = over.csm_maps.value_or(q.csm_maps);
   q.csm_resolution = over.csm_resolution.value_or(q.csm_resolution);
+  q.surface_clip = over.surface_clip.value_or(q.surface_clip);
   return q;
 }
 
@@ -333,7 +339,6 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
     Q.ao_bias = r.number(q, "ao_bias", Q.ao_bias);
     Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
-    Q.surface_clip = r.number(q, "surface_clip", Q.surface_clip);
     Q.antialias = r.number(q, "antialias", Q.antialias);
     Q.depth_offset = r.number(q, "depth_offset", Q.depth_offset);
     Q.gaussian = r.positive(q, "gaussian", Q.gaussian);

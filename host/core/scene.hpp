@@ -69,7 +69,7 @@ struct FitTransform {
 // Per-object overrides of the scene's quality settings that shape the cached assets.
 struct AssetQualityOverrides {
   std::optional<std::string> sampling, splat_bound;
-  std::optional<float> eps_diagonal, crease_angle;
+  std::optional<float> eps_diagonal, crease_angle, surface_clip;
   std::optional<std::uint32_t> csm_maps, csm_resolution;
 };
 
@@ -147,8 +147,10 @@ struct Quality {
   float splat_scale = 1.05f;
   // Splats fitted to the mesh as loaded, measured at splat_scale (splats::clip_to_surface): cut by
   // a line where they overhang a sharp edge (two at a corner), their major axis shortened where
-  // they stand off a curved surface, by more than this × the mesh's bounding-box diagonal; 0 =
-  // drawn as in the splat file.
+  // they stand off a curved surface, by more than this × the mesh's bounding-box diagonal, and the
+  // gaps that leaves covered by more splats (splats::cover_drawn_gaps); 0 = drawn as built. How
+  // far a splat may stand off the surface: at the silhouette of a close-up it shows as a fin of up
+  // to this much (the shipped scene, at a 4× finer ε, uses 0.001). Per object too.
   float surface_clip = 0.0025f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse

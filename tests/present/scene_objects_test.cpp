@@ -94,6 +94,9 @@ TEST(SceneObjects, FitAndObjectQualityAreCheckedLikeEveryOtherKey) {
   refused("{" + box + R"(, "quality": {"csm_maps": 1000}})", "'csm_maps' 1000 is not a perfect square");
   refused("{" + box + R"(, "quality": {"crease_angle": 0}})", "'crease_angle' must be positive");
   refused("{" + box + R"(, "quality": {"crease_angle": 200}})", "'crease_angle' must be in (0, 180] degrees");
+  refused("{" + box + R"(, "quality": {"surface_clip": -0.001}})", "'surface_clip' must be in [0, 0.1]");
+  refused("{" + box + R"(, "quality": {"surface_clip": 0.5}})", "'surface_clip' must be in [0, 0.1]");
+  refused(R"({"splats": "a.ply", "quality": {"surface_clip": 0.001}})", "a splat file's splats are used as they are");
   refused(R"({"splats": "a.ply", "quality": {"crease_angle": 30}})", "a splat file's splats are used as they are");
   refused("{" + box + R"(, "splats": "a.ply"})", "give either \"mesh\"");
   refused(R"({"name": "x"})", "'mesh' is missing in x");
@@ -107,8 +110,8 @@ TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
       {"name": "a", "mesh": {"procedural": "sphere", "segments": 12, "rings": 6}},
       {"name": "b", "mesh": {"procedural": "sphere", "segments": 12, "rings": 6},
        "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004, "splat_bound": "thesis", "sampling": "grid:1",
-                   "crease_angle": 30}}],
-      "quality": {"eps_diagonal": 0.002, "csm_maps": 1024, "csm_resolution": 16, "crease_angle": 75}})",
+                   "crease_angle": 30, "surface_clip": 0.001}}],
+      "quality": {"eps_diagonal": 0.002, "csm_maps": 1024, "csm_resolution": 16, "crease_angle": 75, "surface_clip": 0.003}})",
                                   "s.json", ".");
   const Quality a = object_quality(scene.quality, scene.objects[0]), b = object_quality(scene.quality, scene.objects[1]);
   EXPECT_EQ(a.csm_maps, 1024u);
@@ -117,12 +120,14 @@ TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
   EXPECT_EQ(a.splat_bound, "two-sided");
   EXPECT_EQ(a.sampling, "auto");
   EXPECT_FLOAT_EQ(a.crease_angle, 75.0f);
+  EXPECT_FLOAT_EQ(a.surface_clip, 0.003f);
   EXPECT_EQ(b.csm_maps, 256u);
   EXPECT_EQ(b.csm_resolution, 32u);
   EXPECT_FLOAT_EQ(b.eps_diagonal, 0.004f);
   EXPECT_EQ(b.splat_bound, "thesis");
   EXPECT_EQ(b.sampling, "grid:1");
   EXPECT_FLOAT_EQ(b.crease_angle, 30.0f);
+  EXPECT_FLOAT_EQ(b.surface_clip, 0.001f);
   EXPECT_EQ(b.shading, scene.quality.shading);  // the frame's settings stay the scene's
 }
 
