@@ -116,7 +116,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     report("loading the mesh");
     assets.mesh = make_fitted_mesh(object, scene.directory);
     // Colour sources enter the key only when used, so grey objects keep their cache entries.
-    splat_parameters = fmt::format("splats v1 sampling={} eps_diagonal={:.9g}", q.sampling, q.eps_diagonal);
+    splat_parameters = fmt::format("splats v{} sampling={} eps_diagonal={:.9g}", splats::kSplatMethodVersion, q.sampling, q.eps_diagonal);
     if (q.splat_bound != "thesis") splat_parameters += " bound=" + q.splat_bound;
     if (q.crease_angle < 180) splat_parameters += fmt::format(" crease={:.9g}", q.crease_angle);
     if (object.splat_colors) {

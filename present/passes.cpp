@@ -49,9 +49,11 @@ void VisibilityPass::run(const GBuffer& gbuffer, const SplatFrame& frame, const 
                          float depth_offset) const {
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.visibility_framebuffer());
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glEnable(GL_CLIP_DISTANCE0);  // the un-pushed near plane (splat.vert.glsl)
   begin(frame);
   glUniform1f(depth_offset_, depth_offset);
   draw(draws, false);
+  glDisable(GL_CLIP_DISTANCE0);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
@@ -68,10 +70,12 @@ void AccumulationPass::run(const GBuffer& gbuffer, const SplatFrame& frame, cons
   glDepthFunc(GL_LEQUAL);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
+  glEnable(GL_CLIP_DISTANCE0);  // the near plane as the visibility pass cuts it (splat.vert.glsl)
   begin(frame);
   glUniform1f(beta_, beta);
   glUniform1i(footprints_, footprints ? 1 : 0);
   draw(draws, false);
+  glDisable(GL_CLIP_DISTANCE0);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
 }

@@ -28,6 +28,7 @@
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "runtime/runtime.hpp"
+#include "splats/pipeline.hpp"
 #include "splats/pipeline_options.hpp"
 #include "splats/splat_file.hpp"
 
@@ -127,10 +128,14 @@ std::optional<OutputResult> reusable(const std::optional<nlohmann::json>& record
 
 // An output's parameters checksum: of its parameters, with a texture image named by the checksum of
 // its bytes rather than its path, as the mesh is (editing the image in place rebuilds the splats;
-// moving the whole tree does not), and of the splat file's format version (a newer splatcl rebuilds
-// splat files its readers refuse rather than reusing them).
+// moving the whole tree does not), of the splat file's format version (a newer splatcl rebuilds
+// splat files its readers refuse rather than reusing them) and of the splat method's version (one
+// whose method makes other splats rebuilds them).
 std::string params_checksum(const std::string& kind, nlohmann::json params) {
-  if (kind == "splats") params["splat_file_version"] = splats::kSplatFileVersion;
+  if (kind == "splats") {
+    params["splat_file_version"] = splats::kSplatFileVersion;
+    params["splat_method_version"] = splats::kSplatMethodVersion;
+  }
   const auto texture = params.find("texture");
   if (texture != params.end() && texture->is_string() && !texture->get<std::string>().empty()) {
     const std::string path = texture->get<std::string>();

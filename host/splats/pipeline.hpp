@@ -19,6 +19,11 @@
 
 namespace splatcl::splats {
 
+// The splat method's version: raised when generate_splats makes other splats from the same mesh
+// and options, so that cached splats (the presenter's asset cache, `splatcl batch`'s reuse) are
+// rebuilt rather than reused. 2: the gap filling's check-and-fill rounds went from 6 to 10.
+inline constexpr int kSplatMethodVersion = 2;
+
 struct PipelineOptions {
   SamplingOptions sampling;
   unsigned k = 10;

@@ -4,7 +4,7 @@
 // The ellipse coordinate times the visibility pass's w scale (splat_local.glsl).
 out vec3 v_local_scaled;
 out vec3 v_view_pos;
-// The clip lines in ellipse coordinates: a pixel is kept where dot(v_local, xy) <= z for both.
+// The clip lines in ellipse coordinates: a pixel is kept where dot(coordinate, xy) <= z for both.
 flat out vec3 v_clip, v_clip2;
 // The Phong splat's shading normal (world space, not normalised): linear in the ellipse coordinates,
 // so the rasteriser's perspective-correct interpolation over the splat's plane is exact.
@@ -16,12 +16,19 @@ void main() {
   // Culled splats (back-facing, or outside their LOD interval) are moved outside the clip volume.
   // The splat passes cost per primitive on llvmpipe more than per pixel: one triangle circumscribing
   // the ellipse (inradius 1 in ellipse coordinates) is cheaper than a quad of two.
-  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) { gl_Position = vec4(0.0, 0.0, 2.0, 1.0); v_local_scaled = vec3(2.0, 2.0, 1.0); v_view_pos = vec3(0.0); v_shading_normal = vec3(0.0); return; }
+  if (!splat_head(uint(gl_VertexID) / 3u, c, n, m)) {
+    gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+    gl_ClipDistance[0] = -1.0;
+    v_local_scaled = vec3(2.0, 2.0, 1.0); v_view_pos = vec3(0.0); v_shading_normal = vec3(0.0);
+    return;
+  }
   // The clip line is where the surface ends (a sharp edge), so it stays put when k scales the splat.
   v_clip = vec3(a_clip.x * length(a_major), a_clip.y * length(a_minor), a_clip.z / u_scale);
   v_clip2 = vec3(a_clip2.x * length(a_major), a_clip2.y * length(a_minor), a_clip2.z / u_scale);
   int j = gl_VertexID % 3;
-  vec2 corner = j == 0 ? vec2(0.0, 2.0) : vec2(j == 1 ? -1.7320508 : 1.7320508, -1.0);
+  // 1 % beyond the triangle circumscribing the unit disk, so the ellipse does not touch its edges,
+  // where the two passes' rasterisation of the pushed and un-pushed corners could round apart.
+  vec2 corner = 1.01 * (j == 0 ? vec2(0.0, 2.0) : vec2(j == 1 ? -1.7320508 : 1.7320508, -1.0));
   // The triangle lies in the splat's plane, so the rasterised depth is the ray-cast depth of that plane
   // at every pixel (perspective correct), and the interpolated corner is the pixel's ellipse coordinate.
   vec3 p = c + u_scale * (corner.x * (m * a_major) + corner.y * (m * a_minor));
@@ -32,10 +39,18 @@ void main() {
   v_shading_normal = m * (static3(o + SPLAT_NORMAL) + u_scale * (corner.x * static3(o + SPLAT_NORMAL_DU) + corner.y * static3(o + SPLAT_NORMAL_DV)));
 #endif
   v_view_pos = (u_view * vec4(p, 1.0)).xyz;
-  // The visibility pass pushes each corner back by ε along its view ray. Done per vertex rather than
+  // The visibility pass pushes each corner back by ε along its view ray (a perspective projection:
+  // w is proportional to the view z, which splat_local.glsl's argument needs). Done per vertex rather than
   // per pixel, the fragment shader writes no depth and llvmpipe keeps its early depth test; across
   // a splat the offset differs from ε by a second-order amount in the splat's angular size.
   float push = 1.0 + u_depth_offset / length(v_view_pos);
   gl_Position = u_proj * vec4(v_view_pos * push, 1.0);
   v_local_scaled = vec3(corner, 1.0) * push;
+  // The near plane where the un-pushed splat crosses it, in both passes (GL_CLIP_DISTANCE0): the
+  // pushed triangle lies ε farther and its own near clip kept pixels pass 2 clipped, a black band
+  // where the near plane cuts a surface. The distance z + w of the un-pushed clip position, times
+  // push, is zero along the pushed triangle's edges where the un-pushed one's is (the same argument
+  // as for v_local_scaled: x, y and w scale by push, the screen position stays).
+  vec4 unpushed = u_proj * vec4(v_view_pos, 1.0);
+  gl_ClipDistance[0] = push * (unpushed.z + unpushed.w);
 }
