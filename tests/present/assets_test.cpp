@@ -2,6 +2,7 @@
 // method chosen by quality.splat_bound under its own cache key.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -53,6 +54,53 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
   EXPECT_TRUE(cached.assets(0).gaps_cached);
   EXPECT_TRUE(cached.assets(0).tree_cached);
   EXPECT_TRUE(cached.assets(0).csm_cached);
+  std::filesystem::remove_all(dir);
+}
+
+// The drawn splats' gap splats and the LOD tree over them are cached under the parameters that
+// shape them: the same fit again reads both; another surface_clip or splat scale k builds them
+// anew (other gap splats); surface_clip 0 draws the splats as built, with no gap splats and no
+// clip lines.
+TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "splatcl-present-gap-cache";
+  std::filesystem::remove_all(dir);
+  Scene scene = test_scene();
+  scene.objects.resize(1);  // the torus, with the shipped thesis splats
+  const auto load = [&](float surface_clip, float k) {
+    scene.quality.surface_clip = surface_clip, scene.quality.splat_scale = k;
+    return load_object_assets(scene.objects[0], scene, dir.string(), *runtime_);
+  };
+  const ObjectAssets first = load(0.001f, 1.05f);
+  EXPECT_FALSE(first.gaps_cached);
+  EXPECT_GT(first.gap_splats, 0u);
+  ASSERT_EQ(first.drawn.size(), first.splats.size());
+  ASSERT_EQ(first.second_clips.size(), first.drawn.size());
+  const ObjectAssets again = load(0.001f, 1.05f);
+  EXPECT_TRUE(again.splats_cached);
+  EXPECT_TRUE(again.gaps_cached);
+  EXPECT_TRUE(again.tree_cached);
+  EXPECT_EQ(again.gap_splats, first.gap_splats);
+  for (std::size_t i = 0; i < first.drawn.size(); ++i) {
+    ASSERT_EQ(again.drawn[i].center, first.drawn[i].center) << i;
+    ASSERT_EQ(again.drawn[i].major, first.drawn[i].major) << i;
+    ASSERT_EQ(again.drawn[i].clip_offset, first.drawn[i].clip_offset) << i;
+  }
+  const ObjectAssets looser = load(0.0025f, 1.05f);
+  EXPECT_TRUE(looser.splats_cached);
+  EXPECT_FALSE(looser.gaps_cached);
+  EXPECT_FALSE(looser.tree_cached);
+  EXPECT_LT(looser.gap_splats, first.gap_splats);  // a looser fit shortens fewer splats
+  const ObjectAssets larger_k = load(0.001f, 1.2f);
+  EXPECT_FALSE(larger_k.gaps_cached);
+  EXPECT_NE(larger_k.gap_splats, first.gap_splats);
+  const ObjectAssets as_built = load(0.0f, 1.05f);
+  EXPECT_EQ(as_built.gap_splats, 0u);
+  EXPECT_FALSE(as_built.gaps_cached);
+  ASSERT_EQ(as_built.drawn.size(), as_built.splats.size());
+  for (std::size_t i = 0; i < as_built.drawn.size(); ++i) {
+    ASSERT_EQ(as_built.drawn[i].major, as_built.splats[i].major) << i;
+    ASSERT_TRUE(std::isinf(as_built.second_clips[i].offset)) << i;
+  }
   std::filesystem::remove_all(dir);
 }
 
