@@ -524,7 +524,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   std::vector<std::vector<float>> albedo_rows(scene_.objects.size());  // per object, 3 floats per splat
   std::vector<std::vector<splats::NormalField>> normal_fields(scene_.objects.size());
   g.receiver_normals.assign(scene_.objects.size(), {});
-  std::vector<std::vector<splats::NormalField>> node_fields(scene_.objects.size());  // the LOD tree's nodes (mesh objects)
+  std::vector<std::vector<splats::NormalField>> node_fields(scene_.objects.size());  // the LOD tree's nodes
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
@@ -539,6 +539,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       node_fields[i] = splats::fit_normal_fields(assets.mesh, surface, assets.tree.nodes, {}, crease_angle);
     } else {
       normal_fields[i] = splats::fit_normal_fields_from_splats(splats, crease_angle);
+      node_fields[i] = splats::fit_normal_fields_from_splats(assets.tree.nodes, splats, crease_angle);
     }
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
     for (std::size_t j = 0; j < splats.size(); ++j) {
@@ -584,11 +585,8 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     for (std::size_t e = 0; e < tree.size(); ++e) {
       const std::uint32_t source = tree.source[e];
       const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
-      // A splat file's tree nodes are flat splats.
       const std::size_t node = source - tree.splat_count;
-      const splats::NormalField field = source < tree.splat_count ? normal_fields[i][source]
-                                        : node < node_fields[i].size() ? node_fields[i][node]
-                                                                       : splats::NormalField{s.normal, {}, {}};
+      const splats::NormalField field = source < tree.splat_count ? normal_fields[i][source] : node_fields[i][node];
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
                  {tree.error_min[e], tree.error_max[e]}, first_clip(s),
                  source < tree.splat_count ? second_clip(assets_[i].second_clips, source) : glm::vec3(0.0f, 0.0f, FLT_MAX), g3(field.du),

@@ -1,6 +1,8 @@
 #include "splats/normal_field.hpp"
 
+#include <algorithm>
 #include <array>
+#include <span>
 #include <cmath>
 #include <numbers>
 
@@ -21,6 +23,8 @@ constexpr std::size_t kMinPoints = 6;
 constexpr unsigned kSplatNeighbours = 12;
 constexpr double kSplatReach = 2.0;
 constexpr std::size_t kMinSplatPoints = 4;
+// A larger splat (an LOD tree node) over many splats: its field from this many nearest of them.
+constexpr std::size_t kTargetNeighbours = 64;
 
 std::array<std::array<double, 2>, kPoints> fit_points() {
   std::array<std::array<double, 2>, kPoints> points{};
@@ -141,11 +145,43 @@ std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surf
   return fields;
 }
 
-std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRecord>& splats, float crease_degrees,
-                                                       NormalFieldStats* stats) {
-  const double cos_crease = std::cos(static_cast<double>(crease_degrees) * std::numbers::pi / 180.0);
+namespace {
+
+// The field of splat s from the normals of `neighbours` (nearest first, s itself left out), at their
+// centres' ellipse coordinates; false (s stays flat) with too few of them on its side.
+template <class Neighbours>
+bool fit_from_neighbours(const SplatRecord& s, const Neighbours& neighbours, double cos_crease, NormalField& field) {
+  const DVec3 c(s.center), major(s.major), minor(s.minor), n = normalized(DVec3(s.normal));
+  const double la = length(major), lb = length(minor);
+  if (!(la > 0 && lb > 0) || !(length(n) > 0)) return false;
+  const DVec3 ua = (1.0 / la) * major, ub = (1.0 / lb) * minor;
+  FieldFit fit;
+  fit.add(0.0, 0.0, n);
+  for (const SplatRecord* other : neighbours) {
+    const DVec3 d = DVec3(other->center) - c;
+    if (length(d) > kSplatReach * la) break;  // nearest first
+    DVec3 normal = normalized(DVec3(other->normal));
+    if (dot(normal, n) < 0) normal = -1.0 * normal;
+    if (dot(normal, n) < cos_crease || std::fabs(dot(d, n)) > la) continue;  // across a crease, or another sheet
+    fit.add(dot(d, ua) / la, dot(d, ub) / lb, normal);
+  }
+  return fit.points() >= kMinSplatPoints && fit.solve(n, cos_crease, field);
+}
+
+double cosine_of(float degrees) { return std::cos(static_cast<double>(degrees) * std::numbers::pi / 180.0); }
+
+std::vector<NormalField> flat_fields(const std::vector<SplatRecord>& splats) {
   std::vector<NormalField> fields(splats.size());
   for (std::size_t i = 0; i < splats.size(); ++i) fields[i] = {splats[i].normal, {}, {}};
+  return fields;
+}
+
+}  // namespace
+
+std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRecord>& splats, float crease_degrees,
+                                                       NormalFieldStats* stats) {
+  const double cos_crease = cosine_of(crease_degrees);
+  std::vector<NormalField> fields = flat_fields(splats);
   std::vector<unsigned char> fitted(splats.size(), 0);
   if (splats.size() < 2) {
     count(fitted, stats);
@@ -155,23 +191,38 @@ std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRe
   for (std::size_t i = 0; i < splats.size(); ++i) centres[i] = to_vec4(splats[i].center);
   const Neighborhoods near = find_neighbors(centres, kSplatNeighbours);
   parallel_for(splats.size(), 256, [&](std::size_t i, std::size_t) {
-    const SplatRecord& s = splats[i];
-    const DVec3 c(s.center), major(s.major), minor(s.minor), n = normalized(DVec3(s.normal));
-    const double la = length(major), lb = length(minor);
-    if (!(la > 0 && lb > 0) || !(length(n) > 0)) return;
-    const DVec3 ua = (1.0 / la) * major, ub = (1.0 / lb) * minor;
-    FieldFit fit;
-    fit.add(0.0, 0.0, n);
-    for (std::uint32_t k = 0; k < near.k; ++k) {
-      const SplatRecord& other = splats[near.row(i)[k]];
-      const DVec3 d = DVec3(other.center) - c;
-      if (length(d) > kSplatReach * la) break;  // rows are sorted by distance
-      DVec3 normal = normalized(DVec3(other.normal));
-      if (dot(normal, n) < 0) normal = -1.0 * normal;
-      if (dot(normal, n) < cos_crease || std::fabs(dot(d, n)) > la) continue;  // across a crease, or another sheet
-      fit.add(dot(d, ua) / la, dot(d, ub) / lb, normal);
-    }
-    if (fit.points() >= kMinSplatPoints && fit.solve(n, cos_crease, fields[i])) fitted[i] = 1;
+    std::array<const SplatRecord*, kSplatNeighbours> neighbours{};
+    for (std::uint32_t k = 0; k < near.k; ++k) neighbours[k] = &splats[near.row(i)[k]];  // rows are sorted by distance
+    const std::span<const SplatRecord* const> row(neighbours.data(), near.k);
+    fitted[i] = fit_from_neighbours(splats[i], row, cos_crease, fields[i]);
+  });
+  count(fitted, stats);
+  return fields;
+}
+
+std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRecord>& targets, const std::vector<SplatRecord>& splats,
+                                                       float crease_degrees, NormalFieldStats* stats) {
+  const double cos_crease = cosine_of(crease_degrees);
+  std::vector<NormalField> fields = flat_fields(targets);
+  std::vector<unsigned char> fitted(targets.size(), 0);
+  std::vector<BoxTree::Box> boxes(splats.size());
+  for (std::size_t j = 0; j < splats.size(); ++j) boxes[j].add(DVec3(splats[j].center));
+  const BoxTree tree(boxes);
+  parallel_for(targets.size(), 16, [&](std::size_t i, std::size_t) {
+    const SplatRecord& t = targets[i];
+    // The splats whose centres lie within the reach, the nearest kTargetNeighbours of them.
+    std::vector<std::pair<double, std::uint32_t>> found;
+    double reach = kSplatReach * length(DVec3(t.major));
+    const DVec3 c(t.center);
+    tree.visit(c, reach, [&](std::uint32_t j, double&) {
+      found.push_back({length(DVec3(splats[j].center) - c), j});
+      return false;
+    });
+    const std::size_t keep = std::min(found.size(), kTargetNeighbours);
+    std::partial_sort(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(keep), found.end());
+    std::vector<const SplatRecord*> neighbours(keep);
+    for (std::size_t k = 0; k < keep; ++k) neighbours[k] = &splats[found[k].second];
+    fitted[i] = fit_from_neighbours(t, neighbours, cos_crease, fields[i]);
   });
   count(fitted, stats);
   return fields;

@@ -42,4 +42,9 @@ std::vector<NormalField> fit_normal_fields(const Mesh& mesh, const Surface& surf
 std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRecord>& splats, float crease_degrees,
                                                        NormalFieldStats* stats = nullptr);
 
+// The same for other splats over them (the LOD tree's nodes of a splat file): each target's field
+// from the normals of the nearest 64 splats whose centres lie within two of its major semi-axes.
+std::vector<NormalField> fit_normal_fields_from_splats(const std::vector<SplatRecord>& targets, const std::vector<SplatRecord>& splats,
+                                                       float crease_degrees, NormalFieldStats* stats = nullptr);
+
 }  // namespace splatcl::splats

@@ -214,5 +214,57 @@ TEST(NormalField, FromNeighbouringSplatsFollowsTheSphereAndKeepsEdges) {
   EXPECT_EQ(pair[0].centre, sphere[0].normal);
 }
 
+// Larger splats over a splat file's splats (its LOD tree's nodes): 40 tangent discs of radius 0.35
+// on the unit sphere, fitted from 2,000 splats with the true normals, follow the sphere across
+// them (the flat disc is off by up to its angular radius, ~20°, at its rim); over a cube's top face
+// a node stays flat.
+TEST(NormalField, NodesOverSplatsFollowTheSplats) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> gauss;
+  const auto tangent_splat = [](DVec3 d, double a, double b) {
+    const DVec3 u = any_perpendicular(d), v = cross(d, u);
+    SplatRecord s;
+    s.center = to_float(d), s.normal = to_float(d), s.major = to_float(a * u), s.minor = to_float(b * v);
+    return s;
+  };
+  std::vector<SplatRecord> sphere, nodes;
+  for (int i = 0; i < 2000; ++i) sphere.push_back(tangent_splat(normalized(DVec3(gauss(rng), gauss(rng), gauss(rng))), 0.08, 0.06));
+  for (int i = 0; i < 40; ++i) nodes.push_back(tangent_splat(normalized(DVec3(gauss(rng), gauss(rng), gauss(rng))), 0.35, 0.3));
+  NormalFieldStats stats;
+  const std::vector<NormalField> fields = fit_normal_fields_from_splats(nodes, sphere, 60.0f, &stats);
+  ASSERT_EQ(fields.size(), nodes.size());
+  EXPECT_EQ(stats.fitted, nodes.size());
+  double field_sum = 0, flat_sum = 0;
+  std::size_t points = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (const auto& [x, y] : {std::pair{0.9, 0.0}, {-0.9, 0.0}, {0.0, 0.9}, {0.0, -0.9}, {0.6, 0.6}}) {
+      const DVec3 p = DVec3(nodes[i].center) + x * DVec3(nodes[i].major) + y * DVec3(nodes[i].minor);
+      field_sum += angle_degrees(field_normal(fields[i], x, y), normalized(p));
+      flat_sum += angle_degrees(DVec3(nodes[i].normal), normalized(p));
+      ++points;
+    }
+  std::printf("nodes over splats on the unit sphere: mean angle to the true normal %.2f° (flat %.2f°)\n",
+              field_sum / static_cast<double>(points), flat_sum / static_cast<double>(points));
+  EXPECT_LT(field_sum, 0.2 * flat_sum);
+
+  std::vector<SplatRecord> top;  // a grid on a cube's top face, and a node over it
+  for (int a = 0; a < 10; ++a)
+    for (int b = 0; b < 10; ++b) {
+      SplatRecord s;
+      s.center = {0.05f + 0.1f * static_cast<float>(a), 0.05f + 0.1f * static_cast<float>(b), 1.0f};
+      s.normal = {0, 0, 1}, s.major = {0.07f, 0, 0}, s.minor = {0, 0.07f, 0};
+      top.push_back(s);
+    }
+  SplatRecord node;
+  node.center = {0.5f, 0.5f, 1.0f}, node.normal = {0, 0, 1}, node.major = {0.4f, 0, 0}, node.minor = {0, 0.4f, 0};
+  const NormalField flat = fit_normal_fields_from_splats({node}, top, 60.0f)[0];
+  for (const auto& [x, y] : {std::pair{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}, {-1.0, -1.0}})
+    EXPECT_LT(angle_degrees(field_normal(flat, x, y), DVec3(0, 0, 1)), 1e-3);
+  EXPECT_TRUE(fit_normal_fields_from_splats({}, top, 60.0f).empty());
+  NormalFieldStats none;
+  EXPECT_EQ(fit_normal_fields_from_splats({node}, {}, 60.0f, &none)[0].centre, node.normal);
+  EXPECT_EQ(none.flat, 1u);
+}
+
 }  // namespace
 }  // namespace splatcl::splats
