@@ -597,12 +597,23 @@ std::vector<SplatRecord> cover_drawn_gaps(const Surface& surface, const std::vec
   }
   for (const SurfaceTriangle& t : surface.triangles()) bounds.add(t.a), bounds.add(t.b), bounds.add(t.c);
   const BoxTree centre_tree(centres);
+  // The nearest same-facing splat within a few gap-splat sizes, else the nearest of any facing (a
+  // search that only lowers its radius on a same-facing one could walk every splat of a mesh whose
+  // splats all face away from the gap).
   const auto nearest_colour = [&](const Ellipse& e, std::uint32_t) {
     Rgba8 colour{128, 128, 128, 255};
-    double radius = INFINITY;
+    double radius = 8 * std::max(e.a, e.b) + 8 * tolerance;
+    bool found = false;
     centre_tree.visit(e.center, radius, [&](std::uint32_t j, double& r) {
       const double d = length(fitted[j].center - e.center);
-      if (d < r && dot(fitted[j].normal, e.normal) > 0) r = d, colour = splats[j].color;
+      if (d < r && dot(fitted[j].normal, e.normal) > 0) r = d, colour = splats[j].color, found = true;
+      return false;
+    });
+    if (found) return colour;
+    radius = INFINITY;
+    centre_tree.visit(e.center, radius, [&](std::uint32_t j, double& r) {
+      const double d = length(fitted[j].center - e.center);
+      if (d < r) r = d, colour = splats[j].color;
       return false;
     });
     return colour;

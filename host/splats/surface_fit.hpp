@@ -119,8 +119,8 @@ SurfaceClipStats clip_to_surface(const Surface& surface, std::vector<SplatRecord
 // drawn at is the overlap that keeps a view at an angle from seeing between two splats at
 // different heights. An added splat is as large as the surface allows with every point of it, as
 // drawn at `scale` (k), certified within `tolerance`; it is unclipped (clip_to_surface then cuts it
-// at a sharp edge) and takes the colour of the nearest same-facing splat's centre (a grey 128 when
-// there is none).
+// at a sharp edge) and takes the colour of the nearest same-facing splat's centre within 8 of its
+// sizes (plus 8 × the tolerance), else of the nearest splat (a grey 128 when there is none).
 std::vector<SplatRecord> cover_drawn_gaps(const Surface& surface, const std::vector<SplatRecord>& splats,
                                           const std::vector<ClipLine>& second_lines, double tolerance, double scale,
                                           SurfaceFitStats& stats);

@@ -192,5 +192,36 @@ TEST(DrawnGaps, GapSplatsCoverTheSurfaceAsDrawn) {
   }
 }
 
+// A gap splat takes the colour of the nearest same-facing splat nearby, else of the nearest one:
+// on a thin shell whose top sheet alone carries (red) splats, the gap splats on its top take the
+// top's colour and those on the bottom sheet, facing down, with no same-facing splat anywhere, the
+// red of the splats just above them rather than a grey.
+TEST(DrawnGaps, GapSplatsTakeTheNearestSplatsColour) {
+  const Mesh mesh = thin_shell_mesh(0.01f);
+  const Surface surface(mesh);
+  std::vector<SplatRecord> top;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      SplatRecord s;
+      s.center = {0.125f + 0.25f * static_cast<float>(a), 0.125f + 0.25f * static_cast<float>(b), 0.01f};
+      s.normal = {0, 0, 1}, s.major = {0.1f, 0, 0}, s.minor = {0, 0.1f, 0};  // gaps between them
+      s.color = {200, 10, 10, 255};
+      top.push_back(s);
+    }
+  SurfaceFitStats stats;
+  const std::vector<SplatRecord> gaps = cover_drawn_gaps(surface, top, {}, 0.002, 1.05, stats);
+  EXPECT_EQ(stats.uncovered_cells, 0u);
+  std::size_t up = 0, down = 0;
+  for (const SplatRecord& g : gaps) {
+    if (g.normal.z > 0.9f) ++up;
+    if (g.normal.z < -0.9f) ++down;
+    if (std::fabs(g.normal.z) > 0.9f) {
+      EXPECT_EQ(g.color, (Rgba8{200, 10, 10, 255}));
+    }
+  }
+  EXPECT_GT(up, 0u);
+  EXPECT_GT(down, 0u);
+}
+
 }  // namespace
 }  // namespace splatcl::splats
