@@ -24,6 +24,20 @@ std::string_view bytes_of(const std::vector<T>& values) {
   return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)};
 }
 
+// Reads a cache entry with `read` when the file exists; false when it does not or cannot be read
+// (truncated, corrupted, written by an older version): the caller rebuilds and overwrites it
+// rather than failing the render.
+template <class Read>
+bool read_cached(const std::string& path, const Read& read) {
+  if (!std::filesystem::exists(path)) return false;
+  try {
+    read();
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
 }  // namespace
 
 std::string default_cache_dir() {
@@ -147,15 +161,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   const std::string tree_path = fmt::format("{}/{}.spt", cache_dir, asset_key(assets.mesh, tree_parameters));
   const std::string gap_path = fmt::format("{}/{}.gaps.ply", cache_dir, asset_key(assets.mesh, gap_parameters));
 
-  // A cache entry that cannot be read (truncated, corrupted, written by an older version) is
-  // rebuilt and overwritten rather than failing the render.
-  if (!splat_file && std::filesystem::exists(splat_path)) {
-    try {
-      assets.splats = splats::read_splat_file(splat_path).splats;
-      assets.splats_cached = true;
-    } catch (const Error&) {
-    }
-  }
+  if (!splat_file) assets.splats_cached = read_cached(splat_path, [&] { assets.splats = splats::read_splat_file(splat_path).splats; });
   if (!assets.splats_cached) {
     const Stopwatch step;
     report("splats");
@@ -181,18 +187,13 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   }
   assets.drawn = assets.splats;
   assets.second_clips.assign(assets.drawn.size(), splats::ClipLine{});
+  if (!splat_file) assets.surface = std::make_shared<const splats::Surface>(assets.mesh);
   if (fit_drawn) {
-    const splats::Surface surface(assets.mesh);
+    const splats::Surface& surface = *assets.surface;
     const double tolerance = q.surface_clip * assets.mesh.bounds().diagonal();
     splats::clip_to_surface(surface, assets.drawn, tolerance, q.splat_scale, assets.second_clips);
     std::vector<splats::SplatRecord> gaps;
-    if (assets.splats_cached && std::filesystem::exists(gap_path)) {
-      try {
-        gaps = splats::read_splat_file(gap_path).splats;
-        assets.gaps_cached = true;
-      } catch (const Error&) {
-      }
-    }
+    if (assets.splats_cached) assets.gaps_cached = read_cached(gap_path, [&] { gaps = splats::read_splat_file(gap_path).splats; });
     if (!assets.gaps_cached) {
       const Stopwatch step;
       report("gap splats of the splats as drawn");
@@ -215,13 +216,9 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     assets.drawn.insert(assets.drawn.end(), gaps.begin(), gaps.end());
     assets.second_clips.insert(assets.second_clips.end(), gap_corners.begin(), gap_corners.end());
   }
-  if (assets.splats_cached && (!fit_drawn || assets.gaps_cached) && std::filesystem::exists(tree_path)) {
-    try {
-      assets.tree = read_splat_tree(tree_path, static_cast<std::uint32_t>(assets.splats.size()));
-      assets.tree_cached = true;
-    } catch (const Error&) {
-    }
-  }
+  if (assets.splats_cached && (!fit_drawn || assets.gaps_cached))
+    assets.tree_cached =
+        read_cached(tree_path, [&] { assets.tree = read_splat_tree(tree_path, static_cast<std::uint32_t>(assets.splats.size())); });
   if (!assets.tree_cached) {
     const Stopwatch step;
     report("LOD tree");
@@ -229,13 +226,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     write_splat_tree(tree_path, assets.tree);
     report(fmt::format("LOD tree of {} splats in {}", assets.splats.size(), seconds(step.elapsed_ms())), true);
   }
-  if (std::filesystem::exists(csm_path)) {
-    try {
-      assets.csm = csm::read_csm(csm_path);
-      assets.csm_cached = true;
-    } catch (const Error&) {
-    }
-  }
+  assets.csm_cached = read_cached(csm_path, [&] { assets.csm = csm::read_csm(csm_path); });
   if (!assets.csm_cached) {
     const Stopwatch step;
     report("coherent shadow map");

@@ -5,6 +5,7 @@
 // mesh content (vertices and faces) and of every parameter that shapes the result, and written
 // atomically by the splat and CSM writers, so a stale or half-written entry is never read.
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,9 @@ struct ObjectAssets {
   std::vector<splats::SplatRecord> drawn;
   std::vector<splats::ClipLine> second_clips;  // one per drawn splat (offset +inf: none)
   std::size_t gap_splats = 0;                  // the last ones of `splats` and `drawn`
+  // The mesh as the fit and the Phong splats' normal fields query it (a mesh object; null for a
+  // splat file).
+  std::shared_ptr<const splats::Surface> surface;
   SplatTree tree;  // level-of-detail hierarchy over `splats`
   csm::Csm csm;
   std::string key;  // cache key (hex)

@@ -534,7 +534,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     // surface but its own discs: its splats are drawn as they are, their fields from their neighbours.
     const float crease_angle = object_quality(scene_.quality, object).crease_angle;
     if (object.mesh.splat_path.empty()) {
-      const splats::Surface surface(assets.mesh);
+      const splats::Surface& surface = *assets.surface;
       normal_fields[i] = splats::fit_normal_fields(assets.mesh, surface, splats, assets.second_clips, crease_angle);
       node_fields[i] = splats::fit_normal_fields(assets.mesh, surface, assets.tree.nodes, {}, crease_angle);
     } else {
@@ -689,7 +689,7 @@ glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
       return {-0.5f * f.size + (static_cast<float>(local / f.splats_per_side) + 0.5f) * spacing, f.y,
               -0.5f * f.size + (static_cast<float>(local % f.splats_per_side) + 0.5f) * spacing};
     }
-    const auto c = assets_[static_cast<std::size_t>(r.asset)].splats[splat - r.first].center;
+    const auto c = assets_[static_cast<std::size_t>(r.asset)].drawn[splat - r.first].center;
     return glm::vec3(scene_.objects[i].placement(time) * glm::vec4(c.x, c.y, c.z, 1.0f));
   }
   throw Error(fmt::format("splat {} out of range", splat));
@@ -716,7 +716,7 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
         c = splat_world_position(r.first + s, 0.0f);
         nrm = {0, 1, 0};
       } else {
-        const auto& rec = assets_[static_cast<std::size_t>(r.asset)].splats[s];
+        const auto& rec = assets_[static_cast<std::size_t>(r.asset)].drawn[s];
         c = glm::vec3(m * glm::vec4(rec.center.x, rec.center.y, rec.center.z, 1.0f));
         nrm = glm::normalize(glm::mat3(m) * g.receiver_normals[static_cast<std::size_t>(r.asset)][s]);
       }

@@ -586,15 +586,14 @@ std::vector<SplatRecord> cover_drawn_gaps(const Surface& surface, const std::vec
   Stopwatch clock;
   std::vector<Ellipse> fitted(splats.size());
   std::vector<BoxTree::Box> centres(splats.size());
-  BoxTree::Box bounds;
   for (std::size_t j = 0; j < splats.size(); ++j) {
     Ellipse& e = fitted[j];
     e = ellipse_of(splats[j]);
     if (j < second_lines.size())
       e.clip2_x = second_lines[j].x, e.clip2_y = second_lines[j].y, e.clip2_offset = second_lines[j].offset;
     centres[j].add(e.center);
-    bounds.add(e.center);
   }
+  BoxTree::Box bounds;  // the mesh's: gap splats are at most a quarter of its diagonal, as in fill_gaps
   for (const SurfaceTriangle& t : surface.triangles()) bounds.add(t.a), bounds.add(t.b), bounds.add(t.c);
   const BoxTree centre_tree(centres);
   // The nearest same-facing splat within a few gap-splat sizes, else the nearest of any facing (a
