@@ -98,8 +98,8 @@ PixelInputs::PixelInputs(int width, int height)
       ao(gl::make_texture(GL_RGBA32F, width, height)),
       lattice_columns((width + FLOOR_LATTICE_STEP - 1) / FLOOR_LATTICE_STEP),
       lattice_rows((height + FLOOR_LATTICE_STEP - 1) / FLOOR_LATTICE_STEP),
-      floor_ao(gl::make_texture(GL_RGBA32F, lattice_columns, lattice_rows)),
-      floor_shadow(gl::make_texture(GL_RGBA32F, lattice_columns, lattice_rows)) {}
+      floor_ao(gl::make_texture(GL_RGBA32F, lattice_columns, lattice_rows, GL_LINEAR)),
+      floor_shadow(gl::make_texture(GL_RGBA32F, lattice_columns, lattice_rows, GL_LINEAR)) {}
 
 MeshMaskTarget::MeshMaskTarget(int width, int height)
     : width_(width),

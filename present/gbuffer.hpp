@@ -76,7 +76,8 @@ struct PixelInputs {
   gl::Texture shadow;      // RGBA32F: key-light visibility 0-3 (per-pixel shadows)
   gl::Texture ao;          // RGBA32F: bent normal, AO (per-pixel AO)
   // The floor's lighting lattice (FLOOR_LATTICE_STEP pixels apart, lattice_columns × lattice_rows
-  // nodes), RGBA32F: bent normal and AO; key-light visibility 0-3. −1 at nodes off the floor.
+  // nodes, bilinear filtering), RGBA32F: bent normal and AO; key-light visibility 0-3. Nodes off
+  // the floor hold their floor neighbours' mean, or a large negative value where none is.
   int lattice_columns, lattice_rows;
   gl::Texture floor_ao, floor_shadow;
 };

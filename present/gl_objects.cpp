@@ -33,13 +33,23 @@ GLuint compile(GLenum type, const char* source, const char* name) {
 
 }  // namespace
 
-Texture make_texture(GLenum format, int width, int height) {
+Texture make_texture(GLenum format, int width, int height, GLenum filter) {
   GLuint texture = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &texture);
   Texture owner(texture);
   glTextureStorage2D(texture, 1, format, width, height);
-  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return owner;
+}
+
+Texture make_buffer_texture(GLenum format, GLuint buffer) {
+  GLuint texture = 0;
+  glCreateTextures(GL_TEXTURE_BUFFER, 1, &texture);
+  Texture owner(texture);
+  glTextureBuffer(texture, format, buffer);
   return owner;
 }
 

@@ -62,12 +62,14 @@ using Buffer = Object<BufferKind>;
 using VertexArray = Object<VertexArrayKind>;
 using Query = Object<QueryKind>;
 
-// A 2D texture of one level with nearest filtering.
-Texture make_texture(GLenum format, int width, int height);
+// A 2D texture of one level with `filter` (GL_NEAREST or GL_LINEAR), clamped to its edges.
+Texture make_texture(GLenum format, int width, int height, GLenum filter = GL_NEAREST);
 // A framebuffer of `colors` (attachments 0, 1, …, all drawn) and an optional depth texture; Error
 // naming `name` when it is incomplete.
 Framebuffer make_framebuffer(const std::vector<GLuint>& colors, GLuint depth, const char* name);
 Buffer make_buffer();
+// A buffer texture (texelFetch on a samplerBuffer) over `buffer`'s whole data store as `format`.
+Texture make_buffer_texture(GLenum format, GLuint buffer);
 VertexArray make_vertex_array();
 Query make_query();
 

@@ -151,6 +151,10 @@ void ShadingPass::run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInp
   textures[UNIT_PIXEL_AO] = pixel.ao.get();
   textures[UNIT_FLOOR_AO] = pixel.floor_ao.get();
   textures[UNIT_FLOOR_SHADOW] = pixel.floor_shadow.get();
+  textures[UNIT_LIGHT_ROWS] = frame.light_rows;
+  textures[UNIT_LIST_OFFSETS] = frame.list_offsets;
+  textures[UNIT_LIST_COUNTS] = frame.list_counts;
+  textures[UNIT_LIST_INDICES] = frame.list_indices;
   glBindTextures(0, SHADING_UNITS, textures);
   glUniformMatrix4fv(p.view, 1, GL_FALSE, glm::value_ptr(frame.view));
   glUniform2f(p.tan_half, frame.tan_half.x, frame.tan_half.y);

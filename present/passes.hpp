@@ -106,13 +106,17 @@ struct ShadeFrame {
   // and still be the floor (the variant's floor_ao / floor_shadows).
   glm::vec4 floor_plane{0.0f};
   float floor_tolerance = 0;
+  // Buffer textures over the point lights' rows (RGBA32F, two texels per light) and the light
+  // lists' offsets, counts and indices (R32UI): on llvmpipe a texel fetch gathers across the pixels
+  // of a vector, where a storage-buffer load with a per-pixel index is a loop over them (the
+  // shading took 15–17 ms against 18–21 at 640×480 with 1,024 lights, 62–82 against 116–122 with 16,384).
+  GLuint light_rows = 0, list_offsets = 0, list_counts = 0, list_indices = 0;
 };
 
 class ShadingPass {
  public:
   // One full-screen triangle into `framebuffer`, reading the G-buffer, the pixel inputs and the
-  // storage buffers bound at BINDING_LIGHTS … BINDING_LIST_INDICES; the variant's program is
-  // compiled on first use.
+  // frame's buffer textures; the variant's program is compiled on first use.
   void run(GLuint framebuffer, const GBuffer& gbuffer, const PixelInputs& pixel, const ShadeVariant& variant,
            const ShadeFrame& frame);
 

@@ -138,10 +138,13 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
 // The floor's lighting rows on the pixel lattice (every FLOOR_LATTICE_STEP-th pixel in x and y),
 // smoothed over each node's 3 × 3 lattice neighbours that show floor (each node's 16 AO directions
 // alone leave a grain), as the shading's two lattice textures: (bent normal, AO) and key-light
-// visibility per node, −1 at nodes that do not show floor (an object hides the node's floor point,
-// which may lie far behind it, or the node is off the floor). The shading interpolates them to the
-// floor's pixels (shade.frag.glsl, floor_lattice).
+// visibility per node. A node that does not show floor (an object hides the node's floor point,
+// which may lie far behind it, or the node is off the floor) takes the mean of its 3 × 3
+// neighbours that do, so that the shading's bilinear filter reads the floor's nodes only; one
+// with none of them holds kNoFloorNode, which makes the filtered value negative wherever it has
+// any weight (shade.frag.glsl, floor_lattice).
 constexpr std::size_t kFloorStep = FLOOR_LATTICE_STEP;
+constexpr float kNoFloorNode = -1e6f;
 std::size_t lattice_size(int pixels) { return (static_cast<std::size_t>(pixels) + kFloorStep - 1) / kFloorStep; }
 
 // `rows`: kLightingRow per lattice node (row-major, `columns` wide), valid where `present`.
@@ -149,25 +152,37 @@ void floor_lattice_textures(const std::vector<float>& rows, const std::vector<st
                             std::vector<float>& ao, std::vector<float>& shadow) {
   static_assert(kLightingRow == 8 && kVisibilityAt == 4);
   const std::size_t lattice_rows = present.size() / columns;
-  ao.assign(4 * present.size(), -1.0f);
-  shadow.assign(4 * present.size(), -1.0f);
+  // The mean of `source` rows over the 3 × 3 neighbours of (x, y) where `present`; false where none is.
+  const auto neighbour_mean = [&](const float* source, std::size_t x, std::size_t y, float* mean) {
+    std::fill(mean, mean + kLightingRow, 0.0f);
+    float count = 0.0f;
+    for (std::size_t ny = y ? y - 1 : 0; ny <= std::min(lattice_rows - 1, y + 1); ++ny)
+      for (std::size_t nx = x ? x - 1 : 0; nx <= std::min(columns - 1, x + 1); ++nx) {
+        if (!present[ny * columns + nx]) continue;
+        const float* v = source + kLightingRow * (ny * columns + nx);
+        for (std::size_t c = 0; c < kLightingRow; ++c) mean[c] += v[c];
+        count += 1.0f;
+      }
+    if (count == 0.0f) return false;
+    for (std::size_t c = 0; c < kLightingRow; ++c) mean[c] /= count;
+    return true;
+  };
+  std::vector<float> smoothed(rows.size());
+  for (std::size_t y = 0; y < lattice_rows; ++y)
+    for (std::size_t x = 0; x < columns; ++x)
+      if (present[y * columns + x]) neighbour_mean(rows.data(), x, y, &smoothed[kLightingRow * (y * columns + x)]);
+  ao.resize(4 * present.size());
+  shadow.resize(4 * present.size());
   for (std::size_t y = 0; y < lattice_rows; ++y)
     for (std::size_t x = 0; x < columns; ++x) {
       const std::size_t node = y * columns + x;
-      if (!present[node]) continue;
-      float mean[kLightingRow] = {};
-      float count = 0.0f;
-      for (std::size_t ny = y ? y - 1 : 0; ny <= std::min(lattice_rows - 1, y + 1); ++ny)
-        for (std::size_t nx = x ? x - 1 : 0; nx <= std::min(columns - 1, x + 1); ++nx) {
-          if (!present[ny * columns + nx]) continue;
-          const float* v = &rows[kLightingRow * (ny * columns + nx)];
-          for (std::size_t c = 0; c < kLightingRow; ++c) mean[c] += v[c];
-          count += 1.0f;
-        }
-      for (std::size_t c = 0; c < 4; ++c) {
-        ao[4 * node + c] = mean[c] / count;
-        shadow[4 * node + c] = mean[kVisibilityAt + c] / count;
-      }
+      float value[kLightingRow];
+      if (present[node])
+        std::copy_n(&smoothed[kLightingRow * node], kLightingRow, value);
+      else if (!neighbour_mean(smoothed.data(), x, y, value))
+        std::fill(value, value + kLightingRow, kNoFloorNode);
+      std::copy_n(value, 4, &ao[4 * node]);
+      std::copy_n(value + kVisibilityAt, 4, &shadow[4 * node]);
     }
 }
 
@@ -446,7 +461,11 @@ struct Presenter::Impl {
     MeshMaskTarget mesh;
   };
   std::unique_ptr<Targets> targets;
-  gl::Buffer ssbo[4];
+  // The point lights' rows and the light lists' offsets, counts and indices, each read by the
+  // shading through a buffer texture over it.
+  gl::Buffer light_buffers[4];
+  gl::Texture light_textures[4];
+  GLint max_buffer_texels = 0;
   std::vector<gl::Buffer> mesh_vbos;
   std::vector<gl::VertexArray> mesh_vaos;
   std::vector<GLsizei> mesh_vertices;
@@ -612,7 +631,11 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
   // The splat shaders pull their rows from static_vbo and dynamic_vbo (storage buffers 4 and 5);
   // the vertices of splat s are 3s..3s+2, one triangle around its ellipse (points: vertex s).
-  for (gl::Buffer& b : g.ssbo) b = gl::make_buffer();
+  for (std::size_t i = 0; i < 4; ++i) {
+    g.light_buffers[i] = gl::make_buffer();
+    g.light_textures[i] = gl::make_buffer_texture(i == 0 ? GL_RGBA32F : GL_R32UI, g.light_buffers[i].get());
+  }
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.max_buffer_texels);
 
   // Triangle meshes of the objects, for the coverage test.
   for (const ObjectAssets& a : assets_) {
@@ -1084,10 +1107,14 @@ void Presenter::upload_frame_inputs(Frame& f) {
     glNamedBufferData(buffer, static_cast<GLsizeiptr>(bytes), data, GL_STREAM_DRAW);
   };
   const cluster::LightLists& lists = f.lists.lists;
-  upload(g.ssbo[0].get(), f.light_rows.data(), f.light_rows.size() * sizeof(float));
-  upload(g.ssbo[1].get(), lists.offsets.data(), lists.offsets.size() * 4);
-  upload(g.ssbo[2].get(), lists.counts.data(), lists.counts.size() * 4);
-  upload(g.ssbo[3].get(), lists.indices.data(), lists.indices.size() * 4);
+  const std::size_t texels = std::max({f.light_rows.size() / 4, lists.offsets.size(), lists.indices.size()});
+  if (texels > static_cast<std::size_t>(g.max_buffer_texels))
+    throw Error(fmt::format("lights: {} light rows and {} light-list entries exceed this GL's buffer textures ({} texels)",
+                            f.light_rows.size() / layout::kLightRowFloats, lists.indices.size(), g.max_buffer_texels));
+  upload(g.light_buffers[0].get(), f.light_rows.data(), f.light_rows.size() * sizeof(float));
+  upload(g.light_buffers[1].get(), lists.offsets.data(), lists.offsets.size() * 4);
+  upload(g.light_buffers[2].get(), lists.counts.data(), lists.counts.size() * 4);
+  upload(g.light_buffers[3].get(), lists.indices.data(), lists.indices.size() * 4);
   const PixelInputs& pixel = g.targets->pixel;
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTextureSubImage2D(pixel.light_list.get(), 0, 0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, f.lists.pixel_list.data());
@@ -1111,8 +1138,6 @@ void Presenter::shade(Frame& f) {
   Impl& g = *impl_;
   const Quality& q = scene_.quality;
   g.timers.begin("gl: shading");
-  const GLuint bindings[4] = {BINDING_LIGHTS, BINDING_LIST_OFFSETS, BINDING_LIST_COUNTS, BINDING_LIST_INDICES};
-  for (std::size_t i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, bindings[i], g.ssbo[i].get());
   const int keys = static_cast<int>(scene_.key_lights.size());
   ShadeVariant variant;
   variant.debug = debug_view == DebugView::Footprints ? static_cast<int>(DebugView::Albedo) : static_cast<int>(debug_view);
@@ -1138,6 +1163,10 @@ void Presenter::shade(Frame& f) {
   }
   shade_frame.sh = g.sh.data();
   shade_frame.heat_max = static_cast<float>(g.heat_max);
+  shade_frame.light_rows = g.light_textures[0].get();
+  shade_frame.list_offsets = g.light_textures[1].get();
+  shade_frame.list_counts = g.light_textures[2].get();
+  shade_frame.list_indices = g.light_textures[3].get();
   shade_frame.specular = q.specular;
   shade_frame.shininess = q.shininess;
   const glm::vec3 floor_up = glm::mat3(f.view) * glm::vec3(0, 1, 0);  // the floor's normal in view space

@@ -38,10 +38,6 @@
 #define NO_LIGHT_LIST 0xFFFFFFFFu
 
 /* Storage buffer binding points. */
-#define BINDING_LIGHTS 0
-#define BINDING_LIST_OFFSETS 1
-#define BINDING_LIST_COUNTS 2
-#define BINDING_LIST_INDICES 3
 #define BINDING_SPLAT_STATICS 4
 #define BINDING_SPLAT_LIGHTING 5
 #define BINDING_RESOLVE_TILES 6  /* the silhouette resolve's screen rectangles */
@@ -55,9 +51,13 @@
 #define UNIT_PIXEL_LIST 5
 #define UNIT_PIXEL_SHADOW 6
 #define UNIT_PIXEL_AO 7
-#define UNIT_FLOOR_AO 8      /* the floor's lattice: bent normal, AO; -1 where no floor */
-#define UNIT_FLOOR_SHADOW 9  /* the floor's lattice: key-light visibility 0-3; -1 where no floor */
-#define SHADING_UNITS 10
+#define UNIT_FLOOR_AO 8      /* the floor's lattice: bent normal, AO (bilinear) */
+#define UNIT_FLOOR_SHADOW 9  /* the floor's lattice: key-light visibility 0-3 (bilinear) */
+#define UNIT_LIGHT_ROWS 10    /* the point lights' rows (samplerBuffer, RGBA32F, two texels per light) */
+#define UNIT_LIST_OFFSETS 11  /* the light lists (usamplerBuffer, R32UI): first index of list l */
+#define UNIT_LIST_COUNTS 12   /* number of lights in list l */
+#define UNIT_LIST_INDICES 13  /* the lights' indices */
+#define SHADING_UNITS 14
 
 /* The floor's lighting lattice: a node every FLOOR_LATTICE_STEP pixels in x and y (node (i, j) is
    pixel (i, j) * FLOOR_LATTICE_STEP), interpolated to the floor's pixels by the shading. */

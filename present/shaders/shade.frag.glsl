@@ -6,12 +6,12 @@
 // targets: every attribute is a Σw-weighted sum divided here.
 #include "layout.h"
 #include "sh_irradiance.glsl"
-// center_inv_r2: view-space centre and 1/r² (the falloff needs (d/r)² only, so no root per light).
-struct Light { vec4 center_inv_r2; vec4 color; };
-layout(std430, binding = BINDING_LIGHTS) readonly buffer Lights { Light lights[]; };
-layout(std430, binding = BINDING_LIST_OFFSETS) readonly buffer Offsets { uint list_offsets[]; };
-layout(std430, binding = BINDING_LIST_COUNTS) readonly buffer Counts { uint list_counts[]; };
-layout(std430, binding = BINDING_LIST_INDICES) readonly buffer Indices { uint list_indices[]; };
+// Light i is texels 2i (view-space centre and 1/r²: the falloff needs (d/r)² only, so no root per
+// light) and 2i + 1 (colour) of u_light_rows.
+layout(binding = UNIT_LIGHT_ROWS) uniform samplerBuffer u_light_rows;
+layout(binding = UNIT_LIST_INDICES) uniform usamplerBuffer u_list_indices;
+layout(binding = UNIT_LIST_OFFSETS) uniform usamplerBuffer u_list_offsets;
+layout(binding = UNIT_LIST_COUNTS) uniform usamplerBuffer u_list_counts;
 layout(binding = UNIT_WEIGHT_ALBEDO) uniform sampler2D g_weight_albedo;
 layout(binding = UNIT_Z_NORMAL) uniform sampler2D g_z_normal;
 layout(binding = UNIT_SHADOW_AMBIENT) uniform sampler2D g_shadow_ambient;
@@ -67,35 +67,21 @@ bool on_floor(vec3 position, vec3 n_world) {
   return abs(dot(u_floor_plane.xyz, position) + u_floor_plane.w) <= u_floor_tolerance && n_world.y > 0.999;
 }
 
-// The floor's lattice at pixel p: bilinear between the four nodes around it, over those that are
-// floor (w ≥ 0); false where none is (a sliver of floor between objects keeps the splats' values).
-bool floor_lattice(sampler2D lattice, ivec2 p, out vec4 value) {
-  ivec2 cell = p / FLOOR_LATTICE_STEP;
-  vec2 f = vec2(p - cell * FLOOR_LATTICE_STEP) / float(FLOOR_LATTICE_STEP);
-  ivec2 size = textureSize(lattice, 0);
-  value = vec4(0.0);
-  float weight_sum = 0.0;
-  for (int k = 0; k < 4; ++k) {
-    ivec2 node = cell + ivec2(k & 1, k >> 1);
-    if (node.x >= size.x || node.y >= size.y) continue;
-    vec4 v = texelFetch(lattice, node, 0);
-    if (v.w < 0.0) continue;
-    // The small floor keeps a node in play when the pixel lies on a missing node's row or column,
-    // where its bilinear weight would be 0.
-    float weight = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y) + 1e-6;
-    value += weight * v;
-    weight_sum += weight;
-  }
-  if (weight_sum == 0.0) return false;
-  value /= weight_sum;
-  return true;
+// The floor's lattice at pixel p: the bilinear filter between the four nodes around it (the host
+// gave a node that does not show floor its floor neighbours' mean, and a large negative value
+// where it has none: a negative result means no floor node is near, and the pixel, a sliver of
+// floor between objects, keeps the splats' values).
+vec2 floor_lattice_point(ivec2 p) {
+  return (vec2(p) / float(FLOOR_LATTICE_STEP) + 0.5) / vec2(textureSize(u_floor_ao, 0));
 }
 
-// The floor's AO and bent normal (renormalised) at p, or false.
-bool floor_ao(ivec2 p, bool is_floor, out vec4 ao) {
+// The floor's AO and bent normal (renormalised) at the lattice point uv, or false.
+bool floor_ao(vec2 uv, bool is_floor, out vec4 ao) {
   ao = vec4(0.0);
 #if FLOOR_AO
-  if (is_floor && floor_lattice(u_floor_ao, p, ao)) {
+  if (is_floor) {
+    ao = texture(u_floor_ao, uv);
+    if (ao.w < 0.0) return false;
     if (dot(ao.xyz, ao.xyz) > 0.0) ao.xyz = normalize(ao.xyz);
     return true;
   }
@@ -104,10 +90,12 @@ bool floor_ao(ivec2 p, bool is_floor, out vec4 ao) {
 }
 
 // Key-light visibility per key light, from the splats, per pixel or from the floor's lattice.
-vec4 key_visibility(ivec2 p, float inv_weight, bool is_floor) {
+vec4 key_visibility(ivec2 p, float inv_weight, vec2 lattice_uv, bool is_floor) {
 #if FLOOR_SHADOWS
-  vec4 lattice;
-  if (is_floor && floor_lattice(u_floor_shadow, p, lattice)) return lattice;
+  if (is_floor) {
+    vec4 lattice = texture(u_floor_shadow, lattice_uv);
+    if (lattice.x >= 0.0) return lattice;
+  }
 #endif
 #if PIXEL_SHADOWS
   // Negative where not computed: the splats' value.
@@ -133,6 +121,7 @@ vec4 shade(ivec2 p) {
   vec2 ndc = (vec2(p) + 0.5) * 2.0 / u_viewport - 1.0;
   vec3 position = vec3(ndc * d * u_tan_half, -d);
   bool is_floor = (FLOOR_AO != 0 || FLOOR_SHADOWS != 0) && on_floor(position, n_world);
+  vec2 lattice_uv = floor_lattice_point(p);
 #if DEBUG_VIEW == 1
   return vec4(albedo, 1.0);
 #elif DEBUG_VIEW == 2
@@ -141,7 +130,7 @@ vec4 shade(ivec2 p) {
   // The splat passes carry the AO itself in the ambient channels for this view; per-pixel AO where
   // computed (w ≥ 0), or the floor's lattice.
   vec4 lattice_ao;
-  if (floor_ao(p, is_floor, lattice_ao)) return vec4(vec3(lattice_ao.w), 1.0);
+  if (floor_ao(lattice_uv, is_floor, lattice_ao)) return vec4(vec3(lattice_ao.w), 1.0);
 #if PIXEL_AO
   float pixel_ao = texelFetch(u_pixel_ao_texture, p, 0).w;
   if (pixel_ao >= 0.0) return vec4(vec3(pixel_ao), 1.0);
@@ -149,10 +138,10 @@ vec4 shade(ivec2 p) {
   return vec4(vec3(texelFetch(g_shadow_ambient, p, 0).y * inv_weight), 1.0);
 #elif DEBUG_VIEW == 4
   uint list = texelFetch(u_pixel_list, p, 0).x;
-  float count = BRUTE_FORCE != 0 ? float(u_light_count) : (list == NO_LIGHT_LIST ? 0.0 : float(list_counts[list]));
+  float count = BRUTE_FORCE != 0 ? float(u_light_count) : (list == NO_LIGHT_LIST ? 0.0 : float(texelFetch(u_list_counts, int(list)).x));
   return vec4(heat(count / u_heat_max), 1.0);
 #elif DEBUG_VIEW == 5
-  vec4 shadow = key_visibility(p, inv_weight, is_floor);
+  vec4 shadow = key_visibility(p, inv_weight, lattice_uv, is_floor);
   float v = 1.0;  // the darkest key light's visibility
   for (int k = 0; k < KEY_COUNT; ++k) v = min(v, shadow[k]);
   return vec4(vec3(v), 1.0);
@@ -164,19 +153,22 @@ vec4 shade(ivec2 p) {
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
 #if BRUTE_FORCE
   for (int i = 0; i < u_light_count; ++i)
-    add_light(lights[i].center_inv_r2, lights[i].color.rgb, position, n, to_eye, 1.0, diffuse, specular);
+    add_light(texelFetch(u_light_rows, 2 * i), texelFetch(u_light_rows, 2 * i + 1).rgb, position, n, to_eye, 1.0,
+              diffuse, specular);
 #else
   uint list = texelFetch(u_pixel_list, p, 0).x;
   if (list != NO_LIGHT_LIST) {
-    uint begin = list_offsets[list], end = begin + list_counts[list];
-    for (uint k = begin; k < end; ++k) {
-      uint i = list_indices[k];
-      add_light(lights[i].center_inv_r2, lights[i].color.rgb, position, n, to_eye, 1.0, diffuse, specular);
+    int begin = int(texelFetch(u_list_offsets, int(list)).x);
+    int end = begin + int(texelFetch(u_list_counts, int(list)).x);
+    for (int k = begin; k < end; ++k) {
+      int i = int(texelFetch(u_list_indices, k).x);
+      add_light(texelFetch(u_light_rows, 2 * i), texelFetch(u_light_rows, 2 * i + 1).rgb, position, n, to_eye, 1.0,
+                diffuse, specular);
     }
   }
 #endif
 #if KEY_COUNT > 0
-  vec4 shadow = key_visibility(p, inv_weight, is_floor);
+  vec4 shadow = key_visibility(p, inv_weight, lattice_uv, is_floor);
   for (int k = 0; k < KEY_COUNT; ++k)
     add_light(u_key_center[k], u_key_color[k], position, n, to_eye, shadow[k], diffuse, specular);
 #endif
@@ -185,7 +177,7 @@ vec4 shade(ivec2 p) {
   // floor from its lattice.
   vec3 ambient = texelFetch(g_shadow_ambient, p, 0).yzw * inv_weight;
   vec4 lattice_ao;
-  if (floor_ao(p, is_floor, lattice_ao)) ambient = max(sh_irradiance(lattice_ao.xyz), vec3(0.0)) / 3.14159265 * lattice_ao.w;
+  if (floor_ao(lattice_uv, is_floor, lattice_ao)) ambient = max(sh_irradiance(lattice_ao.xyz), vec3(0.0)) / 3.14159265 * lattice_ao.w;
 #if PIXEL_AO
   vec4 ao = texelFetch(u_pixel_ao_texture, p, 0);
   if (ao.w >= 0.0) ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
