@@ -445,6 +445,7 @@ struct Presenter::Impl {
   std::unique_ptr<ResolvePass> resolve_pass;
   ShadingPass shading_pass;
   gl::Buffer static_vbo, dynamic_vbo;
+  gl::Texture static_rows_texture, lighting_rows_texture;  // over static_vbo and dynamic_vbo
   gl::VertexArray empty_vao;
   // Per object, each splat's shading normal at its centre (its Phong field's, model space): the
   // per-splat AO and shadow receivers face it, so their hemispheres follow the smooth surface the
@@ -623,19 +624,25 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   g.resolve_pass = std::make_unique<ResolvePass>();
 
   g.empty_vao = gl::make_vertex_array();
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.max_buffer_texels);
+  if (statics.size() / 4 > static_cast<std::size_t>(g.max_buffer_texels))
+    throw Error(fmt::format("{}: {} splats exceed this GL's buffer textures ({} texels, {} per splat)", scene_.source,
+                            statics.size() / kRow, g.max_buffer_texels, SPLAT_ROW_TEXELS));
   g.static_vbo = gl::make_buffer();
   g.dynamic_vbo = gl::make_buffer();
   glNamedBufferStorage(g.static_vbo.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(statics.size(), 1) * sizeof(float)),
                        statics.empty() ? nullptr : statics.data(), 0);
   glNamedBufferStorage(g.dynamic_vbo.get(), static_cast<GLsizeiptr>(std::max<std::size_t>(instance_count, 1) * kLightingRow * sizeof(float)),
                        nullptr, GL_DYNAMIC_STORAGE_BIT);
-  // The splat shaders pull their rows from static_vbo and dynamic_vbo (storage buffers 4 and 5);
-  // the vertices of splat s are 3s..3s+2, one triangle around its ellipse (points: vertex s).
+  // The splat shaders pull their rows from static_vbo and dynamic_vbo through buffer textures
+  // (units UNIT_SPLAT_ROWS and UNIT_SPLAT_LIGHTING); the vertices of splat s are 3s..3s+2, one
+  // triangle around its ellipse (points: vertex s).
+  g.static_rows_texture = gl::make_buffer_texture(GL_RGBA32F, g.static_vbo.get());
+  g.lighting_rows_texture = gl::make_buffer_texture(GL_RGBA32F, g.dynamic_vbo.get());
   for (std::size_t i = 0; i < 4; ++i) {
     g.light_buffers[i] = gl::make_buffer();
     g.light_textures[i] = gl::make_buffer_texture(i == 0 ? GL_RGBA32F : GL_R32UI, g.light_buffers[i].get());
   }
-  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &g.max_buffer_texels);
 
   // Triangle meshes of the objects, for the coverage test.
   for (const ObjectAssets& a : assets_) {
@@ -966,8 +973,8 @@ void Presenter::draw_splats(Frame& f) {
   const bool footprints = debug_view == DebugView::Footprints;
   glViewport(0, 0, width_, height_);
   glBindVertexArray(g.empty_vao.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_STATICS, g.static_vbo.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_SPLAT_LIGHTING, g.dynamic_vbo.get());
+  glBindTextureUnit(UNIT_SPLAT_ROWS, g.static_rows_texture.get());
+  glBindTextureUnit(UNIT_SPLAT_LIGHTING, g.lighting_rows_texture.get());
   SplatFrame splat_frame;
   splat_frame.view = f.view;
   splat_frame.proj = f.proj;

@@ -22,7 +22,8 @@
 #define SPLAT_CLIP2 20u
 #define SPLAT_NORMAL_DU 23u
 #define SPLAT_NORMAL_DV 26u
-#define SPLAT_ROW_FLOATS 29u
+#define SPLAT_ROW_FLOATS 32u  /* 29 used, padded to whole RGBA32F texels */
+#define SPLAT_ROW_TEXELS 8
 
 /* Lighting row (world space), the per-splat CL results: vec4 bent normal xyz + AO, then vec4
    visibility of key lights 0-3. */
@@ -38,8 +39,6 @@
 #define NO_LIGHT_LIST 0xFFFFFFFFu
 
 /* Storage buffer binding points. */
-#define BINDING_SPLAT_STATICS 4
-#define BINDING_SPLAT_LIGHTING 5
 #define BINDING_RESOLVE_TILES 6  /* the silhouette resolve's screen rectangles */
 
 /* Texture units of the shading pass: the G-buffer's four targets, then the per-pixel inputs. */
@@ -58,6 +57,9 @@
 #define UNIT_LIST_COUNTS 12   /* number of lights in list l */
 #define UNIT_LIST_INDICES 13  /* the lights' indices */
 #define SHADING_UNITS 14
+/* Texture units of the splat passes' vertex shaders (buffer textures, RGBA32F), past the shading's. */
+#define UNIT_SPLAT_ROWS 14     /* the static rows, SPLAT_ROW_TEXELS texels per splat */
+#define UNIT_SPLAT_LIGHTING 15 /* the lighting rows, LIGHTING_ROW_VEC4S texels per splat */
 
 /* The floor's lighting lattice: a node every FLOOR_LATTICE_STEP pixels in x and y (node (i, j) is
    pixel (i, j) * FLOOR_LATTICE_STEP), interpolated to the floor's pixels by the shading. */
@@ -70,8 +72,10 @@ namespace splatcl::present::layout {
 
 struct SplatRow {
   float center[3], normal[3], major[3], minor[3], albedo[3], lod[2], clip[3], clip2[3], normal_du[3], normal_dv[3];
+  float padding[3];
 };
 static_assert(sizeof(SplatRow) == SPLAT_ROW_FLOATS * sizeof(float));
+static_assert(SPLAT_ROW_FLOATS == 4 * SPLAT_ROW_TEXELS);
 static_assert(offsetof(SplatRow, center) == SPLAT_CENTER * sizeof(float));
 static_assert(offsetof(SplatRow, normal) == SPLAT_NORMAL * sizeof(float));
 static_assert(offsetof(SplatRow, major) == SPLAT_MAJOR * sizeof(float));

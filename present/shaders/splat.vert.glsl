@@ -35,8 +35,7 @@ void main() {
 #ifdef VISIBILITY_PASS
   v_shading_normal = vec3(0.0);  // the visibility pass writes depth only
 #else
-  uint o = SPLAT_ROW_FLOATS * (uint(gl_VertexID) / 3u);
-  v_shading_normal = m * (static3(o + SPLAT_NORMAL) + u_scale * (corner.x * static3(o + SPLAT_NORMAL_DU) + corner.y * static3(o + SPLAT_NORMAL_DV)));
+  v_shading_normal = m * (static3(SPLAT_NORMAL) + u_scale * (corner.x * static3(SPLAT_NORMAL_DU) + corner.y * static3(SPLAT_NORMAL_DV)));
 #endif
   v_view_pos = (u_view * vec4(p, 1.0)).xyz;
   // The visibility pass pushes each corner back by ε along its view ray (a perspective projection:
