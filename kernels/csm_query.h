@@ -355,6 +355,16 @@ CSM_INLINE void csm_cache_reset(CsmQueryCache* cache) {
   for (int t = 0; t < 4; ++t) cache->windows[t].cell = 0xffffffffu;
 }
 
+// Is light vector w within about 18° of the cached one (cos² ≥ 0.9)? Then the walk from the cached
+// cell takes a few steps; otherwise (the AO kernel's directions, one receiver's 16 after another)
+// it could cross the whole grid, one boundary test per row and column, and csm_select_cell's start
+// from the rounded coordinates is cheaper. Either start finds the same cell (csm_walk_cell).
+CSM_INLINE int csm_near_previous(const CsmQueryCache* cache, float wx, float wy, float wz) {
+  const float dot = wx * cache->wx + wy * cache->wy + wz * cache->wz;
+  const float len2 = wx * wx + wy * wy + wz * wz, cached2 = cache->wx * cache->wx + cache->wy * cache->wy + cache->wz * cache->wz;
+  return dot > 0.0f && dot * dot >= 0.9f * len2 * cached2;
+}
+
 // The map choice of csm_instance_visibility for light vector w (world), into `cache`.
 CSM_INLINE void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInstance* in, CSM_GLOBAL const CsmOccluder* oc, float wx,
                              float wy, float wz, uint filter, CsmQueryCache* cache) {
@@ -374,7 +384,7 @@ CSM_INLINE void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInst
     for (int da = 0; da < 2; ++da)
       for (int db = 0; db < 2; ++db)
         cache->cross[2 * da + db] = oc->cell_base + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db);
-  } else if (cache->placed) {
+  } else if (cache->placed && csm_near_previous(cache, wx, wy, wz)) {
     csm_walk_cell(oc, scene->bounds, fx, fy, fz, rho2, len2, &cache->row, &cache->col);
     cache->cell = oc->cell_base + csm_cell_entry(oc, cache->row, cache->col);
   } else {

@@ -371,6 +371,41 @@ std::vector<Vec3> boundary_directions(const device::CsmOccluder& oc, const std::
 // at the rounded continuous coordinates. Checked from the grid's corners, both φ halves and random
 // cells, on even and odd grids of every distribution; the answer stays within one cell of
 // SphereGrid::nearest_cell away from the poles.
+// The AO batches' order: each receiver's directions one after another, so the light vector jumps
+// between queries and the chunked kernel takes the map choice from the rounded coordinates instead
+// of walking from the previous query's cell (csm_near_previous); between the jumps, runs of
+// directions a few degrees apart, on both sides of the 18° switch. Exactly the reference's answers.
+TEST(CsmVisibility, ChunkedQueriesMatchReferenceWhenDirectionsJump) {
+  const Csm ao = build(sphere_mesh(10, 20), Distribution::ThesisAo, Order::ZigzagV, PoleAxis::Z, 512, 24);
+  std::mt19937 rng(12);
+  for (const Csm* csm : {&scene_csm(), &ao}) {
+    const Vec3 c = csm->info.sphere.centre;
+    const float r = csm->info.sphere.radius;
+    Queries q;
+    for (int receiver = 0; receiver < 400; ++receiver) {
+      const Vec3 p = c + uniform(rng, 0.3f * r, 1.6f * r) * random_unit(rng);
+      for (int j = 0; j < 16; ++j) q.add(p, random_unit(rng), 0);
+      Vec3 w = random_unit(rng);
+      for (int j = 0; j < 8; ++j) {
+        // atan 0.25 or atan 0.4 (14° or 22°) off the previous one: walked, then chosen afresh.
+        w = normalized(w + (j % 2 ? 0.4f : 0.25f) * normalized(cross(w, random_unit(rng))));
+        q.add(p, w, 0);
+      }
+    }
+    for (const auto& instances : {std::vector<Instance>{{}}, std::vector<Instance>{{0, {0.6, 0, 0.8, 0.5, 0, 1, 0, 0, -0.8, 0, 0.6, -0.5, 0, 0, 0, 1}}}}) {
+      const VisibilityScene scene({csm}, instances);
+      VisibilityQueries queries(runtime(), scene);
+      std::vector<float> ref;
+      visibility_reference(scene, q.receivers, q.lights, Filter::None, 0.0f, ref);
+      expect_identical(ref, queries.run(q.receivers, q.lights, Filter::None, 0.0f), to_string(csm->info.distribution));
+      std::size_t lit = 0;
+      for (float v : ref) lit += v == 1.0f;
+      EXPECT_GT(lit, ref.size() / 20) << to_string(csm->info.distribution);
+      EXPECT_LT(lit, ref.size() - ref.size() / 20) << to_string(csm->info.distribution);
+    }
+  }
+}
+
 TEST(CsmVisibility, MapChoiceWalkIsIndependentOfItsStart) {
   std::mt19937 rng(10);
   const std::pair<Distribution, std::uint32_t> grids[] = {{Distribution::Uniform, 4096}, {Distribution::Uniform, 25},
