@@ -36,7 +36,7 @@ struct ObjectAssets {
   SplatTree tree;  // level-of-detail hierarchy over `splats`
   csm::Csm csm;
   std::string key;  // cache key (hex)
-  bool splats_cached = false, gaps_cached = false, tree_cached = false, csm_cached = false;
+  bool splats_cached = false, gaps_cached = false, drawn_cached = false, tree_cached = false, csm_cached = false;
   double build_ms = 0;
 };
 

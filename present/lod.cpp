@@ -6,15 +6,11 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <numeric>
-#include <sstream>
 
 #include <glm/glm.hpp>
 
-#include "io/atomic_file.hpp"
-#include "io/checksum.hpp"
+#include "present/cache_blob.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::present {
@@ -164,15 +160,8 @@ struct Builder {
   }
 };
 
-void put_u32(std::string& out, std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
-template <class T>
-void put_array(std::string& out, const std::vector<T>& v) {
-  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
-constexpr char kMagic[8] = {'S', 'P', 'L', 'A', 'T', 'S', 'P', 'T'};
-constexpr std::uint32_t kVersion = 1;
-constexpr std::size_t kHeaderBytes = 8 + 4 * 4 + 8;  // magic, version, splats, nodes, entries, checksum
+constexpr CacheMagic kMagic = {'S', 'P', 'L', 'A', 'T', 'S', 'P', 'T'};
+constexpr std::uint32_t kVersion = 1;  // counts: splats, nodes, entries
 
 }  // namespace
 
@@ -254,51 +243,27 @@ void write_splat_tree(const std::string& path, const SplatTree& tree) {
   put_array(body, tree.source);
   put_array(body, tree.error_min);
   put_array(body, tree.error_max);
-  std::string file(kMagic, 8);
-  put_u32(file, kVersion);
-  put_u32(file, tree.splat_count);
-  put_u32(file, static_cast<std::uint32_t>(tree.nodes.size()));
-  put_u32(file, static_cast<std::uint32_t>(tree.source.size()));
-  const std::uint64_t checksum = fnv1a64(body, fnv1a64(file));
-  file.append(reinterpret_cast<const char*>(&checksum), 8);
-  write_file_atomically(path, file + body);
+  write_cache_blob(path, kMagic, kVersion,
+                   {tree.splat_count, static_cast<std::uint32_t>(tree.nodes.size()), static_cast<std::uint32_t>(tree.source.size())},
+                   body);
 }
 
 SplatTree read_splat_tree(const std::string& path, std::uint32_t splat_count) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read " + path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string file = buffer.str();
+  CacheBlob blob = read_cache_blob(path, kMagic, kVersion, 3, "splat tree");
   const auto fail = [&](const std::string& why) -> Error { return Error(path + ": " + why); };
-  if (file.size() < kHeaderBytes || std::memcmp(file.data(), kMagic, 8) != 0) throw fail("not a splatcl splat tree");
-  std::uint32_t header[4];
-  std::memcpy(header, file.data() + 8, sizeof header);
-  if (header[0] != kVersion) throw fail(fmt::format("splat tree version {} is not {}", header[0], kVersion));
   SplatTree tree;
-  tree.splat_count = header[1];
-  const std::size_t nodes = header[2], entries = header[3];
+  tree.splat_count = blob.counts[0];
+  const std::size_t nodes = blob.counts[1], entries = blob.counts[2];
   if (tree.splat_count != splat_count) throw fail(fmt::format("tree of {} splats, the splat file has {}", tree.splat_count, splat_count));
   if (entries != std::size_t{splat_count} + nodes) throw fail("entry count does not match");
-  const std::size_t body_bytes = nodes * sizeof(splats::SplatRecord) + std::size_t{splat_count} * 4 + nodes * 8 + entries * 12;
-  if (file.size() != kHeaderBytes + body_bytes) throw fail("truncated or oversized");
-  std::uint64_t checksum = 0;
-  std::memcpy(&checksum, file.data() + 24, 8);
-  const std::string_view body(file.data() + kHeaderBytes, body_bytes);
-  if (checksum != fnv1a64(body, fnv1a64(std::string_view(file.data(), 24)))) throw fail("checksum mismatch");
-  std::size_t at = kHeaderBytes;
-  const auto take = [&](auto& v, std::size_t n) {
-    v.resize(n);
-    std::memcpy(v.data(), file.data() + at, n * sizeof(v[0]));
-    at += n * sizeof(v[0]);
-  };
-  take(tree.nodes, nodes);
-  take(tree.order, splat_count);
-  take(tree.node_begin, nodes);
-  take(tree.node_end, nodes);
-  take(tree.source, entries);
-  take(tree.error_min, entries);
-  take(tree.error_max, entries);
+  blob.take(tree.nodes, nodes);
+  blob.take(tree.order, splat_count);
+  blob.take(tree.node_begin, nodes);
+  blob.take(tree.node_end, nodes);
+  blob.take(tree.source, entries);
+  blob.take(tree.error_min, entries);
+  blob.take(tree.error_max, entries);
+  blob.expect_consumed();
   for (std::size_t i = 0; i < nodes; ++i)
     if (tree.node_begin[i] >= tree.node_end[i] || tree.node_end[i] > splat_count) throw fail("node range out of bounds");
   for (const std::uint32_t s : tree.order)

@@ -24,7 +24,8 @@ std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, c
     f.csm_segments_per_pixel = pixels > 0 ? static_cast<double>(f.csm_segments) / pixels : 0;
     f.csm_bytes = sizeof(std::uint32_t) * a.csm.offsets.size() + sizeof(float) * a.csm.depth.size() +
                   sizeof(std::uint32_t) * a.csm.end.size();
-    f.splats_cached = a.splats_cached, f.gaps_cached = a.gaps_cached, f.tree_cached = a.tree_cached, f.csm_cached = a.csm_cached;
+    f.splats_cached = a.splats_cached, f.gaps_cached = a.gaps_cached, f.drawn_cached = a.drawn_cached, f.tree_cached = a.tree_cached;
+    f.csm_cached = a.csm_cached;
     f.build_ms = a.build_ms;
     f.key = a.key;
     out.push_back(std::move(f));
@@ -50,6 +51,7 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
                     {"csm_bytes", f.csm_bytes},
                     {"splats_cached", f.splats_cached},
                     {"gaps_cached", f.gaps_cached},
+                    {"drawn_cached", f.drawn_cached},
                     {"tree_cached", f.tree_cached},
                     {"csm_cached", f.csm_cached},
                     {"build_ms", f.build_ms},

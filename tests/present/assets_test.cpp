@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -22,6 +23,7 @@ TEST_F(PresenterTest, AssetsComeFromTheCacheTheSecondTime) {
   Presenter presenter(scene, *runtime_, 32, 32, SPLATCL_TEST_CACHE);
   EXPECT_TRUE(presenter.assets(0).splats_cached);
   EXPECT_TRUE(presenter.assets(0).gaps_cached);
+  EXPECT_TRUE(presenter.assets(0).drawn_cached);
   EXPECT_TRUE(presenter.assets(0).tree_cached);
   EXPECT_TRUE(presenter.assets(0).csm_cached);
   EXPECT_GT(presenter.assets(0).splats.size(), 500u);
@@ -40,11 +42,12 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
     std::ofstream(entry.path(), std::ios::trunc) << "not a cache entry";
     ++corrupted;
   }
-  ASSERT_EQ(corrupted, 4u);  // splats, the drawn splats' gap splats, LOD tree, CSM
+  ASSERT_EQ(corrupted, 5u);  // splats, the drawn splats' gap splats and fit, LOD tree, CSM
   {
     Presenter rebuilt(scene, *runtime_, 32, 32, dir.string());
     EXPECT_FALSE(rebuilt.assets(0).splats_cached);
     EXPECT_FALSE(rebuilt.assets(0).gaps_cached);
+    EXPECT_FALSE(rebuilt.assets(0).drawn_cached);
     EXPECT_FALSE(rebuilt.assets(0).tree_cached);
     EXPECT_FALSE(rebuilt.assets(0).csm_cached);
     EXPECT_GT(rebuilt.assets(0).splats.size(), 500u);
@@ -52,15 +55,16 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
   Presenter cached(scene, *runtime_, 32, 32, dir.string());
   EXPECT_TRUE(cached.assets(0).splats_cached);
   EXPECT_TRUE(cached.assets(0).gaps_cached);
+  EXPECT_TRUE(cached.assets(0).drawn_cached);
   EXPECT_TRUE(cached.assets(0).tree_cached);
   EXPECT_TRUE(cached.assets(0).csm_cached);
   std::filesystem::remove_all(dir);
 }
 
-// The drawn splats' gap splats and the LOD tree over them are cached under the parameters that
-// shape them: the same fit again reads both; another surface_clip or splat scale k builds them
-// anew (other gap splats); surface_clip 0 draws the splats as built, with no gap splats and no
-// clip lines.
+// The drawn splats' gap splats, their fit and the LOD tree over them are cached under the
+// parameters that shape them: the same fit again reads all three, and the fit read back is the fit
+// computed, bit for bit; another surface_clip or splat scale k builds them anew (other gap
+// splats); surface_clip 0 draws the splats as built, with no gap splats and no clip lines.
 TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "splatcl-present-gap-cache";
   std::filesystem::remove_all(dir);
@@ -72,26 +76,32 @@ TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
   };
   const ObjectAssets first = load(0.001f, 1.05f);
   EXPECT_FALSE(first.gaps_cached);
+  EXPECT_FALSE(first.drawn_cached);
   EXPECT_GT(first.gap_splats, 0u);
   ASSERT_EQ(first.drawn.size(), first.splats.size());
   ASSERT_EQ(first.second_clips.size(), first.drawn.size());
   const ObjectAssets again = load(0.001f, 1.05f);
   EXPECT_TRUE(again.splats_cached);
   EXPECT_TRUE(again.gaps_cached);
+  EXPECT_TRUE(again.drawn_cached);
   EXPECT_TRUE(again.tree_cached);
   EXPECT_EQ(again.gap_splats, first.gap_splats);
-  for (std::size_t i = 0; i < first.drawn.size(); ++i) {
-    ASSERT_EQ(again.drawn[i].center, first.drawn[i].center) << i;
-    ASSERT_EQ(again.drawn[i].major, first.drawn[i].major) << i;
-    ASSERT_EQ(again.drawn[i].clip_offset, first.drawn[i].clip_offset) << i;
-  }
+  ASSERT_EQ(again.drawn.size(), first.drawn.size());
+  ASSERT_EQ(again.second_clips.size(), first.second_clips.size());
+  EXPECT_EQ(std::memcmp(again.drawn.data(), first.drawn.data(), first.drawn.size() * sizeof(first.drawn[0])), 0);
+  EXPECT_EQ(std::memcmp(again.second_clips.data(), first.second_clips.data(), first.second_clips.size() * sizeof(first.second_clips[0])), 0);
+  std::size_t cornered = 0;
+  for (const splats::ClipLine& line : again.second_clips) cornered += std::isfinite(line.offset);
+  EXPECT_GT(cornered, 0u);  // the cache holds second clip lines, not only the splats
   const ObjectAssets looser = load(0.0025f, 1.05f);
   EXPECT_TRUE(looser.splats_cached);
   EXPECT_FALSE(looser.gaps_cached);
+  EXPECT_FALSE(looser.drawn_cached);
   EXPECT_FALSE(looser.tree_cached);
   EXPECT_LT(looser.gap_splats, first.gap_splats);  // a looser fit shortens fewer splats
   const ObjectAssets larger_k = load(0.001f, 1.2f);
   EXPECT_FALSE(larger_k.gaps_cached);
+  EXPECT_FALSE(larger_k.drawn_cached);
   EXPECT_NE(larger_k.gap_splats, first.gap_splats);
   const ObjectAssets as_built = load(0.0f, 1.05f);
   EXPECT_EQ(as_built.gap_splats, 0u);
