@@ -14,6 +14,7 @@
 #include "core/scene.hpp"
 #include "runtime/runtime.hpp"
 #include "core/mesh.hpp"
+#include "splats/normal_field.hpp"
 #include "splats/splat_file.hpp"
 #include "splats/surface_fit.hpp"
 
@@ -30,13 +31,13 @@ struct ObjectAssets {
   std::vector<splats::SplatRecord> drawn;
   std::vector<splats::ClipLine> second_clips;  // one per drawn splat (offset +inf: none)
   std::size_t gap_splats = 0;                  // the last ones of `splats` and `drawn`
-  // The mesh as the fit and the Phong splats' normal fields query it (a mesh object; null for a
-  // splat file).
-  std::shared_ptr<const splats::Surface> surface;
   SplatTree tree;  // level-of-detail hierarchy over `splats`
+  // The Phong splats' normal fields (splats::NormalField) of the drawn splats and of the tree's
+  // nodes: from the mesh's smooth normals, or for a splat file from its splats' neighbours.
+  std::vector<splats::NormalField> normal_fields, node_fields;
   csm::Csm csm;
   std::string key;  // cache key (hex)
-  bool splats_cached = false, gaps_cached = false, drawn_cached = false, tree_cached = false, csm_cached = false;
+  bool splats_cached = false, gaps_cached = false, drawn_cached = false, tree_cached = false, fields_cached = false, csm_cached = false;
   double build_ms = 0;
 };
 

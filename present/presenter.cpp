@@ -542,31 +542,18 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     return glm::pow(glm::vec3(c.r, c.g, c.b) / 255.0f, glm::vec3(2.2f));
   };
   std::vector<std::vector<float>> albedo_rows(scene_.objects.size());  // per object, 3 floats per splat
-  std::vector<std::vector<splats::NormalField>> normal_fields(scene_.objects.size());
   g.receiver_normals.assign(scene_.objects.size(), {});
-  std::vector<std::vector<splats::NormalField>> node_fields(scene_.objects.size());  // the LOD tree's nodes
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
     assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
     const ObjectAssets& assets = assets_.back();
     const std::vector<splats::SplatRecord>& splats = assets.drawn;  // fitted to the mesh surface (quality.surface_clip)
-    // Phong splats: each splat's normal field from the mesh's smooth normals. A splat file has no
-    // surface but its own discs: its splats are drawn as they are, their fields from their neighbours.
-    const float crease_angle = object_quality(scene_.quality, object).crease_angle;
-    if (object.mesh.splat_path.empty()) {
-      const splats::Surface& surface = *assets.surface;
-      normal_fields[i] = splats::fit_normal_fields(assets.mesh, surface, splats, assets.second_clips, crease_angle);
-      node_fields[i] = splats::fit_normal_fields(assets.mesh, surface, assets.tree.nodes, {}, crease_angle);
-    } else {
-      normal_fields[i] = splats::fit_normal_fields_from_splats(splats, crease_angle);
-      node_fields[i] = splats::fit_normal_fields_from_splats(assets.tree.nodes, splats, crease_angle);
-    }
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
     for (std::size_t j = 0; j < splats.size(); ++j) {
       const splats::SplatRecord& s = splats[j];
       const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
       albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
-      const splats::NormalField& field = normal_fields[i][j];
+      const splats::NormalField& field = assets.normal_fields[j];  // Phong splats (ObjectAssets)
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s),
                  second_clip(assets.second_clips, j), g3(field.du), g3(field.dv));
       g.receiver_normals[i].push_back(glm::normalize(g3(field.centre)));
@@ -606,7 +593,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
       const std::uint32_t source = tree.source[e];
       const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
       const std::size_t node = source - tree.splat_count;
-      const splats::NormalField field = source < tree.splat_count ? normal_fields[i][source] : node_fields[i][node];
+      const splats::NormalField field = source < tree.splat_count ? assets_[i].normal_fields[source] : assets_[i].node_fields[node];
       push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
                  {tree.error_min[e], tree.error_max[e]}, first_clip(s),
                  source < tree.splat_count ? second_clip(assets_[i].second_clips, source) : glm::vec3(0.0f, 0.0f, FLT_MAX), g3(field.du),

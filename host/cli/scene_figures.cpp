@@ -25,7 +25,7 @@ std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, c
     f.csm_bytes = sizeof(std::uint32_t) * a.csm.offsets.size() + sizeof(float) * a.csm.depth.size() +
                   sizeof(std::uint32_t) * a.csm.end.size();
     f.splats_cached = a.splats_cached, f.gaps_cached = a.gaps_cached, f.drawn_cached = a.drawn_cached, f.tree_cached = a.tree_cached;
-    f.csm_cached = a.csm_cached;
+    f.fields_cached = a.fields_cached, f.csm_cached = a.csm_cached;
     f.build_ms = a.build_ms;
     f.key = a.key;
     out.push_back(std::move(f));
@@ -53,6 +53,7 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
                     {"gaps_cached", f.gaps_cached},
                     {"drawn_cached", f.drawn_cached},
                     {"tree_cached", f.tree_cached},
+                    {"fields_cached", f.fields_cached},
                     {"csm_cached", f.csm_cached},
                     {"build_ms", f.build_ms},
                     {"cache_key", f.key}});

@@ -24,7 +24,8 @@ struct ObjectFigures {
   std::size_t csm_segments = 0;
   double csm_segments_per_pixel = 0;  // segments over maps × resolution² pixels
   std::size_t csm_bytes = 0;          // the CSM in memory: offsets, depths and end indices
-  bool splats_cached = false, gaps_cached = false, drawn_cached = false, tree_cached = false, csm_cached = false;
+  bool splats_cached = false, gaps_cached = false, drawn_cached = false, tree_cached = false, fields_cached = false,
+       csm_cached = false;
   double build_ms = 0;                // building (or loading) the assets
   std::string key;                    // asset cache key
 };

@@ -25,6 +25,7 @@ TEST_F(PresenterTest, AssetsComeFromTheCacheTheSecondTime) {
   EXPECT_TRUE(presenter.assets(0).gaps_cached);
   EXPECT_TRUE(presenter.assets(0).drawn_cached);
   EXPECT_TRUE(presenter.assets(0).tree_cached);
+  EXPECT_TRUE(presenter.assets(0).fields_cached);
   EXPECT_TRUE(presenter.assets(0).csm_cached);
   EXPECT_GT(presenter.assets(0).splats.size(), 500u);
 }
@@ -42,12 +43,13 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
     std::ofstream(entry.path(), std::ios::trunc) << "not a cache entry";
     ++corrupted;
   }
-  ASSERT_EQ(corrupted, 5u);  // splats, the drawn splats' gap splats and fit, LOD tree, CSM
+  ASSERT_EQ(corrupted, 6u);  // splats, the drawn splats' gap splats and fit, LOD tree, normal fields, CSM
   {
     Presenter rebuilt(scene, *runtime_, 32, 32, dir.string());
     EXPECT_FALSE(rebuilt.assets(0).splats_cached);
     EXPECT_FALSE(rebuilt.assets(0).gaps_cached);
     EXPECT_FALSE(rebuilt.assets(0).drawn_cached);
+    EXPECT_FALSE(rebuilt.assets(0).fields_cached);
     EXPECT_FALSE(rebuilt.assets(0).tree_cached);
     EXPECT_FALSE(rebuilt.assets(0).csm_cached);
     EXPECT_GT(rebuilt.assets(0).splats.size(), 500u);
@@ -56,14 +58,15 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
   EXPECT_TRUE(cached.assets(0).splats_cached);
   EXPECT_TRUE(cached.assets(0).gaps_cached);
   EXPECT_TRUE(cached.assets(0).drawn_cached);
+  EXPECT_TRUE(cached.assets(0).fields_cached);
   EXPECT_TRUE(cached.assets(0).tree_cached);
   EXPECT_TRUE(cached.assets(0).csm_cached);
   std::filesystem::remove_all(dir);
 }
 
-// The drawn splats' gap splats, their fit and the LOD tree over them are cached under the
-// parameters that shape them: the same fit again reads all three, and the fit read back is the fit
-// computed, bit for bit; another surface_clip or splat scale k builds them anew (other gap
+// The drawn splats' gap splats, their fit, the LOD tree over them and their normal fields are
+// cached under the parameters that shape them: the same fit again reads all four, and the fit and
+// fields read back are those computed, bit for bit; another surface_clip or splat scale k builds them anew (other gap
 // splats); surface_clip 0 draws the splats as built, with no gap splats and no clip lines.
 TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "splatcl-present-gap-cache";
@@ -93,6 +96,12 @@ TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
   std::size_t cornered = 0;
   for (const splats::ClipLine& line : again.second_clips) cornered += std::isfinite(line.offset);
   EXPECT_GT(cornered, 0u);  // the cache holds second clip lines, not only the splats
+  EXPECT_FALSE(first.fields_cached);
+  EXPECT_TRUE(again.fields_cached);
+  ASSERT_EQ(again.normal_fields.size(), first.drawn.size());
+  ASSERT_EQ(again.node_fields.size(), first.tree.nodes.size());
+  EXPECT_EQ(std::memcmp(again.normal_fields.data(), first.normal_fields.data(), first.normal_fields.size() * sizeof(first.normal_fields[0])), 0);
+  EXPECT_EQ(std::memcmp(again.node_fields.data(), first.node_fields.data(), first.node_fields.size() * sizeof(first.node_fields[0])), 0);
   const ObjectAssets looser = load(0.0025f, 1.05f);
   EXPECT_TRUE(looser.splats_cached);
   EXPECT_FALSE(looser.gaps_cached);
