@@ -5,7 +5,6 @@
 // mesh content (vertices and faces) and of every parameter that shapes the result, and written
 // atomically by the splat and CSM writers, so a stale or half-written entry is never read.
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 

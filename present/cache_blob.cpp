@@ -28,29 +28,30 @@ CacheBlob read_cache_blob(const std::string& path, const CacheMagic& magic, std:
   if (!in) throw Error("cannot read " + path);
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string file = buffer.str();
+  CacheBlob blob;
+  blob.path = path;
+  blob.bytes = std::move(buffer).str();
+  const std::string& file = blob.bytes;
   const auto fail = [&](const std::string& why) { return Error(path + ": " + why); };
   const std::size_t header = 8 + 4 + 4 * count_fields, header_bytes = header + 8;
   if (file.size() < header_bytes || std::memcmp(file.data(), magic, 8) != 0) throw fail(fmt::format("not a splatcl {}", what));
   std::uint32_t file_version = 0;
   std::memcpy(&file_version, file.data() + 8, 4);
   if (file_version != version) throw fail(fmt::format("{} version {} is not {}", what, file_version, version));
-  CacheBlob blob;
-  blob.path = path;
   blob.counts.resize(count_fields);
   std::memcpy(blob.counts.data(), file.data() + 12, 4 * count_fields);
   std::uint64_t checksum = 0;
   std::memcpy(&checksum, file.data() + header, 8);
   const std::string_view body(file.data() + header_bytes, file.size() - header_bytes);
   if (checksum != fnv1a64(body, fnv1a64(std::string_view(file.data(), header)))) throw fail("checksum mismatch");
-  blob.body = std::string(body);
+  blob.at = header_bytes;
   return blob;
 }
 
 void cache_blob_truncated(const std::string& path) { throw Error(path + ": truncated"); }
 
 void CacheBlob::expect_consumed() const {
-  if (at != body.size()) throw Error(path + ": oversized");
+  if (at != bytes.size()) throw Error(path + ": oversized");
 }
 
 }  // namespace splatcl::present
