@@ -16,6 +16,7 @@
 #include "runtime/profiling.hpp"
 #include "splats/pipeline.hpp"
 #include "splats/pipeline_options.hpp"
+#include "splats/sampling.hpp"
 #include "splats/gaussian_file.hpp"
 
 namespace splatcl::present {
@@ -154,6 +155,21 @@ std::string seconds(double ms) { return fmt::format("{:.1f} s", ms / 1000.0); }
 
 }  // namespace
 
+std::string object_where(const Scene& scene, std::size_t index) {
+  return fmt::format("{}: objects[{}] '{}'", scene.source, index, scene.objects[index].name);
+}
+
+void check_asset_settings(const Scene& scene) {
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!scene.objects[i].mesh.splat_path.empty()) continue;  // a splat file is drawn as it is
+    try {
+      splats::parse_sampling(object_quality(scene.quality, scene.objects[i]).sampling);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: 'sampling': {}", object_where(scene, i), e.what()));
+    }
+  }
+}
+
 ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, const std::string& cache_dir,
                                 Runtime& runtime, const AssetProgress& progress) {
   const Quality q = object_quality(scene.quality, object);
@@ -173,7 +189,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     assets.mesh = splat_disc_mesh(assets.splats, path);
     if (object.fit.enabled()) {
       // Affine, so the fitted splats' discs are the discs' corners fitted.
-      const FitTransform t = fit_transform(assets.mesh.vertices, object.fit, object.rotation_degrees, object.name);
+      const FitTransform t = fit_transform(assets.mesh.vertices, object.fit, object.rotation_degrees, path);
       fit_splats(assets.splats, t);
       t.apply_to(assets.mesh.vertices);
     }
@@ -233,7 +249,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
       else
         params.color_field = object.color_field;
     }
-    const splats::SplatSetup setup = splats::splat_setup(params, assets.mesh, fmt::format("{}: {}", scene.source, object.name));
+    const splats::SplatSetup setup = splats::splat_setup(params, assets.mesh, assets.mesh.source);
     const splats::SplatRun run =
         splats::generate_splats(assets.mesh, setup.colors, setup.options, &runtime, [&](const std::string& phase) { report("splats: " + phase); });
     assets.splats = run.records();

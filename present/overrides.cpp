@@ -40,8 +40,8 @@ void apply_overrides(Scene& scene, const Overrides& o) {
     scene.quality.lod_error = static_cast<float>(*o.lod);
   }
   if (o.specular) {
-    if (!(*o.specular >= 0 && *o.specular <= 100))
-      throw Error(fmt::format("--specular {} is not a highlight strength in [0, 100]", *o.specular));
+    if (!(*o.specular >= 0 && *o.specular <= kMaxSpecular))
+      throw Error(fmt::format("--specular {} is not a highlight strength in [0, {}]", *o.specular, kMaxSpecular));
     scene.quality.specular = static_cast<float>(*o.specular);
   }
   if (o.lights) {

@@ -505,6 +505,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     : impl_(std::make_unique<Impl>()), scene_(std::move(scene)), runtime_(runtime) {
   if (scene_.key_lights.size() > kMaxKeyLights)
     throw Error(fmt::format("{}: at most {} key lights", scene_.source, kMaxKeyLights));
+  check_asset_settings(scene_);  // before any object's assets are built
   Impl& g = *impl_;
   // Assets and the splat arrays: objects in scene order, then the floor, then every object's LOD
   // sequence (originals and tree nodes sorted by e_max). Per instance: centre, normal, major and
@@ -545,7 +546,11 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
   g.receiver_normals.assign(scene_.objects.size(), {});
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const ObjectSpec& object = scene_.objects[i];
-    assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
+    try {
+      assets_.push_back(load_object_assets(object, scene_, cache_dir, runtime_, progress));
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: {}", object_where(scene_, i), e.what()));  // which object's file or setting
+    }
     const ObjectAssets& assets = assets_.back();
     const std::vector<splats::SplatRecord>& splats = assets.drawn;  // fitted to the mesh surface (quality.surface_clip)
     objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});

@@ -26,7 +26,7 @@ using nlohmann::json;
 // Field readers: a missing field keeps the default; a present one of the wrong shape throws
 // Error naming it.
 struct Reader {
-  const std::string& source;
+  std::string source;  // the scene file, and the object where one is being read
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
     throw Error(fmt::format("{}: '{}' {}", source, field, what));
   }
@@ -54,6 +54,20 @@ struct Reader {
     if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
       fail(field, "must be an array of 3 numbers");
     return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+  }
+  // A colour or radiance: every channel finite and >= 0, and with `most` > 0 at most that (an
+  // albedo reflects at most all the light).
+  glm::vec3 color(const json& j, const std::string& field, glm::vec3 fallback, float most = 0) const {
+    const glm::vec3 c = vec3(j, field, fallback);
+    for (int i = 0; i < 3; ++i)
+      if (!(std::isfinite(c[i]) && c[i] >= 0 && (most <= 0 || c[i] <= most)))
+        fail(field, most > 0 ? fmt::format("must have every channel in [0, {}]", most) : std::string("must have no negative channel"));
+    return c;
+  }
+  float non_negative(const json& j, const std::string& field, float fallback, const std::string& meaning) const {
+    const float v = number(j, field, fallback);
+    if (!(v >= 0)) fail(field, fmt::format("must not be negative ({})", meaning));
+    return v;
   }
   std::array<float, 2> range(const json& j, const std::string& field, std::array<float, 2> fallback) const {
     if (!j.contains(field)) return fallback;
@@ -92,13 +106,15 @@ struct Reader {
   }
 };
 
-Light read_light(const Reader& r, const json& j, const std::string& where) {
-  if (!j.is_object()) r.fail("lights", "entries must be objects");
-  r.known_keys(j, where, {"position", "radius", "color", "size"});
+Light read_light(const Reader& list_reader, const json& j, const std::string& where) {
+  if (!j.is_object()) list_reader.fail("lights", "entries must be objects");
+  list_reader.known_keys(j, where, {"position", "radius", "color", "size"});
+  const Reader r{fmt::format("{}: {}", list_reader.source, where)};
   Light light;
+  if (!j.contains("position")) r.fail("position", "is missing (a light needs a position)");
   light.position = r.vec3(j, "position", light.position);
   light.radius = r.positive(j, "radius", light.radius);
-  light.color = r.vec3(j, "color", light.color);
+  light.color = r.color(j, "color", light.color);
   light.size = r.number(j, "size", light.size);
   if (light.size < 0) r.fail("size", "must not be negative");
   return light;
@@ -143,16 +159,19 @@ void read_asset_quality(const Reader& r, const json& q, Quality& Q) {
     r.fail("surface_clip", fmt::format("must be in [0, 0.1] (a share of the mesh's diagonal; 0 = drawn as built), got {}", Q.surface_clip));
 }
 
-ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
-  if (!j.is_object()) r.fail("objects", "entries must be objects");
-  r.known_keys(j, fmt::format("objects[{}]", index),
-               {"name", "mesh", "color", "color_field", "texture", "color_tolerance", "position", "rotation_degrees", "scale", "occluder",
-                "animation", "splats", "fit", "quality"});
+ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t index) {
+  if (!j.is_object()) scene_reader.fail("objects", "entries must be objects");
+  scene_reader.known_keys(j, fmt::format("objects[{}]", index),
+                          {"name", "mesh", "color", "color_field", "texture", "color_tolerance", "position", "rotation_degrees", "scale",
+                           "occluder", "animation", "splats", "fit", "quality"});
   ObjectSpec o;
-  o.name = r.text(j, "name", fmt::format("object {}", index));
+  o.name = scene_reader.text(j, "name", fmt::format("object {}", index));
+  if (o.name.empty()) scene_reader.fail("name", fmt::format("of objects[{}] must not be empty", index));
+  // Errors in the object name it: a scene of several objects may share every field name.
+  const Reader r{fmt::format("{}: objects[{}] '{}'", scene_reader.source, index, o.name)};
   if (j.contains("mesh") == j.contains("splats"))
-    r.fail("mesh", fmt::format("{} in {}: give either \"mesh\" (a file or a procedural shape) or \"splats\" (a splat PLY)",
-                               j.contains("mesh") ? "and \"splats\" both" : "is missing", o.name));
+    r.fail("mesh", fmt::format("{}: give either \"mesh\" (a file or a procedural shape) or \"splats\" (a splat PLY)",
+                               j.contains("mesh") ? "and \"splats\" are both given" : "is missing"));
   if (j.contains("mesh")) {
     o.mesh = read_mesh(r, j["mesh"]);
   } else {
@@ -181,10 +200,10 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
     if (q.contains("csm_resolution")) over.csm_resolution = read.csm_resolution;
     if (q.contains("surface_clip")) over.surface_clip = read.surface_clip;
     if (!o.mesh.splat_path.empty() && (over.sampling || over.splat_bound || over.eps_diagonal || over.crease_angle || over.surface_clip))
-      r.fail("quality", fmt::format("{}: a splat file's splats are used as they are (only csm_maps and csm_resolution apply)", o.name));
+      r.fail("quality", "of a splat file: its splats are used as they are (only csm_maps and csm_resolution apply)");
   }
   if (!o.mesh.splat_path.empty() && (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")))
-    r.fail("color_field", fmt::format("{}: a splat file brings its own colours (\"color\": \"splats\" uses them)", o.name));
+    r.fail("color_field", "of a splat file: it brings its own colours (\"color\": \"splats\" uses them)");
   if (j.contains("color") && j["color"].is_string()) {
     if (j["color"].get<std::string>() != "splats") r.fail("color", "must be an RGB array, a number or \"splats\"");
     o.splat_colors = true;
@@ -192,7 +211,7 @@ ObjectSpec read_object(const Reader& r, const json& j, std::size_t index) {
     o.texture = r.text(j, "texture", o.texture);
     o.color_tolerance = r.count(j, "color_tolerance", o.color_tolerance, 0, 255);
   } else {
-    o.color = r.vec3(j, "color", o.color);
+    o.color = r.color(j, "color", o.color, 1.0f);
     if (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")) r.fail("color_field", "needs \"color\": \"splats\"");
   }
   if (!o.mesh.splat_path.empty() && !j.contains("color")) o.splat_colors = true;  // a splat file's own colours
@@ -282,17 +301,25 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   scene.source = source;
   scene.directory = directory;
   if (!j.contains("objects") || !j["objects"].is_array()) r.fail("objects", "must be an array");
-  for (std::size_t i = 0; i < j["objects"].size(); ++i) scene.objects.push_back(read_object(r, j["objects"][i], i));
+  for (std::size_t i = 0; i < j["objects"].size(); ++i) {
+    scene.objects.push_back(read_object(r, j["objects"][i], i));
+    // Names pick objects in the viewer and name them in errors, figures and the asset cache's progress.
+    for (std::size_t k = 0; k < i; ++k)
+      if (scene.objects[k].name == scene.objects[i].name)
+        r.fail("name", fmt::format("'{}' is used by objects[{}] and objects[{}]: object names must differ", scene.objects[i].name, k, i));
+  }
   if (j.contains("floor")) {
     if (j["floor"].is_boolean()) {
       scene.floor.enabled = j["floor"].get<bool>();
     } else {
-      const json& f = r.object(j, "floor");
+      r.object(j, "floor");
+      const json& f = j["floor"];
       r.known_keys(f, "floor", {"y", "size", "color", "splats_per_side"});
-      scene.floor.y = r.number(f, "y", scene.floor.y);
-      scene.floor.size = r.positive(f, "size", scene.floor.size);
-      scene.floor.color = r.vec3(f, "color", scene.floor.color);
-      scene.floor.splats_per_side = r.count(f, "splats_per_side", scene.floor.splats_per_side, 2, 2048);
+      const Reader fr{source + ": floor"};
+      scene.floor.y = fr.number(f, "y", scene.floor.y);
+      scene.floor.size = fr.positive(f, "size", scene.floor.size);
+      scene.floor.color = fr.color(f, "color", scene.floor.color, 1.0f);
+      scene.floor.splats_per_side = fr.count(f, "splats_per_side", scene.floor.splats_per_side, 2, 2048);
     }
   }
   if (j.contains("lights")) {
@@ -302,15 +329,17 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
       for (std::size_t i = 0; i < l.size(); ++i) scene.lights.push_back(read_light(r, l[i], fmt::format("lights[{}]", i)));
     } else if (l.is_object()) {
       r.known_keys(l, "lights", {"count", "radius", "height", "extent", "intensity", "seed"});
+      const Reader lr{source + ": lights"};
       GeneratedLights& g = scene.generated;
-      g.count = r.count(l, "count", g.count, 0, kMaxSceneLights);
-      const auto radius = r.range(l, "radius", {g.radius_min, g.radius_max});
-      const auto height = r.range(l, "height", {g.height_min, g.height_max});
-      if (!(radius[0] > 0)) r.fail("radius", "must be positive");
+      g.count = lr.count(l, "count", g.count, 0, kMaxSceneLights);
+      const auto radius = lr.range(l, "radius", {g.radius_min, g.radius_max});
+      const auto height = lr.range(l, "height", {g.height_min, g.height_max});
+      if (!(radius[0] > 0)) lr.fail("radius", "must be positive");
+      if (!(height[0] >= 0)) lr.fail("height", "must not be negative (heights above the floor)");
       g.radius_min = radius[0], g.radius_max = radius[1], g.height_min = height[0], g.height_max = height[1];
-      g.extent = r.number(l, "extent", g.extent);
-      g.intensity = r.positive(l, "intensity", g.intensity);
-      g.seed = r.count(l, "seed", static_cast<std::uint32_t>(g.seed), 0, UINT32_MAX);
+      g.extent = lr.non_negative(l, "extent", g.extent, "half the side of the lights' square; 0 = half the floor's");
+      g.intensity = lr.positive(l, "intensity", g.intensity);
+      g.seed = lr.count(l, "seed", static_cast<std::uint32_t>(g.seed), 0, UINT32_MAX);
     } else {
       r.fail("lights", "must be an array of lights or {\"count\": N, ...}");
     }
@@ -324,9 +353,9 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   if (j.contains("sky")) {
     const json& s = r.object(j, "sky");
     r.known_keys(s, "sky", {"zenith", "horizon", "ground"});
-    scene.sky.zenith = r.vec3(s, "zenith", scene.sky.zenith);
-    scene.sky.horizon = r.vec3(s, "horizon", scene.sky.horizon);
-    scene.sky.ground = r.vec3(s, "ground", scene.sky.ground);
+    scene.sky.zenith = r.color(s, "zenith", scene.sky.zenith);
+    scene.sky.horizon = r.color(s, "horizon", scene.sky.horizon);
+    scene.sky.ground = r.color(s, "ground", scene.sky.ground);
   }
   if (j.contains("quality")) {
     const json& q = r.object(j, "quality");
@@ -337,10 +366,10 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Quality& Q = scene.quality;
     read_asset_quality(r, q, Q);
     Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
-    Q.ao_bias = r.number(q, "ao_bias", Q.ao_bias);
+    Q.ao_bias = r.non_negative(q, "ao_bias", Q.ao_bias, "a depth bias and lift off the surface");
     Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
-    Q.antialias = r.number(q, "antialias", Q.antialias);
-    Q.depth_offset = r.number(q, "depth_offset", Q.depth_offset);
+    Q.antialias = r.non_negative(q, "antialias", Q.antialias, "0 = off");
+    Q.depth_offset = r.non_negative(q, "depth_offset", Q.depth_offset, "the visibility pass's ε behind the nearest splat");
     Q.gaussian = r.positive(q, "gaussian", Q.gaussian);
     Q.mode = r.text(q, "mode", Q.mode, {"splats", "points"});
     Q.shading = r.text(q, "shading", Q.shading, {"clustered", "tiled", "brute"});
@@ -355,7 +384,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     if (Q.lod_error < 0) r.fail("lod_error", "must not be negative (0 = off)");
     Q.lod_leaf = r.count(q, "lod_leaf", Q.lod_leaf, 2, 4096);
     Q.specular = r.number(q, "specular", Q.specular);
-    if (!(Q.specular >= 0)) r.fail("specular", "must not be negative (0 = off)");
+    if (!(Q.specular >= 0 && Q.specular <= kMaxSpecular)) r.fail("specular", fmt::format("must be in [0, {}] (0 = off)", kMaxSpecular));
     Q.shininess = r.positive(q, "shininess", Q.shininess);
   }
   scene.time = r.number(j, "time", 0.0f);
@@ -402,7 +431,7 @@ FitTransform fit_transform(const std::vector<Vec3>& points, const MeshFit& fit, 
 
 Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory) {
   Mesh mesh = make_object_mesh(object.mesh, directory);
-  const FitTransform t = fit_transform(mesh.vertices, object.fit, object.rotation_degrees, object.name);
+  const FitTransform t = fit_transform(mesh.vertices, object.fit, object.rotation_degrees, mesh.source);
   if (object.fit.enabled()) t.apply_to(mesh.vertices);
   return mesh;
 }

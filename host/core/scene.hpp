@@ -112,6 +112,8 @@ struct Light {
 // The most point lights a scene may have (listed, generated, --lights): more is refused with one
 // line before anything is allocated (docs/reliability.md).
 inline constexpr std::uint32_t kMaxSceneLights = 1u << 20;
+// The Blinn-Phong highlight strength's bound, quality.specular and render/view --specular.
+inline constexpr float kMaxSpecular = 100.0f;
 
 // Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
 // bright hues from a seeded generator.

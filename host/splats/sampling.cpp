@@ -352,7 +352,7 @@ SamplingOptions parse_sampling(const std::string& text) {
     options.mode = SampleMode::Spacing;
     return options;
   }
-  throw Error("--samples '" + text + "' is not 'auto', 'vertices', 'grid:N' or 'spacing:D' with N, D > 0");
+  throw Error("'" + text + "' is not 'auto', 'vertices', 'grid:N' or 'spacing:D' with N, D > 0");
 }
 
 std::string to_string(const SamplingOptions& options) {

@@ -26,7 +26,7 @@ hostile_error(limit_cluster_size "--size '100000x100000' is not WIDTHxHEIGHT wit
 hostile_error(limit_cluster_size_negative "--size '-5x5' is not WIDTHxHEIGHT with sides in 1..16384$" cluster --size -5x5)
 hostile_error(limit_cluster_pixels "--size '16384x16384' has 268435456 pixels, more than the limit of 33554432$" cluster --size 16384x16384)
 file(WRITE ${HOSTILE_DIR}/billion-lights.json "{\"objects\": [], \"lights\": {\"count\": 1000000000}}")
-hostile_error(limit_scene_lights "billion-lights.json: 'count' must be an integer in \\[0, 1048576\\]$"
+hostile_error(limit_scene_lights "billion-lights.json: lights: 'count' must be an integer in \\[0, 1048576\\]$"
               cluster ${HOSTILE_DIR}/billion-lights.json)
 hostile_error(limit_render_lights "--lights -5 is not a light count in \\[0, 1048576\\]$" render --lights -5)
 hostile_error(limit_ao_samples "ao: --samples 100000000 is not a direction count in 1..4096$"

@@ -38,7 +38,7 @@ add_test(NAME cli.error_render_missing_output_dir COMMAND ${EXPECT_ERROR} "direc
 add_test(NAME cli.error_render_bad_shading COMMAND ${EXPECT_ERROR} "--shading 'quick'" $<TARGET_FILE:splatcl> render --shading quick)
 add_test(NAME cli.error_render_bad_view COMMAND ${EXPECT_ERROR} "unknown view 'wireframe'" $<TARGET_FILE:splatcl> render --view wireframe)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-broken-scene.json "{\"objects\": [{\"mesh\": {\"procedural\": \"cone\"}}]}")
-add_test(NAME cli.error_render_broken_scene COMMAND ${EXPECT_ERROR} "present-broken-scene.json: 'procedural'" $<TARGET_FILE:splatcl>
+add_test(NAME cli.error_render_broken_scene COMMAND ${EXPECT_ERROR} "present-broken-scene.json: objects\\[0\\] 'object 0': 'procedural'" $<TARGET_FILE:splatcl>
          render ${CMAKE_CURRENT_BINARY_DIR}/present-broken-scene.json)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-missing-mesh.json "{\"objects\": [{\"mesh\": \"no-such-mesh.obj\"}]}")
 add_test(NAME cli.error_render_missing_mesh COMMAND ${EXPECT_ERROR} "no-such-mesh.obj" $<TARGET_FILE:splatcl>

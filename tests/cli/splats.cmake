@@ -64,7 +64,7 @@ add_test(NAME cli.error_splats_bench_missing_models COMMAND ${EXPECT_ERROR} "mod
 add_test(NAME cli.splats_reference COMMAND ${EXPECT_OUTPUT} --match "${SPLATS_BOUND_HOLDS}" --match "\\(fit on reference\\)$" --ply ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-ref.ply 100
          -- $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:4 --reference -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-ref.ply)
 add_test(NAME cli.error_splats_missing_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*missing.obj" $<TARGET_FILE:splatcl> splats missing.obj -o out.ply)
-add_test(NAME cli.error_splats_bad_samples COMMAND ${EXPECT_ERROR} "--samples" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --samples grid:0)
+add_test(NAME cli.error_splats_bad_samples COMMAND ${EXPECT_ERROR} "'samples': 'grid:0' is not 'auto'" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --samples grid:0)
 add_test(NAME cli.error_splats_bad_color_tol COMMAND ${EXPECT_ERROR} "--color-tol" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --color-tol 300)
 add_test(NAME cli.error_splats_no_output COMMAND ${EXPECT_ERROR} "-o OUT.ply" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE})
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-broken.ply "ply\nformat ascii 1.0\nend_header\n")

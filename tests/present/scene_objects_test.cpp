@@ -96,12 +96,12 @@ TEST(SceneObjects, FitAndObjectQualityAreCheckedLikeEveryOtherKey) {
   refused("{" + box + R"(, "quality": {"crease_angle": 200}})", "'crease_angle' must be in (0, 180] degrees");
   refused("{" + box + R"(, "quality": {"surface_clip": -0.001}})", "'surface_clip' must be in [0, 0.1]");
   refused("{" + box + R"(, "quality": {"surface_clip": 0.5}})", "'surface_clip' must be in [0, 0.1]");
-  refused(R"({"splats": "a.ply", "quality": {"surface_clip": 0.001}})", "a splat file's splats are used as they are");
-  refused(R"({"splats": "a.ply", "quality": {"crease_angle": 30}})", "a splat file's splats are used as they are");
+  refused(R"({"splats": "a.ply", "quality": {"surface_clip": 0.001}})", "its splats are used as they are");
+  refused(R"({"splats": "a.ply", "quality": {"crease_angle": 30}})", "its splats are used as they are");
   refused("{" + box + R"(, "splats": "a.ply"})", "give either \"mesh\"");
-  refused(R"({"name": "x"})", "'mesh' is missing in x");
-  refused(R"({"splats": "a.ply", "texture": "t.png"})", "a splat file brings its own colours");
-  refused(R"({"splats": "a.ply", "quality": {"sampling": "auto"}})", "a splat file's splats are used as they are");
+  refused(R"({"name": "x"})", "objects[0] 'x': 'mesh' is missing");
+  refused(R"({"splats": "a.ply", "texture": "t.png"})", "it brings its own colours");
+  refused(R"({"splats": "a.ply", "quality": {"sampling": "auto"}})", "its splats are used as they are");
   refused(R"({"splats": ""})", "'splats' must be a file name");
 }
 

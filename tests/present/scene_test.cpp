@@ -6,6 +6,7 @@
 
 #include "csm/build.hpp"
 #include "csm/sphere_grid.hpp"
+#include "present/assets.hpp"
 #include "present/overrides.hpp"
 #include "presenter_test_support.hpp"
 
@@ -13,6 +14,16 @@ namespace splatcl::present {
 namespace {
 
 using namespace testing;
+
+// The error parse_scene gives for `text` as "bad.json", or "no error".
+std::string message(const std::string& text) {
+  try {
+    parse_scene(text, "bad.json", ".");
+  } catch (const Error& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
 
 TEST(PresenterScene, DefaultSceneHasManyLightsAndAMovingOccluder) {
   const Scene scene = default_scene();
@@ -26,21 +37,57 @@ TEST(PresenterScene, DefaultSceneHasManyLightsAndAMovingOccluder) {
 }
 
 TEST(PresenterScene, ErrorsNameTheSourceAndField) {
-  const auto message = [](const std::string& text) {
-    try {
-      parse_scene(text, "bad.json", ".");
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(message("{\"objects\": [{\"mesh\": {\"procedural\": \"cone\"}}]}").find("bad.json: 'procedural'"), std::string::npos);
+  EXPECT_NE(message("{\"objects\": [{\"mesh\": {\"procedural\": \"cone\"}}]}").find("bad.json: objects[0] 'object 0': 'procedural'"), std::string::npos);
   EXPECT_NE(message("{\"objects\": [], \"quality\": {\"mode\": \"fast\"}}").find("'mode'"), std::string::npos);
   EXPECT_NE(message("{\"objects\": [], \"lights\": {\"count\": -1}}").find("'count'"), std::string::npos);
   EXPECT_NE(message("[1, 2]").find("bad.json"), std::string::npos);
-  EXPECT_NE(message("{\"objects\": [{\"name\": \"a\"}]}").find("'mesh' is missing in a"), std::string::npos);
+  EXPECT_NE(message("{\"objects\": [{\"name\": \"a\"}]}").find("bad.json: objects[0] 'a': 'mesh' is missing"), std::string::npos);
   EXPECT_THROW(parse_frame_size("640by480", "--size"), Error);
   EXPECT_EQ(parse_frame_size("640x480", "--size"), std::make_pair(640, 480));
+}
+
+// Values of the right type that would render nonsense are refused, each naming the file, the part
+// of the scene and the field; the camera's geometric checks name the file too.
+TEST(PresenterScene, RefusesValuesThatRenderNonsense) {
+  const std::string box = R"({"name": "b", "mesh": {"procedural": "box"})";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"objects": [], "key_lights": [{"radius": 5}]})", "bad.json: key_lights[0]: 'position' is missing"},
+      {R"({"objects": [], "key_lights": [{"position": [0, 3, 0], "color": [1, -1, 1]}]})", "key_lights[0]: 'color' must have no negative channel"},
+      {R"({"objects": [], "lights": [{"position": [0, 1, 0], "color": [-0.5, 1, 1]}]})", "lights[0]: 'color' must have no negative channel"},
+      {R"({"objects": [)" + box + R"(, "color": [1.5, 0.2, 0.2]}]})", "objects[0] 'b': 'color' must have every channel in [0, 1]"},
+      {R"({"objects": [)" + box + R"(, "color": -0.1}]})", "objects[0] 'b': 'color' must have every channel in [0, 1]"},
+      {R"({"objects": [)" + box + "}, " + box + "}]}", "'b' is used by objects[0] and objects[1]"},
+      {R"({"objects": [], "floor": {"color": [0.5, 0.5, -0.5]}})", "bad.json: floor: 'color' must have every channel in [0, 1]"},
+      {R"({"objects": [], "floor": {"size": -2}})", "bad.json: floor: 'size' must be positive"},
+      {R"({"objects": [], "sky": {"ground": [0, -1, 0]}})", "'ground' must have no negative channel"},
+      {R"({"objects": [], "quality": {"depth_offset": -0.001}})", "'depth_offset' must not be negative"},
+      {R"({"objects": [], "quality": {"ao_bias": -0.01}})", "'ao_bias' must not be negative"},
+      {R"({"objects": [], "quality": {"antialias": -1}})", "'antialias' must not be negative"},
+      {R"({"objects": [], "quality": {"specular": 1000}})", "'specular' must be in [0, 100]"},
+      {R"({"objects": [], "lights": {"count": 4, "extent": -3}})", "bad.json: lights: 'extent' must not be negative"},
+      {R"({"objects": [], "lights": {"count": 4, "height": [-1, 2]}})", "bad.json: lights: 'height' must not be negative"},
+      {R"({"objects": [], "camera": {"eye": [0, 1, 0], "target": [0, 1, 0]}})", "bad.json: camera eye and target coincide"},
+      {R"({"objects": [], "camera": {"eye": [0, 1, 0], "target": [0, 2, 0]}})", "bad.json: camera up vector is parallel"},
+  };
+  for (const auto& [text, expected] : cases) EXPECT_NE(message(text).find(expected), std::string::npos) << text << " gave: " << message(text);
+  // The edges of the ranges are accepted.
+  EXPECT_NO_THROW(parse_scene(R"({"objects": [], "quality": {"depth_offset": 0, "ao_bias": 0, "antialias": 0, "specular": 100}, "floor": true,
+                                  "lights": {"count": 2, "extent": 0, "height": [0, 1]}})", "ok.json", "."));
+  EXPECT_NO_THROW(parse_scene(R"({"objects": [)" + box + R"(, "color": [1, 0, 1]}], "floor": {"color": [1, 1, 1]}})", "ok.json", "."));
+}
+
+// An object's sampling text is refused before any asset is built (the splat stage's parser, not a
+// copy of its grammar), naming the scene file and the object.
+TEST(PresenterScene, ObjectSamplingIsCheckedBeforeAssetsAreBuilt) {
+  const Scene scene = parse_scene(R"({"objects": [{"name": "good", "mesh": {"procedural": "box"}},
+      {"name": "typo", "mesh": {"procedural": "box"}, "quality": {"sampling": "grid:0"}}]})", "s.json", ".");
+  try {
+    check_asset_settings(scene);
+    ADD_FAILURE() << "grid:0 accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("s.json: objects[1] 'typo': 'sampling': 'grid:0' is not"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(check_asset_settings(parse_scene(R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "quality": {"sampling": "spacing:0.1"}}]})", "s.json", ".")));
 }
 
 // The scene reader (core) checks csm_maps itself, as a perfect square; the assets build their maps
