@@ -889,6 +889,14 @@ FrameStats Presenter::render(float time) {
   return std::move(f.stats);
 }
 
+std::vector<std::string> Presenter::mesh_warnings() const {
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i)
+    if (scene_.objects[i].mesh.splat_path.empty() && assets_[i].mesh.problems.any())
+      lines.push_back(fmt::format("{}: {}: {}", object_where(scene_, i), assets_[i].mesh.source, assets_[i].mesh.problems.summary()));
+  return lines;
+}
+
 // The frame's CL lighting: the per-splat lighting of moved occluders (update_splat_lighting), then
 // the floor's lattice (light_floor_lattice). Both run on one worker thread beside the splat passes,
 // which do not read them: llvmpipe bins the splats on one thread and the lighting's host code

@@ -106,6 +106,9 @@ class Presenter {
   // Per-splat (bent normal xyz, AO) of the last update, in splat order: objects in scene order,
   // then the floor. object_splats(i) gives object i's range; the floor is the last range.
   const std::vector<glm::vec4>& splat_ao() const { return splat_ao_; }
+  // One line per mesh object whose mesh had problems or was repaired when loaded
+  // ("scene.json: objects[0] 'x': x.obj: 12 faces turned ..."), for the commands to print as warnings.
+  std::vector<std::string> mesh_warnings() const;
   // Every splat's row of the last update: bent normal xyz, AO, visibility of key lights 0-3.
   const std::vector<float>& splat_lighting() const;
   std::pair<std::size_t, std::size_t> object_splats(std::size_t object) const;

@@ -60,6 +60,7 @@ int run_render(const RenderOptions& o) {
   const bool exr = o.output.size() > 4 && o.output.substr(o.output.size() - 4) == ".exr";
   presenter.hdr_output = exr;
   progress.clear();
+  print_mesh_warnings(presenter);
   presenter.debug_view = view;
   presenter.pixel_ao = presenter.pixel_ao || o.pixel_ao;
   presenter.floor_per_pixel = presenter.floor_per_pixel && !o.floor_splats;

@@ -22,6 +22,10 @@ present::AssetProgress asset_progress(ProgressLine& line, const std::string& com
   };
 }
 
+void print_mesh_warnings(const present::Presenter& presenter) {
+  for (const std::string& line : presenter.mesh_warnings()) std::fprintf(stderr, "splatcl: warning: %s\n", line.c_str());
+}
+
 void add_scene_options(CLI::App& app, SceneOptions& o) {
   app.add_option("scene", o.scene, "Scene JSON (default: the embedded data/presenter-scene.json)");
   app.add_option("--shading", o.overrides.shading, "clustered, tiled or brute (default: the scene's)");

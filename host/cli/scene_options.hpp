@@ -9,6 +9,7 @@
 #include "cli/progress.hpp"
 #include "present/assets.hpp"
 #include "present/overrides.hpp"
+#include "present/presenter.hpp"
 
 namespace splatcl::cli {
 
@@ -27,6 +28,10 @@ struct SceneOptions {
 // one line on stderr per built step with what it made and its time (always, so a log shows where a
 // first run's minutes went).
 present::AssetProgress asset_progress(ProgressLine& line, const std::string& command);
+
+// The mesh problems the presenter found and repaired while loading (Presenter::mesh_warnings), on
+// stderr as "splatcl: warning: ..." lines.
+void print_mesh_warnings(const present::Presenter& presenter);
 
 // Adds the positional scene, --shading, --mode, --shadows, --lights, --lod, --cache and --device.
 void add_scene_options(CLI::App& app, SceneOptions& options);

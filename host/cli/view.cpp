@@ -56,6 +56,7 @@ int run_view(const ViewOptions& o) {
     return present::Presenter(scene, *runtime, width, height, o.scene.cache_dir(), asset_progress(progress, "view"));
   }();
   presenter.hdr_output = false;  // the window and screenshots show the tone-mapped image
+  print_mesh_warnings(presenter);
   std::fprintf(stderr, "%s\n", kHelpKeys);
 
   splatcl::Scene& s = presenter.scene();

@@ -101,51 +101,145 @@ struct Components {
   void unite(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
 };
 
+using D3 = std::array<double, 3>;
+D3 sub(const D3& a, const D3& b) { return D3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+D3 cross3(const D3& a, const D3& b) { return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+D3 to_double(const Vec3& p) { return D3{p.x, p.y, p.z}; }
+
+// Per face, the signed volume of the cone from the bounding box's centre over it (a fan from its
+// first corner), in double about that centre, so any float coordinates give finite sums: their sum
+// over a closed surface is the volume it encloses, negative when its faces point inward.
+std::vector<double> face_volumes(const std::vector<Vec3>& positions, const Faces& faces) {
+  D3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const std::uint32_t v : faces.corners) {
+    const D3 q = to_double(positions[v]);
+    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], q[i]), hi[i] = std::max(hi[i], q[i]);
+  }
+  const D3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+  const auto at = [&](std::uint32_t v) { return sub(to_double(positions[v]), centre); };
+  std::vector<double> volume(faces.count());
+  for (std::size_t f = 0; f < faces.count(); ++f) {
+    const std::uint32_t begin = faces.offsets[f], end = faces.offsets[f + 1];
+    const D3 p0 = at(faces.corners[begin]);
+    double v = 0;
+    for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
+      const D3 b = cross3(at(faces.corners[c]), at(faces.corners[c + 1]));
+      v += p0[0] * b[0] + p0[1] * b[1] + p0[2] * b[2];
+    }
+    volume[f] = v / 6;
+  }
+  return volume;
+}
+
+// Faces turned (their corners reversed) so that each edge two faces share is used in opposite
+// directions, spread face to face across such edges from the first face of each connected part;
+// an open part keeps the winding most of its faces had in the file; then, if the closed parts
+// (every edge shared by exactly two faces) together enclose negative volume, each of them is
+// turned outward (their sum, so a shell that faces into a cavity inside an outward one stays).
+// Returns how many faces end up turned.
+std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
+  const std::size_t n = faces.count();
+  struct Use {
+    std::uint64_t edge;  // low vertex << 32 | high vertex
+    std::uint32_t face;
+    bool forward;        // the face runs low → high
+    bool operator<(const Use& o) const { return edge < o.edge || (edge == o.edge && face < o.face); }
+  };
+  std::vector<Use> uses;
+  uses.reserve(faces.corners.size());
+  for (std::uint32_t f = 0; f < n; ++f)
+    for (std::uint32_t c = faces.offsets[f]; c < faces.offsets[f + 1]; ++c) {
+      const std::uint32_t a = faces.corners[c], b = faces.corners[c + 1 == faces.offsets[f + 1] ? faces.offsets[f] : c + 1];
+      uses.push_back({std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), f, a < b});
+    }
+  std::sort(uses.begin(), uses.end());
+  // Edges of exactly two faces link them; `same` when the two run it the same way (one must turn).
+  struct Link {
+    std::uint32_t to;
+    bool same;
+  };
+  std::vector<std::vector<Link>> links(n);
+  std::vector<std::uint8_t> closed(n, 1);  // every edge of the face shared by exactly two faces
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].edge == uses[i].edge) ++j;
+    if (j - i == 2 && uses[i].face != uses[i + 1].face) {
+      const bool same = uses[i].forward == uses[i + 1].forward;
+      links[uses[i].face].push_back({uses[i + 1].face, same});
+      links[uses[i + 1].face].push_back({uses[i].face, same});
+    } else {
+      for (std::size_t k = i; k < j; ++k) closed[uses[k].face] = 0;
+    }
+    i = j;
+  }
+  std::vector<std::int8_t> turn(n, -1);  // -1: not reached yet
+  std::vector<std::uint32_t> part(n), queue;
+  std::vector<std::pair<std::size_t, std::size_t>> part_turned;  // per part: faces, faces turned
+  std::vector<std::uint8_t> part_closed;
+  for (std::uint32_t seed = 0; seed < n; ++seed) {
+    if (turn[seed] >= 0) continue;
+    const auto id = static_cast<std::uint32_t>(part_turned.size());
+    part_turned.push_back({0, 0});
+    part_closed.push_back(1);
+    turn[seed] = 0;
+    queue.assign(1, seed);
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::uint32_t f = queue[q];
+      part[f] = id;
+      ++part_turned[id].first;
+      part_turned[id].second += static_cast<std::size_t>(turn[f]);
+      part_closed[id] &= closed[f];
+      for (const Link& l : links[f])
+        if (turn[l.to] < 0) {
+          turn[l.to] = static_cast<std::int8_t>(turn[f] ^ static_cast<int>(l.same));
+          queue.push_back(l.to);
+        }
+    }
+  }
+  // An open part keeps its file's majority winding (a tie keeps the first face's).
+  for (std::uint32_t f = 0; f < n; ++f)
+    if (2 * part_turned[part[f]].second > part_turned[part[f]].first) turn[f] ^= 1;
+  const auto reverse = [&](std::uint32_t f) {
+    std::reverse(faces.corners.begin() + faces.offsets[f], faces.corners.begin() + faces.offsets[f + 1]);
+    if (!faces.texcoords.empty())
+      std::reverse(faces.texcoords.begin() + faces.offsets[f], faces.texcoords.begin() + faces.offsets[f + 1]);
+  };
+  for (std::uint32_t f = 0; f < n; ++f)
+    if (turn[f]) reverse(f);
+  // A closed part is closed after turning too (its edges then run both ways).
+  const std::vector<double> volume = face_volumes(positions, faces);
+  double closed_volume = 0, closed_magnitude = 0;
+  for (std::uint32_t f = 0; f < n; ++f)
+    if (part_closed[part[f]]) closed_volume += volume[f], closed_magnitude += std::fabs(volume[f]);
+  if (closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude)
+    for (std::uint32_t f = 0; f < n; ++f)
+      if (part_closed[part[f]]) {
+        reverse(f);
+        turn[f] ^= 1;
+      }
+  return static_cast<std::size_t>(std::count(turn.begin(), turn.end(), 1));
+}
+
 // Zero-area faces, edges two faces use in the same direction, and whether the closed parts of the
 // surface (components whose every edge two faces share in opposite directions) enclose negative
 // volume. In double, about the bounding box's centre, so any float coordinates give finite sums.
 void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshProblems& problems) {
-  using D3 = std::array<double, 3>;
-  D3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const std::uint32_t v : faces.corners) {
-    const Vec3 p = positions[v];
-    const D3 q{p.x, p.y, p.z};
-    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], q[i]), hi[i] = std::max(hi[i], q[i]);
-  }
-  const D3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-  const auto raw_at = [&](std::uint32_t v) {
-    const Vec3 p = positions[v];
-    return D3{p.x, p.y, p.z};
-  };
-  const auto at = [&](std::uint32_t v) {
-    const D3 p = raw_at(v);
-    return D3{p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]};
-  };
-  const auto sub = [](const D3& a, const D3& b) { return D3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
-  const auto cross3 = [](const D3& a, const D3& b) {
-    return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
   const auto key = [](std::uint32_t from, std::uint32_t to) { return std::uint64_t{from} << 32 | to; };
   const std::size_t n = faces.count();
-  std::vector<double> volume(n);
+  const std::vector<double> volume = face_volumes(positions, faces);
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // directed edge, face
   edges.reserve(faces.corners.size());
   for (std::size_t f = 0; f < n; ++f) {
     const std::uint32_t begin = faces.offsets[f], end = faces.offsets[f + 1];
     // The area from the face's own coordinates (a difference of two floats is exact in double
-    // unless their magnitudes are ~2^29 apart, so collinear corners give exactly zero); the volume
-    // about the common centre.
-    const D3 q0 = raw_at(faces.corners[begin]), p0 = at(faces.corners[begin]);
+    // unless their magnitudes are ~2^29 apart, so collinear corners give exactly zero).
+    const D3 q0 = to_double(positions[faces.corners[begin]]);
     D3 area{0, 0, 0};
-    double v = 0;
     for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
-      const D3 a = cross3(sub(raw_at(faces.corners[c]), q0), sub(raw_at(faces.corners[c + 1]), q0));
-      const D3 b = cross3(at(faces.corners[c]), at(faces.corners[c + 1]));
+      const D3 a = cross3(sub(to_double(positions[faces.corners[c]]), q0), sub(to_double(positions[faces.corners[c + 1]]), q0));
       for (int i = 0; i < 3; ++i) area[i] += a[i];
-      v += p0[0] * b[0] + p0[1] * b[1] + p0[2] * b[2];
     }
     if (area[0] == 0 && area[1] == 0 && area[2] == 0) ++problems.zero_area_faces;
-    volume[f] = v / 6;
     for (std::uint32_t c = begin; c < end; ++c)
       edges.emplace_back(key(faces.corners[c], faces.corners[c + 1 == end ? begin : c + 1]), static_cast<std::uint32_t>(f));
   }
@@ -211,11 +305,12 @@ void update_normals(OmMesh& om) {
 
 // The checked faces into OpenMesh, then the Mesh: unused vertices dropped, normals from the file
 // where it gives them, else computed.
-Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source) {
+Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding winding) {
   silence_openmesh();
   MeshProblems problems = raw.problems;
   problems.faces_listed = raw.face_count();
-  const Faces faces = usable_faces(raw, problems);
+  Faces faces = usable_faces(raw, problems);
+  if (winding == Winding::Orient) problems.turned_faces = orient_faces(raw.positions, faces);
   check_surface(raw.positions, faces, problems);
   const bool texcoords = !raw.corner_texcoords.empty();
 
@@ -299,7 +394,7 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source) {
 
 bool MeshProblems::any() const {
   return non_finite_vertices + unreadable_vertices + bad_vertex_faces + bad_index_faces + degenerate_faces + zero_area_faces +
-             complex_faces + inconsistent_edges > 0 ||
+             complex_faces + inconsistent_edges + turned_faces > 0 ||
          inward;
 }
 
@@ -315,6 +410,8 @@ std::string MeshProblems::summary() const {
   if (inconsistent_edges > 0)
     parts.push_back(plural(inconsistent_edges, "edge", "edges") + " with inconsistent orientation (two faces use it in the same direction)");
   if (inward) parts.push_back("faces point inward (the closed surface encloses negative volume)");
+  if (turned_faces > 0)
+    parts.push_back(plural(turned_faces, "face", "faces") + " turned to agree with their neighbours' winding and face outward");
   std::string line;
   for (const std::string& part : parts) line += (line.empty() ? "" : ", ") + part;
   return line;
@@ -326,14 +423,14 @@ Box Mesh::bounds() const {
   return box;
 }
 
-Mesh load_mesh(const std::string& path) {
+Mesh load_mesh(const std::string& path, Winding winding) {
   silence_openmesh();
-  return assemble(mesh_io::read_mesh_file(path), path);
+  return assemble(mesh_io::read_mesh_file(path), path, winding);
 }
 
 Mesh parse_mesh(const std::string& path, std::string_view bytes) {
   silence_openmesh();
-  return assemble(mesh_io::parse_mesh_file(path, bytes), path);
+  return assemble(mesh_io::parse_mesh_file(path, bytes), path, Winding::AsGiven);
 }
 
 Mesh make_mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<std::uint32_t>>& faces,
@@ -348,7 +445,7 @@ Mesh make_mesh(const std::vector<Vec3>& vertices, const std::vector<std::vector<
     for (const std::uint32_t i : face) raw.corners.push_back(i);
     raw.end_face();
   }
-  return assemble(raw, description);
+  return assemble(raw, description, Winding::AsGiven);
 }
 
 }  // namespace splatcl

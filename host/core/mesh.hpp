@@ -46,6 +46,7 @@ struct MeshProblems {
   std::size_t complex_faces = 0;         // kept detached: OpenMesh refused the face (non-manifold, or wound against a neighbour)
   std::size_t inconsistent_edges = 0;    // undirected edges that two faces use in the same direction
   bool inward = false;                   // the closed parts of the mesh enclose negative volume: faces point inward
+  std::size_t turned_faces = 0;          // Winding::Orient: faces whose corners were reversed (see there)
 
   std::size_t dropped_faces() const { return bad_vertex_faces + bad_index_faces + degenerate_faces; }
   bool any() const;
@@ -74,7 +75,13 @@ struct Mesh {
 // Reads `path`, counting and dropping bad faces into Mesh::problems (see above). Throws Error naming
 // the file when it is missing, unreadable, not one of the four formats, truncated or otherwise
 // refused, or has no face left (the message then says what was dropped).
-Mesh load_mesh(const std::string& path);
+// How load_mesh takes the faces' winding: as the file gives it (the splat stage and batch report
+// problems and leave the mesh as it is), or oriented: faces turned so that neighbours across each
+// edge two faces share agree (each connected part keeping the winding most of its faces had), and
+// the closed parts turned outward when they enclose negative volume (counted in turned_faces; the
+// other counts are of the oriented faces). The presenter's and cluster scenes orient.
+enum class Winding { AsGiven, Orient };
+Mesh load_mesh(const std::string& path, Winding winding = Winding::AsGiven);
 // The same for a file's bytes already in memory (the format by the extension of `path`, which
 // errors name): load_mesh is the file checks and one read, then this (the fuzz harnesses' entry).
 Mesh parse_mesh(const std::string& path, std::string_view bytes);

@@ -438,7 +438,7 @@ Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory) {
 
 Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
   if (!spec.splat_path.empty()) throw Error(fmt::format("{}: a splat file, not a mesh", spec.splat_path));
-  if (!spec.path.empty()) return load_mesh(scene_path(spec.path, directory));
+  if (!spec.path.empty()) return load_mesh(scene_path(spec.path, directory), Winding::Orient);
   std::vector<Vec3> v;
   std::vector<std::vector<std::uint32_t>> f;
   const float pi = std::numbers::pi_v<float>;

@@ -71,6 +71,20 @@ void expect_only(const MeshProblems& p, std::size_t non_finite, std::size_t unre
   EXPECT_FALSE(p.inward);
 }
 
+// The unit cube `v`, `outward` with a half-size cube inside it facing into the cavity.
+std::pair<std::vector<Vec3>, std::vector<std::vector<std::uint32_t>>> hollow_cube(const std::vector<Vec3>& v,
+                                                                                 const std::vector<std::vector<std::uint32_t>>& outward) {
+  std::vector<Vec3> hollow = v;
+  auto shell = outward;
+  for (const Vec3& p : v) hollow.push_back(0.5f * p + Vec3{0.25f, 0.25f, 0.25f});
+  for (auto f : outward) {
+    std::reverse(f.begin(), f.end());
+    for (auto& i : f) i += 8;
+    shell.push_back(f);
+  }
+  return {hollow, shell};
+}
+
 const char* const kQuadVertices = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
 
 TEST(MeshHygiene, ObjIndexOutOfRangeDropsThatFaceOnly) {
@@ -341,19 +355,86 @@ TEST(MeshHygiene, InsideOutClosedMeshIsWarned) {
   both.push_back({8, 9, 10});
   EXPECT_TRUE(make_mesh(with_plane, both, "cube and triangle").problems.inward);
   // A hollow shell (an inner cube facing into the cavity) encloses positive volume: no warning.
-  std::vector<Vec3> hollow = v;
-  auto shell = outward;
-  for (const Vec3& p : v) hollow.push_back(0.5f * p + Vec3{0.25f, 0.25f, 0.25f});
-  for (auto f : outward) {
-    std::reverse(f.begin(), f.end());
-    for (auto& i : f) i += 8;
-    shell.push_back(f);
-  }
+  const auto [hollow, shell] = hollow_cube(v, outward);
   EXPECT_FALSE(make_mesh(hollow, shell, "hollow cube").problems.any());
   // Through a file: the inside-out cube as OBJ.
   const Mesh file = load_mesh(temp_file("inside-out.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
                                                           "f 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 7 8 4 3\nf 6 7 3 2\nf 4 8 5 1\n"));
   EXPECT_TRUE(file.problems.inward);
+}
+
+// `faces` (0-based corners) over `vertices` as OBJ text.
+std::string obj_text(const std::vector<Vec3>& vertices, const std::vector<std::vector<std::uint32_t>>& faces) {
+  std::string text;
+  for (const Vec3& p : vertices) text += fmt::format("v {} {} {}\n", p.x, p.y, p.z);
+  for (const auto& f : faces) {
+    text += "f";
+    for (const std::uint32_t i : f) text += fmt::format(" {}", i + 1);
+    text += "\n";
+  }
+  return text;
+}
+
+// Winding::Orient (the scenes' meshes): faces turned to agree across shared edges and outward,
+// checked by the geometry (each face's normal against the direction from the solid's centre), not
+// by the counts alone; the mesh as given otherwise.
+TEST(MeshHygiene, OrientTurnsFacesToAgreeAndFaceOutward) {
+  const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const std::vector<std::vector<std::uint32_t>> outward{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  const auto all_outward = [](const Mesh& mesh, Vec3 centre) {
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      const std::vector<Vec3> p = face_positions(mesh, f);
+      Vec3 mid{};
+      for (const Vec3& q : p) mid = mid + q;
+      if (!(dot(face_normal(mesh, f), mid * (1.0f / static_cast<float>(p.size())) - centre) > 0)) return false;
+    }
+    return true;
+  };
+  const auto clean_after = [](const MeshProblems& p) {
+    EXPECT_EQ(p.inconsistent_edges, 0u);
+    EXPECT_EQ(p.complex_faces, 0u);
+    EXPECT_FALSE(p.inward);
+  };
+  // Inside out: every face turned.
+  auto inward = outward;
+  for (auto& f : inward) std::reverse(f.begin(), f.end());
+  const std::string inside_out = temp_file("orient-inside-out.obj", obj_text(v, inward));
+  EXPECT_TRUE(load_mesh(inside_out).problems.inward) << "as given by default";
+  const Mesh turned = load_mesh(inside_out, Winding::Orient);
+  EXPECT_EQ(turned.problems.turned_faces, 6u);
+  clean_after(turned.problems);
+  EXPECT_TRUE(all_outward(turned, {0.5f, 0.5f, 0.5f}));
+  EXPECT_NE(turned.problems.summary().find("6 faces turned"), std::string::npos) << turned.problems.summary();
+  // One face turned against its neighbours: that one back.
+  auto one = outward;
+  std::reverse(one[3].begin(), one[3].end());
+  const Mesh fixed = load_mesh(temp_file("orient-one.obj", obj_text(v, one)), Winding::Orient);
+  EXPECT_EQ(fixed.problems.turned_faces, 1u);
+  clean_after(fixed.problems);
+  EXPECT_TRUE(all_outward(fixed, {0.5f, 0.5f, 0.5f}));
+  // A hollow shell (the inner cube faces into the cavity): nothing turned.
+  const auto [hollow, shell] = hollow_cube(v, outward);
+  EXPECT_EQ(load_mesh(temp_file("orient-hollow.obj", obj_text(hollow, shell)), Winding::Orient).problems.turned_faces, 0u);
+  // An open strip of three quads, the middle one turned: it follows the majority (+z).
+  const std::vector<Vec3> strip{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {3, 1, 0}};
+  const Mesh open = load_mesh(temp_file("orient-strip.obj", obj_text(strip, {{0, 1, 5, 4}, {1, 5, 6, 2}, {2, 3, 7, 6}})), Winding::Orient);
+  EXPECT_EQ(open.problems.turned_faces, 1u);
+  clean_after(open.problems);
+  for (std::size_t f = 0; f < open.face_count(); ++f) EXPECT_GT(face_normal(open, f).z, 0.0f) << f;
+  // A sphere with a third of its faces turned at random, far from the origin: all outward again.
+  const Mesh sphere = sphere_mesh(12, 16);
+  std::vector<Vec3> far;
+  for (const Vec3& p : sphere.vertices) far.push_back(p + Vec3{1e4f, -2e4f, 3e4f});
+  std::vector<std::vector<std::uint32_t>> faces;
+  std::size_t reversed = 0;
+  for (std::size_t f = 0; f < sphere.face_count(); ++f) {
+    faces.emplace_back(sphere.corners.begin() + sphere.face_offsets[f], sphere.corners.begin() + sphere.face_offsets[f + 1]);
+    if ((f * 2654435761u) % 3 == 0) std::reverse(faces.back().begin(), faces.back().end()), ++reversed;
+  }
+  const Mesh mixed = load_mesh(temp_file("orient-mixed.obj", obj_text(far, faces)), Winding::Orient);
+  EXPECT_EQ(mixed.problems.turned_faces, reversed);
+  clean_after(mixed.problems);
+  EXPECT_TRUE(all_outward(mixed, {1e4f, -2e4f, 3e4f}));
 }
 
 TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
