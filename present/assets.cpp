@@ -220,7 +220,12 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   const LodOptions tree_options{q.lod_leaf, 32, 0.1f};
   const std::string tree_parameters = fmt::format("{}|tree v1 leaf={} grid={} overlap={:.9g}", gap_parameters,
                                                   tree_options.leaf_splats, tree_options.grid, tree_options.overlap);
-  const std::string csm_parameters = fmt::format("csm v1 maps={} resolution={}", q.csm_maps, q.csm_resolution);
+  // The build's default rule for single-surface pixels (resolve_single_hit): named in the key where
+  // it is exact (an open mesh or a splat file's discs), so that their maps cached with sphere-exit
+  // are built again and a closed mesh's keep their keys.
+  const bool exact_single_hit = csm::resolve_single_hit(csm::SingleHit::Auto, assets.mesh) == csm::SingleHit::Exact;
+  const std::string csm_parameters =
+      fmt::format("csm v1 maps={} resolution={}{}", q.csm_maps, q.csm_resolution, exact_single_hit ? " single_hit=exact" : "");
   assets.key = asset_key(assets.mesh, splat_parameters + "|" + csm_parameters);
   std::error_code ec;
   std::filesystem::create_directories(cache_dir, ec);

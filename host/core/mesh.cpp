@@ -423,6 +423,20 @@ Box Mesh::bounds() const {
   return box;
 }
 
+bool Mesh::closed() const {
+  std::vector<std::uint64_t> edges;  // undirected: low vertex << 32 | high vertex
+  edges.reserve(corners.size());
+  for (std::size_t f = 0; f < face_count(); ++f)
+    for (std::uint32_t c = face_offsets[f]; c < face_offsets[f + 1]; ++c) {
+      const std::uint32_t a = corners[c], b = corners[c + 1 == face_offsets[f + 1] ? face_offsets[f] : c + 1];
+      edges.push_back(std::uint64_t{std::min(a, b)} << 32 | std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size(); i += 2)
+    if (i + 1 >= edges.size() || edges[i + 1] != edges[i] || (i + 2 < edges.size() && edges[i + 2] == edges[i])) return false;
+  return !edges.empty();
+}
+
 Mesh load_mesh(const std::string& path, Winding winding) {
   silence_openmesh();
   return assemble(mesh_io::read_mesh_file(path), path, winding);

@@ -70,6 +70,9 @@ struct Mesh {
   std::size_t face_count() const { return face_offsets.size() - 1; }
   bool has_texcoords() const { return !corner_texcoords.empty(); }
   Box bounds() const;
+  // Every edge is shared by exactly two faces (no border, no non-manifold edge, no face kept
+  // detached): a surface that encloses a solid.
+  bool closed() const;
 };
 
 // Reads `path`, counting and dropping bad faces into Mesh::problems (see above). Throws Error naming

@@ -17,7 +17,7 @@ CsmInfo info_for(const Mesh& mesh, const BuildOptions& o, const CaptureScene& sc
   info.distribution = o.distribution;
   info.order = o.order;
   info.pole = o.pole;
-  info.single_hit = o.single_hit;
+  info.single_hit = scene.single_hit;  // the rule taken (Auto resolved)
   info.hit_epsilon = o.hit_epsilon;
   info.capture = o.capture;
   info.sphere = scene.sphere;

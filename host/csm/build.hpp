@@ -25,7 +25,7 @@ struct BuildOptions {
   Distribution distribution = Distribution::Uniform;
   Order order = Order::ZigzagH;
   PoleAxis pole = PoleAxis::Y;
-  SingleHit single_hit = SingleHit::SphereExit;
+  SingleHit single_hit = SingleHit::Auto;  // resolved per mesh (resolve_single_hit)
   float hit_epsilon = kDefaultHitEpsilon;
   // Capture by rasterization or by ray casting (same values up to rounding and edge pixels).
   CaptureMethod capture = kDefaultCaptureMethod;

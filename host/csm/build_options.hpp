@@ -16,7 +16,7 @@ namespace splatcl::csm {
 
 struct CsmParameters {
   std::uint32_t maps = 4096, res = 128;
-  std::string dist = "uniform", order = "zigzag-h", pole = "y", single_hit = "sphere-exit";
+  std::string dist = "uniform", order = "zigzag-h", pole = "y", single_hit = "auto";
   std::string capture = to_string(kDefaultCaptureMethod);
   std::string encoding = "plain";
   std::uint32_t batch = 0;  // maps per capture batch; 0: about 8 M samples. Memory only, same file.

@@ -65,12 +65,20 @@ void pixel_depths(const CaptureScene& scene, const Camera& cam, std::uint32_t ro
 
 }  // namespace
 
-const char* to_string(SingleHit value) { return value == SingleHit::Exact ? "exact" : "sphere-exit"; }
+const char* to_string(SingleHit value) {
+  return value == SingleHit::Exact ? "exact" : value == SingleHit::Auto ? "auto" : "sphere-exit";
+}
+
+SingleHit resolve_single_hit(SingleHit rule, const Mesh& mesh) {
+  if (rule != SingleHit::Auto) return rule;
+  return mesh.closed() ? SingleHit::SphereExit : SingleHit::Exact;
+}
 
 SingleHit parse_single_hit(const std::string& text) {
   if (text == "sphere-exit") return SingleHit::SphereExit;
   if (text == "exact") return SingleHit::Exact;
-  throw Error("unknown single-hit rule '" + text + "' (one of: sphere-exit, exact)");
+  if (text == "auto") return SingleHit::Auto;
+  throw Error("unknown single-hit rule '" + text + "' (one of: auto, sphere-exit, exact)");
 }
 
 Sphere bounding_sphere(const Mesh& mesh) {
@@ -118,7 +126,7 @@ Sphere bounding_sphere(const Mesh& mesh) {
 
 CaptureScene::CaptureScene(const Mesh& mesh, const Sphere& sphere_, std::uint32_t resolution_, SingleHit single_hit_,
                            float hit_epsilon_)
-    : sphere(sphere_), resolution(resolution_), single_hit(single_hit_), hit_epsilon(hit_epsilon_) {
+    : sphere(sphere_), resolution(resolution_), single_hit(resolve_single_hit(single_hit_, mesh)), hit_epsilon(hit_epsilon_) {
   if (resolution == 0 || resolution > 8192) throw Error("the map resolution must be between 1 and 8192");
   if (!(sphere.radius > 0) || !std::isfinite(sphere.radius)) throw Error("the bounding sphere's radius must be positive");
   if (!(hit_epsilon >= 0) || !std::isfinite(hit_epsilon)) throw Error("the hit epsilon must be finite and not negative");

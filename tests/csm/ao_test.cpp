@@ -2,6 +2,7 @@
 // against the native reference (identical), analytic cases (open sky, ground plane, a receiver
 // under a slab), the hemisphere rotation and several instances sharing one CSM.
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <random>
 
@@ -200,6 +201,57 @@ TEST(CsmAo, AnalyticCases) {
   EXPECT_EQ(out[2].w, 0.0f);
   EXPECT_EQ(out[2].y, -1.0f);  // nothing lit: the bent normal is the normal
   EXPECT_NEAR(out[3].w, 0.5f, 0.2f);  // a side-facing receiver loses the lower half
+}
+
+// The cosine-weighted share of a receiver's upward hemisphere that a rectangle [x0, x1] × [z0, z1]
+// parallel to it, at height h above it, covers: the analytic form factor (a differential area to a
+// parallel rectangle, by corner rectangles with signs), independent of any capture or query.
+double parallel_rectangle_form_factor(double x0, double x1, double z0, double z1, double h) {
+  const auto corner = [&](double x, double z) {
+    const double X = x / h, Z = z / h, sx = std::sqrt(1 + X * X), sz = std::sqrt(1 + Z * Z);
+    return (X / sx * std::atan(Z / sx) + Z / sz * std::atan(X / sz)) / (2 * std::numbers::pi);
+  };
+  return corner(x1, z1) - corner(x0, z1) - corner(x1, z0) + corner(x0, z0);
+}
+
+// A single-sided sheet (an open mesh: the build's default rule takes z2 = z1 for it) occludes
+// receivers under it as much as the form factor says. With the sphere-exit rule every receiver in
+// the first half of the span from the sheet to the bounding sphere's exit counted as lit: AO 1
+// under the sheet's middle where 0.17 is right.
+TEST(CsmAo, OpenSheetOccludesAsItsFormFactorSays) {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  constexpr std::uint32_t n = 8;  // quads per side of the 4 × 4 sheet at y = 1, facing up
+  for (std::uint32_t i = 0; i <= n; ++i)
+    for (std::uint32_t k = 0; k <= n; ++k) vertices.push_back({-2.0f + 0.5f * static_cast<float>(i), 1.0f, -2.0f + 0.5f * static_cast<float>(k)});
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t k = 0; k < n; ++k) faces.push_back({i * (n + 1) + k, i * (n + 1) + k + 1, (i + 1) * (n + 1) + k + 1, (i + 1) * (n + 1) + k});
+  const Mesh sheet = make_mesh(vertices, faces, "sheet");
+  ASSERT_FALSE(sheet.closed());
+  BuildOptions options;
+  options.maps = 1024;
+  options.resolution = 64;
+  const Csm csm = build_csm(sheet, options, &runtime()).csm;
+  EXPECT_EQ(csm.info.single_hit, SingleHit::Exact);
+  const VisibilityScene scene({&csm}, {{}});
+  std::vector<Vec4> positions, normals;
+  for (const float x : {0.0f, 1.0f, 1.9f, 2.5f, 3.5f})
+    for (const float z : {0.0f, 1.5f}) positions.push_back({x, 0.0f, z, 1}), normals.push_back({0, 1, 0, 0});
+  AoRequest request;
+  request.positions = positions;
+  request.normals = normals;
+  request.samples = 1024;
+  request.patterns = make_patterns(PatternSet::HammersleyScrambled, 4, request.samples, 3);
+  request.pattern_of = choose_patterns(positions.size(), 4, 3);
+  std::vector<Vec4> out;
+  ambient_occlusion_reference(scene, request, out);
+  for (std::size_t r = 0; r < positions.size(); ++r) {
+    const double x = positions[r].x, z = positions[r].z;
+    const double open = 1 - parallel_rectangle_form_factor(-2 - x, 2 - x, -2 - z, 2 - z, 1.0);
+    EXPECT_NEAR(out[r].w, open, 0.04) << "receiver at x " << x << ", z " << z;
+  }
+  // A closed mesh keeps the sphere-exit rule.
+  EXPECT_EQ(build_csm(cube_mesh(), options, &runtime()).csm.info.single_hit, SingleHit::SphereExit);
 }
 
 }  // namespace
