@@ -185,10 +185,12 @@ std::vector<std::uint32_t> casting_triangles(const Mesh& mesh, Vec3 origin) {
       const std::uint32_t v[3] = {mesh.corners[first], mesh.corners[c], mesh.corners[c + 1]};
       float p[3][3];
       for (int k = 0; k < 3; ++k) relative_position(mesh, v[k], origin, p[k]);
-      const Vec3 e1{p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
-      const Vec3 e2{p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-      const Vec3 n = cross(e1, e2);
-      if (!(dot(n, n) > 0)) continue;
+      // The float edges' cross product in double: in float, |n|² underflows to 0 for edges below
+      // ~1e-10 and a tiny mesh lost its triangles (a torus scaled by 3e-11 had "every face degenerate").
+      double e1[3], e2[3];
+      for (int k = 0; k < 3; ++k) e1[k] = double{p[1][k] - p[0][k]}, e2[k] = double{p[2][k] - p[0][k]};
+      const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 0)) continue;
       triangles.insert(triangles.end(), v, v + 3);
     }
   }

@@ -125,5 +125,27 @@ TEST(CsmCapture, DegenerateMeshesAreOneClearError) {
   EXPECT_THROW(bounding_sphere(point), Error);
 }
 
+// A tiny mesh keeps every triangle (its area tested in double: in float |e1 × e2|² underflowed
+// below edges of ~1e-10), and its capture is the unit mesh's in depth units.
+TEST(CsmCapture, TinyMeshesKeepTheirTriangles) {
+  const Mesh unit = sphere_mesh(6, 8);
+  const std::size_t triangles = mesh_triangles(unit, {0, 0, 0}).size();
+  const CaptureScene reference(unit, bounding_sphere(unit), 16, SingleHit::SphereExit);
+  std::vector<float> ref1, ref2;
+  const SphereGrid grid(Distribution::Uniform, Order::ZigzagH, PoleAxis::Y, 16);
+  capture_reference(reference, grid, 0, 4, ref1, ref2);
+  for (const float scale : {1e-11f, 3e-13f}) {
+    const Mesh tiny = sphere_mesh(6, 8, scale);
+    EXPECT_EQ(mesh_triangles(tiny, {0, 0, 0}).size(), triangles) << scale;
+    const CaptureScene scene(tiny, bounding_sphere(tiny), 16, SingleHit::SphereExit);
+    std::vector<float> z1, z2;
+    capture_reference(scene, grid, 0, 4, z1, z2);
+    ASSERT_EQ(z1.size(), ref1.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < z1.size(); ++i) differ += std::fabs(z1[i] - ref1[i]) > 1e-4f;
+    EXPECT_LE(differ, z1.size() / 100) << scale << ": " << differ << " of " << z1.size() << " depths";
+  }
+}
+
 }  // namespace
 }  // namespace splatcl::csm
