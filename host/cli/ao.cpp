@@ -44,6 +44,10 @@ int run_ao(const AoCommand& c) {
     throw Error(fmt::format("ao: --patterns {} is not a pattern count in 1..{}", options.patterns, kMaxPatterns));
   if (!std::isfinite(options.bias)) throw Error(fmt::format("ao: --bias {} must be finite", options.bias));
   check_output_file(c.output, "-o");
+  std::vector<std::pair<std::string, std::string>> inputs{{"receiver", c.receiver}};
+  for (const std::string& occluder : c.occluders) inputs.emplace_back("occluder", occluder);
+  check_outputs_spare_inputs({{"-o", c.output}}, inputs);
+  check_output_extension(c.output, "-o", {".ply"}, "a vertex-coloured PLY");
   std::vector<Instance> instances;
   for (std::size_t k = 0; k < c.transforms.size(); ++k) instances.push_back({0, parse_placement(c.transforms[k])});
   instances.resize(c.occluders.size());

@@ -173,6 +173,8 @@ int run_build(const BuildCommand& c) {
   check_output_file(c.output, "-o");
   check_output_file(c.coherence, "--coherence");
   check_distinct_outputs({{"-o", c.output}, {"--coherence", c.coherence}});
+  check_outputs_spare_inputs({{"-o", c.output}, {"--coherence", c.coherence}}, {{"model", c.model}});
+  check_output_extension(c.output, "-o", {".csm"}, "a coherent shadow map");
   ProgressLine progress("csm");
   const Mesh mesh = load_model(c.model, progress);
   std::shared_ptr<Runtime> runtime;

@@ -66,6 +66,8 @@ int run_splats(const SplatsOptions& o) {
   check_output_file(o.stats, "--stats");
   check_output_file(o.render, "--render");
   check_distinct_outputs({{"-o", o.output}, {"--stats", o.stats}, {"--render", o.render}});
+  check_outputs_spare_inputs({{"-o", o.output}, {"--stats", o.stats}, {"--render", o.render}}, {{"model", o.model}});
+  check_output_extension(o.output, "-o", {".ply"}, "a PLY of splats");
   // The same parameters, parsing and translation as `splatcl batch` (splats/pipeline_options.hpp).
   SplatParameters params;
   for (const auto& [option, value] : *o.given) set_parameter(params, option, value);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -30,8 +31,10 @@ Transform parse_placement(const std::string& text) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v))
-      throw Error("bad occluder transform '" + text + "': '" + item + "' is not a finite number");
+    // Placements are applied in float: beyond its range (1e39) they would turn inf.
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v) ||
+        std::fabs(v) > std::numeric_limits<float>::max())
+      throw Error("bad occluder transform '" + text + "': '" + item + "' is not a finite number in float range");
     values.push_back(v);
   }
   if (values.size() == 16) {

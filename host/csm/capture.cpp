@@ -1,5 +1,7 @@
 #include "csm/capture.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -121,6 +123,9 @@ Sphere bounding_sphere(const Mesh& mesh) {
   const double radius = farthest(fc, points);
   if (!(radius > 0) || !std::isfinite(radius)) throw Error(mesh.source + ": the mesh has zero extent (all vertices coincide)");
   sphere.radius = static_cast<float>(radius * (1 + 1e-5));
+  if (!(sphere.radius >= kMinSphereRadius && sphere.radius <= kMaxSphereRadius))
+    throw Error(fmt::format("{}: the mesh's bounding sphere has radius {:g}, outside [{:g}, {:g}] (scale the model into that range)",
+                            mesh.source, sphere.radius, kMinSphereRadius, kMaxSphereRadius));
   return sphere;
 }
 

@@ -41,9 +41,14 @@ struct Sphere {
   float radius = 0;
 };
 
+// The bounding-sphere radii a CSM is built and read with: its depth math squares and inverts
+// distances of this size in float (a file claiming 3e38 or 1e-38 made every query lit).
+inline constexpr float kMinSphereRadius = 1e-18f, kMaxSphereRadius = 1e18f;
+
 // A tight sphere around every vertex some face uses: the smaller of Ritter's sphere and the box
 // sphere (box centre, farthest vertex), widened by 1e-5 of the radius so that every triangle lies
-// strictly inside in float arithmetic. Throws Error for a mesh of zero extent.
+// strictly inside in float arithmetic. Throws Error for a mesh of zero extent, or one whose radius
+// is outside [kMinSphereRadius, kMaxSphereRadius].
 Sphere bounding_sphere(const Mesh& mesh);
 
 // Default hit tolerance, in depth units (fraction of 2R): hits closer than this are one surface.

@@ -216,7 +216,7 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   info.hit_epsilon = get<float>(bytes, 52);
   info.sphere.centre = {get<float>(bytes, 56), get<float>(bytes, 60), get<float>(bytes, 64)};
   info.sphere.radius = get<float>(bytes, 68);
-  if (!finite(info.sphere.centre) || !(info.sphere.radius > 0) || !std::isfinite(info.sphere.radius) ||
+  if (!finite(info.sphere.centre) || !(info.sphere.radius >= kMinSphereRadius && info.sphere.radius <= kMaxSphereRadius) ||
       !(info.hit_epsilon >= 0) || !std::isfinite(info.hit_epsilon))
     throw fail("bad bounding sphere or hit epsilon");
   for (std::size_t k = 0; k < 16; ++k) {
@@ -321,7 +321,9 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
     if (last <= first || last > segments) throw fail(fmt::format("pixel {} has a bad segment range", p));
     for (std::uint32_t k = first; k < last; ++k) {
       if (k > first && csm.end[k] <= csm.end[k - 1]) throw fail(fmt::format("pixel {}: end indices not increasing", p));
-      if (std::isnan(csm.depth[k])) throw fail(fmt::format("pixel {}: NaN depth", p));
+      // Depth units: 0 on the camera plane, 1 at the sphere's far side; +inf for an empty run.
+      const float d = csm.depth[k];
+      if (!(d == INFINITY || (d >= -1e-3f && d <= 1.001f))) throw fail(fmt::format("pixel {}: depth {} outside [0, 1] (or +inf)", p, d));
     }
     if (csm.end[last - 1] != info.maps - 1) throw fail(fmt::format("pixel {}: segments do not end at map {}", p, info.maps - 1));
   }

@@ -41,7 +41,16 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
   validate(options);
   const Vec3 c = info.sphere.centre;
   const float r = info.sphere.radius;
-  const Bvh bvh = build_bvh(mesh_triangles(mesh, c));
+  // The reference renders `mesh`: a CSM of another model gives a meaningless score. Its capture's
+  // sphere and triangle count are the model's (bounding_sphere is deterministic; 1e-4 R of slack).
+  const Sphere own = bounding_sphere(mesh);
+  std::vector<BvhTriangle> triangles = mesh_triangles(mesh, c);
+  if (length(own.centre - c) > 1e-4f * r || std::fabs(own.radius - r) > 1e-4f * r || triangles.size() != info.triangles)
+    throw Error(fmt::format("the CSM was not built from {}: its bounding sphere (centre ({:g}, {:g}, {:g}), radius {:g}) and {} "
+                            "triangles against the model's (({:g}, {:g}, {:g}), {:g}) and {}",
+                            mesh.source, c.x, c.y, c.z, r, info.triangles, own.centre.x, own.centre.y, own.centre.z, own.radius,
+                            triangles.size()));
+  const Bvh bvh = build_bvh(std::move(triangles));
   const VisibilityScene scene({&csm}, {{}});
   std::unique_ptr<VisibilityQueries> device;
   if (runtime) device = std::make_unique<VisibilityQueries>(*runtime, scene);

@@ -3,9 +3,13 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+
+#include <fmt/format.h>
 
 #include "io/atomic_file.hpp"
 #include "io/image_codec.hpp"
@@ -69,6 +73,27 @@ void check_distinct_outputs(const std::vector<std::pair<std::string, std::string
       if (q == p) throw Error(other + " and " + option + " name the same file " + path);
     seen.emplace_back(option, p);
   }
+}
+
+void check_outputs_spare_inputs(const std::vector<std::pair<std::string, std::string>>& outputs,
+                                const std::vector<std::pair<std::string, std::string>>& inputs) {
+  for (const auto& [option, path] : outputs) {
+    if (path.empty()) continue;
+    const fs::path p = comparable_path(path);
+    for (const auto& [what, input] : inputs)
+      if (!input.empty() && comparable_path(input) == p) throw Error(fmt::format("{} {} would overwrite the {} {}", option, path, what, input));
+  }
+}
+
+void check_output_extension(const std::string& path, const std::string& option, const std::vector<std::string>& extensions,
+                            const std::string& holds) {
+  if (path.empty()) return;
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (std::find(extensions.begin(), extensions.end(), extension) != extensions.end()) return;
+  std::string list;
+  for (const std::string& e : extensions) list += (list.empty() ? "" : " or ") + e;
+  throw Error(fmt::format("{} {}: the file must end in {} ({})", option, path, list, holds));
 }
 
 StagedOutputs::~StagedOutputs() {

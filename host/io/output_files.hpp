@@ -30,6 +30,16 @@ bool path_within(const std::filesystem::path& inner, const std::filesystem::path
 // Throws Error when two of the given (option, path) outputs name the same file; empty paths are skipped.
 void check_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs);
 
+// Throws Error "OPTION OUT would overwrite the input IN" when an output names the same file as one
+// of the (what, path) inputs (the model, a .csm an `ao` run reads); empty paths are skipped.
+void check_outputs_spare_inputs(const std::vector<std::pair<std::string, std::string>>& outputs,
+                                const std::vector<std::pair<std::string, std::string>>& inputs);
+
+// Throws Error "OPTION PATH: OUT must end in EXT (what it holds)" unless `path` (if given) has one of
+// `extensions` (".ply"), compared without case.
+void check_output_extension(const std::string& path, const std::string& option, const std::vector<std::string>& extensions,
+                            const std::string& holds);
+
 class StagedOutputs {
  public:
   StagedOutputs() = default;

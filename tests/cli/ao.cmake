@@ -42,3 +42,9 @@ add_test(NAME cli.error_ao_missing_receiver COMMAND ${EXPECT_ERROR} "missing.obj
 set_tests_properties(cli.error_ao_no_output cli.error_ao_truncated_csm cli.error_ao_bad_transform cli.error_ao_transform_count
                      cli.error_ao_bad_pattern cli.error_ao_nan_mesh cli.error_ao_empty_mesh cli.error_ao_missing_receiver
                      PROPERTIES FIXTURES_REQUIRED csm_cube)
+add_test(NAME cli.error_ao_output_is_occluder COMMAND ${EXPECT_ERROR} "-o .*ao-corrupt.csm would overwrite the occluder" $<TARGET_FILE:splatcl>
+         ao ${SPLATS_CUBE} --occluder ${CMAKE_CURRENT_BINARY_DIR}/ao-corrupt.csm -o ${CMAKE_CURRENT_BINARY_DIR}/ao-corrupt.csm)
+add_test(NAME cli.error_ao_output_extension COMMAND ${EXPECT_ERROR} "-o out.obj: the file must end in .ply" $<TARGET_FILE:splatcl>
+         ao ${SPLATS_CUBE} --occluder ${CSM_OUT} -o out.obj)
+add_test(NAME cli.error_ao_transform_beyond_float COMMAND ${EXPECT_ERROR} "'1e39' is not a finite number in float range" $<TARGET_FILE:splatcl>
+         ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --occluder-transform 1e39,0,0 -o out.ply)

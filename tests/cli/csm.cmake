@@ -62,3 +62,14 @@ add_test(NAME cli.error_csm_mode_hilbert_res COMMAND ${EXPECT_ERROR} "power-of-t
 add_test(NAME cli.error_csm_analyze_nothing COMMAND ${EXPECT_ERROR} "--kmeans K" $<TARGET_FILE:splatcl> csm analyze ${SPLATS_CUBE} --maps 16 --res 8)
 add_test(NAME cli.error_csm_analyze_big_k COMMAND ${EXPECT_ERROR} "k = 32 must be between 1 and the map count 16" $<TARGET_FILE:splatcl> csm analyze
          ${SPLATS_CUBE} --maps 16 --res 8 --kmeans 32)
+# An output that names an input, or the wrong kind of file, is refused before any work (the model
+# stays as it was; a copy written here is the input).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+add_test(NAME cli.error_csm_output_is_model COMMAND ${EXPECT_ERROR} "-o .*csm-overwrite-me.obj would overwrite the model" $<TARGET_FILE:splatcl>
+         csm build ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj -o ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj)
+add_test(NAME cli.error_csm_output_extension COMMAND ${EXPECT_ERROR} "-o out.txt: the file must end in .csm" $<TARGET_FILE:splatcl>
+         csm build ${SPLATS_CUBE} -o out.txt)
+# csm quality with a CSM of another model (the tetrahedron against the cube's map): refused, not scored.
+add_test(NAME cli.error_csm_quality_other_model COMMAND ${EXPECT_ERROR} "the CSM was not built from .*csm-overwrite-me.obj" $<TARGET_FILE:splatcl>
+         csm quality ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj --csm ${CSM_OUT} --views 1 --image 16)
+set_tests_properties(cli.error_csm_quality_other_model PROPERTIES FIXTURES_REQUIRED csm_cube)

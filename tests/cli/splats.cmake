@@ -91,3 +91,5 @@ add_test(NAME cli.error_image_module_missing COMMAND ${EXPECT_ERROR} "cannot wri
          $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:4 -o ${CMAKE_CURRENT_BINARY_DIR}/splats-no-module.ply
          --render ${CMAKE_CURRENT_BINARY_DIR}/splats-no-module.png)
 set_tests_properties(cli.error_image_module_missing PROPERTIES ENVIRONMENT SPLATCL_OIIO_MODULE=${CMAKE_CURRENT_BINARY_DIR}/no-such-module.so)
+add_test(NAME cli.error_splats_output_is_model COMMAND ${EXPECT_ERROR} "-o .*csm-overwrite-me.obj would overwrite the model" $<TARGET_FILE:splatcl>
+         splats ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj -o ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj)

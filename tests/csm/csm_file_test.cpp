@@ -152,6 +152,36 @@ TEST(CsmFile, DamagedFilesAreOneClearError) {
 // A resealed header claiming the most maps (2^24) with a grid that does not fit them is refused
 // without building that grid's tables, which took seconds under the sanitizers (a fuzz finding:
 // tests/fuzz/corpus/csm/regression-16m-maps-resealed.csm).
+// Values a valid checksum can carry that would make every query lit or shadowed are refused: a
+// bounding sphere beyond what the float depth math handles, and depths outside [0, 1] (+inf marks
+// an empty run).
+TEST(CsmFile, ImplausibleRadiusAndDepthsAreRefused) {
+  const std::string bytes = encode_csm(small_build().csm, Encoding::Plain);
+  const auto refused = [](std::string edited, const std::string& why, const std::string& says) {
+    try {
+      decode_csm(with_checksum(std::move(edited)), "edited.csm");
+      ADD_FAILURE() << why << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("edited.csm: ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << why << ": " << e.what();
+    }
+  };
+  for (const float radius : {3e38f, 1e-38f, 1e19f}) {
+    std::string edited = bytes;
+    std::memcpy(edited.data() + 68, &radius, 4);
+    refused(edited, "radius " + std::to_string(radius), "bad bounding sphere");
+  }
+  // The first segment's depth (the plain payload: offsets, then depths).
+  const Csm& csm = small_build().csm;
+  const std::size_t depth_at = kCsmHeaderBytes + csm.offsets.size() * 4;
+  for (const float depth : {-5.0f, -INFINITY, 2.0f}) {
+    std::string edited = bytes;
+    std::memcpy(edited.data() + depth_at, &depth, 4);
+    refused(edited, "depth " + std::to_string(depth), "outside [0, 1]");
+  }
+  EXPECT_NO_THROW(decode_csm(with_checksum(bytes), "unedited.csm"));
+}
+
 TEST(CsmFile, AHugeMapCountIsCheckedWithoutBuildingItsGrid) {
   std::string bytes = encode_csm(small_build().csm, Encoding::Plain);
   const std::uint32_t maps = kMaxMaps;
