@@ -31,6 +31,7 @@
 #include "splats/pipeline.hpp"
 #include "splats/pipeline_options.hpp"
 #include "splats/splat_file.hpp"
+#include "splats/surface_check.hpp"
 
 namespace splatcl::batch {
 namespace {
@@ -255,9 +256,14 @@ class Worker {
     const SplatSetup setup = splat_setup(entry.params.splats, mesh, entry.input);
     Runtime* device = runtime();
     SplatRun run = generate_splats(mesh, setup.colors, setup.options, device, [&](const std::string& phase) { report_(entry.id + ": splats " + phase); });
+    // The same end-of-run check as `splatcl splats`: splats that break the bound the run promised
+    // fail the model instead of being written and reported ok.
+    const std::vector<SplatRecord> records = run.records();
+    report_(entry.id + ": checking splats");
+    check_before_writing(mesh, records, run.surface_bound, setup.options.fit.eps, entry.input, "");
     report_(entry.id + ": writing splats");
     const std::string ply = splats_name(entry.id), stats_name = entry.id + ".splats.json";
-    write_splat_file((dir / ply).string(), run.records(), splat_file_info(setup, run, entry.input));
+    write_splat_file((dir / ply).string(), records, splat_file_info(setup, run, entry.input));
     count_write();
     const std::string stats_text = splat_statistics(run, setup, entry.input, ply).dump(2) + "\n";
     write_counted((dir / stats_name).string(), stats_text);

@@ -42,19 +42,6 @@ struct VerifyOptions {
   std::string eps, points, ellipse_points, seed;  // as given ("" when not); parsed and validated by run_verify
 };
 
-// Which bounds a failed check broke, for one error line.
-std::string describe_failure(const SurfaceCheckReport& r) {
-  std::string broken;
-  const auto add = [&](const std::string& part) { broken += (broken.empty() ? "" : "; ") + part; };
-  if (r.uncovered_points > 0)
-    add(fmt::format("surface not covered within eps ({:.3g}% of the area uncovered, largest hole {:.3g} eps across)",
-                    100 * r.uncovered_fraction, r.largest_hole_diameter / r.eps));
-  if (r.splats_beyond > 0)
-    add(fmt::format("{} splat{} the surface by more than eps (up to {:.3g} eps)", r.splats_beyond, r.splats_beyond == 1 ? " leaves" : "s leave",
-                    r.max_distance_eps()));
-  if (r.degenerate > 0) add(fmt::format("{} degenerate splat{}", r.degenerate, r.degenerate == 1 ? "" : "s"));
-  return broken;
-}
 
 int run_splats(const SplatsOptions& o) {
   if (o.model.empty()) throw Error("splats: a MODEL is required (see splatcl splats --help)");
@@ -91,16 +78,11 @@ int run_splats(const SplatsOptions& o) {
   std::optional<SurfaceCheckReport> check;
   if (!o.no_check) {
     Stopwatch check_clock;
-    SurfaceCheckOptions check_options;
-    check_options.eps = options.fit.eps;
-    check = check_surface(mesh, records, check_options, [&](const std::string& phase, double fraction) {
-      progress.show(fmt::format("checking: {} {:.0f}%", phase, 100 * fraction));
-    });
+    check = check_before_writing(mesh, records, run.surface_bound, options.fit.eps, o.model, " (--no-check writes them unchecked)",
+                                 [&](const std::string& phase, double fraction) {
+                                   progress.show(fmt::format("checking: {} {:.0f}%", phase, 100 * fraction));
+                                 });
     run.phases.push_back({"check", check_clock.elapsed_ms()});
-    if (!check->ok() && run.surface_bound)
-      throw Error(fmt::format("{}: the splats break the two-sided bound at eps {:.6g} ({}); nothing written (--no-check writes "
-                              "them unchecked)",
-                              o.model, options.fit.eps, describe_failure(*check)));
   }
   // Commit order: the secondary outputs first, -o last.
   StagedOutputs outputs;

@@ -6,6 +6,8 @@
 #include <numbers>
 #include <numeric>
 
+#include <fmt/format.h>
+
 #include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 #include "core/parallel.hpp"
@@ -493,6 +495,30 @@ nlohmann::json to_json(const SurfaceCheckReport& r) {
             {"largest_major_diagonal", r.largest_major_diagonal()},
             {"flipped", r.flipped},
             {"degenerate", r.degenerate}}}};
+}
+
+std::string describe_failure(const SurfaceCheckReport& r) {
+  std::string broken;
+  const auto add = [&](const std::string& part) { broken += (broken.empty() ? "" : "; ") + part; };
+  if (r.uncovered_points > 0)
+    add(fmt::format("surface not covered within eps ({:.3g}% of the area uncovered, largest hole {:.3g} eps across)",
+                    100 * r.uncovered_fraction, r.largest_hole_diameter / r.eps));
+  if (r.splats_beyond > 0)
+    add(fmt::format("{} splat{} the surface by more than eps (up to {:.3g} eps)", r.splats_beyond, r.splats_beyond == 1 ? " leaves" : "s leave",
+                    r.max_distance_eps()));
+  if (r.degenerate > 0) add(fmt::format("{} degenerate splat{}", r.degenerate, r.degenerate == 1 ? "" : "s"));
+  return broken;
+}
+
+SurfaceCheckReport check_before_writing(const Mesh& mesh, const std::vector<SplatRecord>& splats, bool surface_bound, double eps,
+                                        const std::string& model, const std::string& remedy, const SurfaceCheckProgress& progress) {
+  SurfaceCheckOptions options;
+  options.eps = eps;
+  SurfaceCheckReport report = check_surface(mesh, splats, options, progress);
+  if (!report.ok() && surface_bound)
+    throw Error(fmt::format("{}: the splats break the two-sided bound at eps {:.6g} ({}); nothing written{}", model, eps,
+                            describe_failure(report), remedy));
+  return report;
 }
 
 }  // namespace splatcl::splats

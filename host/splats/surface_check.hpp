@@ -71,8 +71,17 @@ nlohmann::json to_json(const SurfaceCheckReport& report);
 // Called from the calling thread with the phase and its completed fraction in [0, 1].
 using SurfaceCheckProgress = std::function<void(const std::string& phase, double fraction)>;
 
+// Which bounds a failed check broke, for one error line.
+std::string describe_failure(const SurfaceCheckReport& r);
+
 // Throws Error when eps is not finite and positive or the mesh has no area.
 SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord>& splats, const SurfaceCheckOptions& options,
                                  const SurfaceCheckProgress& progress = {});
+
+// The check of `splatcl splats` and `splatcl batch` on the splats about to be written: the report;
+// when the run promised the two-sided bound (surface_bound) and the splats break it, Error "MODEL:
+// the splats break the two-sided bound at eps E (...); nothing written" + `remedy`.
+SurfaceCheckReport check_before_writing(const Mesh& mesh, const std::vector<SplatRecord>& splats, bool surface_bound, double eps,
+                                        const std::string& model, const std::string& remedy, const SurfaceCheckProgress& progress = {});
 
 }  // namespace splatcl::splats

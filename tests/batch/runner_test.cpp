@@ -1,7 +1,9 @@
 // Resumable runs on tiny meshes with the native references (no OpenCL device needed): outputs and
 // records, reuse verified by checksum, rebuilds after changes or corruption, per-model failures.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "batch/batch_test_support.hpp"
@@ -161,6 +163,42 @@ TEST(BatchRunner, FailingModelsAreReportedAndTheRestComplete) {
   EXPECT_EQ(summary["models"][0]["status"], "failed");
   EXPECT_TRUE(summary["models"][0].contains("reason"));
   EXPECT_EQ(failed_models(summary), 4u);
+}
+
+// The same end-of-run check as `splatcl splats`: a sphere of radius 100 at 1e6 (float spacing 0.0625
+// there, so a few splats end just beyond ε) fails its model with the check's reason and writes no
+// splats, where the run used to write them and report "ok".
+TEST(BatchRunner, SplatsThatBreakTheBoundFailTheModel) {
+  ScratchDir dir("runner-bound");
+  std::string obj;
+  constexpr int segments = 48, rings = 24;
+  const double pi = 3.14159265358979323846;
+  obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", 1e6, 1e6, 1e6 + 100);
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double theta = pi * i / rings, phi = 2 * pi * j / segments;
+      obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", 1e6 + 100 * std::sin(theta) * std::cos(phi), 1e6 + 100 * std::sin(theta) * std::sin(phi),
+                         1e6 + 100 * std::cos(theta));
+    }
+  obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", 1e6, 1e6, 1e6 - 100);
+  const int south = 1 + (rings - 1) * segments + 1;  // 1-based
+  const auto ring = [&](int i, int j) { return 2 + (i - 1) * segments + j % segments; };
+  for (int j = 0; j < segments; ++j) obj += fmt::format("f 1 {} {}\n", ring(1, j), ring(1, j + 1));
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      obj += fmt::format("f {} {} {}\n", ring(i, j), ring(i + 1, j), ring(i + 1, j + 1));
+      obj += fmt::format("f {} {} {}\n", ring(i, j), ring(i + 1, j + 1), ring(i, j + 1));
+    }
+  for (int j = 0; j < segments; ++j) obj += fmt::format("f {} {} {}\n", ring(rings - 1, j), south, ring(rings - 1, j + 1));
+  write_text(dir / "far.obj", obj);
+  ModelEntry entry = model(dir, "far", "far.obj");
+  entry.params.want_csm = false;
+  entry.params.splats = {};  // the defaults of splatcl splats
+  const auto results = run_batch({entry}, reference_options(dir));
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_FALSE(results[0].ok);
+  EXPECT_NE(results[0].reason.find("break the two-sided bound"), std::string::npos) << results[0].reason;
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(dir / "out") / "far.splats.ply"));
 }
 
 TEST(BatchRunner, ParallelJobsGiveTheSameOutputs) {
