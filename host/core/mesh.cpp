@@ -220,6 +220,104 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   return static_cast<std::size_t>(std::count(turn.begin(), turn.end(), 1));
 }
 
+// Polygons of more than three corners that a fan from their first corner would not triangulate
+// inside their outline (every consumer fans: sampling, the shadow casters, the surface checks) are
+// replaced by an ear-clipping triangulation in the plane of their Newell normal: concave ones (an
+// L-shaped CAD face), and non-planar ones whose fan folds (a fan triangle facing against the
+// normal). Convex polygons stay whole. Returns how many were split.
+std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& faces) {
+  Faces out;
+  std::size_t split = 0;
+  std::vector<std::array<double, 2>> flat;
+  std::vector<std::uint32_t> left;
+  const auto keep = [&](std::uint32_t f) {
+    out.corners.insert(out.corners.end(), faces.corners.begin() + faces.offsets[f], faces.corners.begin() + faces.offsets[f + 1]);
+    if (!faces.texcoords.empty())
+      out.texcoords.insert(out.texcoords.end(), faces.texcoords.begin() + faces.offsets[f], faces.texcoords.begin() + faces.offsets[f + 1]);
+    out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+  };
+  for (std::uint32_t f = 0; f < faces.count(); ++f) {
+    const std::uint32_t begin = faces.offsets[f], n = faces.offsets[f + 1] - begin;
+    if (n <= 3) {
+      keep(f);
+      continue;
+    }
+    const auto at = [&](std::uint32_t i) { return to_double(positions[faces.corners[begin + i]]); };
+    // Newell's normal, and the fan's triangles against it.
+    D3 normal{0, 0, 0};
+    const D3 origin = at(0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const D3 a = sub(at(i), origin), b = sub(at((i + 1) % n), origin);
+      const D3 c = cross3(a, b);
+      for (int k = 0; k < 3; ++k) normal[k] += c[k];
+    }
+    const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    if (!(length > 0)) {
+      keep(f);
+      continue;
+    }
+    // A frame of the Newell plane; corners projected into it (counter-clockwise about the normal).
+    const D3 w{normal[0] / length, normal[1] / length, normal[2] / length};
+    const D3 helper = std::fabs(w[0]) < 0.9 ? D3{1, 0, 0} : D3{0, 1, 0};
+    D3 u = cross3(helper, w);
+    const double ul = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (double& x : u) x /= ul;
+    const D3 v = cross3(w, u);
+    flat.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const D3 p = sub(at(i), origin);
+      flat[i] = {p[0] * u[0] + p[1] * u[1] + p[2] * u[2], p[0] * v[0] + p[1] * v[1] + p[2] * v[2]};
+    }
+    const auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      return (flat[b][0] - flat[a][0]) * (flat[c][1] - flat[a][1]) - (flat[b][1] - flat[a][1]) * (flat[c][0] - flat[a][0]);
+    };
+    bool fans = true;
+    for (std::uint32_t i = 0; i < n && fans; ++i) fans = turn((i + n - 1) % n, i, (i + 1) % n) >= 0;  // convex outline
+    for (std::uint32_t i = 1; i + 1 < n && fans; ++i) {
+      const D3 c = cross3(sub(at(i), origin), sub(at(i + 1), origin));
+      fans = c[0] * w[0] + c[1] * w[1] + c[2] * w[2] >= 0;  // no fan triangle folded back
+    }
+    if (fans) {
+      keep(f);
+      continue;
+    }
+    // Ear clipping: cut a convex corner whose triangle holds no other remaining corner.
+    left.resize(n);
+    std::iota(left.begin(), left.end(), 0u);
+    const auto inside = [&](std::uint32_t p, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      return turn(a, b, p) >= 0 && turn(b, c, p) >= 0 && turn(c, a, p) >= 0;
+    };
+    const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      for (const std::uint32_t i : {a, b, c}) {
+        out.corners.push_back(faces.corners[begin + i]);
+        if (!faces.texcoords.empty()) out.texcoords.push_back(faces.texcoords[begin + i]);
+      }
+      out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+    };
+    while (left.size() > 3) {
+      const std::size_t m = left.size();
+      std::size_t ear = m;
+      for (std::size_t i = 0; i < m && ear == m; ++i) {
+        const std::uint32_t a = left[(i + m - 1) % m], b = left[i], c = left[(i + 1) % m];
+        if (!(turn(a, b, c) > 0)) continue;
+        bool empty = true;
+        for (std::size_t k = 0; k < m && empty; ++k) {
+          const std::uint32_t p = left[k];
+          if (p != a && p != b && p != c && flat[p] != flat[a] && flat[p] != flat[b] && flat[p] != flat[c]) empty = !inside(p, a, b, c);
+        }
+        if (empty) ear = i;
+      }
+      if (ear == m) ear = 0;  // self-intersecting or degenerate outline: cut anywhere, it still ends
+      emit(left[(ear + m - 1) % m], left[ear], left[(ear + 1) % m]);
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(ear));
+    }
+    emit(left[0], left[1], left[2]);
+    ++split;
+  }
+  faces = std::move(out);
+  return split;
+}
+
 // Zero-area faces, edges two faces use in the same direction, and whether the closed parts of the
 // surface (components whose every edge two faces share in opposite directions) enclose negative
 // volume. In double, about the bounding box's centre, so any float coordinates give finite sums.
@@ -311,6 +409,7 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
   problems.faces_listed = raw.face_count();
   Faces faces = usable_faces(raw, problems);
   if (winding == Winding::Orient) problems.turned_faces = orient_faces(raw.positions, faces);
+  problems.split_polygons = split_unfannable_faces(raw.positions, faces);
   check_surface(raw.positions, faces, problems);
   const bool texcoords = !raw.corner_texcoords.empty();
 

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <future>
+#include <numbers>
 #include <thread>
 
 #include "runtime/error.hpp"
@@ -435,6 +436,54 @@ TEST(MeshHygiene, OrientTurnsFacesToAgreeAndFaceOutward) {
   EXPECT_EQ(mixed.problems.turned_faces, reversed);
   clean_after(mixed.problems);
   EXPECT_TRUE(all_outward(mixed, {1e4f, -2e4f, 3e4f}));
+}
+
+// Polygons every consumer fans from their first corner: a concave one is split by ear clipping, so
+// its triangles cover exactly its area (a fan of the L covered the notch: 165 of 872 splats stood
+// there, up to 175 ε off the surface), with the polygon's winding; convex ones stay whole.
+TEST(MeshHygiene, ConcavePolygonsAreSplitInsideTheirOutline) {
+  const auto area_and_facing = [](const Mesh& mesh) {
+    double area = 0;
+    bool up = true;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      const Vec3 n = face_normal(mesh, f);
+      area += 0.5 * std::sqrt(double{dot(n, n)});
+      up = up && n.z > 0;
+    }
+    return std::pair{area, up};
+  };
+  // The L: (0,0)-(2,0)-(2,1)-(1,1)-(1,2)-(0,2), area 3, listed from a reflex corner's neighbour.
+  const std::vector<Vec3> l{{2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}, {0, 0, 0}, {2, 0, 0}};
+  const Mesh ell = make_mesh(l, {{0, 1, 2, 3, 4, 5}}, "L");
+  EXPECT_EQ(ell.problems.split_polygons, 1u);
+  EXPECT_FALSE(ell.problems.any());
+  EXPECT_EQ(ell.face_count(), 4u);
+  const auto [ell_area, ell_up] = area_and_facing(ell);
+  EXPECT_NEAR(ell_area, 3.0, 1e-6);
+  EXPECT_TRUE(ell_up);
+  for (std::size_t f = 0; f < ell.face_count(); ++f) {
+    Vec3 mid{};
+    for (const Vec3& p : face_positions(ell, f)) mid = mid + p * (1.0f / 3.0f);
+    EXPECT_FALSE(mid.x > 1 && mid.y > 1) << "triangle " << f << " in the notch";
+  }
+  // A five-pointed star as one 10-gon, through a file: area of the star, every triangle facing +z.
+  std::vector<Vec3> star;
+  for (int k = 0; k < 10; ++k) {
+    const double angle = std::numbers::pi * k / 5, r = k % 2 ? 0.4 : 1.0;
+    star.push_back({static_cast<float>(r * std::cos(angle)), static_cast<float>(r * std::sin(angle)), 0.0f});
+  }
+  const Mesh star_mesh = load_mesh(temp_file("star.obj", obj_text(star, {{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}})));
+  EXPECT_EQ(star_mesh.problems.split_polygons, 1u);
+  EXPECT_EQ(star_mesh.face_count(), 8u);
+  double star_area = 0;
+  for (int k = 0; k < 10; ++k) star_area += 0.5 * std::fabs(double{star[k].x} * star[(k + 1) % 10].y - double{star[(k + 1) % 10].x} * star[k].y);
+  const auto [area, up] = area_and_facing(star_mesh);
+  EXPECT_NEAR(area, star_area, 1e-5);
+  EXPECT_TRUE(up);
+  // Convex polygons (and a convex one with a corner on an edge) stay one face.
+  const Mesh quad = make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}}, {{0, 1, 2, 3, 4}}, "pentagon");
+  EXPECT_EQ(quad.problems.split_polygons, 0u);
+  EXPECT_EQ(quad.face_count(), 1u);
 }
 
 TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
