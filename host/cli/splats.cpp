@@ -121,8 +121,12 @@ int run_splats(const SplatsOptions& o) {
   fmt::print("eps        {:.6g} ({:.3g} of the diagonal), colour tolerance {} ({})\n", options.fit.eps, options.fit.eps / diagonal,
              options.fit.color_tolerance, color_description);
   if (!run.samples.note.empty()) fmt::print(stderr, "splatcl: note: {}: {}\n", o.model, run.samples.note);
-  fmt::print("splats     {} ({:.1f}% of the samples, {:.2f} samples per splat); greedy {}, then {} swaps and {} removals in {} rounds\n",
-             run.selected.size(), 100.0 * m / n, n / m, run.greedy_count, run.optimise.swaps, run.optimise.removals, run.optimise.rounds);
+  // With none selected (every written splat a gap splat, as on sheets thinner than the sample
+  // spacing) there is no per-splat ratio to print.
+  const std::string ratio = m > 0 ? fmt::format("{:.1f}% of the samples, {:.2f} samples per splat", 100.0 * m / n, n / m)
+                                  : fmt::format("none of the {} samples", run.samples.size());
+  fmt::print("splats     {} selected ({}); greedy {}, then {} swaps and {} removals in {} rounds\n", run.selected.size(), ratio,
+             run.greedy_count, run.optimise.swaps, run.optimise.removals, run.optimise.rounds);
   if (run.surface_bound)
     fmt::print("surface    {} grown splats shrunk to the surface, {} of the selected made smaller by certification, {} added "
                "in {} gap rounds; {} written\n",

@@ -29,7 +29,12 @@ struct Box {
     hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
   }
   bool empty() const { return lo.x > hi.x; }
-  float diagonal() const { return empty() ? 0.0f : length(hi - lo); }
+  // In double: a float |hi − lo|² overflows for extents above ~1e19 and underflows below ~1e-19.
+  float diagonal() const {
+    if (empty()) return 0.0f;
+    const double x = double{hi.x} - lo.x, y = double{hi.y} - lo.y, z = double{hi.z} - lo.z;
+    return static_cast<float>(std::sqrt(x * x + y * y + z * z));
+  }
 };
 
 }  // namespace splatcl
