@@ -41,7 +41,8 @@ void check_output_file(const std::string& path, const std::string& what) {
   if (fs::is_directory(path, ec)) throw Error(name + "it is a directory");
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir, ec)) throw Error(name + "directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(dir, ec))
+    throw Error(name + (fs::exists(dir, ec) ? dir.string() + " is a file, not a directory" : "directory " + dir.string() + " does not exist"));
   check_writable_directory(dir.string(), what + " " + path);
   check_image_module(path, name);
   remove_dead_temporaries(path);

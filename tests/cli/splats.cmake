@@ -93,3 +93,5 @@ add_test(NAME cli.error_image_module_missing COMMAND ${EXPECT_ERROR} "cannot wri
 set_tests_properties(cli.error_image_module_missing PROPERTIES ENVIRONMENT SPLATCL_OIIO_MODULE=${CMAKE_CURRENT_BINARY_DIR}/no-such-module.so)
 add_test(NAME cli.error_splats_output_is_model COMMAND ${EXPECT_ERROR} "-o .*csm-overwrite-me.obj would overwrite the model" $<TARGET_FILE:splatcl>
          splats ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj -o ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj)
+add_test(NAME cli.error_splats_output_dir_is_file COMMAND ${EXPECT_ERROR} "cannot write -o .*csm-overwrite-me.obj/out.ply: .*csm-overwrite-me.obj is a file, not a directory"
+         $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj/out.ply)
