@@ -565,6 +565,7 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     }
   }
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) g.ao_neighbours.push_back(ao_smoothing_neighbours(assets_[i].drawn, g.receiver_normals[i]));
+  if (scene_.quality.depth_offset_auto) scene_.quality.depth_offset = auto_depth_offset(scene_, assets_);
   if (scene_.floor.enabled) {
     const FloorSpec& f = scene_.floor;
     const float spacing = f.size / static_cast<float>(f.splats_per_side);
@@ -895,6 +896,13 @@ std::vector<std::string> Presenter::mesh_warnings() const {
     if (scene_.objects[i].mesh.splat_path.empty() && assets_[i].mesh.problems.any())
       lines.push_back(fmt::format("{}: {}: {}", object_where(scene_, i), assets_[i].mesh.source, assets_[i].mesh.problems.summary()));
   return lines;
+}
+
+float auto_depth_offset(const Scene& scene, const std::vector<ObjectAssets>& assets) {
+  float offset = scene.quality.depth_offset;
+  for (std::size_t i = 0; i < scene.objects.size() && i < assets.size(); ++i)
+    offset = std::min(offset, kAutoDepthOffsetShare * scene.objects[i].scale * assets[i].mesh.bounds().diagonal());
+  return offset;
 }
 
 // The frame's CL lighting: the per-splat lighting of moved occluders (update_splat_lighting), then

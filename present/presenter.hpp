@@ -48,6 +48,12 @@ struct FrameStats {
 struct FrameSettings;  // present/settings.hpp
 struct SplatDraw;      // present/passes.hpp
 
+// The visibility ε when the scene does not give one (Quality::depth_offset_auto): the default,
+// lowered to kAutoDepthOffsetShare of the smallest object's diagonal at its scale (the fit is in
+// its mesh). The default scene's smallest, the box, keeps 0.02; a scene scaled by 0.01 gets 0.0002,
+// as its objects need (0.02 showed the floor through their lower halves).
+float auto_depth_offset(const Scene& scene, const std::vector<ObjectAssets>& assets);
+
 class Presenter {
  public:
   // Needs a current GL 4.5 context. Builds or loads every object's assets (progress per object).

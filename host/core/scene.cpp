@@ -370,6 +370,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
     Q.antialias = r.non_negative(q, "antialias", Q.antialias, "0 = off");
     Q.depth_offset = r.non_negative(q, "depth_offset", Q.depth_offset, "the visibility pass's ε behind the nearest splat");
+    Q.depth_offset_auto = !q.contains("depth_offset");
     Q.gaussian = r.positive(q, "gaussian", Q.gaussian);
     Q.mode = r.text(q, "mode", Q.mode, {"splats", "points"});
     Q.shading = r.text(q, "shading", Q.shading, {"clustered", "tiled", "brute"});

@@ -114,6 +114,8 @@ struct Light {
 inline constexpr std::uint32_t kMaxSceneLights = 1u << 20;
 // The Blinn-Phong highlight strength's bound, quality.specular and render/view --specular.
 inline constexpr float kMaxSpecular = 100.0f;
+// The default visibility ε as a share of the smallest object's bounding-box diagonal (Quality::depth_offset_auto).
+inline constexpr float kAutoDepthOffsetShare = 0.01f;
 
 // Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
 // bright hues from a seeded generator.
@@ -155,6 +157,10 @@ struct Quality {
   // to this much (the shipped scene, at a 4× finer ε, uses 0.001). Per object too.
   float surface_clip = 0.0025f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
+  // Not given in the scene: the presenter lowers depth_offset to kAutoDepthOffsetShare of the
+  // smallest object's bounding-box diagonal where that is smaller, so that a small scene's ε does
+  // not swallow its objects (present/presenter.cpp, auto_depth_offset).
+  bool depth_offset_auto = true;
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse
   // Silhouette anti-aliasing of the final view's tone-mapped image (ResolvePass in
   // present/passes.hpp): a pixel is on an outline where its coverage differs from a neighbour's or

@@ -133,6 +133,23 @@ TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
 
 class SceneObjectsRender : public PresenterTest {};
 
+// Without "depth_offset" the visibility ε follows the smallest object (1/100 of its diagonal at its
+// scale) where that is below the default, so a small scene does not blend its floor through its
+// objects; given, it is kept; the default scene keeps 0.02.
+TEST_F(SceneObjectsRender, DefaultDepthOffsetFollowsTheSmallestObject) {
+  const auto offset_of = [&](const std::string& text) {
+    Presenter presenter(parse_scene(text, "eps.json", "."), *runtime_, 32, 24, SPLATCL_TEST_CACHE);
+    return presenter.scene().quality.depth_offset;
+  };
+  const std::string small = R"({"name": "small", "mesh": {"procedural": "box", "size": [0.1, 0.1, 0.1], "rings": 2}, "position": [0, 0.05, 0]})";
+  const float diagonal = 0.1f * std::sqrt(3.0f);
+  EXPECT_NEAR(offset_of(R"({"objects": [)" + small + "]}"), 0.01f * diagonal, 1e-6f);
+  // The object's scale counts.
+  EXPECT_NEAR(offset_of(R"({"objects": [{"name": "s", "mesh": {"procedural": "box", "rings": 2}, "scale": 0.05}]})"), 0.01f * 0.05f * std::sqrt(3.0f), 1e-6f);
+  EXPECT_FLOAT_EQ(offset_of(R"({"objects": [)" + small + R"(], "quality": {"depth_offset": 0.02}})"), 0.02f);
+  EXPECT_FLOAT_EQ(offset_of(R"({"objects": [{"name": "big", "mesh": {"procedural": "box", "size": [3, 3, 3], "rings": 2}}]})"), 0.02f);
+}
+
 TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
   const Scene scene = parse_scene(R"({"objects": [
       {"name": "a", "mesh": {"procedural": "box", "rings": 4}},
