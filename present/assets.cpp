@@ -155,10 +155,6 @@ std::string seconds(double ms) { return fmt::format("{:.1f} s", ms / 1000.0); }
 
 }  // namespace
 
-std::string object_where(const Scene& scene, std::size_t index) {
-  return fmt::format("{}: objects[{}] '{}'", scene.source, index, scene.objects[index].name);
-}
-
 void check_asset_settings(const Scene& scene) {
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     if (!scene.objects[i].mesh.splat_path.empty()) continue;  // a splat file is drawn as it is

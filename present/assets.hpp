@@ -64,8 +64,6 @@ SplatObjectFile read_splat_object(const std::string& path);
 // splat file's shadow map is captured from. Throws Error naming `what` when no splat has area.
 Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what);
 
-// "scene.json: objects[i] 'name'": where an error about an object's file or settings comes from.
-std::string object_where(const Scene& scene, std::size_t index);
 // Refuses an object's asset settings that only the splat stage would reject (its sampling text),
 // before any object's assets are built; the error names the scene file and the object.
 void check_asset_settings(const Scene& scene);

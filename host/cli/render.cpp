@@ -39,11 +39,7 @@ int run_render(const RenderOptions& o) {
   const auto [width, height] = present::parse_frame_size(o.size, "--size");
   const present::DebugView view = present::parse_debug_view(o.view);
   if (o.frames == 0) throw Error("--frames must be at least 1");
-  if (!o.output.empty()) {
-    const auto dot = o.output.rfind('.');
-    const std::string ext = dot == std::string::npos ? "" : o.output.substr(dot);
-    if (ext != ".png" && ext != ".exr") throw Error("-o " + o.output + ": the image must be .png or .exr");
-  }
+  check_output_extension(o.output, "-o", {".png", ".exr"}, "the image");
   // Outputs writable before any work; staged and committed together at the end.
   check_output_file(o.output, "-o");
   check_output_file(o.json, "--json");
@@ -57,7 +53,7 @@ int run_render(const RenderOptions& o) {
   Stopwatch setup;
   present::Presenter presenter(scene, *runtime, width, height, o.scene.cache_dir(), asset_progress(progress, "render"));
   // Linear radiance is written only for an .exr image: a PNG needs the tone-mapped target alone.
-  const bool exr = o.output.size() > 4 && o.output.substr(o.output.size() - 4) == ".exr";
+  const bool exr = output_extension(o.output) == ".exr";
   presenter.hdr_output = exr;
   progress.clear();
   print_mesh_warnings(presenter);

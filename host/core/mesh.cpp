@@ -101,6 +101,18 @@ struct Components {
   void unite(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
 };
 
+// Calls edge(face, from, to) for every edge of every face, in winding order (the last corner back to
+// the first): the one walk the surface checks, orientation and Mesh::closed share.
+template <typename Edge>
+void for_each_edge(const std::vector<std::uint32_t>& offsets, const std::vector<std::uint32_t>& corners, Edge&& edge) {
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f)
+    for (std::uint32_t c = offsets[f]; c < offsets[f + 1]; ++c)
+      edge(static_cast<std::uint32_t>(f), corners[c], corners[c + 1 == offsets[f + 1] ? offsets[f] : c + 1]);
+}
+
+// An undirected edge as one key: low vertex << 32 | high vertex.
+std::uint64_t undirected_edge(std::uint32_t a, std::uint32_t b) { return std::uint64_t{std::min(a, b)} << 32 | std::max(a, b); }
+
 using D3 = std::array<double, 3>;
 D3 sub(const D3& a, const D3& b) { return D3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 D3 cross3(const D3& a, const D3& b) { return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
@@ -147,11 +159,8 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   };
   std::vector<Use> uses;
   uses.reserve(faces.corners.size());
-  for (std::uint32_t f = 0; f < n; ++f)
-    for (std::uint32_t c = faces.offsets[f]; c < faces.offsets[f + 1]; ++c) {
-      const std::uint32_t a = faces.corners[c], b = faces.corners[c + 1 == faces.offsets[f + 1] ? faces.offsets[f] : c + 1];
-      uses.push_back({std::uint64_t{std::min(a, b)} << 32 | std::max(a, b), f, a < b});
-    }
+  for_each_edge(faces.offsets, faces.corners,
+                [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) { uses.push_back({undirected_edge(a, b), f, a < b}); });
   std::sort(uses.begin(), uses.end());
   // Edges of exactly two faces link them; `same` when the two run it the same way (one must turn).
   struct Link {
@@ -206,7 +215,7 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   };
   for (std::uint32_t f = 0; f < n; ++f)
     if (turn[f]) reverse(f);
-  // A closed part is closed after turning too (its edges then run both ways).
+  // Turning changes no edge's face count: a closed part stays closed.
   const std::vector<double> volume = face_volumes(positions, faces);
   double closed_volume = 0, closed_magnitude = 0;
   for (std::uint32_t f = 0; f < n; ++f)
@@ -338,9 +347,8 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
       for (int i = 0; i < 3; ++i) area[i] += a[i];
     }
     if (area[0] == 0 && area[1] == 0 && area[2] == 0) ++problems.zero_area_faces;
-    for (std::uint32_t c = begin; c < end; ++c)
-      edges.emplace_back(key(faces.corners[c], faces.corners[c + 1 == end ? begin : c + 1]), static_cast<std::uint32_t>(f));
   }
+  for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) { edges.emplace_back(key(a, b), f); });
   std::sort(edges.begin(), edges.end());
   Components components(n);
   std::vector<std::uint8_t> open(n, 0);
@@ -523,13 +531,9 @@ Box Mesh::bounds() const {
 }
 
 bool Mesh::closed() const {
-  std::vector<std::uint64_t> edges;  // undirected: low vertex << 32 | high vertex
+  std::vector<std::uint64_t> edges;
   edges.reserve(corners.size());
-  for (std::size_t f = 0; f < face_count(); ++f)
-    for (std::uint32_t c = face_offsets[f]; c < face_offsets[f + 1]; ++c) {
-      const std::uint32_t a = corners[c], b = corners[c + 1 == face_offsets[f + 1] ? face_offsets[f] : c + 1];
-      edges.push_back(std::uint64_t{std::min(a, b)} << 32 | std::max(a, b));
-    }
+  for_each_edge(face_offsets, corners, [&](std::uint32_t, std::uint32_t a, std::uint32_t b) { edges.push_back(undirected_edge(a, b)); });
   std::sort(edges.begin(), edges.end());
   for (std::size_t i = 0; i < edges.size(); i += 2)
     if (i + 1 >= edges.size() || edges[i + 1] != edges[i] || (i + 2 < edges.size() && edges[i + 2] == edges[i])) return false;

@@ -168,7 +168,7 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   o.name = scene_reader.text(j, "name", fmt::format("object {}", index));
   if (o.name.empty()) scene_reader.fail("name", fmt::format("of objects[{}] must not be empty", index));
   // Errors in the object name it: a scene of several objects may share every field name.
-  const Reader r{fmt::format("{}: objects[{}] '{}'", scene_reader.source, index, o.name)};
+  const Reader r{object_where(scene_reader.source, index, o.name)};
   if (j.contains("mesh") == j.contains("splats"))
     r.fail("mesh", fmt::format("{}: give either \"mesh\" (a file or a procedural shape) or \"splats\" (a splat PLY)",
                                j.contains("mesh") ? "and \"splats\" are both given" : "is missing"));
@@ -244,6 +244,12 @@ glm::mat4 rotation_matrix(glm::vec3 degrees) {
 }
 
 }  // namespace
+
+std::string object_where(const std::string& source, std::size_t index, const std::string& name) {
+  return fmt::format("{}: objects[{}] '{}'", source, index, name);
+}
+
+std::string object_where(const Scene& scene, std::size_t index) { return object_where(scene.source, index, scene.objects[index].name); }
 
 Quality object_quality(const Quality& scene_quality, const ObjectSpec& object) {
   Quality q = scene_quality;

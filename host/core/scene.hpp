@@ -201,6 +201,10 @@ struct Scene {
   float time = 0.0f;  // scene time of a single rendered frame
 };
 
+// "scene.json: objects[i] 'name'": where an error about an object (its fields, file or settings) is.
+std::string object_where(const std::string& source, std::size_t index, const std::string& name);
+std::string object_where(const Scene& scene, std::size_t index);
+
 // The scene's quality with the object's overrides applied: what its assets are built with.
 Quality object_quality(const Quality& scene_quality, const ObjectSpec& object);
 

@@ -86,11 +86,16 @@ void check_outputs_spare_inputs(const std::vector<std::pair<std::string, std::st
   }
 }
 
+std::string output_extension(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
 void check_output_extension(const std::string& path, const std::string& option, const std::vector<std::string>& extensions,
                             const std::string& holds) {
   if (path.empty()) return;
-  std::string extension = fs::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = output_extension(path);
   if (std::find(extensions.begin(), extensions.end(), extension) != extensions.end()) return;
   std::string list;
   for (const std::string& e : extensions) list += (list.empty() ? "" : " or ") + e;

@@ -35,8 +35,10 @@ void check_distinct_outputs(const std::vector<std::pair<std::string, std::string
 void check_outputs_spare_inputs(const std::vector<std::pair<std::string, std::string>>& outputs,
                                 const std::vector<std::pair<std::string, std::string>>& inputs);
 
-// Throws Error "OPTION PATH: OUT must end in EXT (what it holds)" unless `path` (if given) has one of
-// `extensions` (".ply"), compared without case.
+// The extension of `path` in lower case (".ply", ".exr"; "" for none): what writers choose by.
+std::string output_extension(const std::string& path);
+// Throws Error "OPTION PATH: the file must end in EXT (what it holds)" unless `path` (if given) has
+// one of `extensions` (lower case: ".ply"), compared by output_extension.
 void check_output_extension(const std::string& path, const std::string& option, const std::vector<std::string>& extensions,
                             const std::string& holds);
 

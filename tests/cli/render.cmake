@@ -33,7 +33,7 @@ set_tests_properties(cli.render_specular PROPERTIES FIXTURES_REQUIRED present_ca
 add_test(NAME cli.error_render_bad_specular COMMAND ${EXPECT_ERROR} "--specular" $<TARGET_FILE:splatcl> render --specular -1)
 add_test(NAME cli.error_render_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> render missing.json)
 add_test(NAME cli.error_render_bad_size COMMAND ${EXPECT_ERROR} "--size '12by7'" $<TARGET_FILE:splatcl> render --size 12by7)
-add_test(NAME cli.error_render_bad_output COMMAND ${EXPECT_ERROR} "must be .png or .exr" $<TARGET_FILE:splatcl> render -o frame.tiff)
+add_test(NAME cli.error_render_bad_output COMMAND ${EXPECT_ERROR} "-o frame.tiff: the file must end in .png or .exr \\(the image\\)" $<TARGET_FILE:splatcl> render -o frame.tiff)
 add_test(NAME cli.error_render_missing_output_dir COMMAND ${EXPECT_ERROR} "directory no-such-dir does not exist" $<TARGET_FILE:splatcl> render -o no-such-dir/frame.png)
 add_test(NAME cli.error_render_bad_shading COMMAND ${EXPECT_ERROR} "--shading 'quick'" $<TARGET_FILE:splatcl> render --shading quick)
 add_test(NAME cli.error_render_bad_view COMMAND ${EXPECT_ERROR} "unknown view 'wireframe'" $<TARGET_FILE:splatcl> render --view wireframe)

@@ -2,6 +2,7 @@
 // per object, and ready-made splat files (splatcl's PLY and the 3D Gaussian Splatting export) as
 // objects. Fits are checked against the object's placement matrix (not the fit's own arithmetic);
 // splat-file objects against the mesh object whose splats they hold, rendered side by side.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -148,6 +149,31 @@ TEST_F(SceneObjectsRender, DefaultDepthOffsetFollowsTheSmallestObject) {
   EXPECT_NEAR(offset_of(R"({"objects": [{"name": "s", "mesh": {"procedural": "box", "rings": 2}, "scale": 0.05}]})"), 0.01f * 0.05f * std::sqrt(3.0f), 1e-6f);
   EXPECT_FLOAT_EQ(offset_of(R"({"objects": [)" + small + R"(], "quality": {"depth_offset": 0.02}})"), 0.02f);
   EXPECT_FLOAT_EQ(offset_of(R"({"objects": [{"name": "big", "mesh": {"procedural": "box", "size": [3, 3, 3], "rings": 2}}]})"), 0.02f);
+}
+
+// The truth that default claims: a scene scaled down by 100 looks like the scene itself. A sphere
+// resting on the floor beside a box, in the normals view, at scale 1 and 0.01: with the fixed 0.02
+// the small scene showed the floor through the lower half of its objects.
+TEST_F(SceneObjectsRender, AScaledDownSceneKeepsItsGeometry) {
+  const auto normals_at = [&](float s) {
+    const auto v = [&](float x, float y, float z) { return fmt::format("[{:.9g}, {:.9g}, {:.9g}]", s * x, s * y, s * z); };
+    const std::string text = fmt::format(
+        R"({{"objects": [{{"name": "ball", "mesh": {{"procedural": "sphere", "radius": {:.9g}, "segments": 24, "rings": 12}}, "position": {}}},
+                         {{"name": "box", "mesh": {{"procedural": "box", "size": {}, "rings": 2}}, "position": {}}}],
+             "floor": {{"size": {:.9g}, "splats_per_side": 16}}, "lights": {{"count": 0}},
+             "camera": {{"eye": {}, "target": {}, "fov_y_degrees": 40, "near": {:.9g}, "far": {:.9g}}}}})",
+        s * 1.0f, v(0, 1, 0), v(1, 1, 1), v(1.8f, 0.5f, 0.3f), s * 8.0f, v(0.5f, 1.2f, 5), v(0.5f, 0.6f, 0), s * 0.1f, s * 50.0f);
+    Presenter presenter(parse_scene(text, "scaled.json", "."), *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+    presenter.debug_view = DebugView::Normals;
+    presenter.render(0.0f);
+    return presenter.read_display_rgb();
+  };
+  const std::vector<float> full = normals_at(1.0f), small = normals_at(0.01f);
+  ASSERT_EQ(full.size(), small.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < full.size(); i += 3)
+    differ += std::fabs(full[i] - small[i]) + std::fabs(full[i + 1] - small[i + 1]) + std::fabs(full[i + 2] - small[i + 2]) > 8.0f / 255.0f;
+  EXPECT_LE(differ, 20u) << "of " << full.size() / 3 << " pixels";
 }
 
 TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
