@@ -299,6 +299,7 @@ csm::SplatLighting::Settings lighting_settings_of(const Scene& scene, bool ambie
   lighting.ao_samples = q.ao_samples;
   lighting.shadow_samples = q.shadow_samples;
   lighting.bias = q.ao_bias;
+  lighting.lift = q.shadow_lift;
   lighting.ground = scene.floor.enabled;
   for (const Light& light : scene.key_lights) lighting.key_lights.push_back({light.position, light.size});
   return lighting;
@@ -325,8 +326,8 @@ std::vector<PixelLift> pixel_lifts(const Scene& scene, const std::vector<Covered
   float texel = 0;
   for (std::size_t i = 0; i < scene.objects.size(); ++i)
     if (scene.objects[i].occluder) texel = std::max(texel, csm::placed_texel(csms[i]->info, to_transform(placements[i])));
-  const PixelLift on_floor{0.0f, scene.quality.ao_bias},
-      off_floor{csm::kAoLiftTexels * texel, scene.quality.ao_bias + csm::kShadowLiftTexels * texel};
+  const PixelLift on_floor{0.0f, scene.quality.shadow_lift},
+      off_floor{csm::kAoLiftTexels * texel, scene.quality.shadow_lift + csm::kShadowLiftTexels * texel};
   std::vector<char> is_floor(normals.size() / 3, 0);
   for (const CoveredPixel& c : floor_pixels(scene, pixels, normals)) is_floor[c.index] = 1;
   std::vector<PixelLift> lifts;
@@ -565,7 +566,9 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     }
   }
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) g.ao_neighbours.push_back(ao_smoothing_neighbours(assets_[i].drawn, g.receiver_normals[i]));
-  if (scene_.quality.depth_offset_auto) scene_.quality.depth_offset = auto_depth_offset(scene_, assets_);
+  Quality& q = scene_.quality;
+  if (q.depth_offset_auto) q.depth_offset = auto_scene_length(q.depth_offset, scene_, assets_);
+  if (q.shadow_lift_auto) q.shadow_lift = auto_scene_length(q.shadow_lift, scene_, assets_);
   if (scene_.floor.enabled) {
     const FloorSpec& f = scene_.floor;
     const float spacing = f.size / static_cast<float>(f.splats_per_side);
@@ -721,8 +724,8 @@ glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
 std::string Presenter::lighting_settings(const FrameSettings& settings) const {
   const Quality& q = scene_.quality;
   const bool do_shadows = settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
-  return fmt::format("{} {} {} {} {} {} {} {} {}", ambient_occlusion, do_shadows, static_cast<int>(settings.filter), splat_ao_.size(), q.ao_samples,
-                     q.shadow_samples, q.ao_bias, scene_.key_lights.size(), scene_.floor.enabled);
+  return fmt::format("{} {} {} {} {} {} {} {} {} {}", ambient_occlusion, do_shadows, static_cast<int>(settings.filter), splat_ao_.size(), q.ao_samples,
+                     q.shadow_samples, q.ao_bias, q.shadow_lift, scene_.key_lights.size(), scene_.floor.enabled);
 }
 
 void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, const FrameSettings& settings,
@@ -898,11 +901,10 @@ std::vector<std::string> Presenter::mesh_warnings() const {
   return lines;
 }
 
-float auto_depth_offset(const Scene& scene, const std::vector<ObjectAssets>& assets) {
-  float offset = scene.quality.depth_offset;
+float auto_scene_length(float length, const Scene& scene, const std::vector<ObjectAssets>& assets) {
   for (std::size_t i = 0; i < scene.objects.size() && i < assets.size(); ++i)
-    offset = std::min(offset, kAutoDepthOffsetShare * scene.objects[i].scale * assets[i].mesh.bounds().diagonal());
-  return offset;
+    length = std::min(length, kAutoLengthShare * scene.objects[i].scale * assets[i].mesh.bounds().diagonal());
+  return length;
 }
 
 // The frame's CL lighting: the per-splat lighting of moved occluders (update_splat_lighting), then

@@ -48,11 +48,12 @@ struct FrameStats {
 struct FrameSettings;  // present/settings.hpp
 struct SplatDraw;      // present/passes.hpp
 
-// The visibility ε when the scene does not give one (Quality::depth_offset_auto): the default,
-// lowered to kAutoDepthOffsetShare of the smallest object's diagonal at its scale (the fit is in
-// its mesh). The default scene's smallest, the box, keeps 0.02; a scene scaled by 0.01 gets 0.0002,
-// as its objects need (0.02 showed the floor through their lower halves).
-float auto_depth_offset(const Scene& scene, const std::vector<ObjectAssets>& assets);
+// A length the scene does not give (the visibility ε, Quality::depth_offset_auto; the shadow lift,
+// shadow_lift_auto): its default `length`, lowered to kAutoLengthShare of the smallest object's
+// diagonal at its scale (the fit is in its mesh). The default scene's smallest, the box, keeps
+// 0.02; a scene scaled by 0.01 gets 0.0002, as its objects need (an ε of 0.02 showed the floor
+// through their lower halves, a lift of 0.02 carried the floor's receivers out of their shadows).
+float auto_scene_length(float length, const Scene& scene, const std::vector<ObjectAssets>& assets);
 
 class Presenter {
  public:

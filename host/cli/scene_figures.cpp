@@ -74,6 +74,7 @@ nlohmann::json settings_json(const splatcl::Scene& scene, present::DebugView vie
           {"surface_clip", q.surface_clip},
           {"antialias", q.antialias},
           {"depth_offset", q.depth_offset},
+          {"shadow_lift", q.shadow_lift},
           {"lights", scene.lights.size()},
           {"key_lights", scene.key_lights.size()}};
 }

@@ -366,13 +366,15 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   if (j.contains("quality")) {
     const json& q = r.object(j, "quality");
     r.known_keys(q, "quality",
-                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "splat_scale", "surface_clip", "antialias", "depth_offset",
+                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "shadow_lift", "splat_scale", "surface_clip", "antialias", "depth_offset",
                   "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "floor_pixels", "lod_error",
                   "lod_leaf", "specular", "shininess"});
     Quality& Q = scene.quality;
     read_asset_quality(r, q, Q);
     Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
-    Q.ao_bias = r.non_negative(q, "ao_bias", Q.ao_bias, "a depth bias and lift off the surface");
+    Q.ao_bias = r.non_negative(q, "ao_bias", Q.ao_bias, "a depth bias in CSM depth units");
+    Q.shadow_lift = r.non_negative(q, "shadow_lift", Q.shadow_lift, "a lift off the surface in world units");
+    Q.shadow_lift_auto = !q.contains("shadow_lift");
     Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
     Q.antialias = r.non_negative(q, "antialias", Q.antialias, "0 = off");
     Q.depth_offset = r.non_negative(q, "depth_offset", Q.depth_offset, "the visibility pass's ε behind the nearest splat");

@@ -114,8 +114,9 @@ struct Light {
 inline constexpr std::uint32_t kMaxSceneLights = 1u << 20;
 // The Blinn-Phong highlight strength's bound, quality.specular and render/view --specular.
 inline constexpr float kMaxSpecular = 100.0f;
-// The default visibility ε as a share of the smallest object's bounding-box diagonal (Quality::depth_offset_auto).
-inline constexpr float kAutoDepthOffsetShare = 0.01f;
+// The default visibility ε and shadow lift as a share of the smallest object's bounding-box diagonal
+// (Quality::depth_offset_auto, shadow_lift_auto).
+inline constexpr float kAutoLengthShare = 0.01f;
 
 // Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
 // bright hues from a seeded generator.
@@ -145,7 +146,15 @@ struct Quality {
   float crease_angle = 60.0f;
   std::uint32_t csm_maps = 1024, csm_resolution = 64;
   std::uint32_t ao_samples = 16;
-  float ao_bias = 0.02f;       // CSM depth bias of AO and shadow queries, world units
+  // CSM depth bias of AO and shadow queries, in each CSM's depth units (1 = its bounding sphere's
+  // diameter), so it scales with the occluder.
+  float ao_bias = 0.02f;
+  // How far shadow receivers are lifted along their normal, world units (on top of the texels of
+  // their own CSM that keep it from shadowing them, csm/query_reach.hpp).
+  float shadow_lift = 0.02f;
+  // Not given in the scene: lowered as depth_offset is (auto_scene_length), so a small scene's lift
+  // does not carry its floor's receivers over its objects and out of their shadows.
+  bool shadow_lift_auto = true;
   // k: multiplies every splat's axes. Above 1, it closes the single-pixel gaps the thesis's splats
   // leave between them in grazing views (tests/present/splat_geometry_test.cpp).
   float splat_scale = 1.05f;
@@ -157,7 +166,7 @@ struct Quality {
   // to this much (the shipped scene, at a 4× finer ε, uses 0.001). Per object too.
   float surface_clip = 0.0025f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
-  // Not given in the scene: the presenter lowers depth_offset to kAutoDepthOffsetShare of the
+  // Not given in the scene: the presenter lowers depth_offset to kAutoLengthShare of the
   // smallest object's bounding-box diagonal where that is smaller, so that a small scene's ε does
   // not swallow its objects (present/presenter.cpp, auto_depth_offset).
   bool depth_offset_auto = true;

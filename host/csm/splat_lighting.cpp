@@ -40,7 +40,7 @@ float SplatLighting::slack_of(std::size_t object) {
 bool SplatLighting::same_settings(const Settings& s) const {
   const Settings& t = settings_;
   return s.ao == t.ao && s.shadows == t.shadows && s.filter == t.filter && s.ao_samples == t.ao_samples &&
-         s.shadow_samples == t.shadow_samples && s.bias == t.bias && s.ground == t.ground &&
+         s.shadow_samples == t.shadow_samples && s.bias == t.bias && s.lift == t.lift && s.ground == t.ground &&
          s.key_lights.size() == t.key_lights.size();
 }
 
@@ -57,7 +57,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   const Filter filter = settings.filter;
   // Receivers lifted off their own surface along the normal, so that a splat's own CSM does not
   // shadow it: by kAoLiftTexels / kShadowLiftTexels texels of that CSM (query_reach.hpp), shadow
-  // receivers by the bias as well; splats of no object (a floor) by the bias for shadows only.
+  // receivers by the lift as well; splats of no object (a floor) by the lift for shadows only.
   std::vector<float> own_texel(n, 0.0f);
   for (std::size_t i = 0; i < input.objects.size(); ++i) {
     const float texel = placed_texel(csms_[i]->info, placements[i]);
@@ -69,7 +69,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   };
   std::vector<Vec4> lifted(n), ao_at(n);
   for (std::size_t s = 0; s < n; ++s) {
-    lifted[s] = lifted_by(s, settings.bias + kShadowLiftTexels * own_texel[s], 1.0f);
+    lifted[s] = lifted_by(s, settings.lift + kShadowLiftTexels * own_texel[s], 1.0f);
     ao_at[s] = lifted_by(s, kAoLiftTexels * own_texel[s], positions[s].w);
   }
   const bool do_ao = settings.ao, do_shadows = settings.shadows && !settings.key_lights.empty();

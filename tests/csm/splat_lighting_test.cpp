@@ -37,6 +37,7 @@ const Fixture& fixture() {
       }
     f.receivers.objects = {{0, 0, true}, {0, 0, true}};
     f.settings.ao_samples = 16;
+    f.settings.lift = 0.035f;  // not the bias: the two are separate settings
     f.settings.key_lights = {{{0.5f, 4.0f, 0.2f}, 0.3f}, {{-2.0f, 3.0f, 1.0f}, 0.0f}};
     f.patterns = make_patterns(PatternSet::HammersleyScrambled, 64, f.settings.ao_samples, 1);
     f.pattern_of = choose_patterns(f.receivers.positions.size(), 64, 1);
@@ -78,7 +79,7 @@ TEST(CsmSplatLighting, FullUpdateEqualsTheAoKernelAndOneVisibilityBatch) {
   std::vector<Vec4> lifted;
   for (std::size_t s = 0; s < n; ++s) {
     const Vec4& p = f.receivers.positions[s];
-    lifted.push_back({p.x, p.y + f.settings.bias, p.z, 1.0f});
+    lifted.push_back({p.x, p.y + f.settings.lift, p.z, 1.0f});
   }
   std::size_t shadowed = 0;
   for (std::size_t k = 0; k < f.settings.key_lights.size(); ++k) {

@@ -134,46 +134,76 @@ TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
 
 class SceneObjectsRender : public PresenterTest {};
 
-// Without "depth_offset" the visibility ε follows the smallest object (1/100 of its diagonal at its
-// scale) where that is below the default, so a small scene does not blend its floor through its
-// objects; given, it is kept; the default scene keeps 0.02.
-TEST_F(SceneObjectsRender, DefaultDepthOffsetFollowsTheSmallestObject) {
-  const auto offset_of = [&](const std::string& text) {
+// Without "depth_offset" ("shadow_lift") the visibility ε (the shadow lift) follows the smallest
+// object (1/100 of its diagonal at its scale) where that is below the default, so a small scene does
+// not blend its floor through its objects (lift its floor out of their shadows); given, it is kept;
+// the default scene keeps 0.02.
+TEST_F(SceneObjectsRender, DefaultDepthOffsetAndShadowLiftFollowTheSmallestObject) {
+  const auto lengths_of = [&](const std::string& text) {
     Presenter presenter(parse_scene(text, "eps.json", "."), *runtime_, 32, 24, SPLATCL_TEST_CACHE);
-    return presenter.scene().quality.depth_offset;
+    return std::pair{presenter.scene().quality.depth_offset, presenter.scene().quality.shadow_lift};
   };
   const std::string small = R"({"name": "small", "mesh": {"procedural": "box", "size": [0.1, 0.1, 0.1], "rings": 2}, "position": [0, 0.05, 0]})";
   const float diagonal = 0.1f * std::sqrt(3.0f);
-  EXPECT_NEAR(offset_of(R"({"objects": [)" + small + "]}"), 0.01f * diagonal, 1e-6f);
+  const auto [offset, lift] = lengths_of(R"({"objects": [)" + small + "]}");
+  EXPECT_NEAR(offset, 0.01f * diagonal, 1e-6f);
+  EXPECT_NEAR(lift, 0.01f * diagonal, 1e-6f);
   // The object's scale counts.
-  EXPECT_NEAR(offset_of(R"({"objects": [{"name": "s", "mesh": {"procedural": "box", "rings": 2}, "scale": 0.05}]})"), 0.01f * 0.05f * std::sqrt(3.0f), 1e-6f);
-  EXPECT_FLOAT_EQ(offset_of(R"({"objects": [)" + small + R"(], "quality": {"depth_offset": 0.02}})"), 0.02f);
-  EXPECT_FLOAT_EQ(offset_of(R"({"objects": [{"name": "big", "mesh": {"procedural": "box", "size": [3, 3, 3], "rings": 2}}]})"), 0.02f);
+  EXPECT_NEAR(lengths_of(R"({"objects": [{"name": "s", "mesh": {"procedural": "box", "rings": 2}, "scale": 0.05}]})").first,
+              0.01f * 0.05f * std::sqrt(3.0f), 1e-6f);
+  const auto given = lengths_of(R"({"objects": [)" + small + R"(], "quality": {"depth_offset": 0.02, "shadow_lift": 0.03}})");
+  EXPECT_FLOAT_EQ(given.first, 0.02f);
+  EXPECT_FLOAT_EQ(given.second, 0.03f);
+  const auto big = lengths_of(R"({"objects": [{"name": "big", "mesh": {"procedural": "box", "size": [3, 3, 3], "rings": 2}}]})");
+  EXPECT_FLOAT_EQ(big.first, 0.02f);
+  EXPECT_FLOAT_EQ(big.second, 0.02f);
 }
 
-// The truth that default claims: a scene scaled down by 100 looks like the scene itself. A sphere
-// resting on the floor beside a box, in the normals view, at scale 1 and 0.01: with the fixed 0.02
-// the small scene showed the floor through the lower half of its objects.
-TEST_F(SceneObjectsRender, AScaledDownSceneKeepsItsGeometry) {
-  const auto normals_at = [&](float s) {
+// The truth those defaults claim: a scene scaled down by 100 looks like the scene itself. A sphere
+// resting on the floor beside a box, with a key light, in the normals and the shadows views, at
+// scale 1 and 0.01: with the fixed ε of 0.02 the small scene showed the floor through the lower half
+// of its objects; with the fixed shadow lift of 0.02 the floor's receivers rose above its objects
+// and out of their shadows.
+TEST_F(SceneObjectsRender, AScaledDownSceneKeepsItsGeometryAndShadows) {
+  const auto views_at = [&](float s) {
     const auto v = [&](float x, float y, float z) { return fmt::format("[{:.9g}, {:.9g}, {:.9g}]", s * x, s * y, s * z); };
     const std::string text = fmt::format(
         R"({{"objects": [{{"name": "ball", "mesh": {{"procedural": "sphere", "radius": {:.9g}, "segments": 24, "rings": 12}}, "position": {}}},
                          {{"name": "box", "mesh": {{"procedural": "box", "size": {}, "rings": 2}}, "position": {}}}],
              "floor": {{"size": {:.9g}, "splats_per_side": 16}}, "lights": {{"count": 0}},
+             "key_lights": [{{"position": {}, "radius": {:.9g}}}],
              "camera": {{"eye": {}, "target": {}, "fov_y_degrees": 40, "near": {:.9g}, "far": {:.9g}}}}})",
-        s * 1.0f, v(0, 1, 0), v(1, 1, 1), v(1.8f, 0.5f, 0.3f), s * 8.0f, v(0.5f, 1.2f, 5), v(0.5f, 0.6f, 0), s * 0.1f, s * 50.0f);
+        s * 1.0f, v(0, 1, 0), v(1, 1, 1), v(1.8f, 0.5f, 0.3f), s * 8.0f, v(-1.5f, 5, 1), s * 40.0f, v(0.5f, 1.2f, 5), v(0.5f, 0.6f, 0),
+        s * 0.1f, s * 50.0f);
     Presenter presenter(parse_scene(text, "scaled.json", "."), *runtime_, 160, 120, SPLATCL_TEST_CACHE);
-    presenter.debug_view = DebugView::Normals;
-    presenter.render(0.0f);
-    return presenter.read_display_rgb();
+    std::vector<std::vector<float>> views;
+    for (const DebugView view : {DebugView::Normals, DebugView::Shadows}) {
+      presenter.debug_view = view;
+      presenter.render(0.0f);
+      views.push_back(presenter.read_display_rgb());
+    }
+    return views;
   };
-  const std::vector<float> full = normals_at(1.0f), small = normals_at(0.01f);
-  ASSERT_EQ(full.size(), small.size());
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < full.size(); i += 3)
-    differ += std::fabs(full[i] - small[i]) + std::fabs(full[i + 1] - small[i + 1]) + std::fabs(full[i + 2] - small[i + 2]) > 8.0f / 255.0f;
-  EXPECT_LE(differ, 20u) << "of " << full.size() / 3 << " pixels";
+  const auto full = views_at(1.0f), small = views_at(0.01f);
+  ASSERT_EQ(full[0].size(), small[0].size());
+  ASSERT_EQ(full[1].size(), small[1].size());
+  const std::size_t pixels = full[0].size() / 3;
+  std::size_t normals_differ = 0, shadows_differ = 0, dark = 0;
+  double shadow_difference = 0;
+  for (std::size_t i = 0; i < 3 * pixels; i += 3) {
+    const std::vector<float>&a = full[0], &b = small[0];
+    normals_differ += std::fabs(a[i] - b[i]) + std::fabs(a[i + 1] - b[i + 1]) + std::fabs(a[i + 2] - b[i + 2]) > 8.0f / 255.0f;
+    const float shadow_full = full[1][i], shadow_small = small[1][i];  // grey: the darkest key light's visibility
+    shadow_difference += std::fabs(shadow_full - shadow_small);
+    shadows_differ += std::fabs(shadow_full - shadow_small) > 0.25f;
+    dark += shadow_full < 0.5f;
+  }
+  EXPECT_LE(normals_differ, 20u) << "of " << pixels << " pixels";
+  EXPECT_GT(dark, 500u) << "the objects cast shadows at 1x";
+  // With the fixed lift of 0.02: 1,736 pixels apart, a mean difference of 0.068 (45 and 0.0043 now,
+  // along the penumbrae and the box's contact with the floor).
+  EXPECT_LE(shadows_differ, 150u) << "of " << pixels << " pixels";
+  EXPECT_LE(shadow_difference / static_cast<double>(pixels), 0.01);
 }
 
 TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
