@@ -554,18 +554,32 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     }
     const ObjectAssets& assets = assets_.back();
     const std::vector<splats::SplatRecord>& splats = assets.drawn;  // fitted to the mesh surface (quality.surface_clip)
-    objects_.push_back({statics.size() / kRow, splats.size(), static_cast<int>(i)});
-    for (std::size_t j = 0; j < splats.size(); ++j) {
-      const splats::SplatRecord& s = splats[j];
-      const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
-      albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
-      const splats::NormalField& field = assets.normal_fields[j];  // Phong splats (ObjectAssets)
-      push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s),
-                 second_clip(assets.second_clips, j), g3(field.du), g3(field.dv));
-      g.receiver_normals[i].push_back(glm::normalize(g3(field.centre)));
+    const bool two_sided = object.two_sided.value_or(object.mesh.splat_path.empty() && !assets.mesh.closed());
+    objects_.push_back({statics.size() / kRow, (two_sided ? 2 : 1) * splats.size(), static_cast<int>(i), two_sided});
+    for (const float side : {1.0f, -1.0f}) {
+      if (side < 0 && !two_sided) break;
+      // The back side mirrors the normal field, so the splat's plane faces the other way (culled
+      // where the front is drawn) and its shading and lighting are the other side's.
+      for (std::size_t j = 0; j < splats.size(); ++j) {
+        const splats::SplatRecord& s = splats[j];
+        const glm::vec3 albedo = object.splat_colors ? linear(s.color) : object.color;
+        albedo_rows[i].insert(albedo_rows[i].end(), {albedo.x, albedo.y, albedo.z});
+        const splats::NormalField& field = assets.normal_fields[j];  // Phong splats (ObjectAssets)
+        push_splat(g3(s.center), side * g3(field.centre), g3(s.major), g3(s.minor), albedo, {0.0f, FLT_MAX}, first_clip(s),
+                   second_clip(assets.second_clips, j), side * g3(field.du), side * g3(field.dv));
+        if (side > 0) g.receiver_normals[i].push_back(glm::normalize(g3(field.centre)));
+      }
     }
   }
-  for (std::size_t i = 0; i < scene_.objects.size(); ++i) g.ao_neighbours.push_back(ao_smoothing_neighbours(assets_[i].drawn, g.receiver_normals[i]));
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+    AoNeighbours near = ao_smoothing_neighbours(assets_[i].drawn, g.receiver_normals[i]);
+    if (objects_[i].two_sided) {  // the back side's splats average with the back side's
+      const auto front = static_cast<std::uint32_t>(assets_[i].drawn.size()), entries = static_cast<std::uint32_t>(near.index.size());
+      for (std::uint32_t s = 0; s < front; ++s) near.first.push_back(entries + near.first[s + 1]);
+      for (std::uint32_t e = 0; e < entries; ++e) near.index.push_back(front + near.index[e]);
+    }
+    g.ao_neighbours.push_back(std::move(near));
+  }
   Quality& q = scene_.quality;
   if (q.depth_offset_auto) q.depth_offset = auto_scene_length(q.depth_offset, scene_, assets_);
   if (q.shadow_lift_auto) q.shadow_lift = auto_scene_length(q.shadow_lift, scene_, assets_);
@@ -597,17 +611,21 @@ Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const
     if (!splats.empty()) range.center = 0.5f * (lo + hi);
     for (const auto& s : splats)
       range.radius = std::max(range.radius, glm::length(g3(s.center) - range.center) + glm::length(g3(s.major)));
+    // Two-sided: the sequence, then its mirror image (the tree is over one side's splats).
     const std::vector<float> albedo = gather_tree_rows(tree, albedo_rows[i].data(), 3);
-    for (std::size_t e = 0; e < tree.size(); ++e) {
-      const std::uint32_t source = tree.source[e];
-      const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
-      const std::size_t node = source - tree.splat_count;
-      const splats::NormalField field = source < tree.splat_count ? assets_[i].normal_fields[source] : assets_[i].node_fields[node];
-      push_splat(g3(s.center), g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
-                 {tree.error_min[e], tree.error_max[e]}, first_clip(s),
-                 source < tree.splat_count ? second_clip(assets_[i].second_clips, source) : glm::vec3(0.0f, 0.0f, FLT_MAX), g3(field.du),
-                 g3(field.dv));
-      g.lod_centers.push_back(g3(s.center));
+    for (const float side : {1.0f, -1.0f}) {
+      if (side < 0 && !objects_[i].two_sided) break;
+      for (std::size_t e = 0; e < tree.size(); ++e) {
+        const std::uint32_t source = tree.source[e];
+        const splats::SplatRecord& s = source < tree.splat_count ? splats[source] : tree.nodes[source - tree.splat_count];
+        const std::size_t node = source - tree.splat_count;
+        const splats::NormalField field = source < tree.splat_count ? assets_[i].normal_fields[source] : assets_[i].node_fields[node];
+        push_splat(g3(s.center), side * g3(field.centre), g3(s.major), g3(s.minor), {albedo[3 * e], albedo[3 * e + 1], albedo[3 * e + 2]},
+                   {tree.error_min[e], tree.error_max[e]}, first_clip(s),
+                   source < tree.splat_count ? second_clip(assets_[i].second_clips, source) : glm::vec3(0.0f, 0.0f, FLT_MAX),
+                   side * g3(field.du), side * g3(field.dv));
+        g.lod_centers.push_back(g3(s.center));
+      }
     }
     g.lod_ranges.push_back(range);
   }
@@ -715,7 +733,7 @@ glm::vec3 Presenter::splat_world_position(std::size_t splat, float time) const {
       return {-0.5f * f.size + (static_cast<float>(local / f.splats_per_side) + 0.5f) * spacing, f.y,
               -0.5f * f.size + (static_cast<float>(local % f.splats_per_side) + 0.5f) * spacing};
     }
-    const auto c = assets_[static_cast<std::size_t>(r.asset)].drawn[splat - r.first].center;
+    const auto c = assets_[static_cast<std::size_t>(r.asset)].drawn[r.source(splat - r.first)].center;
     return glm::vec3(scene_.objects[i].placement(time) * glm::vec4(c.x, c.y, c.z, 1.0f));
   }
   throw Error(fmt::format("splat {} out of range", splat));
@@ -742,9 +760,11 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
         c = splat_world_position(r.first + s, 0.0f);
         nrm = {0, 1, 0};
       } else {
-        const auto& rec = assets_[static_cast<std::size_t>(r.asset)].drawn[s];
+        const std::size_t source = r.source(s);
+        const auto& rec = assets_[static_cast<std::size_t>(r.asset)].drawn[source];
         c = glm::vec3(m * glm::vec4(rec.center.x, rec.center.y, rec.center.z, 1.0f));
-        nrm = glm::normalize(glm::mat3(m) * g.receiver_normals[static_cast<std::size_t>(r.asset)][s]);
+        nrm = glm::normalize(glm::mat3(m) * g.receiver_normals[static_cast<std::size_t>(r.asset)][source]);
+        if (source != s) nrm = -nrm;  // the back side
       }
       positions[r.first + s] = vec4(c);
       normals[r.first + s] = vec4(nrm);
@@ -771,10 +791,12 @@ void Presenter::update_splat_lighting(const std::vector<glm::mat4>& placements, 
     splat_ao_[s] = {dynamic[kLightingRow * s], dynamic[kLightingRow * s + 1], dynamic[kLightingRow * s + 2], dynamic[kLightingRow * s + 3]};
   // LOD sequences: an original splat's entry takes its row, a tree node the mean of the rows of the
   // splats under it.
-  for (std::size_t i = 0; i < g.lod_ranges.size(); ++i) {
-    const std::vector<float> rows = gather_tree_rows(assets_[i].tree, dynamic.data() + objects_[i].first * kLightingRow, kLightingRow);
-    dynamic.insert(dynamic.end(), rows.begin(), rows.end());
-  }
+  for (std::size_t i = 0; i < g.lod_ranges.size(); ++i)
+    for (std::size_t side = 0; side < (objects_[i].two_sided ? 2u : 1u); ++side) {
+      const std::size_t first = objects_[i].first + side * assets_[i].drawn.size();
+      const std::vector<float> rows = gather_tree_rows(assets_[i].tree, dynamic.data() + first * kLightingRow, kLightingRow);
+      dynamic.insert(dynamic.end(), rows.begin(), rows.end());
+    }
   g.upload_rows = std::move(dynamic);  // render() uploads them: this may run beside the GL thread
   stats.ao_updated = true;
 }
@@ -803,7 +825,7 @@ std::vector<SplatDraw> Presenter::splat_draws(const std::vector<glm::mat4>& plac
       for (std::size_t e = 0; e < lod_prefix[i]; ++e) {
         const glm::vec3 c(placements[i] * glm::vec4(g.lod_centers[range.first - g.lod_ranges[0].first + e], 1.0f));
         const float budget = glm::length(eye - c) * (lod_angle / scale);
-        selected += budget >= tree.error_min[e] && budget < tree.error_max[e] ? 1 : 0;
+        selected += budget >= tree.error_min[e] && budget < tree.error_max[e] ? (objects_[i].two_sided ? 2 : 1) : 0;
       }
     }
     drawn = static_cast<std::uint32_t>(selected);
@@ -818,6 +840,11 @@ std::vector<SplatDraw> Presenter::splat_draws(const std::vector<glm::mat4>& plac
       d.first = g.lod_ranges[i].first;
       d.count = lod_prefix[i];
       d.lod = lod_angle / scene_.objects[i].scale;
+      if (r.two_sided && d.count > 0) {  // the mirrored sequence follows the front's
+        SplatDraw back = d;
+        back.first += assets_[i].tree.size();
+        draws.push_back(back);
+      }
     }
     if (d.count > 0) draws.push_back(d);
   }

@@ -118,7 +118,10 @@ class Presenter {
   std::vector<std::string> mesh_warnings() const;
   // Every splat's row of the last update: bent normal xyz, AO, visibility of key lights 0-3.
   const std::vector<float>& splat_lighting() const;
+  // Object i's range of splats (two-sided: its drawn splats, then their mirror images).
   std::pair<std::size_t, std::size_t> object_splats(std::size_t object) const;
+  // Whether object i is drawn from both sides (ObjectSpec::two_sided, or its mesh is open).
+  bool two_sided(std::size_t object) const { return objects_.at(object).two_sided; }
   std::size_t object_count() const { return objects_.size(); }
   glm::vec3 splat_world_position(std::size_t splat, float time) const;
 
@@ -133,6 +136,10 @@ class Presenter {
   struct ObjectRange {
     std::size_t first = 0, count = 0;
     int asset = -1;  // index into assets, -1 for the floor
+    // Two-sided: the asset's drawn splats, then the same mirrored (facing the other way).
+    bool two_sided = false;
+    // The drawn splat that range entry `s` shows.
+    std::size_t source(std::size_t s) const { return two_sided ? s % (count / 2) : s; }
   };
   std::vector<ObjectRange> objects_;  // scene objects then the floor
   std::vector<ObjectAssets> assets_;

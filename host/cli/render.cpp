@@ -93,8 +93,8 @@ int run_render(const RenderOptions& o) {
   fmt::print("setup      {:.0f} ms (assets, shaders, buffers)\n", setup_ms);
   std::string objects;
   for (std::size_t i = 0; i < scene.objects.size(); ++i)
-    objects += fmt::format("{}{} {} splats{}", i ? ", " : "", scene.objects[i].name, presenter.object_splats(i).second,
-                           presenter.assets(i).splats_cached ? "" : " (built)");
+    objects += fmt::format("{}{} {} splats{}{}", i ? ", " : "", scene.objects[i].name, presenter.object_splats(i).second,
+                           presenter.two_sided(i) ? " (two-sided)" : "", presenter.assets(i).splats_cached ? "" : " (built)");
   if (!objects.empty()) fmt::print("objects    {}\n", objects);
   fmt::print("clusters   {} with {} light indices (last frame)\n", last.clusters, last.light_indices);
   fmt::print("stages     mean ms per frame over {} frame(s){}\n", measured, o.frames > 1 ? " after the first" : "");

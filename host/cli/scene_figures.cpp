@@ -9,6 +9,7 @@ std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, c
     ObjectFigures f;
     f.name = scene.objects[i].name;
     f.occluder = scene.objects[i].occluder;
+    f.two_sided = presenter.two_sided(i);
     const splatcl::MeshSpec& mesh = scene.objects[i].mesh;
     const bool splat_file = !mesh.splat_path.empty();
     f.source = splat_file ? "splat file " + mesh.splat_path : mesh.path.empty() ? "procedural " + mesh.procedural : "mesh " + mesh.path;
@@ -38,6 +39,7 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
   for (const ObjectFigures& f : objects)
     list.push_back({{"name", f.name},
                     {"occluder", f.occluder},
+                    {"two_sided", f.two_sided},
                     {"source", f.source},
                     {"vertices", f.vertices},
                     {"faces", f.faces},

@@ -15,6 +15,7 @@ namespace splatcl::cli {
 struct ObjectFigures {
   std::string name;
   bool occluder = true;
+  bool two_sided = false;  // drawn from both sides (its splats twice, the second time mirrored)
   std::string source;  // "mesh FILE", "procedural SHAPE" or "splat file FILE"
   std::size_t vertices = 0, faces = 0;  // of the mesh; 0 for a splat file (its CSM's discs are not a mesh)
   std::size_t splats = 0;       // the object's splats (LOD off)

@@ -163,7 +163,7 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   if (!j.is_object()) scene_reader.fail("objects", "entries must be objects");
   scene_reader.known_keys(j, fmt::format("objects[{}]", index),
                           {"name", "mesh", "color", "color_field", "texture", "color_tolerance", "position", "rotation_degrees", "scale",
-                           "occluder", "animation", "splats", "fit", "quality"});
+                           "occluder", "two_sided", "animation", "splats", "fit", "quality"});
   ObjectSpec o;
   o.name = scene_reader.text(j, "name", fmt::format("object {}", index));
   if (o.name.empty()) scene_reader.fail("name", fmt::format("of objects[{}] must not be empty", index));
@@ -219,6 +219,7 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   o.rotation_degrees = r.vec3(j, "rotation_degrees", o.rotation_degrees);
   o.scale = r.positive(j, "scale", o.scale);
   o.occluder = r.flag(j, "occluder", o.occluder);
+  if (j.contains("two_sided")) o.two_sided = r.flag(j, "two_sided", false);
   if (j.contains("animation")) {
     const json& a = r.object(j, "animation");
     r.known_keys(a, "animation", {"spin_degrees_per_second", "orbit"});

@@ -90,6 +90,10 @@ struct ObjectSpec {
   float scale = 1.0f;
   Animation animation;
   bool occluder = true;  // casts shadows and ambient occlusion through its CSM
+  // Drawn from both sides: each splat also as its mirror image facing the other way, lit on that
+  // side (a scan's or sheet's inside seen through its holes). Not given: a mesh object whose mesh is
+  // open (Mesh::closed false) is; a closed mesh and a splat file are not.
+  std::optional<bool> two_sided;
   // Model → world at time t (seconds).
   glm::mat4 placement(float time) const;
 };

@@ -63,6 +63,7 @@ TEST(PresenterScene, RefusesValuesThatRenderNonsense) {
       {R"({"objects": [], "quality": {"depth_offset": -0.001}})", "'depth_offset' must not be negative"},
       {R"({"objects": [], "quality": {"ao_bias": -0.01}})", "'ao_bias' must not be negative"},
       {R"({"objects": [], "quality": {"shadow_lift": -0.01}})", "'shadow_lift' must not be negative"},
+      {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "two_sided": "yes"}]})", "objects[0] 'a': 'two_sided' must be true or false"},
       {R"({"objects": [], "quality": {"antialias": -1}})", "'antialias' must not be negative"},
       {R"({"objects": [], "quality": {"specular": 1000}})", "'specular' must be in [0, 100]"},
       {R"({"objects": [], "lights": {"count": 4, "extent": -3}})", "bad.json: lights: 'extent' must not be negative"},
