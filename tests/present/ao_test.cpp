@@ -205,6 +205,23 @@ TEST_F(PresenterTest, OpenMeshesAreDrawnFromBothSides) {
 }
 
 #ifdef SPLATCL_TEST_EMBREE
+// The camera's eye rays through pixel centres, and view z of world points, as the presenter sees them.
+struct EyeRays {
+  EyeRays(const Camera& cam, int width, int height)
+      : eye(cam.eye.x, cam.eye.y, cam.eye.z),
+        view(glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z})),
+        proj(glm::perspective(cam.fov_y, static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane)),
+        viewport(0, 0, width, height) {}
+  glm::vec3 direction(int x, int y) const {
+    const glm::vec3 far_point = glm::unProject(glm::vec3(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 1.0f), view, proj, viewport);
+    return glm::normalize(far_point - eye);
+  }
+  float view_z(glm::vec3 p) const { return (view * glm::vec4(p, 1.0f)).z; }
+  glm::vec3 eye;
+  glm::mat4 view, proj;
+  glm::vec4 viewport;
+};
+
 // The presenter's AO view against AO ray-cast with Embree on the meshes (ray_occlusion.hpp): per
 // pixel of the default scene at 160 × 120, the eye ray's first hit on a mesh or the floor square,
 // 256 stratified cosine-weighted rays there, the same definition (self-occlusion included,
@@ -219,19 +236,15 @@ TEST_F(PresenterTest, AmbientOcclusionMatchesRayCastOnTheMeshes) {
   const std::vector<float> ao = presenter.read_hdr_rgb();
   const std::vector<float> view_z = presenter.read_view_z();
   const RayOcclusion rays(presenter, 0.0f);
-  const Camera& cam = scene.camera;
-  const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
-  const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
-  const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane);
-  const glm::vec4 viewport(0, 0, width, height);
+  const EyeRays camera(scene.camera, width, height);
+  const glm::vec3 eye = camera.eye;
   double sum = 0, floor_sum = 0;
   std::size_t compared = 0, skipped = 0, on_floor_pixels = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
       if (view_z[p] == 0.0f) continue;
-      const glm::vec3 far_point = glm::unProject(glm::vec3(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 1.0f), view, proj, viewport);
-      const glm::vec3 dir = glm::normalize(far_point - eye);
+      const glm::vec3 dir = camera.direction(x, y);
       std::optional<RayOcclusion::Hit> hit = rays.nearest(eye, dir);
       if (scene.floor.enabled && dir.y < 0.0f) {
         const float t = (scene.floor.y - eye.y) / dir.y;
@@ -243,7 +256,7 @@ TEST_F(PresenterTest, AmbientOcclusionMatchesRayCastOnTheMeshes) {
         ++skipped;
         continue;
       }
-      const float hit_z = (view * glm::vec4(hit->position, 1.0f)).z;
+      const float hit_z = camera.view_z(hit->position);
       if (std::abs(hit_z - view_z[p]) > 0.05f) {
         ++skipped;
         continue;
@@ -278,21 +291,15 @@ TEST_F(PresenterTest, InsideOfAnOpenMeshHasTheInsidesAmbientOcclusion) {
   const std::vector<float> ao = presenter.read_hdr_rgb();
   const std::vector<float> view_z = presenter.read_view_z();
   const RayOcclusion rays(presenter, 0.0f);
-  const Camera& cam = scene.camera;
-  const glm::vec3 eye(cam.eye.x, cam.eye.y, cam.eye.z);
-  const glm::mat4 view = glm::lookAt(eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
-  const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width) / static_cast<float>(height), cam.near_plane, cam.far_plane);
+  const EyeRays camera(scene.camera, width, height);
   double sum = 0, bottom_sum = 0;
   std::size_t compared = 0, bottom = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
       if (view_z[p] == 0.0f) continue;
-      const glm::vec3 far_point = glm::unProject(glm::vec3(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, 1.0f), view, proj,
-                                                 glm::vec4(0, 0, width, height));
-      const glm::vec3 dir = glm::normalize(far_point - eye);
-      const std::optional<RayOcclusion::Hit> hit = rays.nearest(eye, dir);
-      if (!hit || std::abs((view * glm::vec4(hit->position, 1.0f)).z - view_z[p]) > 0.05f) continue;  // the rim's silhouette
+      const std::optional<RayOcclusion::Hit> hit = rays.nearest(camera.eye, camera.direction(x, y));
+      if (!hit || std::abs(camera.view_z(hit->position) - view_z[p]) > 0.05f) continue;  // the rim's silhouette
       const float truth = rays.ambient_occlusion(hit->position, hit->normal, false, 16, static_cast<std::uint32_t>(p));
       sum += std::abs(ao[3 * p] - truth);
       ++compared;
