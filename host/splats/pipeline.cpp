@@ -34,14 +34,25 @@ SplatRecord grown_record(const FitResult& fit, const Samples& samples, std::uint
 }
 
 // Meshes whose coordinates are this far from 1 are processed in units of their diagonal.
+double reach_of(const Box& box) {
+  return std::max({std::fabs(double{box.lo.x}), std::fabs(double{box.lo.y}), std::fabs(double{box.lo.z}), std::fabs(double{box.hi.x}),
+                   std::fabs(double{box.hi.y}), std::fabs(double{box.hi.z})});
+}
+
+// Also a mesh far from the origin for its size (a scan in georeferenced coordinates): its float
+// samples would carry steps of its distance's precision into the fit.
 bool needs_normalising(const Box& box) {
-  const double diagonal = box.diagonal();
-  const double reach = std::max({std::fabs(box.lo.x), std::fabs(box.lo.y), std::fabs(box.lo.z), std::fabs(box.hi.x),
-                                 std::fabs(box.hi.y), std::fabs(box.hi.z)});
-  return !(diagonal >= 1e-6 && diagonal <= 1e6 && reach <= 1e6);
+  const double diagonal = box.diagonal(), reach = reach_of(box);
+  return !(diagonal >= 1e-6 && diagonal <= 1e6 && reach <= 1e6 && reach <= 100 * diagonal);
 }
 
 }  // namespace
+
+double float_rounding(const Box& box) {
+  // Each coordinate of a splat's centre (within the box) and of its two axes (each shorter than the
+  // diagonal) rounds by at most 2^-24 of its magnitude when written.
+  return std::sqrt(3.0) * std::ldexp(reach_of(box) + 2 * box.diagonal(), -24);
+}
 
 std::vector<SplatRecord> SplatRun::records() const {
   std::vector<SplatRecord> out;
@@ -91,6 +102,15 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
     if (normalised_options.sampling.spacing > 0) normalised_options.sampling.spacing /= run.scale;
     validate(normalised_options.fit);
   }
+  // The bound the splats are fitted to: ε less what writing them as floats may move them (a scan at
+  // 1e6 with ε 0.35 loses 0.16 ε, one at the origin nothing measurable), so the written splats
+  // keep ε against the mesh as read; where that takes most of ε, the float output cannot keep it.
+  const double rounding = float_rounding(input_box);
+  if (input_options.surface_bound && !(rounding <= 0.5 * input_options.fit.eps))
+    throw Error(fmt::format("{}: coordinates reach {:.7g}, where the float splat file's steps move a splat by up to {:.3g}, more than "
+                            "half of eps {:.3g}: translate the mesh nearer the origin or raise --eps",
+                            input_mesh.source, reach_of(input_box), rounding, input_options.fit.eps));
+  const auto bound_eps = static_cast<float>((input_options.fit.eps - rounding) / (normalise ? run.scale : 1.0));
   const Mesh& mesh = normalise ? normalised_mesh : input_mesh;
   const ColorSource& colors = normalise ? normalised_colors : input_colors;
   const PipelineOptions& options = normalise ? normalised_options : input_options;
@@ -128,7 +148,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   std::optional<Surface> surface;
   if (options.surface_bound) {
     phase("surface", [&] { surface.emplace(mesh); });
-    phase("surface bound", [&] { bound_by_surface(*surface, run.samples, run.neighbors, run.fit, options.fit.eps, run.surface_fit); });
+    phase("surface bound", [&] { bound_by_surface(*surface, run.samples, run.neighbors, run.fit, bound_eps, run.surface_fit); });
   }
   Rows inverse;
   phase("inverse", [&] { inverse = inverse_index(run.fit.safe, run.samples.size()); });
@@ -149,7 +169,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
         else
           kept.push_back(grown_record(run.fit, run.samples, j));
       }
-      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, options.fit.eps, run.surface_fit);
+      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, bound_eps, run.surface_fit);
       run.kept_splats = std::move(kept);
     });
   }

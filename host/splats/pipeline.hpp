@@ -65,6 +65,10 @@ struct SplatRun {
   std::vector<SplatRecord> records() const;
 };
 
+// How far writing a splat of a mesh within `box` as floats may move its points (centre and axes
+// rounded): the surface bound is fitted to ε less this.
+double float_rounding(const Box& box);
+
 // Called with the name of each phase as it starts (for progress display).
 using Progress = std::function<void(const std::string& phase)>;
 

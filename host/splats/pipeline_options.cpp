@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "runtime/error.hpp"
 
@@ -133,16 +134,20 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   options.fit.size_at_accepted = !p.thesis_only;
   setup.diagonal = mesh.bounds().diagonal();
   options.fit.eps = static_cast<float>(p.eps > 0 ? p.eps : p.eps_diag * setup.diagonal);
-  if (!(options.fit.eps > 0 && std::isfinite(options.fit.eps)))
+  if (!(options.fit.eps > 0 && std::isfinite(options.fit.eps))) {
+    if (p.eps > 0)
+      throw Error(fmt::format("{}: eps {} is beyond float range (the splats are floats: give an eps between {:.3g} and {:.3g})", model,
+                              p.eps, std::numeric_limits<float>::min(), std::numeric_limits<float>::max()));
     throw Error(fmt::format("{}: eps resolves to {} (eps_diag {} x bounding-box diagonal {}); the mesh has no extent or one "
                             "beyond float range, or eps underflows: pass --eps",
                             model, options.fit.eps, p.eps_diag, setup.diagonal));
+  }
   setup.colors.bounds = mesh.bounds();
   setup.colors.field = parse_color_field(p.color_field);
   setup.color_description = to_string(setup.colors.field);
   if (!p.texture.empty()) {
+    setup.colors.texture = load_texture(p.texture);  // a missing or unreadable image is named first
     if (!mesh.has_texcoords()) throw Error(model + " has no texture coordinates for the texture " + p.texture);
-    setup.colors.texture = load_texture(p.texture);
     setup.color_description = "texture:" + p.texture;
   }
   return setup;

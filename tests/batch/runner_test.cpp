@@ -12,6 +12,7 @@
 #include "io/checksum.hpp"
 #include "io/image.hpp"
 #include "splats/splat_file.hpp"
+#include "splats/surface_check.hpp"
 #include "csm/csm_file.hpp"
 
 namespace splatcl::batch {
@@ -165,40 +166,58 @@ TEST(BatchRunner, FailingModelsAreReportedAndTheRestComplete) {
   EXPECT_EQ(failed_models(summary), 4u);
 }
 
-// The same end-of-run check as `splatcl splats`: a sphere of radius 100 at 1e6 (float spacing 0.0625
-// there, so a few splats end just beyond ε) fails its model with the check's reason and writes no
-// splats, where the run used to write them and report "ok".
-TEST(BatchRunner, SplatsThatBreakTheBoundFailTheModel) {
+// A sphere of radius 100 far from the origin (a scan in georeferenced coordinates). At 1e6 (float
+// steps of 0.0625, ε 0.35) its splats keep the bound once written, so the end-of-run check that
+// `splatcl splats` runs too (splats::check_before_writing) passes and the model is written; before
+// the fit left room for the rounding, a few splats ended just beyond ε and the model failed there.
+// At 1e7 (steps of 1) no float splat file can keep ε: the model fails with the cause, writing nothing.
+TEST(BatchRunner, FarFromTheOriginIsBuiltOrRefusedWithTheCause) {
   ScratchDir dir("runner-bound");
-  std::string obj;
-  constexpr int segments = 48, rings = 24;
-  const double pi = 3.14159265358979323846;
-  obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", 1e6, 1e6, 1e6 + 100);
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      const double theta = pi * i / rings, phi = 2 * pi * j / segments;
-      obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", 1e6 + 100 * std::sin(theta) * std::cos(phi), 1e6 + 100 * std::sin(theta) * std::sin(phi),
-                         1e6 + 100 * std::cos(theta));
-    }
-  obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", 1e6, 1e6, 1e6 - 100);
-  const int south = 1 + (rings - 1) * segments + 1;  // 1-based
-  const auto ring = [&](int i, int j) { return 2 + (i - 1) * segments + j % segments; };
-  for (int j = 0; j < segments; ++j) obj += fmt::format("f 1 {} {}\n", ring(1, j), ring(1, j + 1));
-  for (int i = 1; i + 1 < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      obj += fmt::format("f {} {} {}\n", ring(i, j), ring(i + 1, j), ring(i + 1, j + 1));
-      obj += fmt::format("f {} {} {}\n", ring(i, j), ring(i + 1, j + 1), ring(i, j + 1));
-    }
-  for (int j = 0; j < segments; ++j) obj += fmt::format("f {} {} {}\n", ring(rings - 1, j), south, ring(rings - 1, j + 1));
-  write_text(dir / "far.obj", obj);
-  ModelEntry entry = model(dir, "far", "far.obj");
-  entry.params.want_csm = false;
-  entry.params.splats = {};  // the defaults of splatcl splats
-  const auto results = run_batch({entry}, reference_options(dir));
-  ASSERT_EQ(results.size(), 1u);
-  EXPECT_FALSE(results[0].ok);
-  EXPECT_NE(results[0].reason.find("break the two-sided bound"), std::string::npos) << results[0].reason;
-  EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(dir / "out") / "far.splats.ply"));
+  const auto sphere_at = [&](double offset) {
+    std::string obj;
+    constexpr int segments = 48, rings = 24;
+    const double pi = 3.14159265358979323846;
+    obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", offset, offset, offset + 100);
+    for (int i = 1; i < rings; ++i)
+      for (int j = 0; j < segments; ++j) {
+        const double theta = pi * i / rings, phi = 2 * pi * j / segments;
+        obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", offset + 100 * std::sin(theta) * std::cos(phi),
+                           offset + 100 * std::sin(theta) * std::sin(phi), offset + 100 * std::cos(theta));
+      }
+    obj += fmt::format("v {:.10f} {:.10f} {:.10f}\n", offset, offset, offset - 100);
+    const int south = 1 + (rings - 1) * segments + 1;  // 1-based
+    const auto ring = [&](int i, int j) { return 2 + (i - 1) * segments + j % segments; };
+    for (int j = 0; j < segments; ++j) obj += fmt::format("f 1 {} {}\n", ring(1, j), ring(1, j + 1));
+    for (int i = 1; i + 1 < rings; ++i)
+      for (int j = 0; j < segments; ++j) {
+        obj += fmt::format("f {} {} {}\n", ring(i, j), ring(i + 1, j), ring(i + 1, j + 1));
+        obj += fmt::format("f {} {} {}\n", ring(i, j), ring(i + 1, j + 1), ring(i, j + 1));
+      }
+    for (int j = 0; j < segments; ++j) obj += fmt::format("f {} {} {}\n", ring(rings - 1, j), south, ring(rings - 1, j + 1));
+    return obj;
+  };
+  write_text(dir / "far.obj", sphere_at(1e6));
+  write_text(dir / "farther.obj", sphere_at(1e7));
+  std::vector<ModelEntry> entries{model(dir, "far", "far.obj"), model(dir, "farther", "farther.obj")};
+  for (ModelEntry& entry : entries) {
+    entry.params.want_csm = false;
+    entry.params.splats = {};  // the defaults of splatcl splats
+  }
+  const auto results = run_batch(entries, reference_options(dir));
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_TRUE(results[0].ok) << results[0].reason;
+  const auto written = std::filesystem::path(dir / "out") / "far.splats.ply";
+  ASSERT_TRUE(std::filesystem::exists(written));
+  splats::SurfaceCheckOptions check;
+  const splats::SplatFile file = splats::read_splat_file(written.string());
+  check.eps = file.info.eps;
+  check.surface_points = 50'000;
+  check.seed = 99;  // not the builder's points
+  const splats::SurfaceCheckReport report = splats::check_surface(load_mesh(dir / "far.obj"), file.splats, check);
+  EXPECT_TRUE(report.ok()) << splats::describe_failure(report);
+  EXPECT_FALSE(results[1].ok);
+  EXPECT_NE(results[1].reason.find("translate the mesh nearer the origin"), std::string::npos) << results[1].reason;
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(dir / "out") / "farther.splats.ply"));
 }
 
 TEST(BatchRunner, ParallelJobsGiveTheSameOutputs) {

@@ -66,6 +66,12 @@ add_test(NAME cli.splats_reference COMMAND ${EXPECT_OUTPUT} --match "${SPLATS_BO
 add_test(NAME cli.error_splats_missing_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*missing.obj" $<TARGET_FILE:splatcl> splats missing.obj -o out.ply)
 add_test(NAME cli.error_splats_bad_samples COMMAND ${EXPECT_ERROR} "'samples': 'grid:0' is not 'auto'" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --samples grid:0)
 add_test(NAME cli.error_splats_bad_color_tol COMMAND ${EXPECT_ERROR} "--color-tol" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --color-tol 300)
+# An eps beyond float range is named as such (not blamed on eps_diag); a missing texture image is
+# named before the mesh's missing texture coordinates.
+add_test(NAME cli.error_splats_eps_beyond_float COMMAND ${EXPECT_ERROR} "splats-cube.obj: eps 1e-300 is beyond float range"
+         $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --eps 1e-300)
+add_test(NAME cli.error_splats_missing_texture COMMAND ${EXPECT_ERROR} "nope.png"
+         $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --texture nope.png)
 add_test(NAME cli.error_splats_no_output COMMAND ${EXPECT_ERROR} "-o OUT.ply" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE})
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-broken.ply "ply\nformat ascii 1.0\nend_header\n")
 add_test(NAME cli.error_splats_verify_broken COMMAND ${EXPECT_ERROR} "splats-broken.ply" $<TARGET_FILE:splatcl> splats verify ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/splats-broken.ply)

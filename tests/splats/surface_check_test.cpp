@@ -125,6 +125,24 @@ TEST(SurfaceCheck, LiftedSplatIsTwoEpsAway) {
   EXPECT_EQ(report.worst_splat, 0u);
 }
 
+// The check `splats` and `batch` run before writing: splats that break the bound the run promised
+// stop it with one line naming the model and what broke; a run that promised nothing gets the report.
+TEST(SurfaceCheck, CheckBeforeWritingRefusesWhatBreaksThePromisedBound) {
+  const Mesh plane = testing::plane_mesh(1);
+  std::vector<SplatRecord> splats = grid();
+  splats[kHole].center.z = static_cast<float>(2 * kEps);  // one splat lifted off the square
+  try {
+    check_before_writing(plane, splats, true, kEps, "square.obj", " (remedy)");
+    ADD_FAILURE() << "not refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("square.obj: the splats break the two-sided bound at eps 0.05 ("), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1 splat leaves the surface by more than eps (up to 2 eps)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nothing written (remedy)"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(check_before_writing(plane, splats, false, kEps, "square.obj", "").ok());
+  EXPECT_TRUE(check_before_writing(plane, grid(), true, kEps, "square.obj", "").ok());
+}
+
 TEST(SurfaceCheck, TiltedSplatWithRimHalfEpsOffIsOk) {
   const Mesh plane = testing::plane_mesh(4);
   std::vector<SplatRecord> splats = grid();

@@ -133,6 +133,33 @@ TEST(TwoSidedBound, HugeAndTinyCoordinates) {
   }
 }
 
+// A scan in georeferenced coordinates: a sphere of radius 100 far from the origin. Written as floats
+// its splats move by up to half a float step there (0.03 per coordinate at 1e6, against ε = 0.35):
+// fitted to the full ε, 4 of 3,099 splats left the surface by up to 1.004 ε (the run was refused);
+// the bound now leaves room for the rounding. Where the steps take more than half of ε (1e7: steps of 1), the
+// run is refused before any work, naming the cause.
+TEST(TwoSidedBound, FarFromTheOriginKeepsTheBoundAfterFloatRounding) {
+  const Mesh unit = sphere_mesh(24, 48);
+  const auto placed = [&](float offset) {
+    std::vector<Vec3> vertices = unit.vertices;
+    for (Vec3& p : vertices) p = 100.0f * p + Vec3{offset, offset, offset};
+    std::vector<std::vector<std::uint32_t>> faces;
+    for (std::size_t f = 0; f < unit.face_count(); ++f)
+      faces.emplace_back(unit.corners.begin() + unit.face_offsets[f], unit.corners.begin() + unit.face_offsets[f + 1]);
+    return make_mesh(vertices, faces, fmt::format("sphere at {:g}", offset));
+  };
+  for (const float offset : {2e5f, 1e6f}) {
+    const Outcome out = build_and_check(placed(offset), 0.001, &runtime(), 50'000);
+    EXPECT_TRUE(out.report.ok()) << offset << ": " << describe(out.report);
+  }
+  try {
+    build_and_check(placed(1e7f), 0.001, &runtime(), 50'000);
+    ADD_FAILURE() << "a sphere at 1e7 was not refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("translate the mesh nearer the origin or raise --eps"), std::string::npos) << e.what();
+  }
+}
+
 // The sample budget: the automatic spacing coarsens to fit it and says so; an explicit spacing and
 // the thesis's grid are refused before any sample is made; vertices alone beyond it are refused.
 TEST(Sampling, BudgetCoarsensAutoAndRefusesTheRest) {
