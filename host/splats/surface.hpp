@@ -145,8 +145,9 @@ class Surface {
   struct Recent {
     static constexpr int kSize = 4;
     std::uint32_t triangles[kSize] = {UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX};
+    std::uint32_t pieces[kSize] = {0, 0, 0, 0};  // the tree item (a piece of the triangle) each was found by
     std::uint32_t region = 0;  // a tree node; 0, the root, until a query answers
-    void remember(std::uint32_t t);
+    void remember(std::uint32_t t, std::uint32_t piece);
   };
   // Whether some triangle lies within `radius` of p (stops at the first one found). `recent`, when
   // given, is tried first (its triangles, then the tree outward from its region) and updated.
@@ -164,7 +165,8 @@ class Surface {
   std::vector<SurfaceTriangle> triangles_;
   std::vector<double> cumulative_area_;
   double area_ = 0;
-  BoxTree tree_;
+  BoxTree tree_;  // over pieces of the triangles (a needle's slices), not whole triangles
+  std::vector<std::uint32_t> piece_triangle_;  // per tree item
 };
 
 // SplitMix64: a small, portable, seedable stream of 64-bit values and uniform doubles in [0, 1).

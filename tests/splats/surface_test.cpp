@@ -53,22 +53,37 @@ TEST(Surface, ClosestPointMatchesBruteForce) {
   }
 }
 
+// A sphere, and meshes whose triangles the tree indexes in pieces: a fan of needles (each cut into
+// slices across its length) and a stack of obtuse caps (each split at its longest edge). Points
+// throughout the box and close to the flat meshes' plane, where the pieces' boxes must hold every
+// point of their triangle.
 TEST(Surface, NearestAndWithinMatchBruteForceOverAMesh) {
-  const Mesh mesh = testing::sphere_mesh(12, 24);
-  const Surface surface(mesh);
-  ASSERT_GT(surface.triangles().size(), 400u);
-  SplitMix64 random{11};
-  for (int trial = 0; trial < 500; ++trial) {
-    const DVec3 p{2.4 * random.uniform() - 1.2, 2.4 * random.uniform() - 1.2, 2.4 * random.uniform() - 1.2};
-    double best = INFINITY;
-    for (const SurfaceTriangle& t : surface.triangles()) best = std::min(best, brute_distance(t, p));
-    const Surface::Nearest nearest = surface.nearest(p);
-    EXPECT_NEAR(nearest.distance, best, 1e-9);
-    ASSERT_LT(nearest.triangle, surface.triangles().size());
-    EXPECT_NEAR(length(closest_point(surface.triangles()[nearest.triangle], p) - p), best, 1e-9);
-    EXPECT_TRUE(surface.within(p, best + 1e-9));
-    EXPECT_FALSE(surface.within(p, best * 0.999 - 1e-12));
-    EXPECT_EQ(surface.nearest(p, best * 0.999 - 1e-12).triangle, UINT32_MAX);
+  std::vector<std::vector<std::uint32_t>> cap_faces;
+  std::vector<Vec3> cap_vertices;
+  for (std::uint32_t k = 0; k < 30; ++k) {  // caps 1 long and 0.01 high, stacked 0.04 apart
+    const float y = -0.6f + 0.04f * static_cast<float>(k);
+    cap_vertices.insert(cap_vertices.end(), {{-0.5f + 0.01f * static_cast<float>(k), y, 0.0f}, {0.5f, y, 0.0f}, {0.0f, y + 0.01f, 0.0f}});
+    cap_faces.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  const Mesh meshes[] = {testing::sphere_mesh(12, 24), testing::sliver_fan_mesh(300), make_mesh(cap_vertices, cap_faces, "caps")};
+  for (const Mesh& mesh : meshes) {
+    SCOPED_TRACE(mesh.source);
+    const Surface surface(mesh);
+    ASSERT_GE(surface.triangles().size(), 30u);
+    SplitMix64 random{11};
+    for (int trial = 0; trial < 1000; ++trial) {
+      const double z = trial % 2 ? 2.4 * random.uniform() - 1.2 : 0.02 * (random.uniform() - 0.5);
+      const DVec3 p{2.4 * random.uniform() - 1.2, 2.4 * random.uniform() - 1.2, z};
+      double best = INFINITY;
+      for (const SurfaceTriangle& t : surface.triangles()) best = std::min(best, brute_distance(t, p));
+      const Surface::Nearest nearest = surface.nearest(p);
+      EXPECT_NEAR(nearest.distance, best, 1e-9);
+      ASSERT_LT(nearest.triangle, surface.triangles().size());
+      EXPECT_NEAR(length(closest_point(surface.triangles()[nearest.triangle], p) - p), best, 1e-9);
+      EXPECT_TRUE(surface.within(p, best + 1e-9));
+      EXPECT_FALSE(surface.within(p, best * 0.999 - 1e-12));
+      EXPECT_EQ(surface.nearest(p, best * 0.999 - 1e-12).triangle, UINT32_MAX);
+    }
   }
 }
 
