@@ -61,14 +61,18 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
   QualityReport report;
   for (std::uint32_t view = 0; view < options.views; ++view) {
     const Vec3 back = random_direction(rng);  // camera at c + R·back, looking at c
-    const Vec3 light = c + (1.05f * r + (options.light_max - 1.05f) * r * uniform01(rng)) * random_direction(rng);
+    // The reference works relative to c, where floats keep the precision of R rather than of c: at
+    // coordinates far from the origin (a scan at 1e6) its ray's start 1e-4 R off the surface was
+    // below the float step of the world position, and it counted surface points as shadowed.
+    const Vec3 light_local = (1.05f * r + (options.light_max - 1.05f) * r * uniform01(rng)) * random_direction(rng);
+    const Vec3 light = c + light_local;
     const Vec3 forward = -1.0f * back;
     const Vec3 helper = std::abs(forward.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
     const Vec3 right = normalized(cross(forward, helper)), up = cross(right, forward);
     const Vec3 eye = r * back;  // relative to c, as the BVH is
     std::vector<Vec4> receivers, lights;
     std::vector<std::uint8_t> exact_lit, facing;
-    std::vector<Vec4> hit(std::size_t{w} * w), normal(hit.size());
+    std::vector<Vec4> hit(std::size_t{w} * w), normal(hit.size());  // hit: relative to c
     parallel_for(hit.size(), 256, [&](std::size_t p, std::size_t) {
       const float x = (2 * (static_cast<float>(p % w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
       const float y = (2 * (static_cast<float>(p / w) + 0.5f) / static_cast<float>(w) - 1) * tan_half;
@@ -77,27 +81,27 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
       const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
       const ClosestHit h = closest_hit(bvh, o, dir, inv);
       const float t = h.t;
-      hit[p] = t == INFINITY ? Vec4{0, 0, 0, 0} : Vec4{c.x + eye.x + t * d.x, c.y + eye.y + t * d.y, c.z + eye.z + t * d.z, 1};
+      hit[p] = t == INFINITY ? Vec4{0, 0, 0, 0} : Vec4{eye.x + t * d.x, eye.y + t * d.y, eye.z + t * d.z, 1};
       if (t == INFINITY) return;
       const BvhTriangle& tri = bvh.triangles[h.triangle];
       Vec3 n = cross(Vec3{tri.e1[0], tri.e1[1], tri.e1[2]}, Vec3{tri.e2[0], tri.e2[1], tri.e2[2]});
       if (dot(n, d) > 0) n = -1.0f * n;  // towards the camera: the side the image shows
       normal[p] = {n.x, n.y, n.z, 0};
     });
+    std::vector<Vec3> local;  // per receiver, relative to c
     for (std::size_t p = 0; p < hit.size(); ++p)
       if (hit[p].w == 1) {
-        receivers.push_back(hit[p]);
+        local.push_back({hit[p].x, hit[p].y, hit[p].z});
+        receivers.push_back({c.x + hit[p].x, c.y + hit[p].y, c.z + hit[p].z, 1});
         lights.push_back({light.x, light.y, light.z, 1});
-        const Vec3 n{normal[p].x, normal[p].y, normal[p].z}, to_light{light.x - hit[p].x, light.y - hit[p].y, light.z - hit[p].z};
-        facing.push_back(dot(n, to_light) > 0);
+        facing.push_back(dot(Vec3{normal[p].x, normal[p].y, normal[p].z}, light_local - local.back()) > 0);
       }
     exact_lit.resize(receivers.size());
     parallel_for(receivers.size(), 256, [&](std::size_t k, std::size_t) {
-      const Vec3 p{receivers[k].x, receivers[k].y, receivers[k].z};
-      const Vec3 to_light = light - p;
+      const Vec3 to_light = light_local - local[k];
       const float len = length(to_light);
       const Vec3 d = (1.0f / len) * to_light;
-      const Vec3 from = p - c + eps * d;
+      const Vec3 from = local[k] + eps * d;
       const float o[3] = {from.x, from.y, from.z}, dir[3] = {d.x, d.y, d.z};
       exact_lit[k] = !any_hit(bvh, o, dir, len - eps);
     });
