@@ -136,9 +136,12 @@ std::vector<CoveredPixel> covered_pixels(const cluster::ClusterLayout& layout, c
 }
 
 // The floor's lighting rows on the pixel lattice (every FLOOR_LATTICE_STEP-th pixel in x and y),
-// smoothed over each node's 3 × 3 lattice neighbours that show floor (each node's 16 AO directions
-// alone leave a grain), as the shading's two lattice textures: (bent normal, AO) and key-light
-// visibility per node. A node that does not show floor (an object hides the node's floor point,
+// as the shading's two lattice textures: (bent normal, AO), smoothed over each node's 3 × 3 lattice
+// neighbours that show floor (each node's 16 AO directions alone leave a grain), and key-light
+// visibility per node, smoothed so only for the lights of non-zero size (`soft`: their few sample
+// points leave bands in the penumbra); a point light's PCF is smooth already, and averaging spread
+// its shadow edge over 12 pixels (mean error against ray tracing 0.099 in a plate's hole, 0.080 not
+// averaged). A node that does not show floor (an object hides the node's floor point,
 // which may lie far behind it, or the node is off the floor) takes the mean of its 3 × 3
 // neighbours that do, so that the shading's bilinear filter reads the floor's nodes only; one
 // with none of them holds kNoFloorNode, which makes the filtered value negative wherever it has
@@ -149,7 +152,7 @@ std::size_t lattice_size(int pixels) { return (static_cast<std::size_t>(pixels) 
 
 // `rows`: kLightingRow per lattice node (row-major, `columns` wide), valid where `present`.
 void floor_lattice_textures(const std::vector<float>& rows, const std::vector<std::uint8_t>& present, std::size_t columns,
-                            std::vector<float>& ao, std::vector<float>& shadow) {
+                            const std::array<bool, kLightingRow - kVisibilityAt>& soft, std::vector<float>& ao, std::vector<float>& shadow) {
   static_assert(kLightingRow == 8 && kVisibilityAt == 4);
   const std::size_t lattice_rows = present.size() / columns;
   // The mean of `source` rows over the 3 × 3 neighbours of (x, y) where `present`; false where none is.
@@ -170,7 +173,12 @@ void floor_lattice_textures(const std::vector<float>& rows, const std::vector<st
   std::vector<float> smoothed(rows.size());
   for (std::size_t y = 0; y < lattice_rows; ++y)
     for (std::size_t x = 0; x < columns; ++x)
-      if (present[y * columns + x]) neighbour_mean(rows.data(), x, y, &smoothed[kLightingRow * (y * columns + x)]);
+      if (present[y * columns + x]) {
+        float* out = &smoothed[kLightingRow * (y * columns + x)];
+        neighbour_mean(rows.data(), x, y, out);
+        for (std::size_t k = 0; k < soft.size(); ++k)
+          if (!soft[k]) out[kVisibilityAt + k] = rows[kLightingRow * (y * columns + x) + kVisibilityAt + k];
+      }
   ao.resize(4 * present.size());
   shadow.resize(4 * present.size());
   for (std::size_t y = 0; y < lattice_rows; ++y)
@@ -1099,7 +1107,9 @@ void Presenter::light_pixels(Frame& f) {
   f.stats.floor_receivers = f.floor_stats.floor_receivers;
   Stopwatch textures;
   const std::vector<std::uint8_t> shown = floor_nodes_shown(scene_.floor, g.clustered_lists->layout(), f.view_frame, f.view_z, f.floor_active);
-  floor_lattice_textures(f.floor_rows, shown, lattice_size(width_), f.floor_ao_nodes, f.floor_shadow_nodes);
+  std::array<bool, kLightingRow - kVisibilityAt> soft{};
+  for (std::size_t k = 0; k < scene_.key_lights.size() && k < soft.size(); ++k) soft[k] = scene_.key_lights[k].size > 0;
+  floor_lattice_textures(f.floor_rows, shown, lattice_size(width_), soft, f.floor_ao_nodes, f.floor_shadow_nodes);
   f.stats.stages.push_back({"host: floor lattice textures", textures.elapsed_ms()});
 }
 
