@@ -221,6 +221,21 @@ struct EyeRays {
   glm::vec4 viewport;
 };
 
+// One frame of `view` at width × height, with what the ray-cast comparisons read: the view's linear
+// values (grey: red channel), the view z (0: uncovered) and the camera's eye rays.
+struct RenderedView {
+  RenderedView(const Scene& scene, Runtime& runtime, int width, int height, DebugView view)
+      : presenter(scene, runtime, width, height, SPLATCL_TEST_CACHE), camera(scene.camera, width, height) {
+    presenter.debug_view = view;
+    presenter.render(0.0f);
+    values = presenter.read_hdr_rgb();
+    view_z = presenter.read_view_z();
+  }
+  Presenter presenter;
+  EyeRays camera;
+  std::vector<float> values, view_z;
+};
+
 // A point light's shadow on the floor against its exact (binary) shadow: a 2 × 2 plate at height 1
 // under a point key light; per floor pixel, whether the segment from the floor point to the light
 // crosses the plate. The floor's lattice keeps a point light's visibility per node, not averaged
@@ -232,12 +247,9 @@ TEST_F(PresenterTest, PointLightFloorShadowMatchesTheExactShadow) {
       "camera": {"eye": [0, 6, 3.5], "target": [0.4, 0, 0.3], "fov_y_degrees": 45, "near": 0.1, "far": 30}})",
                                   "plate.json", ".");
   const int width = 160, height = 120;
-  Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
-  presenter.debug_view = DebugView::Shadows;
-  presenter.render(0.0f);
-  const std::vector<float> visibility = presenter.read_hdr_rgb();
-  const std::vector<float> view_z = presenter.read_view_z();
-  const EyeRays camera(scene.camera, width, height);
+  const RenderedView frame(scene, *runtime_, width, height, DebugView::Shadows);
+  const std::vector<float>&visibility = frame.values, &view_z = frame.view_z;
+  const EyeRays& camera = frame.camera;
   const glm::vec3 light = scene.key_lights[0].position;
   double sum = 0;
   std::size_t floor_pixels = 0, shadowed = 0;
@@ -274,13 +286,10 @@ TEST_F(PresenterTest, PointLightFloorShadowMatchesTheExactShadow) {
 TEST_F(PresenterTest, AmbientOcclusionMatchesRayCastOnTheMeshes) {
   Scene scene = default_scene();
   const int width = 160, height = 120;
-  Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
-  presenter.debug_view = DebugView::AmbientOcclusion;
-  presenter.render(0.0f);
-  const std::vector<float> ao = presenter.read_hdr_rgb();
-  const std::vector<float> view_z = presenter.read_view_z();
-  const RayOcclusion rays(presenter, 0.0f);
-  const EyeRays camera(scene.camera, width, height);
+  RenderedView frame(scene, *runtime_, width, height, DebugView::AmbientOcclusion);
+  const std::vector<float>&ao = frame.values, &view_z = frame.view_z;
+  const RayOcclusion rays(frame.presenter, 0.0f);
+  const EyeRays& camera = frame.camera;
   const glm::vec3 eye = camera.eye;
   double sum = 0, floor_sum = 0;
   std::size_t compared = 0, skipped = 0, on_floor_pixels = 0;
@@ -329,13 +338,10 @@ TEST_F(PresenterTest, AmbientOcclusionMatchesRayCastOnTheMeshes) {
 TEST_F(PresenterTest, InsideOfAnOpenMeshHasTheInsidesAmbientOcclusion) {
   const Scene scene = bowl_scene("");
   const int width = 96, height = 72;
-  Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
-  presenter.debug_view = DebugView::AmbientOcclusion;
-  presenter.render(0.0f);
-  const std::vector<float> ao = presenter.read_hdr_rgb();
-  const std::vector<float> view_z = presenter.read_view_z();
-  const RayOcclusion rays(presenter, 0.0f);
-  const EyeRays camera(scene.camera, width, height);
+  RenderedView frame(scene, *runtime_, width, height, DebugView::AmbientOcclusion);
+  const std::vector<float>&ao = frame.values, &view_z = frame.view_z;
+  const RayOcclusion rays(frame.presenter, 0.0f);
+  const EyeRays& camera = frame.camera;
   double sum = 0, bottom_sum = 0;
   std::size_t compared = 0, bottom = 0;
   for (int y = 0; y < height; ++y)
