@@ -141,8 +141,11 @@ struct SampleBuilder {
 // `ids` are the polygon's corner indices (into Mesh::corners); `first_edge` picks the corner that
 // starts the rectangle's x axis (the thesis's rule is corner 0; the spacing mode takes the start of
 // the longest edge, so a sliver's rectangle hugs it instead of spanning its long edge squared).
+// `fan_cos`: for a fan triangle of a non-planar polygon, a corner normal (smoothed against the
+// polygon's Newell normal, not this triangle's plane) less than this cosine from the triangle's own
+// normal is replaced by it, as a triangle mesh's crease would; below -1: corner normals as they are.
 void sample_face(const Mesh& mesh, const std::vector<Vec3>& normal_at_corner, const std::uint32_t* input_ids, std::uint32_t count,
-                 std::uint32_t first_edge, double d, const ColorSource& colors, SampleBuilder& out) {
+                 std::uint32_t first_edge, double d, const ColorSource& colors, SampleBuilder& out, float fan_cos = -2.0f) {
   if (count < 3) return;
   std::vector<std::uint32_t> rotated(count);
   for (std::uint32_t c = 0; c < count; ++c) rotated[c] = input_ids[(c + first_edge) % count];
@@ -152,6 +155,11 @@ void sample_face(const Mesh& mesh, const std::vector<Vec3>& normal_at_corner, co
   const Vec3 ex = normalized(mesh.vertices[mesh.corners[ids[1]]] - origin);
   if (length(normal) == 0 || length(ex) == 0) return;  // degenerate face: no area to sample
   const Vec3 ey = cross(normal, ex);
+  std::vector<Vec3> corner_normal(count);
+  for (std::uint32_t c = 0; c < count; ++c) {
+    corner_normal[c] = normal_at_corner[ids[c]];
+    if (!(dot(corner_normal[c], normal) >= fan_cos)) corner_normal[c] = normal;
+  }
   std::vector<double> xs(count), ys(count);
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
   for (std::uint32_t c = 0; c < count; ++c) {
@@ -194,8 +202,8 @@ void sample_face(const Mesh& mesh, const std::vector<Vec3>& normal_at_corner, co
       }
       const std::uint32_t i0 = ids[0], i1 = ids[tri], i2 = ids[tri + 1];
       const Vec3 p = origin + static_cast<float>(x) * ex + static_cast<float>(y) * ey;
-      const Vec3 n = normalized(static_cast<float>(w0) * normal_at_corner[i0] + static_cast<float>(w1) * normal_at_corner[i1] +
-                                static_cast<float>(w2) * normal_at_corner[i2]);
+      const Vec3 n = normalized(static_cast<float>(w0) * corner_normal[0] + static_cast<float>(w1) * corner_normal[tri] +
+                                static_cast<float>(w2) * corner_normal[tri + 1]);
       float uv[2] = {0, 0};
       if (mesh.has_texcoords()) {
         for (int k = 0; k < 2; ++k)
@@ -460,10 +468,17 @@ Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const Colo
     }
     builder.samples.grid_spacing = d;
     builder.samples.positions.reserve(mesh.vertices.size() + static_cast<std::size_t>(std::min(estimate, room)));
+    // A non-planar polygon's fan triangles can stand far from its Newell normal (a crown's cap): their
+    // samples' normals are kept within the crease angle of the triangle they lie on (facing its way
+    // at least, with vertex normals), since the fit orients each splat by them.
+    const float fan_cos = options.crease_degrees >= 180
+                              ? 0.0f
+                              : static_cast<float>(std::cos(static_cast<double>(options.crease_degrees) * std::numbers::pi / 180.0));
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      const std::uint32_t corners = mesh.face_offsets[f + 1] - mesh.face_offsets[f];
       for_each_sampled_polygon(mesh, f, [&](const std::uint32_t* ids, std::uint32_t count) {
         const std::uint32_t first = options.mode == SampleMode::FaceGrid ? 0 : longest_edge_start(mesh, ids, count);
-        sample_face(mesh, normal_at_corner, ids, count, first, d, colors, builder);
+        sample_face(mesh, normal_at_corner, ids, count, first, d, colors, builder, count < corners ? fan_cos : -2.0f);
       });
     }
   }

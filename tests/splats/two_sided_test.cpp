@@ -133,6 +133,49 @@ TEST(TwoSidedBound, HugeAndTinyCoordinates) {
   }
 }
 
+// A prism whose top is one non-planar 12-gon, a crown (corners alternately at heights 1 and 1.3):
+// its fan triangles stand up to 63° off the polygon's plane. Their samples took normals smoothed
+// against the polygon's normal, so near the crown's ridges the side walls' samples outweighed them
+// and 6 grown splats faced into the solid (the check passed: gap splats covered the area facing
+// the right way). Every splat that lies along a face within 2 ε of its centre must face the way of
+// one such face (the faces as the file gives them, fanned from their first corner).
+TEST(TwoSidedBound, NonPlanarPolygonSplatsFaceOutward) {
+  constexpr int m = 12;
+  std::vector<Vec3> vertices;
+  for (int k = 0; k < m; ++k) vertices.push_back({static_cast<float>(std::cos(2 * std::numbers::pi * k / m)), static_cast<float>(std::sin(2 * std::numbers::pi * k / m)), 0.0f});
+  for (int k = 0; k < m; ++k)
+    vertices.push_back({vertices[k].x, vertices[k].y, 1.0f + 0.3f * static_cast<float>(k % 2)});
+  std::vector<std::vector<std::uint32_t>> faces(2);
+  for (int k = 0; k < m; ++k) faces[0].push_back(static_cast<std::uint32_t>(m - 1 - k)), faces[1].push_back(static_cast<std::uint32_t>(m + k));
+  for (std::uint32_t k = 0; k < m; ++k) faces.push_back({k, (k + 1) % m, m + (k + 1) % m, m + k});
+  const Mesh crown = make_mesh(vertices, faces, "crown");
+  const Outcome out = build_and_check(crown, 0.001, &runtime(), 50'000);
+  EXPECT_TRUE(out.report.ok()) << describe(out.report);
+  std::vector<SurfaceTriangle> triangles;  // only the corners and the unit normal are set
+  for (const auto& face : faces)
+    for (std::size_t k = 1; k + 1 < face.size(); ++k) {
+      SurfaceTriangle t{};
+      t.a = DVec3(vertices[face[0]]), t.b = DVec3(vertices[face[k]]), t.c = DVec3(vertices[face[k + 1]]);
+      t.normal = normalized(cross(t.b - t.a, t.c - t.a));
+      triangles.push_back(t);
+    }
+  const double eps = 0.001 * crown.bounds().diagonal();  // as build_and_check's eps_diag
+  std::size_t along_a_face = 0, facing_inward = 0;
+  for (const SplatRecord& splat : out.splats) {
+    const DVec3 centre(splat.center), n = normalized(DVec3(splat.normal));
+    bool parallel = false, agrees = false;
+    for (const SurfaceTriangle& t : triangles) {
+      if (std::abs(dot(n, t.normal)) < 0.9 || length(closest_point(t, centre) - centre) > 2 * eps) continue;
+      parallel = true;
+      agrees = agrees || dot(n, t.normal) > 0;
+    }
+    along_a_face += parallel;
+    facing_inward += parallel && !agrees;
+  }
+  EXPECT_GT(along_a_face, out.splats.size() / 2);
+  EXPECT_EQ(facing_inward, 0u) << "of " << along_a_face << " splats along a face";
+}
+
 // Gap search on needles: cells are cut across a needle (and a cap at its longest edge), not at
 // their edge midpoints, which kept every cell a needle refined to the finest size along its length.
 // A fan of 400 needles checked 5,391,919 cells that way; 256,457 now, and its splats keep the bound.
