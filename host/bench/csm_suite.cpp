@@ -73,7 +73,7 @@ csm::SphereGrid capture_grid(std::uint32_t maps) {
 }
 
 #ifdef SPLATCL_HAVE_EMBREE
-// The BVH's triangles as corners relative to the sphere centre: the same geometry both capture.
+// The BVH's triangles as corners relative to the sphere centre, in units of scene.unit: the same geometry both capture.
 std::vector<float> triangle_corners(const Bvh& bvh) {
   std::vector<float> corners;
   corners.reserve(bvh.triangles.size() * 9);
@@ -90,7 +90,7 @@ std::vector<float> triangle_corners(const Bvh& bvh) {
 void check_embree_capture(const std::string& what, const csm::CaptureScene& scene, const std::vector<float>& t1,
                           const std::vector<float>& z1) {
   std::size_t disagree = 0;
-  const float scale = scene.depth_scale();
+  const float scale = scene.trace_depth_scale();
   for (std::size_t k = 0; k < z1.size(); ++k) {
     const bool ours = z1[k] < 1.0f, theirs = t1[k] != INFINITY;
     if (ours != theirs || (ours && std::fabs(t1[k] * scale - z1[k]) > 1e-4f)) ++disagree;
@@ -167,7 +167,7 @@ CaptureOutput bench_capture(Session& session, const Mesh& mesh, const CsmSizes& 
   Case peer{"capture", kImplEmbree, false, rays, "rays", problem};
   peer.extra["variant"] = std::string("rtcIntersect16 ") + EmbreeCapturePeer::version();
   session.measure(peer, {}, [&] {
-    hits = embree.capture(cameras, sizes.capture_resolution, scene.sphere.radius, scene.eps_distance(), t1.data(), t2.data());
+    hits = embree.capture(cameras, sizes.capture_resolution, scene.trace_radius(), scene.trace_eps_distance(), t1.data(), t2.data());
   });
   check_embree_capture(describe(peer), scene, t1, out.z1);
   // Embree casts a second ray only where the first one hit: the rays it really traced.

@@ -37,8 +37,8 @@ double farthest(const double c[3], const std::vector<Vec3>& points) {
 }
 
 void pixel_depths(const CaptureScene& scene, const Camera& cam, std::uint32_t row, float* z1, float* z2) {
-  const float radius = scene.sphere.radius, half_pixel = scene.half_pixel(), depth_scale = scene.depth_scale();
-  const float eps = scene.eps_distance();
+  const float radius = scene.trace_radius(), half_pixel = scene.trace_half_pixel(), depth_scale = scene.trace_depth_scale();
+  const float eps = scene.trace_eps_distance();
   const float dir[3] = {-cam.d[0], -cam.d[1], -cam.d[2]};
   const float y = static_cast<float>(2 * row + 1) * half_pixel - radius;
   const bool exact = scene.single_hit == SingleHit::Exact;
@@ -135,7 +135,11 @@ CaptureScene::CaptureScene(const Mesh& mesh, const Sphere& sphere_, std::uint32_
   if (resolution == 0 || resolution > 8192) throw Error("the map resolution must be between 1 and 8192");
   if (!(sphere.radius > 0) || !std::isfinite(sphere.radius)) throw Error("the bounding sphere's radius must be positive");
   if (!(hit_epsilon >= 0) || !std::isfinite(hit_epsilon)) throw Error("the hit epsilon must be finite and not negative");
-  bvh = build_bvh(mesh_triangles(mesh, sphere.centre));
+  unit = std::ldexp(1.0f, std::ilogb(sphere.radius));
+  std::vector<BvhTriangle> triangles = mesh_triangles(mesh, sphere.centre);
+  for (BvhTriangle& t : triangles)
+    for (int k = 0; k < 3; ++k) t.v0[k] /= unit, t.e1[k] /= unit, t.e2[k] /= unit;
+  bvh = build_bvh(std::move(triangles));
 }
 
 std::vector<Camera> cameras(const SphereGrid& grid, std::uint32_t first, std::uint32_t count) {
@@ -176,7 +180,7 @@ cl::Event DepthCapture::capture(const SphereGrid& grid, std::uint32_t first, std
   cameras_.assign(cameras(grid, first, count));
   const std::size_t rows = std::size_t{count} * scene_.resolution;
   set_args(kernel_, nodes_, triangles_, cameras_.buffer(), static_cast<cl_uint>(scene_.resolution), static_cast<cl_uint>(rows),
-           scene_.sphere.radius, scene_.half_pixel(), scene_.depth_scale(), scene_.eps_distance(),
+           scene_.trace_radius(), scene_.trace_half_pixel(), scene_.trace_depth_scale(), scene_.trace_eps_distance(),
            static_cast<cl_uint>(scene_.single_hit == SingleHit::Exact ? 1 : 0), z1, z2);
   return enqueue_1d(runtime_.queue(), kernel_, rows, 0, profiler, "csm capture");
 }

@@ -62,11 +62,22 @@ struct CaptureScene {
   std::uint32_t resolution;
   SingleHit single_hit;  // resolved: never Auto
   float hit_epsilon;  // depth units
-  Bvh bvh;            // relative to sphere.centre
+  // The ray caster's length unit: 2^ilogb(R), so that it traces a sphere of radius in [1, 2).
+  // Möller–Trumbore's distance numerator grows as R·|edge|² and overflowed float from R ≈ 1e13
+  // (every pixel of a torus at 3e14 came out empty); dividing by a power of two is exact, so
+  // depths are bit-identical to tracing in object units wherever that did not overflow.
+  float unit = 1;
+  Bvh bvh;  // relative to sphere.centre, in units of `unit`
 
+  // Object units (the raster capture).
   float half_pixel() const { return sphere.radius / static_cast<float>(resolution); }
   float depth_scale() const { return 1.0f / (2.0f * sphere.radius); }
   float eps_distance() const { return hit_epsilon * 2.0f * sphere.radius; }
+  // Units of `unit` (the ray caster and bvh).
+  float trace_radius() const { return sphere.radius / unit; }
+  float trace_half_pixel() const { return trace_radius() / static_cast<float>(resolution); }
+  float trace_depth_scale() const { return 1.0f / (2.0f * trace_radius()); }
+  float trace_eps_distance() const { return hit_epsilon * 2.0f * trace_radius(); }
   std::size_t pixels() const { return std::size_t{resolution} * resolution; }
 };
 

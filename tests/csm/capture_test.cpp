@@ -125,16 +125,20 @@ TEST(CsmCapture, DegenerateMeshesAreOneClearError) {
   EXPECT_THROW(bounding_sphere(point), Error);
 }
 
-// A tiny mesh keeps every triangle (its area tested in double: in float |e1 × e2|² underflowed
-// below edges of ~1e-10), and its capture is the unit mesh's in depth units.
-TEST(CsmCapture, TinyMeshesKeepTheirTriangles) {
+// A tiny or huge mesh keeps every triangle (its area tested in double: in float |e1 × e2|²
+// underflowed below edges of ~1e-10), and its ray-cast capture is the unit mesh's in depth units:
+// the ray caster traces in units of 2^ilogb(R) (CaptureScene::unit). In object units the
+// ray-triangle distance's numerator (∝ R·|edge|²) overflowed float from R ≈ 1e13 and every pixel of
+// a sphere at 1e15 came out empty (verify called that lossless: it recaptured the same way), and it
+// underflowed at 1e-14.
+TEST(CsmCapture, TinyAndHugeMeshesKeepTheirTriangles) {
   const Mesh unit = sphere_mesh(6, 8);
   const std::size_t triangles = mesh_triangles(unit, {0, 0, 0}).size();
   const CaptureScene reference(unit, bounding_sphere(unit), 16, SingleHit::SphereExit);
   std::vector<float> ref1, ref2;
   const SphereGrid grid(Distribution::Uniform, Order::ZigzagH, PoleAxis::Y, 16);
   capture_reference(reference, grid, 0, 4, ref1, ref2);
-  for (const float scale : {1e-11f, 3e-13f}) {
+  for (const float scale : {1e-11f, 3e-13f, 1e-14f, 1e15f, 1e17f}) {
     const Mesh tiny = sphere_mesh(6, 8, scale);
     EXPECT_EQ(mesh_triangles(tiny, {0, 0, 0}).size(), triangles) << scale;
     const CaptureScene scene(tiny, bounding_sphere(tiny), 16, SingleHit::SphereExit);
