@@ -198,7 +198,7 @@ std::vector<std::uint32_t> casting_triangles(const Mesh& mesh, Vec3 origin) {
   return triangles;
 }
 
-std::vector<BvhTriangle> mesh_triangles(const Mesh& mesh, Vec3 origin) {
+std::vector<BvhTriangle> mesh_triangles(const Mesh& mesh, Vec3 origin, float unit) {
   const std::vector<std::uint32_t> corners = casting_triangles(mesh, origin);
   std::vector<BvhTriangle> triangles(corners.size() / 3);
   for (std::size_t t = 0; t < triangles.size(); ++t) {
@@ -208,8 +208,9 @@ std::vector<BvhTriangle> mesh_triangles(const Mesh& mesh, Vec3 origin) {
     relative_position(mesh, corners[3 * t + 1], origin, p1);
     relative_position(mesh, corners[3 * t + 2], origin, p2);
     for (int k = 0; k < 3; ++k) {
-      tri.e1[k] = p1[k] - tri.v0[k];
-      tri.e2[k] = p2[k] - tri.v0[k];
+      tri.e1[k] = (p1[k] - tri.v0[k]) / unit;
+      tri.e2[k] = (p2[k] - tri.v0[k]) / unit;
+      tri.v0[k] /= unit;
     }
   }
   return triangles;

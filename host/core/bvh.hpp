@@ -44,8 +44,15 @@ void relative_position(const Mesh& mesh, std::uint32_t v, Vec3 origin, float out
 // zero. Vertex index triples, flat. Throws Error naming the mesh when none remains.
 std::vector<std::uint32_t> casting_triangles(const Mesh& mesh, Vec3 origin);
 
-// casting_triangles as positions relative to `origin` (a vertex and two edges each).
-std::vector<BvhTriangle> mesh_triangles(const Mesh& mesh, Vec3 origin);
+// The length unit a scene of bounding radius `radius` is traced in: 2^ilogb(radius), so the tracer
+// sees a radius in [1, 2). In the model's own units the ray-triangle distance's numerator (∝ R ·
+// |edge|²) overflows float from R ≈ 1e13 and underflows near 1e-14; dividing by a power of two is
+// exact, so hits are bit-identical wherever those units worked.
+inline float trace_unit(float radius) { return std::ldexp(1.0f, std::ilogb(radius)); }
+
+// casting_triangles as positions relative to `origin` (a vertex and two edges each), in units of
+// `unit` (trace_unit).
+std::vector<BvhTriangle> mesh_triangles(const Mesh& mesh, Vec3 origin, float unit = 1.0f);
 
 // Binned SAH build; leaves hold at most 4 triangles.
 Bvh build_bvh(std::vector<BvhTriangle> triangles);

@@ -135,11 +135,8 @@ CaptureScene::CaptureScene(const Mesh& mesh, const Sphere& sphere_, std::uint32_
   if (resolution == 0 || resolution > 8192) throw Error("the map resolution must be between 1 and 8192");
   if (!(sphere.radius > 0) || !std::isfinite(sphere.radius)) throw Error("the bounding sphere's radius must be positive");
   if (!(hit_epsilon >= 0) || !std::isfinite(hit_epsilon)) throw Error("the hit epsilon must be finite and not negative");
-  unit = std::ldexp(1.0f, std::ilogb(sphere.radius));
-  std::vector<BvhTriangle> triangles = mesh_triangles(mesh, sphere.centre);
-  for (BvhTriangle& t : triangles)
-    for (int k = 0; k < 3; ++k) t.v0[k] /= unit, t.e1[k] /= unit, t.e2[k] /= unit;
-  bvh = build_bvh(std::move(triangles));
+  unit = trace_unit(sphere.radius);
+  bvh = build_bvh(mesh_triangles(mesh, sphere.centre, unit));
 }
 
 std::vector<Camera> cameras(const SphereGrid& grid, std::uint32_t first, std::uint32_t count) {

@@ -62,10 +62,8 @@ struct CaptureScene {
   std::uint32_t resolution;
   SingleHit single_hit;  // resolved: never Auto
   float hit_epsilon;  // depth units
-  // The ray caster's length unit: 2^ilogb(R), so that it traces a sphere of radius in [1, 2).
-  // Möller–Trumbore's distance numerator grows as R·|edge|² and overflowed float from R ≈ 1e13
-  // (every pixel of a torus at 3e14 came out empty); dividing by a power of two is exact, so
-  // depths are bit-identical to tracing in object units wherever that did not overflow.
+  // The ray caster's length unit (trace_unit(R), core/bvh.hpp): in object units every pixel of a
+  // torus at 3e14 came out empty.
   float unit = 1;
   Bvh bvh;  // relative to sphere.centre, in units of `unit`
 

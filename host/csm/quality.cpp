@@ -44,7 +44,10 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
   // The reference renders `mesh`: a CSM of another model gives a meaningless score. Its capture's
   // sphere and triangle count are the model's (bounding_sphere is deterministic; 1e-4 R of slack).
   const Sphere own = bounding_sphere(mesh);
-  std::vector<BvhTriangle> triangles = mesh_triangles(mesh, c);
+  // Traced in units of trace_unit(R), as the ray-cast capture is: in the model's units the tracer
+  // overflowed from R ~ 1e13 and saw no pixel.
+  const float unit = trace_unit(r);
+  std::vector<BvhTriangle> triangles = mesh_triangles(mesh, c, unit);
   if (length(own.centre - c) > 1e-4f * r || std::fabs(own.radius - r) > 1e-4f * r || triangles.size() != info.triangles)
     throw Error(fmt::format("the CSM was not built from {}: its bounding sphere (centre ({:g}, {:g}, {:g}), radius {:g}) and {} "
                             "triangles against the model's (({:g}, {:g}, {:g}), {:g}) and {}",
@@ -56,7 +59,7 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
   if (runtime) device = std::make_unique<VisibilityQueries>(*runtime, scene);
   const std::uint32_t w = options.image;
   const float tan_half = std::tan(options.fov_degrees * std::numbers::pi_v<float> / 360.0f);
-  const float eps = 1e-4f * r;
+  const float eps = 1e-4f * (r / unit);  // in units of `unit`
   std::mt19937 rng(options.seed);
   QualityReport report;
   for (std::uint32_t view = 0; view < options.views; ++view) {
@@ -69,7 +72,7 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
     const Vec3 forward = -1.0f * back;
     const Vec3 helper = std::abs(forward.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
     const Vec3 right = normalized(cross(forward, helper)), up = cross(right, forward);
-    const Vec3 eye = r * back;  // relative to c, as the BVH is
+    const Vec3 eye = (r / unit) * back;  // relative to c and in units of `unit`, as the BVH is
     std::vector<Vec4> receivers, lights;
     std::vector<std::uint8_t> exact_lit, facing;
     std::vector<Vec4> hit(std::size_t{w} * w), normal(hit.size());  // hit: relative to c
@@ -81,7 +84,7 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
       const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
       const ClosestHit h = closest_hit(bvh, o, dir, inv);
       const float t = h.t;
-      hit[p] = t == INFINITY ? Vec4{0, 0, 0, 0} : Vec4{eye.x + t * d.x, eye.y + t * d.y, eye.z + t * d.z, 1};
+      hit[p] = t == INFINITY ? Vec4{0, 0, 0, 0} : Vec4{unit * (eye.x + t * d.x), unit * (eye.y + t * d.y), unit * (eye.z + t * d.z), 1};
       if (t == INFINITY) return;
       const BvhTriangle& tri = bvh.triangles[h.triangle];
       Vec3 n = cross(Vec3{tri.e1[0], tri.e1[1], tri.e1[2]}, Vec3{tri.e2[0], tri.e2[1], tri.e2[2]});
@@ -101,9 +104,9 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
       const Vec3 to_light = light_local - local[k];
       const float len = length(to_light);
       const Vec3 d = (1.0f / len) * to_light;
-      const Vec3 from = local[k] + eps * d;
+      const Vec3 from = (1.0f / unit) * local[k] + eps * d;
       const float o[3] = {from.x, from.y, from.z}, dir[3] = {d.x, d.y, d.z};
-      exact_lit[k] = !any_hit(bvh, o, dir, len - eps);
+      exact_lit[k] = !any_hit(bvh, o, dir, len / unit - eps);
     });
     std::vector<float> vis;
     Stopwatch clock;
@@ -123,6 +126,10 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
     report.pixels += hit.size();
     report.object_pixels += receivers.size();
   }
+  // Every view looks at the bounding sphere's centre from its surface: a model it bounds shows. No
+  // hit at all means the reference tracer failed, and "0 % wrong of 0 pixels" would pass.
+  if (report.object_pixels == 0)
+    throw Error(fmt::format("{}: no view's rays hit the model (bounding sphere radius {:g}): nothing to measure", mesh.source, r));
   return report;
 }
 

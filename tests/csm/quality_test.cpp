@@ -59,7 +59,7 @@ TEST(CsmQuality, WrongPixelsOnSpotStayBounded) {
 // 1e6 scores as it does at the origin. It started its shadow rays from world positions, whose float
 // step there (0.0625) exceeds their 1e-4 R start off the surface: the same sphere scored 23.7 %
 // wrong at 1e6 against 0 % at the origin (4 views of 128², splatcl csm quality).
-TEST(CsmQuality, FarFromTheOriginScoresAsAtTheOrigin) {
+TEST(CsmQuality, FarFromTheOriginAndHugeScoreAsAtTheOrigin) {
   const Mesh here = sphere_mesh(24, 48, 100.0f);
   std::vector<Vec3> vertices = here.vertices;
   for (Vec3& v : vertices) v = v + Vec3{1e6f, 1e6f, 1e6f};
@@ -75,6 +75,14 @@ TEST(CsmQuality, FarFromTheOriginScoresAsAtTheOrigin) {
   options.image = 128;
   const auto percent = [&](const Mesh& mesh) { return measure_quality(build_csm(mesh, build, &runtime()).csm, mesh, options, &runtime()).percent_of_image(); };
   const double at_origin = percent(here), at_far = percent(far);
+  // A huge model (R = 1e16) is measured too: its reference tracer works in units of 2^ilogb(R) (in
+  // the model's units it overflowed and saw no pixel, "0 % wrong").
+  std::vector<Vec3> huge_vertices = here.vertices;
+  for (Vec3& v : huge_vertices) v = 1e14f * v;
+  const Mesh huge = make_mesh(huge_vertices, faces, "huge sphere");
+  const QualityReport huge_report = measure_quality(build_csm(huge, build, &runtime()).csm, huge, options, &runtime());
+  EXPECT_EQ(huge_report.object_pixels, huge_report.pixels);
+  EXPECT_NEAR(huge_report.percent_of_image(), at_origin, 1.0);
   EXPECT_NEAR(at_far, at_origin, 1.0) << "at the origin " << at_origin << " %";
 }
 
