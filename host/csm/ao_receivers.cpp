@@ -112,8 +112,9 @@ std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& o
   const std::vector<std::uint32_t> choice = choose_patterns(n, options.patterns, options.seed);
   const Sphere sphere = bounding_sphere(occluder);
   const Vec3 c = sphere.centre;
-  const Bvh bvh = build_bvh(mesh_triangles(occluder, c));
-  const float eps = 1e-4f * sphere.radius;
+  const float unit = trace_unit(sphere.radius);  // traced in these units, as the CSM capture is
+  const Bvh bvh = build_bvh(mesh_triangles(occluder, c, unit));
+  const float eps = 1e-4f * (sphere.radius / unit);
   std::vector<float> out(n);
   parallel_for(n, 64, [&](std::size_t v, std::size_t) {
     const Vec3 p = receiver.vertices[v], nrm = receiver_normal(receiver, v);
@@ -125,7 +126,7 @@ std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& o
       float d[3];
       device::csm_ao_rotate(h, pattern[k].x, pattern[k].y, pattern[k].z, d);
       if (options.ground && d[1] < 0.0f) continue;
-      const float o[3] = {p.x - c.x + eps * d[0], p.y - c.y + eps * d[1], p.z - c.z + eps * d[2]};
+      const float o[3] = {(p.x - c.x) / unit + eps * d[0], (p.y - c.y) / unit + eps * d[1], (p.z - c.z) / unit + eps * d[2]};
       lit += !any_hit(bvh, o, d, INFINITY);
     }
     out[v] = static_cast<float>(lit) / static_cast<float>(options.samples);

@@ -214,6 +214,21 @@ TEST(CsmAoReceivers, RaycastAoIsTheGroundTruthOfTheSameDirections) {
     error += std::abs(ray[v] - csm[v].w);
   }
   EXPECT_LE(error / static_cast<double>(ray.size()), 0.03);
+  // The same two boxes scaled by 1e15 (traced in units of trace_unit(R): in the model's units every
+  // ray missed, AO 1 everywhere) give the same AO.
+  const auto scaled = [](const Mesh& mesh) {
+    std::vector<Vec3> vertices = mesh.vertices;
+    for (Vec3& v : vertices) v = 1e15f * v;
+    std::vector<std::vector<std::uint32_t>> faces;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+      faces.emplace_back(mesh.corners.begin() + mesh.face_offsets[f], mesh.corners.begin() + mesh.face_offsets[f + 1]);
+    return make_mesh(vertices, faces, mesh.source + " x 1e15");
+  };
+  const std::vector<float> huge = raycast_ambient_occlusion(scaled(above), scaled(slab_mesh), options);
+  ASSERT_EQ(huge.size(), ray.size());
+  std::size_t differ = 0;
+  for (std::size_t v = 0; v < ray.size(); ++v) differ += huge[v] != ray[v];
+  EXPECT_LE(differ, ray.size() / 10);
 }
 
 }  // namespace
