@@ -211,7 +211,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   // The drawn splats' fit (its gap splats are cached, and the LOD tree is built over them too).
   const bool fit_drawn = !splat_file && q.surface_clip > 0;
   const std::string gap_parameters =
-      fit_drawn ? fmt::format("{}|drawn gaps v2 surface_clip={:.9g} scale={:.9g}", splat_parameters, q.surface_clip, q.splat_scale)
+      fit_drawn ? fmt::format("{}|drawn gaps v3 surface_clip={:.9g} scale={:.9g}", splat_parameters, q.surface_clip, q.splat_scale)
                 : splat_parameters;
   const LodOptions tree_options{q.lod_leaf, 32, 0.1f};
   const std::string tree_parameters = fmt::format("{}|tree v1 leaf={} grid={} overlap={:.9g}", gap_parameters,

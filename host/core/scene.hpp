@@ -172,7 +172,7 @@ struct Quality {
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   // Not given in the scene: the presenter lowers depth_offset to kAutoLengthShare of the
   // smallest object's bounding-box diagonal where that is smaller, so that a small scene's ε does
-  // not swallow its objects (present/presenter.cpp, auto_depth_offset).
+  // not swallow its objects (present/presenter.cpp, auto_scene_length).
   bool depth_offset_auto = true;
   float gaussian = 2.0f;       // β: weight exp(−β r²) over the unit ellipse
   // Silhouette anti-aliasing of the final view's tone-mapped image (ResolvePass in

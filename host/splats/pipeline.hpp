@@ -22,7 +22,10 @@ namespace splatcl::splats {
 // The splat method's version: raised when generate_splats makes other splats from the same mesh
 // and options, so that cached splats (the presenter's asset cache, `splatcl batch`'s reuse) are
 // rebuilt rather than reused. 2: the gap filling's check-and-fill rounds went from 6 to 10.
-inline constexpr int kSplatMethodVersion = 2;
+// 3: the bound leaves room for float rounding far from the origin, gap-search cells are cut across
+// needles, and samples on a non-planar polygon's fan triangles keep their normals near the
+// triangle's.
+inline constexpr int kSplatMethodVersion = 3;
 
 struct PipelineOptions {
   SamplingOptions sampling;

@@ -469,8 +469,9 @@ Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const Colo
     builder.samples.grid_spacing = d;
     builder.samples.positions.reserve(mesh.vertices.size() + static_cast<std::size_t>(std::min(estimate, room)));
     // A non-planar polygon's fan triangles can stand far from its Newell normal (a crown's cap): their
-    // samples' normals are kept within the crease angle of the triangle they lie on (facing its way
-    // at least, with vertex normals), since the fit orients each splat by them.
+    // samples' normals are kept within the crease angle of the triangle they lie on (at crease 180,
+    // plain vertex normals as the thesis's method uses, at least facing its way), since the fit
+    // orients each splat by them.
     const float fan_cos = options.crease_degrees >= 180
                               ? 0.0f
                               : static_cast<float>(std::cos(static_cast<double>(options.crease_degrees) * std::numbers::pi / 180.0));

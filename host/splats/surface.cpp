@@ -147,8 +147,10 @@ void add_piece_boxes(DVec3 a, DVec3 b, DVec3 c, int depth, std::vector<BoxTree::
   const double base = std::sqrt(l2[lo]), side = std::sqrt(std::max(l2[(lo + 1) % 3], l2[(lo + 2) % 3]));
   const double slices = base > 0 ? std::clamp(std::ceil(side / (kSliceAspect * base)), 1.0, kMaxSlices) : 1.0;
   const int count = static_cast<int>(slices);
-  // Widened by a rounding margin, so the slices' boxes hold every point of the triangle.
-  const DVec3 margin = (1e-12 * side) * DVec3{1, 1, 1};
+  // Widened by a rounding margin, so the slices' boxes hold every point of the triangle: the
+  // slices' corners round relative to their coordinates' magnitude as well as the needle's size.
+  const double magnitude = std::max({std::fabs(o.x), std::fabs(o.y), std::fabs(o.z)});
+  const DVec3 margin = (1e-12 * (side + magnitude)) * DVec3{1, 1, 1};
   for (int k = 0; k < count; ++k) {
     const double f0 = k / slices, f1 = (k + 1) / slices;
     BoxTree::Box box;

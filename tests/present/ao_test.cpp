@@ -151,8 +151,9 @@ TEST_F(PresenterTest, AmbientOcclusionOfALowPolySphereFollowsTheSmoothSurface) {
 
 // An open mesh: a bowl (the lower half of a sphere, outward winding, open at the rim), seen from
 // above into it, so only its inside shows.
-Scene bowl_scene(const std::string& two_sided) {
-  const auto dir = std::filesystem::temp_directory_path() / "splatcl-present-bowl";
+// `folder`: one per test, since ctest runs them side by side.
+Scene bowl_scene(const std::string& folder, const std::string& two_sided) {
+  const auto dir = std::filesystem::temp_directory_path() / ("splatcl-present-bowl-" + folder);
   std::filesystem::create_directories(dir);
   {
     std::ofstream obj(dir / "bowl.obj", std::ios::trunc);
@@ -179,7 +180,7 @@ Scene bowl_scene(const std::string& two_sided) {
 // showed through the whole bowl before, as it still does then); a closed mesh stays one-sided.
 TEST_F(PresenterTest, OpenMeshesAreDrawnFromBothSides) {
   const auto uncovered = [&](const std::string& two_sided, bool expect_two_sided) {
-    Presenter presenter(bowl_scene(two_sided), *runtime_, 96, 72, SPLATCL_TEST_CACHE);
+    Presenter presenter(bowl_scene("sides", two_sided), *runtime_, 96, 72, SPLATCL_TEST_CACHE);
     EXPECT_EQ(presenter.two_sided(0), expect_two_sided);
     EXPECT_EQ(presenter.object_splats(0).second, (expect_two_sided ? 2 : 1) * presenter.assets(0).drawn.size());
     presenter.debug_view = DebugView::Normals;
@@ -336,7 +337,7 @@ TEST_F(PresenterTest, AmbientOcclusionMatchesRayCastOnTheMeshes) {
 // per pixel against rays cast on the mesh from the surface the eye ray hits. At the bottom the rim
 // leaves the cosine-weighted share sin²45° = 0.5 of the sky.
 TEST_F(PresenterTest, InsideOfAnOpenMeshHasTheInsidesAmbientOcclusion) {
-  const Scene scene = bowl_scene("");
+  const Scene scene = bowl_scene("inside-ao", "");
   const int width = 96, height = 72;
   RenderedView frame(scene, *runtime_, width, height, DebugView::AmbientOcclusion);
   const std::vector<float>&ao = frame.values, &view_z = frame.view_z;
