@@ -67,7 +67,6 @@ __kernel void splat_frames(__global const float4* positions, __global const floa
     a[1][0] = xy * inv, a[1][1] = yy * inv, a[1][2] = yz * inv;
     a[2][0] = xz * inv, a[2][1] = yz * inv, a[2][2] = zz * inv;
   }
-#undef SPLAT_TAKEN
   float e[3][3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
   for (int sweep = 0; sweep < 10; ++sweep) {
     if (a[0][1] == 0.0f && a[0][2] == 0.0f && a[1][2] == 0.0f) break;
@@ -107,13 +106,17 @@ __kernel void splat_frames(__global const float4* positions, __global const floa
   float4 u = canonical_sign((float4)(e[0][order[0]], e[1][order[0]], e[2][order[0]], 0.0f));
   float4 v = canonical_sign((float4)(e[0][order[1]], e[1][order[1]], e[2][order[1]], 0.0f));
   float4 n = cross3(u, v);
-  // Orientation: distance-weighted mean of the sample normals (weight exp(-3 |p_j - p_i| / d_i)).
+  // Orientation: distance-weighted mean of the sample normals (weight exp(-3 |p_j - p_i| / d_i)) of
+  // the neighbours in the frame: across a thin plate the other side's normals outweighed the
+  // sample's own and turned its splat inside out.
   float4 m = normals[i];
   for (uint r = 0; r < k; ++r) {
+    if (!SPLAT_TAKEN(r)) continue;
     const float4 w = positions[row[r]] - p0;
     const float d = sqrt(dot3(w, w));
     m += normals[row[r]] * exp(-3.0f * d * scale);
   }
+#undef SPLAT_TAKEN
   if (dot3(m, n) < 0.0f) u = -u, v = -v, n = -n;
   frames[i].u = u;
   frames[i].v = v;
@@ -215,12 +218,14 @@ void seen_clear(__global uint* table, uint mask, __global const uint* list, uint
 }
 
 // Grows the splat of item s (sample items[s]) with one worker's scratch.
-void grow_one(__global const float4* positions, __global const uchar4* colors, __global const uint* neighbors, uint k,
-              __global const Frame* frames, float eps, int color_tolerance, uint i, uint capacity, uint hash_mask,
+void grow_one(__global const float4* positions, __global const float4* normals, __global const uchar4* colors,
+              __global const uint* neighbors, uint k, __global const Frame* frames, float crease_cos, float eps,
+              int color_tolerance, uint i, uint capacity, uint hash_mask,
               __global uint* q, __global uint* seen, __global ulong* ring, __global uint* aux, __global uint* table,
               __global uint* count_out, __global float4* splats, __global float4* clips) {
   __global uint* rejected = aux;  // clipped splats: the skipped violators
   const float4 p0 = positions[i];
+  const float4 n0 = normals[i];
   const uchar4 c0 = colors[i];
   const Frame f = frames[i];
   const float two_eps = 2.0f * eps;
@@ -271,6 +276,8 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
         const uint j = seen[pos];
         const float4 w = positions[j] - p0;
         const float h = dot3(f.n, w);
+        const float4 nj = normals[j];
+        if (splat_other_sheet(n0.x, n0.y, n0.z, nj.x, nj.y, nj.z, h, crease_cos)) continue;
         const float lo = fmin(hmin, h), hi = fmax(hmax, h);
         const uchar4 cj = colors[j];
         const int violation = !splat_color_similar(cj.x, cj.y, cj.z, c0.x, c0.y, c0.z, color_tolerance) ? STOP_COLOR
@@ -366,8 +373,9 @@ void grow_one(__global const float4* positions, __global const uchar4* colors, _
   *count_out = qn;
 }
 
-__kernel void splat_grow(__global const float4* positions, __global const uchar4* colors,
-                         __global const uint* neighbors, uint k, __global const Frame* frames, float eps,
+__kernel void splat_grow(__global const float4* positions, __global const float4* normals,
+                         __global const uchar4* colors, __global const uint* neighbors, uint k,
+                         __global const Frame* frames, float crease_cos, float eps,
                          int color_tolerance, __global const uint* items, uint item_count, uint capacity,
                          uint seen_capacity, uint hash_mask, uint block, __global uint* next_block,
                          __global uint* q_slots, __global uint* seen_slots, __global ulong* ring_slots,
@@ -380,7 +388,7 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
   __global uint* table = hash_slots + w * (hash_mask + 1u);
   if (block == 0u) {
     if (w < item_count)
-      grow_one(positions, colors, neighbors, k, frames, eps, color_tolerance, items[w], capacity, hash_mask,
+      grow_one(positions, normals, colors, neighbors, k, frames, crease_cos, eps, color_tolerance, items[w], capacity, hash_mask,
                q_slots + w * capacity, seen, ring, aux, table, counts + w, splats, clips);
     return;
   }
@@ -389,7 +397,7 @@ __kernel void splat_grow(__global const float4* positions, __global const uchar4
     if (begin >= item_count) return;
     const uint end = min(item_count, begin + block);
     for (uint s = begin; s < end; ++s)
-      grow_one(positions, colors, neighbors, k, frames, eps, color_tolerance, items[s], capacity, hash_mask,
+      grow_one(positions, normals, colors, neighbors, k, frames, crease_cos, eps, color_tolerance, items[s], capacity, hash_mask,
                q_slots + (size_t)s * capacity, seen, ring, aux, table, counts + s, splats, clips);
   }
 }

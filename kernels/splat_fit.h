@@ -51,6 +51,18 @@ inline bool splat_same_side_of_crease(float ax, float ay, float az, float bx, fl
   return ax * bx + ay * by + az * bz >= crease_cos;
 }
 
+// Whether a candidate at height h above the splat's plane, with sample normal (bx, by, bz), lies on
+// another sheet of the surface than the splat's sample (normal (ax, ay, az)): behind the plane and
+// facing away from it beyond 180° minus the crease angle (the other side of a thin plate or a
+// knife edge). Growth neither tests, accepts nor expands such a candidate: its depth below the plane
+// says nothing about the sheet the splat lies on, and as a violator it stopped the splats of a plate
+// thinner than about 2 ε at the sample under their start (every one shrank to nothing, and gap
+// filling had to cover the whole part). Off at crease_cos <= -1 (the thesis's growth).
+inline bool splat_other_sheet(float ax, float ay, float az, float bx, float by, float bz, float h, float crease_cos) {
+  if (crease_cos <= -1.0f || !(h < 0.0f)) return false;
+  return ax * bx + ay * by + az * bz < -crease_cos;
+}
+
 // Sort key of a candidate at in-plane offset (x, y): its distance (circle phase) or
 // λ = x²/(b² − y²) (ellipse phase with minor axis b), −1 when unusable.
 inline float splat_growth_key(bool ellipse, float x, float y, float b) {

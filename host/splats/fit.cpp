@@ -134,7 +134,7 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
         const std::size_t count = std::min(batch, pending.size() - begin);
         queue.enqueueWriteBuffer(items, CL_FALSE, 0, count * sizeof(std::uint32_t), pending.data() + begin);
         queue.enqueueFillBuffer(next_block, std::uint32_t{0}, 0, sizeof(std::uint32_t));
-        set_args(grow, positions, colors, neighbor_buffer, k, frame_buffer, options.eps,
+        set_args(grow, positions, normals, colors, neighbor_buffer, k, frame_buffer, crease_cosine(options.crease_degrees), options.eps,
                  static_cast<cl_int>(options.color_tolerance), items, static_cast<cl_uint>(count), capacity,
                  static_cast<cl_uint>(seen_capacity), static_cast<cl_uint>(hash_size - 1),
                  static_cast<cl_uint>(cpu_shape ? kCpuBlock : 0), next_block, q_slots, seen_slots, ring_slots,

@@ -46,6 +46,17 @@ bool needs_normalising(const Box& box) {
   return !(diagonal >= 1e-6 && diagonal <= 1e6 && reach <= 1e6 && reach <= 100 * diagonal);
 }
 
+// The samples' spacing: the grid's, else (vertices alone) the median distance to the nearest neighbour.
+double sample_spacing(const SplatRun& run) {
+  if (run.samples.grid_spacing > 0) return run.samples.grid_spacing;
+  const Neighborhoods& nb = run.neighbors;
+  if (nb.k == 0 || run.samples.size() == 0) return 0;
+  std::vector<float> nearest(run.samples.size());
+  for (std::size_t i = 0; i < nearest.size(); ++i) nearest[i] = length(xyz(run.samples.positions[i]) - xyz(run.samples.positions[nb.row(i)[0]]));
+  std::nth_element(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() / 2), nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
 }  // namespace
 
 double float_rounding(const Box& box) {
@@ -169,7 +180,8 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
         else
           kept.push_back(grown_record(run.fit, run.samples, j));
       }
-      run.gap_splats = fill_gaps(*surface, mesh, colors, kept, bound_eps, run.surface_fit);
+      run.gap_splats = fill_gaps(*surface, mesh, colors, {options.fit.color_tolerance, 0.5 * sample_spacing(run)}, kept,
+                                 bound_eps, run.surface_fit);
       run.kept_splats = std::move(kept);
     });
   }

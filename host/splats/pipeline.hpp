@@ -24,8 +24,10 @@ namespace splatcl::splats {
 // rebuilt rather than reused. 2: the gap filling's check-and-fill rounds went from 6 to 10.
 // 3: the bound leaves room for float rounding far from the origin, gap-search cells are cut across
 // needles, and samples on a non-planar polygon's fan triangles keep their normals near the
-// triangle's.
-inline constexpr int kSplatMethodVersion = 3;
+// triangle's. 4: growth passes over samples on the other side of a thin part (splat_other_sheet),
+// frames are oriented by the neighbours on their side of a crease, and with the colour variant
+// every splat keeps to its colour (fill_gaps).
+inline constexpr int kSplatMethodVersion = 4;
 
 struct PipelineOptions {
   SamplingOptions sampling;

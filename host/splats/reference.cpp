@@ -104,6 +104,7 @@ Frame frame_of(const Samples& samples, const Neighborhoods& nb, std::size_t i, f
   Vec3 n = cross(u, v);
   Vec3 m = xyz(samples.normals[i]);
   for (std::uint32_t r = 0; r < k; ++r) {
+    if (!in_frame(r)) continue;
     const Vec3 w = xyz(samples.positions[row[r]]) - p0;
     const float d = std::sqrt(dot(w, w));
     const float weight = std::exp(-3.0f * d * scale);
@@ -163,6 +164,8 @@ std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods&
     return true;
   };
   const Vec3 p0 = xyz(samples.positions[i]);
+  const Vec4 n0 = samples.normals[i];
+  const float crease_cos = crease_cosine(options.crease_degrees);
   const Rgba8 c0 = samples.colors[i];
   const Vec3 fu = xyz(f.u), fv = xyz(f.v), fn = xyz(f.n);
   const float two_eps = 2.0f * options.eps;
@@ -203,6 +206,8 @@ std::vector<std::uint32_t> grow_one(const Samples& samples, const Neighborhoods&
         if (ellipse && key < 1.0f) continue;
         const Vec3 w = xyz(samples.positions[j]) - p0;
         const float h = dot(fn, w);
+        const Vec4 nj = samples.normals[j];
+        if (device::splat_other_sheet(n0.x, n0.y, n0.z, nj.x, nj.y, nj.z, h, crease_cos)) continue;
         const float lo = std::fmin(hmin, h), hi = std::fmax(hmax, h);
         const Stop violation = !color_similar(samples.colors[j], c0, options.color_tolerance) ? Stop::Color
                                : hi - lo > two_eps                                             ? Stop::Geometry

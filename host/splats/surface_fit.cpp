@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include "runtime/profiling.hpp"
@@ -427,7 +428,10 @@ std::vector<Gap> find_gaps(const Surface& surface, const std::vector<Ellipse>& s
 // to `largest`): the largest passing circle, then, of four orientations of the major axis, the one
 // that passes at the greatest length (along a crease or a boundary, the surface allows a long thin
 // splat where a circle stays small).
-Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double largest, std::vector<DVec3>& scratch) {
+// `same_colour`, when set, must also pass: the colour variant's tolerance over the splat.
+using ColourTest = std::function<bool(const Ellipse&, Surface::Recent&)>;
+Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double largest, std::vector<DVec3>& scratch,
+                  const ColourTest& same_colour) {
   const SurfaceTriangle& t = surface.triangles()[gap.triangle];
   Ellipse e;
   e.center = gap.point;
@@ -441,7 +445,7 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
   Surface::Recent recent;  // the tests at several sizes query the same part of the surface
   const auto test = [&](double a, double b) {
     e.a = a, e.b = b;
-    return within_surface(surface, e, eps, scratch, &recent);
+    return within_surface(surface, e, eps, scratch, &recent) && (!same_colour || same_colour(e, recent));
   };
   // The largest passing value in (lo, hi] of a monotone test, by doubling then bisection.
   const auto largest_passing = [&](double lo, double start, const auto& passes) {
@@ -482,6 +486,29 @@ Rgba8 color_at(const Mesh& mesh, const ColorSource& colors, const SurfaceTriangl
   return colors.at(to_float(p), uv);
 }
 
+// Whether the surface under e, its axes shortened by `margin` (to 0 at least), shows `colour` within `tolerance`
+// on every channel (the splat thesis's colour test, §2.3.2), at the rim and three inner rings: the
+// points' nearest surface points, their colours as the samples got theirs.
+bool keeps_colour(const Surface& surface, const Mesh& mesh, const ColorSource& colors, const Ellipse& e, double eps, Rgba8 colour,
+                  int tolerance, double margin, Surface::Recent& recent) {
+  constexpr double kTau = 2 * std::numbers::pi;
+  // A splat thinner than twice the margin is tested along its major axis.
+  const double a = std::max(e.a - margin, 0.0), b = std::max(e.b - margin, 0.0);
+  if (!(std::max(a, b) > 0)) return true;
+  const auto holds = [&](double x, double y) {
+    const DVec3 p = e.center + x * e.u + y * e.v;
+    const Surface::Nearest near = surface.nearest(p, 2 * eps, &recent);
+    if (near.triangle == UINT32_MAX) return false;
+    const SurfaceTriangle& t = surface.triangles()[near.triangle];
+    const Rgba8 c = color_at(mesh, colors, t, closest_point(t, p));
+    return std::abs(c.r - colour.r) <= tolerance && std::abs(c.g - colour.g) <= tolerance && std::abs(c.b - colour.b) <= tolerance;
+  };
+  for (const auto& [rho, count] : {std::pair{1.0, 64}, std::pair{0.75, 48}, std::pair{0.5, 32}, std::pair{0.25, 16}})
+    for (int k = 0; k < count; ++k)
+      if (!holds(rho * a * std::cos(kTau * k / count), rho * b * std::sin(kTau * k / count))) return false;
+  return true;
+}
+
 }  // namespace
 
 namespace {
@@ -492,7 +519,8 @@ namespace {
 // it. Returns the added splats.
 template <class Color>
 std::vector<SplatRecord> add_gap_splats(const Surface& surface, std::vector<Ellipse>& splats, double eps, double scale,
-                                        double largest, const Color& color, SurfaceFitStats& stats) {
+                                        double largest, const Color& color, SurfaceFitStats& stats,
+                                        const std::function<ColourTest(const Gap&)>& colour_test = {}) {
   std::vector<SplatRecord> added;
   std::vector<std::uint32_t> recheck;  // triangles that had gaps: the later rounds check only them
   for (std::size_t round = 0; round < kMaxGapRounds; ++round) {
@@ -550,7 +578,8 @@ std::vector<SplatRecord> add_gap_splats(const Surface& surface, std::vector<Elli
         parallel_for(batch.size(), 1, [&](std::size_t i, std::size_t worker) {
           // A plane's distance from a smooth surface grows with the square of the distance from
           // where it touches: made within eps / scale², it mostly passes as drawn at once.
-          Ellipse e = gap_splat(surface, gaps[batch[i]], eps / (scale * scale), largest, scratch[worker]);
+          Ellipse e = gap_splat(surface, gaps[batch[i]], eps / (scale * scale), largest, scratch[worker],
+                                colour_test ? colour_test(gaps[batch[i]]) : ColourTest{});
           e.a *= scale, e.b *= scale;
           fits[base + i] = shrink_until_certified(surface, e, eps);
           e.a /= scale, e.b /= scale;
@@ -571,20 +600,54 @@ std::vector<SplatRecord> add_gap_splats(const Surface& surface, std::vector<Elli
 
 }  // namespace
 
-std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
+std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors, const GapColour& colour,
                                    std::vector<SplatRecord>& selected, float eps_float, SurfaceFitStats& stats) {
   Stopwatch clock;
   const double eps = eps_float * (1 - kFloatReserve);
+  // With the colour variant on a coloured mesh every splat keeps to its colour up to the margin: a
+  // grown one to its start sample's, an added one to its gap's. The growth tests only the samples
+  // its walk meets (the thesis's rings), so a grown splat could reach over a colour edge between
+  // them; and a thin coloured plate, covered by gap splats alone, showed one colour over several
+  // checker cells.
+  const bool colour_varies = colour.tolerance < 255 && (colors.texture || colors.field != ColorField::Grey);
+  const auto same_colour = [&](Rgba8 wanted) -> ColourTest {
+    return [&, wanted](const Ellipse& e, Surface::Recent& recent) {
+      return keeps_colour(surface, mesh, colors, e, eps, wanted, colour.tolerance, colour.margin, recent);
+    };
+  };
   // Every selected splat certified first: the bound's test points are a sample of the ellipse, and
-  // between them the distance can rise (at a boundary, a crease or a bump).
+  // between them the distance can rise (at a boundary, a crease or a bump). Then kept to its
+  // colour: its major axis shortened (to the minor at most), else both axes shrunk; a smaller
+  // ellipse with the same centre lies inside the certified one.
   std::vector<Ellipse> certified(selected.size());
   std::vector<std::uint8_t> changed(selected.size(), 0);
   Stopwatch certify_clock;
   parallel_for(selected.size(), 16, [&](std::size_t j, std::size_t) {
-    certified[j] = ellipse_of(selected[j]);
-    const double a = certified[j].a;
-    shrink_until_certified(surface, certified[j], eps);
-    changed[j] = certified[j].a != a;
+    Ellipse& e = certified[j];
+    e = ellipse_of(selected[j]);
+    const double a = e.a, b = e.b;
+    shrink_until_certified(surface, e, eps);
+    if (colour_varies && e.a > 0) {
+      const ColourTest keeps = same_colour(selected[j].color);
+      Surface::Recent recent;
+      const auto largest_passing = [&](double lo, double hi, const auto& set) {
+        for (int step = 0; step < 10; ++step) {
+          const double mid = 0.5 * (lo + hi);
+          set(mid);
+          (keeps(e, recent) ? lo : hi) = mid;
+        }
+        set(lo);
+      };
+      if (!keeps(e, recent)) {
+        const double major = e.a, minor = e.b;
+        e.a = minor;
+        if (keeps(e, recent))
+          largest_passing(minor, major, [&](double x) { e.a = x; });
+        else
+          largest_passing(std::min(minor, colour.margin), minor, [&](double x) { e.a = e.b = x; });
+      }
+    }
+    changed[j] = e.a != a || e.b != b;
   });
   stats.certify_ms += certify_clock.elapsed_ms();
   std::vector<Ellipse> splats;
@@ -597,9 +660,14 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
     kept.push_back(changed[j] ? record_of(certified[j], selected[j].color) : selected[j]);
   }
   selected = std::move(kept);
-  std::vector<SplatRecord> added = add_gap_splats(
-      surface, splats, eps, 1.0, 0.25 * mesh.bounds().diagonal(),
-      [&](const Ellipse& e, std::uint32_t triangle) { return color_at(mesh, colors, surface.triangles()[triangle], e.center); }, stats);
+  const auto gap_colour = [&](const Ellipse& e, std::uint32_t triangle) {
+    return color_at(mesh, colors, surface.triangles()[triangle], e.center);
+  };
+  std::function<ColourTest(const Gap&)> colour_test;
+  if (colour_varies)
+    colour_test = [&](const Gap& gap) { return same_colour(color_at(mesh, colors, surface.triangles()[gap.triangle], gap.point)); };
+  std::vector<SplatRecord> added =
+      add_gap_splats(surface, splats, eps, 1.0, 0.25 * mesh.bounds().diagonal(), gap_colour, stats, colour_test);
   stats.cover_ms += clock.elapsed_ms();
   return added;
 }

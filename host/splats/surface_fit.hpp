@@ -86,8 +86,17 @@ void bound_by_surface(const Surface& surface, const Samples& samples, const Neig
 // Certifies every splat of `selected` against the surface (shrinking, or dropping, the splats that
 // fail), then returns the splats to add so that every point of the surface lies within ε of a splat that
 // contains its projection and faces its way. Colours come from `colors` at the gap (through the
-// mesh's texture coordinates when it has them).
-std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors,
+// mesh's texture coordinates when it has them); with a colour tolerance below 255 and colours that
+// vary, an added splat is also kept to where the surface's colour lies within the tolerance of its
+// own, up to `margin` from its rim (checked at the rim and three inner rings of the ellipse shrunk
+// by the margin). The margin is the colour variant's resolution, about half the sample spacing: a
+// grown splat's colour edge lies somewhere between two samples too, and without it the gaps along a
+// colour edge got ever smaller splats.
+struct GapColour {
+  int tolerance = 255;
+  double margin = 0;
+};
+std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors, const GapColour& colour,
                                    std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats);
 
 // Fits every unclipped splat to where the surface is, for drawing the thesis's splats, whose size
