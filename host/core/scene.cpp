@@ -505,14 +505,16 @@ Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
             f.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1), at(i, k + 1)});
           }
       }
-    // Shared edge vertices are duplicated per face; merge them so the mesh is closed.
+    // Shared edge vertices are duplicated per face; merge them so the mesh is closed. The tolerance
+    // follows the box's size: an absolute 1e-6 merged every corner of a box smaller than that.
+    const float merge = 1e-6f * std::max({h.x, h.y, h.z});
     std::vector<Vec3> unique;
     std::vector<std::uint32_t> remap(v.size());
     for (std::size_t i = 0; i < v.size(); ++i) {
       std::size_t j = 0;
       for (; j < unique.size(); ++j)
-        if (std::abs(unique[j].x - v[i].x) < 1e-6f && std::abs(unique[j].y - v[i].y) < 1e-6f &&
-            std::abs(unique[j].z - v[i].z) < 1e-6f)
+        if (std::abs(unique[j].x - v[i].x) <= merge && std::abs(unique[j].y - v[i].y) <= merge &&
+            std::abs(unique[j].z - v[i].z) <= merge)
           break;
       if (j == unique.size()) unique.push_back(v[i]);
       remap[i] = static_cast<std::uint32_t>(j);

@@ -17,8 +17,9 @@ namespace {
 constexpr float kEdgeTolerance = 1e-5f;
 
 // Every surface of the scene at its time, relative to the camera's eye (small float error near
-// the camera, where depth matters most).
-std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye) {
+// the camera, where depth matters most) and in units of `unit` (trace_unit: a scene in huge units
+// would overflow the tracer's products).
+std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye, float unit) {
   std::vector<BvhTriangle> triangles;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const ObjectSpec& object = scene.objects[i];
@@ -31,13 +32,13 @@ std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye) {
       const glm::vec4 p = placement * glm::vec4(v.x, v.y, v.z, 1.0f);
       v = {p.x, p.y, p.z};
     }
-    const std::vector<BvhTriangle> object_triangles = mesh_triangles(mesh, eye);
+    const std::vector<BvhTriangle> object_triangles = mesh_triangles(mesh, eye, unit);
     triangles.insert(triangles.end(), object_triangles.begin(), object_triangles.end());
   }
   if (scene.floor.enabled) {
     const float h = 0.5f * scene.floor.size, y = scene.floor.y;
     const Mesh floor = make_mesh({{-h, y, -h}, {-h, y, h}, {h, y, h}, {h, y, -h}}, {{0, 1, 2, 3}}, "floor");
-    const std::vector<BvhTriangle> floor_triangles = mesh_triangles(floor, eye);
+    const std::vector<BvhTriangle> floor_triangles = mesh_triangles(floor, eye, unit);
     triangles.insert(triangles.end(), floor_triangles.begin(), floor_triangles.end());
   }
   return triangles;
@@ -49,7 +50,8 @@ DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t heigh
   if (width == 0 || height == 0) throw Error("ray_cast: frame size must be at least 1x1");
   const Camera& camera = scene.camera;
   const ViewFrame frame = view_frame(camera);
-  const Bvh bvh = build_bvh(scene_triangles(scene, frame.eye));
+  const float unit = trace_unit(camera.far_plane);  // rays reach at most the far plane
+  const Bvh bvh = build_bvh(scene_triangles(scene, frame.eye, unit));
   const float tan_y = std::tan(0.5f * camera.fov_y);
   const float tan_x = tan_y * static_cast<float>(width) / static_cast<float>(height);
 
@@ -66,10 +68,11 @@ DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t heigh
       // on the near plane, so that nothing nearer is hit.
       const Vec3 d = frame.direction_to_world({ndc_x * tan_x, ndc_y * tan_y, -1.0f});
       const float dir[3] = {d.x, d.y, d.z};
-      const float origin[3] = {camera.near_plane * d.x, camera.near_plane * d.y, camera.near_plane * d.z};
+      const float start = camera.near_plane / unit;
+      const float origin[3] = {start * d.x, start * d.y, start * d.z};
       const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
       const ClosestHit hit = closest_hit(bvh, origin, dir, inv, kEdgeTolerance);
-      const float distance = camera.near_plane + hit.t;
+      const float distance = camera.near_plane + hit.t * unit;
       if (hit.t == INFINITY || distance > camera.far_plane) continue;
       const BvhTriangle& tri = bvh.triangles[hit.triangle];
       Vec3 normal = normalized(cross(Vec3{tri.e1[0], tri.e1[1], tri.e1[2]}, Vec3{tri.e2[0], tri.e2[1], tri.e2[2]}));

@@ -161,6 +161,32 @@ TEST(SceneRayCast, IsTheSameForAnyThreadCount) {
   EXPECT_GT(covered, one.view_z.size() / 2);  // the floor and three objects fill most of the view
 }
 
+// A scene in huge or tiny units is the same picture: the caster traces in units of
+// trace_unit(far plane), and scaling by a power of two is exact. In its own units a scene scaled by
+// 2^50 overflowed the tracer's products and every ray missed; and a procedural box smaller than
+// 1e-6 lost all its faces (its edge vertices were merged within an absolute 1e-6).
+TEST(SceneRayCast, HugeAndTinyUnitsGiveTheSameFrame) {
+  const auto scaled = [](float s) {
+    Scene scene = empty_scene();
+    scene.camera.target = {0, 0, -s};
+    scene.camera.near_plane *= s;
+    scene.camera.far_plane *= s;
+    scene.objects.push_back(sphere(2 * s, {0, 0, -10 * s}, 32, 16));
+    scene.objects.push_back(box(1.5f * s, {2.5f * s, 1 * s, -8 * s}));
+    return ray_cast(scene, 48, 32);
+  };
+  const DepthFrame unit = scaled(1);
+  std::size_t covered = 0;
+  for (const float z : unit.view_z) covered += z != kNoSurfaceViewZ;
+  EXPECT_GT(covered, unit.view_z.size() / 20);
+  for (const float s : {std::ldexp(1.0f, 50), std::ldexp(1.0f, -50)}) {
+    const DepthFrame frame = scaled(s);
+    ASSERT_EQ(frame.view_z.size(), unit.view_z.size());
+    for (std::size_t p = 0; p < unit.view_z.size(); ++p) ASSERT_EQ(frame.view_z[p], unit.view_z[p] * s) << "scale " << s << ", pixel " << p;
+    EXPECT_EQ(frame.normals, unit.normals) << "scale " << s;
+  }
+}
+
 TEST(SceneRayCast, RefusesSplatFilesAndEmptyFrames) {
   Scene scene = empty_scene();
   EXPECT_THROW(ray_cast(scene, 0, 4), Error);
