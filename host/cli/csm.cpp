@@ -310,9 +310,11 @@ int run_quality(const QualityCommand& c) {
   const QualityReport report = measure_quality(csm, mesh, options, runtime.get());
   progress.clear();
   print_parameters(csm.info);
-  fmt::print("study      {} views of {}x{} pixels, pinhole {:g} deg on the bounding sphere; point light at (1.05, {:g}] R; seed {}; "
+  fmt::print("study      {} views of {}x{} pixels, pinhole {:g} deg {}; point light at (1.05, {:g}] R; seed {}; "
              "filter {}, bias {:g}\n",
-             options.views, options.image, options.image, options.fov_degrees, options.light_max, options.seed, c.filter, options.bias);
+             options.views, options.image, options.image, options.fov_degrees,
+             options.camera_distance == 1 ? std::string("on the bounding sphere") : fmt::format("at {:g} R from the centre", options.camera_distance),
+             options.light_max, options.seed, c.filter, options.bias);
   fmt::print("wrong      {:.3f} % of image pixels, {:.3f} % of object pixels ({} of {} object pixels; {:.1f} % of them in shadow)\n",
              report.percent_of_image(), report.percent_of_object(), report.wrong, report.object_pixels,
              report.object_pixels ? 100.0 * static_cast<double>(report.exact_shadowed) / static_cast<double>(report.object_pixels) : 0.0);
@@ -373,6 +375,10 @@ Action register_csm(CLI::App& app) {
   quality->add_option("--views", q->options.views, "Random camera and light configurations")->capture_default_str();
   quality->add_option("--image", q->options.image, "Image size (square) per view")->capture_default_str();
   quality->add_option("--fov", q->options.fov_degrees, "Camera field of view in degrees")->capture_default_str();
+  quality->add_option("--camera-distance", q->options.camera_distance,
+                      "Camera distance from the centre in sphere radii, 1..1e6: 1 is on the bounding sphere (Talpe §6.1); "
+                      "1/sin(fov/2) (1.414 at 90 deg) frames the whole sphere, for models whose surface reaches it")
+      ->capture_default_str();
   quality->add_option("--light-max", q->options.light_max, "Largest light distance from the centre, in sphere radii")->capture_default_str();
   quality->add_option("--seed", q->options.seed, "Random seed of the views and lights")->capture_default_str();
   quality->add_option("--filter", q->filter, "PCF: none, same-map (4x4 texels) or cross-map (2x2 texels in 4 maps)")->capture_default_str();

@@ -17,6 +17,8 @@ void validate(const QualityOptions& o) {
   if (o.views == 0 || o.views > kMaxQualityViews) throw Error(fmt::format("--views {} is not a view count in 1..{}", o.views, kMaxQualityViews));
   if (o.image == 0 || o.image > kMaxQualityImage) throw Error(fmt::format("--image {} is not an image side in 1..{}", o.image, kMaxQualityImage));
   if (!(o.fov_degrees > 0 && o.fov_degrees < 180)) throw Error(fmt::format("--fov {} is not a field of view in (0, 180) degrees", o.fov_degrees));
+  if (!(o.camera_distance >= 1 && o.camera_distance <= 1e6f))
+    throw Error(fmt::format("--camera-distance {} is not a distance in 1..1e6 sphere radii", o.camera_distance));
   if (!(o.light_max > 1.05f && std::isfinite(o.light_max)))
     throw Error(fmt::format("--light-max {} is not a light distance above 1.05 sphere radii", o.light_max));
   if (!std::isfinite(o.bias)) throw Error(fmt::format("--bias {} must be finite", o.bias));
@@ -63,7 +65,7 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
   std::mt19937 rng(options.seed);
   QualityReport report;
   for (std::uint32_t view = 0; view < options.views; ++view) {
-    const Vec3 back = random_direction(rng);  // camera at c + R·back, looking at c
+    const Vec3 back = random_direction(rng);  // camera at c + camera_distance·R·back, looking at c
     // The reference works relative to c, where floats keep the precision of R rather than of c: at
     // coordinates far from the origin (a scan at 1e6) its ray's start 1e-4 R off the surface was
     // below the float step of the world position, and it counted surface points as shadowed.
@@ -72,7 +74,7 @@ QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOpt
     const Vec3 forward = -1.0f * back;
     const Vec3 helper = std::abs(forward.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
     const Vec3 right = normalized(cross(forward, helper)), up = cross(right, forward);
-    const Vec3 eye = (r / unit) * back;  // relative to c and in units of `unit`, as the BVH is
+    const Vec3 eye = (options.camera_distance * r / unit) * back;  // relative to c and in units of `unit`, as the BVH is
     std::vector<Vec4> receivers, lights;
     std::vector<std::uint8_t> exact_lit, facing;
     std::vector<Vec4> hit(std::size_t{w} * w), normal(hit.size());  // hit: relative to c

@@ -25,16 +25,23 @@ inline constexpr std::uint32_t kMaxQualityViews = 4096, kMaxQualityImage = 4096;
 
 struct QualityOptions {
   std::uint32_t views = 16, image = 256;
-  float fov_degrees = 90;  // pinhole camera on the sphere looking at its centre
+  float fov_degrees = 90;  // pinhole camera looking at the sphere's centre
+  // The camera's distance from the centre in sphere radii: 1 stands on the bounding sphere (Talpe
+  // §6.1). A model whose surface reaches the sphere (a UV sphere, a box's corners) is then seen
+  // from right beside it: one view of a UV sphere of radius 100 saw a single 1.6-unit texel of a
+  // 128² map across its whole image, and that texel's silhouette answer made 51,656 of its 65,536
+  // pixels wrong. 1 / sin(fov / 2) (√2 at 90°) frames the whole sphere.
+  float camera_distance = 1;
   float light_max = 3;     // light distance from the centre, uniform in (1.05 R, light_max · R]
   std::uint32_t seed = 1;
   Filter filter = Filter::None;  // with PCF a pixel is lit when at least half its taps are
   float bias = 0;
 };
 
-// Throws Error naming the option (--views, --image, --fov, --light-max, --bias) of the first value
-// out of range: counts above the limits or zero, a field of view outside (0, 180) degrees, a light
-// not beyond the sphere, a non-finite bias.
+// Throws Error naming the option (--views, --image, --fov, --camera-distance, --light-max, --bias)
+// of the first value out of range: counts above the limits or zero, a field of view outside
+// (0, 180) degrees, a camera inside the sphere or beyond 1e6 radii, a light not beyond the sphere,
+// a non-finite bias.
 void validate(const QualityOptions& options);
 
 struct QualityReport {

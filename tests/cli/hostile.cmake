@@ -44,6 +44,10 @@ foreach(fov 0 360 -5)
   hostile_error(option_quality_fov_${fov} "--fov ${fov} is not a field of view in \\(0, 180\\) degrees$" csm quality ${SPLATS_CUBE} --fov ${fov})
 endforeach()
 hostile_error(option_quality_bias_nan "--bias nan must be finite$" csm quality ${SPLATS_CUBE} --bias nan)
+foreach(distance 0.5 nan 5000000)
+  hostile_error(option_quality_camera_${distance} "--camera-distance ${distance} is not a distance in 1..1e6 sphere radii$"
+                csm quality ${SPLATS_CUBE} --camera-distance ${distance})
+endforeach()
 hostile_error(option_unconvertible "^splatcl: Could not convert: --samples = -5 \\(see --help\\)$" ao ${SPLATS_CUBE} --samples -5)
 hostile_error(option_unknown_subcommand "unknown csm command 'frobnicate' \\(known: build, info, verify, quality, analyze\\)$" csm frobnicate)
 

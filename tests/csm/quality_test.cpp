@@ -86,6 +86,29 @@ TEST(CsmQuality, FarFromTheOriginAndHugeScoreAsAtTheOrigin) {
   EXPECT_NEAR(at_far, at_origin, 1.0) << "at the origin " << at_origin << " %";
 }
 
+// --camera-distance: on the bounding sphere (Talpe §6.1, the default) a UV sphere fills every
+// image; at 1.5 R with the 90° lens its silhouette is a disc of radius tan(asin(1 / 1.5)) = 0.894 of
+// the half-image, π · 0.894² / 4 = 62.8 % of the pixels (the facets' outline lies a little inside).
+TEST(CsmQuality, CameraDistanceFramesTheModel) {
+  const Mesh mesh = sphere_mesh(24, 48, 100.0f);
+  BuildOptions build;
+  build.maps = 1024;
+  build.resolution = 64;
+  const Csm csm = build_csm(mesh, build, &runtime()).csm;
+  QualityOptions options;
+  options.views = 4;
+  options.image = 96;
+  const QualityReport on_sphere = measure_quality(csm, mesh, options, &runtime());
+  EXPECT_EQ(on_sphere.object_pixels, on_sphere.pixels);
+  options.camera_distance = 1.5f;
+  const QualityReport framed = measure_quality(csm, mesh, options, &runtime());
+  const double share = static_cast<double>(framed.object_pixels) / static_cast<double>(framed.pixels);
+  EXPECT_GT(share, 0.60);
+  EXPECT_LT(share, 0.63);
+  options.camera_distance = 0.99f;
+  EXPECT_THROW(measure_quality(csm, mesh, options, nullptr), Error);
+}
+
 TEST(CsmQuality, RejectsMovedCsmsAndEmptyStudies) {
   const Mesh mesh = cube_mesh();
   BuildOptions build;
