@@ -12,15 +12,25 @@ namespace {
 
 using namespace testing;
 
+// A CSM of `mesh` with `maps` maps of resolution², built on the device.
+Csm device_csm(const Mesh& mesh, std::uint32_t maps, std::uint32_t resolution) {
+  BuildOptions build;
+  build.maps = maps;
+  build.resolution = resolution;
+  return build_csm(mesh, build, &runtime()).csm;
+}
+
+QualityOptions study(std::uint32_t views, std::uint32_t image) {
+  QualityOptions options;
+  options.views = views;
+  options.image = image;
+  return options;
+}
+
 TEST(CsmQuality, KernelAndReferenceAgreeAndTheShadedMetricIsASubset) {
   const Mesh mesh = scene_mesh();
-  BuildOptions build;
-  build.maps = 256;
-  build.resolution = 32;
-  const Csm csm = build_csm(mesh, build, &runtime()).csm;
-  QualityOptions options;
-  options.views = 3;
-  options.image = 48;
+  const Csm csm = device_csm(mesh, 256, 32);
+  const QualityOptions options = study(3, 48);
   const QualityReport device = measure_quality(csm, mesh, options, &runtime());
   const QualityReport reference = measure_quality(csm, mesh, options, nullptr);
   EXPECT_EQ(device.wrong, reference.wrong);
@@ -38,13 +48,8 @@ TEST(CsmQuality, WrongPixelsOnSpotStayBounded) {
   const std::string path = model_path("spot.obj");
   if (path.empty()) GTEST_SKIP() << "spot.obj not found in " << SPLATCL_MODELS_DIR;
   const Mesh mesh = load_mesh(path);
-  BuildOptions build;
-  build.maps = 1024;
-  build.resolution = 64;
-  const Csm csm = build_csm(mesh, build, &runtime()).csm;
-  QualityOptions options;
-  options.views = 8;
-  options.image = 96;
+  const Csm csm = device_csm(mesh, 1024, 64);
+  QualityOptions options = study(8, 96);
   const QualityReport r = measure_quality(csm, mesh, options, &runtime());
   EXPECT_LT(r.shaded_percent_of_image(), 3.0) << r.wrong_facing << " of " << r.pixels;
   EXPECT_LT(r.percent_of_image(), 6.0) << r.wrong << " of " << r.pixels;
@@ -91,13 +96,8 @@ TEST(CsmQuality, FarFromTheOriginAndHugeScoreAsAtTheOrigin) {
 // the half-image, π · 0.894² / 4 = 62.8 % of the pixels (the facets' outline lies a little inside).
 TEST(CsmQuality, CameraDistanceFramesTheModel) {
   const Mesh mesh = sphere_mesh(24, 48, 100.0f);
-  BuildOptions build;
-  build.maps = 1024;
-  build.resolution = 64;
-  const Csm csm = build_csm(mesh, build, &runtime()).csm;
-  QualityOptions options;
-  options.views = 4;
-  options.image = 96;
+  const Csm csm = device_csm(mesh, 1024, 64);
+  QualityOptions options = study(4, 96);
   const QualityReport on_sphere = measure_quality(csm, mesh, options, &runtime());
   EXPECT_EQ(on_sphere.object_pixels, on_sphere.pixels);
   options.camera_distance = 1.5f;
