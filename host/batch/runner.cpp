@@ -235,11 +235,19 @@ class Worker {
     report_(entry.id + ": loading");
     const Mesh mesh = load_mesh(entry.input);
     r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
+    // The splats take the faces oriented (unless keep_winding), as splatcl splats does; the CSM
+    // capture takes them as given. A second load only when orienting would turn a face.
+    std::optional<Mesh> oriented;
+    const auto splat_mesh = [&]() -> const Mesh& {
+      if (splats::winding(entry.params.splats) == Winding::AsGiven || !mesh.problems.winding_disagrees()) return mesh;
+      if (!oriented) oriented = load_mesh(entry.input, Winding::Orient);
+      return *oriented;
+    };
     for (const auto& p : pending) {
       try {
         Stopwatch clock;
         OutputResult out{p.kind, false, p.params, p.checksum, {}, 0};
-        out.files = p.kind == "splats" ? build_splats(entry, mesh, dir) : build_csm(entry, mesh, dir);
+        out.files = p.kind == "splats" ? build_splats(entry, splat_mesh(), dir) : build_csm(entry, mesh, dir);
         out.build_ms = clock.elapsed_ms();
         r.outputs.push_back(std::move(out));
       } catch (const FatalError&) {

@@ -26,7 +26,7 @@ struct AoCommand {
   std::string receiver, output, pattern = "hammersley-scrambled";
   std::vector<std::string> occluders, transforms;
   ReceiverAoOptions options;
-  bool reference = false;
+  bool reference = false, keep_winding = false;
 };
 
 int run_ao(const AoCommand& c) {
@@ -63,7 +63,7 @@ int run_ao(const AoCommand& c) {
     }
     instances[k].occluder = it->second;
   }
-  const Mesh receiver = load_model(c.receiver, progress);
+  const Mesh receiver = load_model(c.receiver, progress, c.keep_winding ? Winding::AsGiven : Winding::Orient);
   std::vector<const Csm*> views;
   for (const auto& csm : csms) views.push_back(csm.get());
   const VisibilityScene scene(views, instances);
@@ -121,6 +121,10 @@ Action register_ao(CLI::App& app) {
   sub->add_flag("--ground-plane", c->options.ground, "Directions below the horizon (world y < 0) count as occluded (the thesis's floor test); the AO is then the lit share of the others times (1 + n.y) / 2");
   sub->add_option("--bias", c->options.bias, "Shadow offset in depth units (occluded when g < depth - bias)")->capture_default_str();
   sub->add_flag("--reference", c->reference, "Use the native C++ reference instead of the OpenCL kernel");
+  sub->add_flag("--keep-winding", c->keep_winding,
+                "Take the receiver's faces as wound in the file: its vertex normals, and so the AO hemispheres, follow them (by "
+                "default the faces are turned so that neighbours agree and closed parts face outward: an inside-out receiver "
+                "otherwise got AO near 0)");
   return [c]() { return run_ao(*c); };
 }
 

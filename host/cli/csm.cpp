@@ -135,7 +135,7 @@ int run_mode(const BuildCommand& c, CompressionMode mode) {
   mode_options.mode = mode;
   mode_options.pixel_curve = parse_pixel_curve(c.pixel_order);
   ProgressLine progress("csm");
-  const Mesh mesh = load_model(c.model, progress);
+  const Mesh mesh = load_model(c.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   const ModeResult r = compress_in_mode(mesh, options, mode_options, runtime.get(), map_progress(progress, "captured and compressed"));
@@ -176,7 +176,7 @@ int run_build(const BuildCommand& c) {
   check_outputs_spare_inputs({{"-o", c.output}, {"--coherence", c.coherence}}, {{"model", c.model}});
   check_output_extension(c.output, "-o", {".csm"}, "a coherent shadow map");
   ProgressLine progress("csm");
-  const Mesh mesh = load_model(c.model, progress);
+  const Mesh mesh = load_model(c.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   const BuildResult result = build_csm(mesh, options, runtime.get(), map_progress(progress, "captured and compressed"));
@@ -229,7 +229,7 @@ int run_analyze(const AnalyzeCommand& c) {
   if (c.kmeans.empty() && !c.wavelet) throw Error("csm analyze: choose --kmeans K (repeatable) and/or --wavelet");
   const BuildOptions options = build_options(c.build);
   ProgressLine progress("csm");
-  const Mesh mesh = load_model(c.build.model, progress);
+  const Mesh mesh = load_model(c.build.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
   if (!c.build.reference) runtime = Runtime::create(c.build.device.device);
   CsmInfo info;
@@ -276,7 +276,7 @@ int run_verify(const VerifyCommand& c) {
   fmt::print("file       {}: valid ({} encoding, {} segments, {} maps of {}x{})\n", c.file, to_string(encoding), csm.segments(),
              csm.info.maps, csm.info.resolution, csm.info.resolution);
   if (c.model.empty()) return 0;
-  const Mesh mesh = load_model(c.model, progress);
+  const Mesh mesh = load_model(c.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   const CaptureMethod method = c.capture.empty() ? csm.info.capture : parse_capture_method(c.capture);
@@ -297,7 +297,7 @@ int run_quality(const QualityCommand& c) {
   options.filter = parse_filter(c.filter);
   validate(options);  // before the model is loaded or anything allocated
   ProgressLine progress("csm");
-  const Mesh mesh = load_model(c.build.model, progress);
+  const Mesh mesh = load_model(c.build.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
   if (!c.build.reference) runtime = Runtime::create(c.build.device.device);
   Csm csm;

@@ -17,9 +17,9 @@ std::vector<std::string>& pending_warnings() {
 
 }  // namespace
 
-Mesh load_model(const std::string& path, ProgressLine& progress, bool strict) {
+Mesh load_model(const std::string& path, ProgressLine& progress, Winding winding, bool strict) {
   progress.show("loading " + path);
-  Mesh mesh = load_mesh(path);
+  Mesh mesh = load_mesh(path, winding);
   if (mesh.problems.any()) {
     if (strict) throw Error(fmt::format("{}: {} (--strict)", path, mesh.problems.summary()));
     pending_warnings().push_back(fmt::format("splatcl: warning: {}: {}", path, mesh.problems.summary()));

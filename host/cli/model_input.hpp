@@ -10,7 +10,10 @@
 
 namespace splatcl::cli {
 
-Mesh load_model(const std::string& path, ProgressLine& progress, bool strict = false);
+// `winding`: Orient for the commands whose results face a way (splats, splats verify, ao: an
+// inside-out mesh gave splats facing into it and AO near 0), AsGiven where only the surface's place
+// matters (csm).
+Mesh load_model(const std::string& path, ProgressLine& progress, Winding winding, bool strict = false);
 
 // Prints the warnings load_model collected (main calls it when a command has succeeded).
 void print_model_warnings();

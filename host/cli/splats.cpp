@@ -40,6 +40,7 @@ struct SplatsOptions {
 struct VerifyOptions {
   std::string model, splats, json;
   std::string eps, points, ellipse_points, seed;  // as given ("" when not); parsed and validated by run_verify
+  bool keep_winding = false;  // as splatcl splats --keep-winding: the splats were made from the faces as wound
 };
 
 
@@ -61,7 +62,7 @@ int run_splats(const SplatsOptions& o) {
   validate(params);
   ProgressLine progress("splats");
   Stopwatch load_clock;
-  const Mesh mesh = load_model(o.model, progress, o.strict);
+  const Mesh mesh = load_model(o.model, progress, winding(params), o.strict);
   const double load_ms = load_clock.elapsed_ms();
   const SplatSetup setup = splat_setup(params, mesh, o.model);
   const PipelineOptions& options = setup.options;
@@ -197,7 +198,7 @@ int run_verify(const VerifyOptions& o) {
   const SplatFile file = read_splat_file(o.splats);
   if (o.eps.empty()) check.eps = file.info.eps;
   if (!(check.eps > 0) || !std::isfinite(check.eps)) throw Error(o.splats + " records no eps; pass --eps");
-  const Mesh mesh = load_model(o.model, progress);
+  const Mesh mesh = load_model(o.model, progress, o.keep_winding ? Winding::AsGiven : Winding::Orient);
   const SurfaceCheckReport r = check_surface(mesh, file.splats, check, [&](const std::string& phase, double fraction) {
     progress.show(fmt::format("{} {:.0f}%", phase, 100 * fraction));
   });
@@ -273,6 +274,9 @@ Action register_splats(CLI::App& app) {
       ->type_name("M");
   verify->add_option("--seed", v->seed, "Seed of the random points (default 1)")->type_name("S");
   verify->add_option("--json", v->json, "Also write the measurements as JSON")->type_name("FILE");
+  verify->add_flag("--keep-winding", v->keep_winding,
+                   "Take the faces as wound in the file, for splats made with splatcl splats --keep-winding (by default they are "
+                   "turned so that neighbours agree and closed parts face outward, as splatcl splats does)");
   return [o, v, verify] { return verify->parsed() ? run_verify(*v) : run_splats(*o); };
 }
 

@@ -53,6 +53,8 @@ struct MeshProblems {
   std::size_t split_polygons = 0;
 
   std::size_t dropped_faces() const { return bad_vertex_faces + bad_index_faces + degenerate_faces; }
+  // Whether Winding::Orient could turn faces of a mesh loaded as given with these problems.
+  bool winding_disagrees() const { return inconsistent_edges > 0 || inward || complex_faces > 0; }
   bool any() const;
   // One line listing the non-zero kinds ("2 faces with a vertex index out of range dropped, faces
   // point inward"); empty when there are none.

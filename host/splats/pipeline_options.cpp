@@ -32,6 +32,8 @@ const std::vector<ParameterInfo>& splat_parameters() {
       {"literal_lambda", "Read lambda in the size corrections literally instead of as the axis ratio sqrt(lambda)", true},
       {"retest_violator", "Ellipse phase with b = d1, re-testing the circle phase's violator", true},
       {"clip", "Clipped splats (thesis ch. 4): skip violators on one side and cut the splat there with a line", true},
+      {"keep_winding", "Take the faces as wound in the file (an inside-out mesh then gets splats facing into it) instead of turning "
+                       "them so that neighbours agree and closed parts face outward", true},
   };
   return list;
 }
@@ -78,10 +80,14 @@ void set_parameter(SplatParameters& p, const std::string& name, const nlohmann::
     p.literal_lambda = bool_parameter(name, value);
   } else if (key == "retest_violator") {
     p.retest_violator = bool_parameter(name, value);
+  } else if (key == "keep_winding") {
+    p.keep_winding = bool_parameter(name, value);
   } else {
     throw Error(fmt::format("unknown splat parameter '{}'", name));
   }
 }
+
+Winding winding(const SplatParameters& p) { return p.keep_winding ? Winding::AsGiven : Winding::Orient; }
 
 double crease_angle(const SplatParameters& p) { return p.crease_angle.value_or(p.thesis_only ? 180.0 : kDefaultCreaseAngle); }
 
@@ -112,7 +118,8 @@ nlohmann::json to_json(const SplatParameters& p) {
           {"rounds", p.rounds},
           {"clip", p.clip},
           {"literal_lambda", p.literal_lambda},
-          {"retest_violator", p.retest_violator}};
+          {"retest_violator", p.retest_violator},
+          {"keep_winding", p.keep_winding}};
 }
 
 SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::string& model) {

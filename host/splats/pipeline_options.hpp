@@ -26,12 +26,17 @@ struct SplatParameters {
   std::string texture;               // image through the mesh's texture coordinates; empty: none
   unsigned rounds = 5;               // optimisation rounds
   bool clip = false, literal_lambda = false, retest_violator = false;
+  // The faces as wound in the file; by default they are turned so that neighbours agree and closed
+  // parts face outward (core/mesh.hpp, Winding::Orient), as the presenter's scenes are.
+  bool keep_winding = false;
   // Crease angle in degrees (FitOptions::crease_degrees); unset: kDefaultCreaseAngle, or 180 (the
   // thesis's frames) with thesis_only.
   std::optional<double> crease_angle;
 };
 
 inline constexpr double kDefaultCreaseAngle = 60;
+// How the model's faces are loaded for these parameters.
+Winding winding(const SplatParameters& params);
 // The crease angle the parameters resolve to.
 double crease_angle(const SplatParameters& params);
 

@@ -220,6 +220,34 @@ TEST(BatchRunner, FarFromTheOriginIsBuiltOrRefusedWithTheCause) {
   EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(dir / "out") / "farther.splats.ply"));
 }
 
+// An inside-out cube (every face wound clockwise seen from outside): its splats face outward, as
+// splatcl splats makes them, and its CSM is the one of the cube as given; with keep_winding the
+// splats face into it. Checked against the cube's centre, not the loader's normals.
+TEST(BatchRunner, InsideOutModelsGetOutwardSplatsUnlessTheWindingIsKept) {
+  ScratchDir dir("runner-inside-out");
+  write_text(dir / "inside-out.obj",
+             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+             "f 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 7 8 4 3\nf 6 7 3 2\nf 4 8 5 1\n");
+  std::vector<ModelEntry> entries{model(dir, "turned", "inside-out.obj"), model(dir, "kept", "inside-out.obj")};
+  entries[1].params.splats.keep_winding = true;
+  const auto results = run_batch(entries, reference_options(dir));
+  ASSERT_EQ(results.size(), 2u);
+  const auto outward_share = [&](const std::string& id) {
+    const splats::SplatFile file = splats::read_splat_file((std::filesystem::path(dir / "out") / (id + ".splats.ply")).string());
+    std::size_t outward = 0;
+    for (const auto& s : file.splats) outward += dot(s.center - Vec3{0.5f, 0.5f, 0.5f}, s.normal) > 0 ? 1 : 0;
+    return static_cast<double>(outward) / static_cast<double>(file.splats.size());
+  };
+  for (const auto& r : results) {
+    ASSERT_TRUE(r.ok) << r.id << ": " << r.reason;
+    EXPECT_NE(r.warning.find("faces point inward"), std::string::npos) << r.warning;
+  }
+  EXPECT_EQ(outward_share("turned"), 1.0);
+  EXPECT_EQ(outward_share("kept"), 0.0);
+  // The CSM does not depend on the winding the splats took.
+  EXPECT_EQ(read_text(std::filesystem::path(dir / "out") / "turned.csm"), read_text(std::filesystem::path(dir / "out") / "kept.csm"));
+}
+
 TEST(BatchRunner, ParallelJobsGiveTheSameOutputs) {
   ScratchDir dir("runner-jobs");
   write_text(dir / "cube.obj", test::kCubeObj);

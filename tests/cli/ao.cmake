@@ -16,7 +16,16 @@ add_test(NAME cli.ao_spot_reference_ground COMMAND ${NEEDS_FILE} ${AO_MODEL} ${E
          --match "on the native reference" --ply ${CMAKE_CURRENT_BINARY_DIR}/ao-spot-ground.ply 2930
          -- $<TARGET_FILE:splatcl> ao ${AO_MODEL} --occluder ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm --ground-plane --pattern stratified --reference
          -o ${CMAKE_CURRENT_BINARY_DIR}/ao-spot-ground.ply)
-set_tests_properties(cli.ao_spot cli.ao_spot_reference_ground PROPERTIES FIXTURES_REQUIRED csm_cube SKIP_RETURN_CODE 77)
+# An inside-out receiver is turned outward on loading: the cube's own AO, near 1 at every corner
+# (0.21 with --keep-winding, whose inward corner normals look into the cube).
+add_test(NAME cli.ao_inside_out_receiver COMMAND ${EXPECT_OUTPUT} --match "^ao +mean 0\\.9[0-9]+, min 0\\.9[0-9]+, max 1\\.0000"
+         --match "splats-inside-out.obj: 6 faces turned to agree with their neighbours' winding and face outward$"
+         -- $<TARGET_FILE:splatcl> ao ${SPLATS_INSIDE_OUT} --occluder ${CSM_OUT} -o ${CMAKE_CURRENT_BINARY_DIR}/ao-inside-out.ply)
+add_test(NAME cli.ao_inside_out_receiver_kept COMMAND ${EXPECT_OUTPUT} --match "^ao +mean 0\\.[0-4][0-9]+, min 0\\.[0-9]+, max 0\\.[0-4]"
+         --match "faces point inward" -- $<TARGET_FILE:splatcl> ao ${SPLATS_INSIDE_OUT} --occluder ${CSM_OUT} --keep-winding
+         -o ${CMAKE_CURRENT_BINARY_DIR}/ao-inside-out-kept.ply)
+set_tests_properties(cli.ao_spot cli.ao_spot_reference_ground cli.ao_inside_out_receiver cli.ao_inside_out_receiver_kept
+                     PROPERTIES FIXTURES_REQUIRED csm_cube SKIP_RETURN_CODE 77)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ao-nan.obj "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n")
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/ao-empty.obj "# no geometry\n")
 string(REPEAT "corrupt " 40 AO_CORRUPT_BODY)

@@ -83,8 +83,14 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-bad-face.obj "v 0 0 0\nv 1 0 0\nv 
 add_test(NAME cli.error_splats_strict_bad_face COMMAND ${EXPECT_ERROR} "splats-bad-face.obj: 1 face with an index out of range dropped \\(--strict\\)$"
          $<TARGET_FILE:splatcl> splats ${CMAKE_CURRENT_BINARY_DIR}/splats-bad-face.obj --strict -o ${CMAKE_CURRENT_BINARY_DIR}/splats-bad-face.ply)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-inside-out.obj "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nf 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 7 8 4 3\nf 6 7 3 2\nf 4 8 5 1\n")
-add_test(NAME cli.error_splats_strict_inside_out COMMAND ${EXPECT_ERROR} "splats-inside-out.obj: faces point inward .*\\(--strict\\)"
-         $<TARGET_FILE:splatcl> splats ${CMAKE_CURRENT_BINARY_DIR}/splats-inside-out.obj --strict -o ${CMAKE_CURRENT_BINARY_DIR}/splats-inside-out.ply)
+set(SPLATS_INSIDE_OUT ${CMAKE_CURRENT_BINARY_DIR}/splats-inside-out.obj)
+# The faces are turned outward on loading (--strict refuses a model that needed it); with
+# --keep-winding they are taken as the file winds them.
+add_test(NAME cli.error_splats_strict_inside_out COMMAND ${EXPECT_ERROR}
+         "splats-inside-out.obj: 6 faces turned to agree with their neighbours' winding and face outward \\(--strict\\)$"
+         $<TARGET_FILE:splatcl> splats ${SPLATS_INSIDE_OUT} --strict -o ${CMAKE_CURRENT_BINARY_DIR}/splats-inside-out.ply)
+add_test(NAME cli.error_splats_strict_inside_out_kept COMMAND ${EXPECT_ERROR} "splats-inside-out.obj: faces point inward .*\\(--strict\\)$"
+         $<TARGET_FILE:splatcl> splats ${SPLATS_INSIDE_OUT} --strict --keep-winding -o ${CMAKE_CURRENT_BINARY_DIR}/splats-inside-out.ply)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-truncated.off "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n")
 add_test(NAME cli.error_splats_truncated_off COMMAND ${EXPECT_ERROR} "cannot read mesh .*splats-truncated.off: truncated OFF"
          $<TARGET_FILE:splatcl> splats ${CMAKE_CURRENT_BINARY_DIR}/splats-truncated.off -o ${CMAKE_CURRENT_BINARY_DIR}/splats-truncated.ply)
