@@ -116,7 +116,9 @@ Vec3 pixel_world(const cluster::ClusterLayout& layout, const ViewFrame& frame, s
 
 // How far off the floor's plane a point may lie and still be the floor (the host's tests and the
 // shading's, shade.frag.glsl on_floor).
-float floor_tolerance(const FloorSpec& floor) { return 1e-3f * (1.0f + std::abs(floor.y)); }
+// It follows the floor's size: a fixed 1e-3 missed the floor's own pixels in a scene in large units,
+// whose positions are that far off by float steps.
+float floor_tolerance(const FloorSpec& floor) { return kFloorToleranceShare * (floor.size + std::abs(floor.y)); }
 
 // The pixels a splat covers (view z from the G-buffer, 0 = none): index and world position.
 struct CoveredPixel {
@@ -937,9 +939,12 @@ std::vector<std::string> Presenter::mesh_warnings() const {
 }
 
 float auto_scene_length(float length, const Scene& scene, const std::vector<ObjectAssets>& assets) {
+  float smallest = INFINITY;
   for (std::size_t i = 0; i < scene.objects.size() && i < assets.size(); ++i)
-    length = std::min(length, kAutoLengthShare * scene.objects[i].scale * assets[i].mesh.bounds().diagonal());
-  return length;
+    smallest = std::min(smallest, scene.objects[i].scale * assets[i].mesh.bounds().diagonal());
+  if (!std::isfinite(smallest)) return length;
+  if (kAutoLengthShare * smallest < length) return kAutoLengthShare * smallest;
+  return std::max(length, kAutoLengthShareLarge * smallest);
 }
 
 // The frame's CL lighting: the per-splat lighting of moved occluders (update_splat_lighting), then

@@ -119,8 +119,14 @@ inline constexpr std::uint32_t kMaxSceneLights = 1u << 20;
 // The Blinn-Phong highlight strength's bound, quality.specular and render/view --specular.
 inline constexpr float kMaxSpecular = 100.0f;
 // The default visibility ε and shadow lift as a share of the smallest object's bounding-box diagonal
-// (Quality::depth_offset_auto, shadow_lift_auto).
+// (Quality::depth_offset_auto, shadow_lift_auto): where that share is below the default length,
+// and kAutoLengthShareLarge of it where that is above (a scene in large units), so the default
+// scene, whose smallest diagonal is 2.42, keeps its 0.02.
 inline constexpr float kAutoLengthShare = 0.01f;
+inline constexpr float kAutoLengthShareLarge = 0.008f;
+// How far off the floor's plane a pixel may lie and still show the floor, as a share of the floor's
+// side plus its height (float steps of positions there).
+inline constexpr float kFloorToleranceShare = 1e-4f;
 
 // Lights placed uniformly over the floor square (or `extent`) between two heights, with radii and
 // bright hues from a seeded generator.
