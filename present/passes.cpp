@@ -16,6 +16,7 @@ SplatPass::SplatPass(gl::Program program)
       eye_(program_.uniform("u_eye")),
       scale_(program_.uniform("u_scale")),
       lod_(program_.uniform("u_lod")),
+      mirror_(program_.uniform("u_mirror")),
       ambient_(program_.uniform("u_ambient")),
       sh_(program_.uniform("u_sh")) {}
 
@@ -33,6 +34,7 @@ void SplatPass::draw(const std::vector<SplatDraw>& draws, bool points) const {
   for (const SplatDraw& d : draws) {
     glUniformMatrix4fv(model_, 1, GL_FALSE, glm::value_ptr(d.model));
     glUniform1f(lod_, d.lod);
+    glUniform1ui(mirror_, static_cast<GLuint>(d.mirror));
     if (points)
       glDrawArrays(GL_POINTS, static_cast<GLint>(d.first), static_cast<GLsizei>(d.count));
     else

@@ -36,6 +36,11 @@ struct SplatDraw {
   glm::mat4 model{1.0f};
   std::size_t first = 0, count = 0;
   float lod = 0.0f;  // LOD error per model unit of eye distance; 0 = off
+  // A two-sided object's: the offset from each splat to its mirrored copy (its normal field turned,
+  // lit as the back side). The draw covers the front splats only, and the vertex shader takes the
+  // copy's rows where the front faces away: one primitive per splat instead of two, one of them
+  // culled (llvmpipe pays per primitive). 0 = one-sided.
+  std::size_t mirror = 0;
 };
 
 class SplatPass {
@@ -49,7 +54,7 @@ class SplatPass {
 
  private:
   gl::Program program_;
-  GLint model_, view_, proj_, eye_, scale_, lod_, ambient_, sh_;
+  GLint model_, view_, proj_, eye_, scale_, lod_, mirror_, ambient_, sh_;
 };
 
 class VisibilityPass : SplatPass {

@@ -846,15 +846,12 @@ std::vector<SplatDraw> Presenter::splat_draws(const std::vector<glm::mat4>& plac
     const ObjectRange& r = objects_[i];
     if (r.count == 0) continue;
     SplatDraw d{r.asset < 0 ? glm::mat4(1.0f) : placements[i], r.first, r.count, 0.0f};
+    if (r.two_sided) d.count = r.count / 2, d.mirror = r.count / 2;  // the mirrored splats follow the front's
     if (lod && r.asset >= 0) {
       d.first = g.lod_ranges[i].first;
       d.count = lod_prefix[i];
       d.lod = lod_angle / scene_.objects[i].scale;
-      if (r.two_sided && d.count > 0) {  // the mirrored sequence follows the front's
-        SplatDraw back = d;
-        back.first += assets_[i].tree.size();
-        draws.push_back(back);
-      }
+      if (r.two_sided) d.mirror = assets_[i].tree.size();  // so does the mirrored sequence
     }
     if (d.count > 0) draws.push_back(d);
   }

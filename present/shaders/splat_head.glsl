@@ -18,6 +18,9 @@ uniform mat4 u_model, u_view, u_proj;
 uniform vec3 u_eye;
 uniform float u_scale;
 uniform float u_lod;  // LOD error per model unit of eye distance; 0 = off
+// A two-sided object's offset from each splat to its mirrored copy (SplatDraw::mirror), 0 = none:
+// where the splat faces away, its copy, which faces the eye, is drawn in its place.
+uniform uint u_mirror;
 uniform int u_ambient;
 flat out vec3 v_albedo;
 flat out vec3 v_normal;
@@ -30,10 +33,24 @@ vec3 a_major, a_minor, a_clip, a_clip2;
 vec4 a_row[SPLAT_ROW_TEXELS];
 float row_float(uint i) { return a_row[i / 4u][i % 4u]; }
 vec3 static3(uint i) { return vec3(row_float(i), row_float(i + 1u), row_float(i + 2u)); }
-bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
+void fetch_row(uint s) {
   for (int t = 0; t < SPLAT_ROW_TEXELS; ++t) a_row[t] = texelFetch(u_splat_rows, SPLAT_ROW_TEXELS * int(s) + t);
+}
+// Faces the eye by its plane (major × minor on the normal's side), not by its shading normal: the
+// Phong splat's normal field leaves the row's normal a little off the plane, and which splats are
+// drawn is the geometry's business (a splat file's flat splats and the mesh's give the same depth).
+bool faces_eye(mat3 m, vec3 c) {
+  vec3 plane = cross(static3(SPLAT_MAJOR), static3(SPLAT_MINOR));
+  return dot(m * (dot(plane, static3(SPLAT_NORMAL)) < 0.0 ? -plane : plane), u_eye - c) > 0.0;
+}
+bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
+  fetch_row(s);
   m = mat3(u_model);
   c = (u_model * vec4(static3(SPLAT_CENTER), 1.0)).xyz;
+  if (u_mirror != 0u && !faces_eye(m, c)) {  // the copy lies where the splat does
+    s += u_mirror;
+    fetch_row(s);
+  }
   n = normalize(m * static3(SPLAT_NORMAL));
   a_major = static3(SPLAT_MAJOR);
   a_minor = static3(SPLAT_MINOR);
@@ -58,9 +75,5 @@ bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
     float e = length(u_eye - c) * u_lod;
     if (e < row_float(SPLAT_LOD_MIN) || e >= row_float(SPLAT_LOD_MAX)) return false;
   }
-  // Faces the eye by its plane (major × minor on the normal's side), not by its shading normal: the
-  // Phong splat's normal field leaves the row's normal a little off the plane, and which splats are
-  // drawn is the geometry's business (a splat file's flat splats and the mesh's give the same depth).
-  vec3 plane = cross(a_major, a_minor);
-  return dot(m * (dot(plane, static3(SPLAT_NORMAL)) < 0.0 ? -plane : plane), u_eye - c) > 0.0;
+  return faces_eye(m, c);
 }
