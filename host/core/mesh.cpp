@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -229,11 +230,20 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   return static_cast<std::size_t>(std::count(turn.begin(), turn.end(), 1));
 }
 
+// How far a fan triangle may stand off its polygon's Newell normal before the polygon is split into
+// its fan: half the default crease angle (splats::kDefaultCreaseAngle, 60°), so two fan triangles
+// tilted apart by more can meet at a crease.
+constexpr double kMaxFanTilt = 30;
+
 // Polygons of more than three corners that a fan from their first corner would not triangulate
 // inside their outline (every consumer fans: sampling, the shadow casters, the surface checks) are
 // replaced by an ear-clipping triangulation in the plane of their Newell normal: concave ones (an
 // L-shaped CAD face), and non-planar ones whose fan folds (a fan triangle facing against the
-// normal). Convex polygons stay whole. Returns how many were split.
+// normal). Polygons whose fan triangles stand more than kMaxFanTilt off that normal are replaced by
+// the fan itself (the same surface): their normals then come from the triangles, and a fold
+// sharper than the crease angle stays sharp (a quad whose corners alternate in height, its fan
+// triangles 60° off the quad's normal, was shaded flat with the quad's normal). Convex polygons
+// that are nearly planar stay whole. Returns how many were split.
 std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& faces) {
   Faces out;
   std::size_t split = 0;
@@ -286,8 +296,27 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
       const D3 c = cross3(sub(at(i), origin), sub(at(i + 1), origin));
       fans = c[0] * w[0] + c[1] * w[1] + c[2] * w[2] >= 0;  // no fan triangle folded back
     }
+    const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      for (const std::uint32_t i : {a, b, c}) {
+        out.corners.push_back(faces.corners[begin + i]);
+        if (!faces.texcoords.empty()) out.texcoords.push_back(faces.texcoords[begin + i]);
+      }
+      out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+    };
     if (fans) {
-      keep(f);
+      bool tilted = false;
+      const double cos_tilt = std::cos(kMaxFanTilt * std::numbers::pi / 180);
+      for (std::uint32_t i = 1; i + 1 < n && !tilted; ++i) {
+        const D3 c = cross3(sub(at(i), origin), sub(at(i + 1), origin));
+        const double cl = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        tilted = cl > 0 && c[0] * w[0] + c[1] * w[1] + c[2] * w[2] < cos_tilt * cl;
+      }
+      if (!tilted) {
+        keep(f);
+        continue;
+      }
+      for (std::uint32_t i = 1; i + 1 < n; ++i) emit(0, i, i + 1);
+      ++split;
       continue;
     }
     // Ear clipping: cut a convex corner whose triangle holds no other remaining corner.
@@ -295,13 +324,6 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
     std::iota(left.begin(), left.end(), 0u);
     const auto inside = [&](std::uint32_t p, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
       return turn(a, b, p) >= 0 && turn(b, c, p) >= 0 && turn(c, a, p) >= 0;
-    };
-    const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-      for (const std::uint32_t i : {a, b, c}) {
-        out.corners.push_back(faces.corners[begin + i]);
-        if (!faces.texcoords.empty()) out.texcoords.push_back(faces.texcoords[begin + i]);
-      }
-      out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
     };
     while (left.size() > 3) {
       const std::size_t m = left.size();

@@ -49,7 +49,8 @@ struct MeshProblems {
   std::size_t turned_faces = 0;          // Winding::Orient: faces whose corners were reversed (see there)
   // Not a problem (any() ignores it): polygons a fan from their first corner would not triangulate
   // inside their outline (concave, or non-planar with a folding fan), split into triangles by ear
-  // clipping in the plane of their Newell normal; convex polygons are kept whole.
+  // clipping in the plane of their Newell normal, and polygons whose fan triangles stand more than
+  // 30° off that normal, split into their fan; convex, nearly planar polygons are kept whole.
   std::size_t split_polygons = 0;
 
   std::size_t dropped_faces() const { return bad_vertex_faces + bad_index_faces + degenerate_faces; }

@@ -26,8 +26,10 @@ namespace splatcl::splats {
 // needles, and samples on a non-planar polygon's fan triangles keep their normals near the
 // triangle's. 4: growth passes over samples on the other side of a thin part (splat_other_sheet),
 // frames are oriented by the neighbours on their side of a crease, and with the colour variant
-// every splat keeps to its colour (fill_gaps).
-inline constexpr int kSplatMethodVersion = 4;
+// every splat keeps to its colour (fill_gaps). 5: polygons whose fan triangles stand more than 30°
+// off their normal are loaded as their fan (core/mesh.cpp), so their samples take the triangles'
+// normals.
+inline constexpr int kSplatMethodVersion = 5;
 
 struct PipelineOptions {
   SamplingOptions sampling;

@@ -491,6 +491,42 @@ TEST(MeshHygiene, ConcavePolygonsAreSplitInsideTheirOutline) {
   EXPECT_EQ(quad.face_count(), 1u);
 }
 
+// A convex quad whose corners alternate in height is two triangles folded along the fan's
+// diagonal, and every stage fans it: split into that fan when a triangle stands more than 30° off
+// the quad's normal, so its normals are the triangles' (the crease angle keeps a sharp fold sharp).
+// Kept whole, a grid of them was shaded flat with the quad's normal: its corner normals all lay 60°
+// off the surface. A nearly planar quad stays whole.
+TEST(MeshHygiene, StronglyNonPlanarPolygonsAreSplitIntoTheirFan) {
+  const Mesh folded = make_mesh({{0, 0, 0}, {1, 0, 1}, {1, 1, 0}, {0, 1, 1}}, {{0, 1, 2, 3}}, "folded quad");
+  EXPECT_EQ(folded.problems.split_polygons, 1u);
+  EXPECT_FALSE(folded.problems.any());
+  ASSERT_EQ(folded.face_count(), 2u);
+  const std::vector<Vec3> first = face_positions(folded, 0), second = face_positions(folded, 1);
+  EXPECT_EQ(first, (std::vector<Vec3>{{0, 0, 0}, {1, 0, 1}, {1, 1, 0}}));  // the fan (0 1 2), (0 2 3)
+  EXPECT_EQ(second, (std::vector<Vec3>{{0, 0, 0}, {1, 1, 0}, {0, 1, 1}}));
+  const Mesh nearly = make_mesh({{0, 0, 0}, {1, 0, 0.1f}, {1, 1, 0}, {0, 1, 0.1f}}, {{0, 1, 2, 3}}, "nearly planar quad");
+  EXPECT_EQ(nearly.problems.split_polygons, 0u);
+  EXPECT_EQ(nearly.face_count(), 1u);
+  // The grid: every corner normal (what samples and Phong splats interpolate) against its
+  // triangle's own normal.
+  const Mesh grid = non_planar_quads_mesh(8, 0.3f);
+  const std::vector<Vec3> corner = corner_normals(grid, 60.0f);
+  double worst = 0, sum = 0;
+  std::size_t count = 0;
+  for (std::size_t f = 0; f < grid.face_count(); ++f) {
+    const std::vector<Vec3> p = face_positions(grid, f);
+    ASSERT_EQ(p.size(), 3u) << "face " << f << " kept whole";
+    const Vec3 own = normalized(cross(p[1] - p[0], p[2] - p[0]));
+    for (std::uint32_t c = grid.face_offsets[f]; c < grid.face_offsets[f + 1]; ++c) {
+      const double angle = std::acos(std::clamp(double{dot(normalized(corner[c]), own)}, -1.0, 1.0)) * 180 / std::numbers::pi;
+      worst = std::max(worst, angle), sum += angle, ++count;
+    }
+  }
+  fmt::print("folded quads: corner normals {:.1f}° off their triangle on average, {:.1f}° at most\n", sum / static_cast<double>(count), worst);
+  EXPECT_LT(sum / static_cast<double>(count), 20.0);
+  EXPECT_LT(worst, 45.0);
+}
+
 TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
   const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {5, 5, 5}, {NAN, 0, 0}};
   const Mesh mesh = make_mesh(v,
