@@ -40,6 +40,15 @@ struct Reader {
     if (!(v > 0)) fail(field, "must be positive");
     return v;
   }
+  // A size or scale factor the assets are built at: within what their float geometry holds (the
+  // coherent shadow maps take bounding spheres of radius 1e-18..1e18). Beyond, the error named the
+  // mesh's bounding sphere, not the field that caused it.
+  float extent(const json& j, const std::string& field, float fallback) const {
+    const float v = positive(j, field, fallback);
+    if (!(v >= kMinSceneExtent && v <= kMaxSceneExtent))
+      fail(field, fmt::format("must be in [{:g}, {:g}], not {:g}", kMinSceneExtent, kMaxSceneExtent, v));
+    return v;
+  }
   std::uint32_t count(const json& j, const std::string& field, std::uint32_t fallback, std::uint32_t lo,
                       std::uint32_t hi) const {
     if (!j.contains(field)) return fallback;
@@ -181,7 +190,7 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   if (j.contains("fit")) {
     const json& f = r.object(j, "fit");
     r.known_keys(f, "fit", {"size", "on_floor"});
-    if (f.contains("size")) o.fit.size = r.positive(f, "size", 1.0f);
+    if (f.contains("size")) o.fit.size = r.extent(f, "size", 1.0f);
     o.fit.on_floor = r.flag(f, "on_floor", o.fit.on_floor);
   }
   if (j.contains("quality")) {
@@ -217,7 +226,7 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   if (!o.mesh.splat_path.empty() && !j.contains("color")) o.splat_colors = true;  // a splat file's own colours
   o.position = r.vec3(j, "position", o.position);
   o.rotation_degrees = r.vec3(j, "rotation_degrees", o.rotation_degrees);
-  o.scale = r.positive(j, "scale", o.scale);
+  o.scale = r.extent(j, "scale", o.scale);
   o.occluder = r.flag(j, "occluder", o.occluder);
   if (j.contains("two_sided")) o.two_sided = r.flag(j, "two_sided", false);
   if (j.contains("animation")) {

@@ -123,6 +123,8 @@ inline constexpr float kMaxSpecular = 100.0f;
 // and kAutoLengthShareLarge of it where that is above (a scene in large units), so the default
 // scene, whose smallest diagonal is 2.42, keeps its 0.02.
 inline constexpr float kAutoLengthShare = 0.01f;
+// The range of an object's "fit" size and "scale".
+inline constexpr float kMinSceneExtent = 1e-15f, kMaxSceneExtent = 1e15f;
 inline constexpr float kAutoLengthShareLarge = 0.008f;
 // How far off the floor's plane a pixel may lie and still show the floor, as a share of the floor's
 // side plus its height (float steps of positions there).

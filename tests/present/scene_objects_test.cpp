@@ -87,6 +87,10 @@ TEST(SceneObjects, FitAndObjectQualityAreCheckedLikeEveryOtherKey) {
   };
   const std::string box = R"("mesh": {"procedural": "box"})";
   refused("{" + box + R"(, "fit": {"size": 0}})", "'size' must be positive");
+  // A fit or scale beyond what the assets' float geometry holds names the field (it named the mesh's
+  // bounding sphere).
+  refused("{" + box + R"(, "fit": {"size": 1e30}})", "'size' must be in [1e-15, 1e+15], not 1e+30");
+  refused("{" + box + R"(, "scale": 1e-20})", "'scale' must be in [1e-15, 1e+15], not 1e-20");
   refused("{" + box + R"(, "fit": {"sise": 2}})", "'sise' is not a key of fit");
   refused("{" + box + R"(, "fit": 2})", "'fit' must be an object");
   refused("{" + box + R"(, "fit": {"on_floor": 1}})", "'on_floor' must be true or false");
