@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "csm/query_reach.hpp"
 #include "core/bvh.hpp"
 #include "csm/capture.hpp"
 #include "io/atomic_file.hpp"
@@ -92,8 +93,8 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
     request.pattern_of.assign(choice.begin() + static_cast<std::ptrdiff_t>(first),
                               choice.begin() + static_cast<std::ptrdiff_t>(first + count));
     for (std::size_t k = 0; k < count; ++k) {
-      const Vec3 p = receiver.vertices[first + k];
       const Vec3 nrm = receiver_normal(receiver, first + k);
+      const Vec3 p = receiver.vertices[first + k] + nrm * options.lift;
       request.positions[k] = {p.x, p.y, p.z, 1};
       request.normals[k] = {nrm.x, nrm.y, nrm.z, 0};
     }
@@ -103,6 +104,13 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
     if (progress) progress(first + count, n);
   }
   return out;
+}
+
+float receiver_lift(const std::vector<const Csm*>& csms, const std::vector<Instance>& instances, float texels) {
+  float texel = 0;
+  for (const Instance& instance : instances)
+    if (instance.occluder < csms.size()) texel = std::max(texel, placed_texel(csms[instance.occluder]->info, instance.placement));
+  return texels * texel;
 }
 
 std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& occluder, const ReceiverAoOptions& options) {

@@ -1,7 +1,8 @@
-// ao_vs_raycast MESH CSM: the self-AO error of a CSM (docs/results/csm.md). AO at every vertex of
-// MESH under its own CSM (the native reference, default sampling of `splatcl ao`) against ray casting
-// the same directions at the mesh itself; prints the mean absolute difference and the share of
-// vertices off by more than 0.05. A measurement tool, not a test.
+// ao_vs_raycast MESH CSM [LIFT]: the self-AO error of a CSM (docs/results/csm.md). AO at every
+// vertex of MESH under its own CSM (the native reference, default sampling of `splatcl ao`, the
+// receivers lifted LIFT texels, default 1 as `splatcl ao --lift`) against ray casting the same
+// directions at the mesh itself; prints the mean absolute difference and the share of vertices off
+// by more than 0.05. A measurement tool, not a test.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -14,14 +15,15 @@
 
 int main(int argc, char** argv) {
   using namespace splatcl::csm;
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: ao_vs_raycast MESH CSM\n");
+  if (argc != 3 && argc != 4) {
+    std::fprintf(stderr, "usage: ao_vs_raycast MESH CSM [LIFT_TEXELS]\n");
     return 2;
   }
   try {
     const splatcl::Mesh mesh = splatcl::load_mesh(argv[1]);
     const Csm csm = read_csm(argv[2]);
-    const ReceiverAoOptions options;
+    ReceiverAoOptions options;
+    options.lift = receiver_lift({&csm}, {{0, kIdentity}}, argc == 4 ? std::stof(argv[3]) : kDefaultLiftTexels);
     const std::vector<splatcl::Vec4> with_csm = receiver_ambient_occlusion(mesh, VisibilityScene({&csm}, {{0, kIdentity}}), options, nullptr);
     const std::vector<float> by_rays = raycast_ambient_occlusion(mesh, mesh, options);
     double error = 0, mean_csm = 0, mean_rays = 0;
