@@ -1,8 +1,12 @@
 #include "csm/build.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
+#include "core/bvh.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "core/parallel.hpp"
@@ -104,6 +108,19 @@ BuildResult build_csm(const Mesh& mesh, const BuildOptions& o, Runtime* runtime,
   return result;
 }
 
+void require_built_from(const Csm& csm, const Mesh& mesh) {
+  const CsmInfo& info = csm.info;
+  const Vec3 c = info.sphere.centre;
+  const float r = info.sphere.radius;
+  const Sphere own = bounding_sphere(mesh);
+  const std::size_t triangles = casting_triangles(mesh, c).size() / 3;
+  if (length(own.centre - c) > 1e-4f * r || std::fabs(own.radius - r) > 1e-4f * r || triangles != info.triangles)
+    throw Error(fmt::format("the CSM was not built from {}: its bounding sphere (centre ({:g}, {:g}, {:g}), radius {:g}) and {} "
+                            "triangles against the model's (({:g}, {:g}, {:g}), {:g}) and {}",
+                            mesh.source, c.x, c.y, c.z, r, info.triangles, own.centre.x, own.centre.y, own.centre.z, own.radius,
+                            triangles));
+}
+
 LosslessReport check_lossless(const Csm& csm, const Mesh& model, Runtime* runtime, const BuildProgress& progress,
                               std::optional<CaptureMethod> method) {
   const CsmInfo& info = csm.info;
@@ -120,6 +137,7 @@ LosslessReport check_lossless(const Csm& csm, const Mesh& model, Runtime* runtim
     }
   }
   const Mesh& mesh = moved ? *moved : model;
+  require_built_from(csm, mesh);
   const SphereGrid grid(info.distribution, info.order, info.pole, info.maps);
   const CaptureScene scene(mesh, info.sphere, info.resolution, info.single_hit, info.hit_epsilon);
   const std::size_t pixels = scene.pixels();

@@ -76,6 +76,11 @@ class HostMapCapture {
 // and its stored depth tested with lossless(). Captures in batches on `runtime` (native reference
 // when null) with the method recorded in the CSM, or `method` when given (a cross-check against
 // the other method, which may report violations at triangle-edge pixels).
+// Throws Error naming `mesh` (in the CSM's object space) unless the CSM's capture has its bounding
+// sphere (to 1e-4 R; bounding_sphere is deterministic) and its count of casting triangles: a CSM of
+// another model gives meaningless answers (csm verify reported it as not lossless, blaming the file).
+void require_built_from(const Csm& csm, const Mesh& mesh);
+
 struct LosslessReport {
   std::uint64_t samples = 0, violations = 0;
   std::uint32_t first_map = 0;
@@ -83,6 +88,7 @@ struct LosslessReport {
   float first_depth = 0, first_z1 = 0, first_z2 = 0;
 };
 // The model file's mesh is moved into object space by the CSM's stored object transform first.
+// Throws Error (require_built_from) for a CSM of another model.
 LosslessReport check_lossless(const Csm& csm, const Mesh& mesh, Runtime* runtime, const BuildProgress& progress = {},
                               std::optional<CaptureMethod> method = std::nullopt);
 

@@ -18,7 +18,12 @@ add_test(NAME cli.csm_verify COMMAND ${EXPECT_OUTPUT} --match "^file +.*csm-cube
          --match "^lossless +all 262144 \\(map, pixel\\)" -- $<TARGET_FILE:splatcl> csm verify ${CSM_OUT} ${SPLATS_CUBE})
 add_test(NAME cli.csm_verify_compact COMMAND ${EXPECT_OUTPUT} --match "valid \\(compact encoding, [1-9][0-9]* segments, 128 maps of 16x16\\)$"
          --match "^lossless +all 32768 \\(map, pixel\\)" -- $<TARGET_FILE:splatcl> csm verify ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-compact.csm ${SPLATS_CUBE} --reference)
-set_tests_properties(cli.csm_info cli.csm_verify cli.csm_verify_compact PROPERTIES FIXTURES_REQUIRED csm_cube)
+# With another model: one line saying the CSM was not built from it (it said "not lossless" and
+# blamed the file).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/csm-other.obj "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 0 0 2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+add_test(NAME cli.error_csm_verify_other_model COMMAND ${EXPECT_ERROR} "^splatcl: the CSM was not built from .*csm-other.obj: its bounding sphere"
+         $<TARGET_FILE:splatcl> csm verify ${CSM_OUT} ${CMAKE_CURRENT_BINARY_DIR}/csm-other.obj)
+set_tests_properties(cli.csm_info cli.csm_verify cli.csm_verify_compact cli.error_csm_verify_other_model PROPERTIES FIXTURES_REQUIRED csm_cube)
 # Both capture methods: a ray-cast build verifies by the method recorded in its header; a bad method name is an error.
 add_test(NAME cli.csm_build_cube_raycast COMMAND ${EXPECT_OUTPUT} --match "^capture +raycast$" --match "^wrote +.*csm-cube-raycast.csm"
          -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-raycast.csm --maps 64 --res 16 --capture raycast)

@@ -91,6 +91,28 @@ TEST(CsmQuality, FarFromTheOriginAndHugeScoreAsAtTheOrigin) {
   EXPECT_NEAR(at_far, at_origin, 1.0) << "at the origin " << at_origin << " %";
 }
 
+// A model moved by 2^23, where floats step by 1 (integer corners stay exact): the study scores it as
+// at the origin. The CSM queries took world positions, which the query re-centres in float, and
+// scored 13.5 % more wrong pixels (7,522 → 8,539 for such a model, 16 views of 128²).
+TEST(CsmQuality, AModelMovedByAPowerOfTwoScoresAsAtTheOrigin) {
+  // Two boxes on a plate, with integer corners and a bounding sphere centred on (0, -1, 0): the
+  // moved model's sphere is exactly the moved sphere, so the views and lights are the same.
+  const std::vector<std::pair<Vec3, Vec3>> boxes{{{-12, -2, -12}, {12, 0, 12}}, {{-3, 0, -3}, {3, 6, 3}}, {{5, 0, -9}, {9, 4, -5}}};
+  std::vector<std::pair<Vec3, Vec3>> moved = boxes;
+  const Vec3 offset{8388608.0f, 8388608.0f, -8388608.0f};
+  for (auto& [lo, hi] : moved) lo = lo + offset, hi = hi + offset;
+  const Mesh here_mesh = boxes_mesh(boxes), there_mesh = boxes_mesh(moved);
+  const Csm here_csm = device_csm(here_mesh, 1024, 64), there_csm = device_csm(there_mesh, 1024, 64);
+  ASSERT_EQ(there_csm.info.sphere.centre, here_csm.info.sphere.centre + offset);
+  const QualityOptions options = study(8, 96);
+  const QualityReport here = measure_quality(here_csm, here_mesh, options, &runtime());
+  const QualityReport there = measure_quality(there_csm, there_mesh, options, &runtime());
+  EXPECT_EQ(here.object_pixels, there.object_pixels);
+  EXPECT_GT(here.wrong, 0u);
+  EXPECT_NEAR(static_cast<double>(there.wrong), static_cast<double>(here.wrong), 0.01 * static_cast<double>(here.wrong));
+  EXPECT_NEAR(static_cast<double>(there.wrong_facing), static_cast<double>(here.wrong_facing), 0.01 * static_cast<double>(here.wrong_facing) + 2);
+}
+
 // --camera-distance: on the bounding sphere (Talpe §6.1, the default) a UV sphere fills every
 // image; at 1.5 R with the 90° lens its silhouette is a disc of radius tan(asin(1 / 1.5)) = 0.894 of
 // the half-image, π · 0.894² / 4 = 62.8 % of the pixels (the facets' outline lies a little inside).
