@@ -115,10 +115,6 @@ Frame frame_of(const Samples& samples, const Neighborhoods& nb, std::size_t i, f
   return {to_vec4(u), to_vec4(v), to_vec4(n)};
 }
 
-bool color_similar(Rgba8 a, Rgba8 b, int tolerance) {
-  return device::splat_color_similar(a.r, a.g, a.b, b.r, b.g, b.b, tolerance);
-}
-
 float size_rule(float e1, float e2, Stop stop, bool at_accepted) {
   return device::splat_size_rule(e1, e2, static_cast<int>(stop), at_accepted);
 }
@@ -130,6 +126,10 @@ struct Scratch {
 };
 
 }  // namespace
+
+bool color_similar(Rgba8 a, Rgba8 b, int tolerance) {
+  return device::splat_color_similar(a.r, a.g, a.b, b.r, b.g, b.b, tolerance);
+}
 
 void mark_hull_points(const Samples& samples, Vec3 c, Vec3 fu, Vec3 fv, std::vector<std::uint32_t>& q) {
   const std::size_t qn = q.size();

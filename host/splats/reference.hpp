@@ -14,6 +14,10 @@ std::vector<Frame> fit_frames(const Samples& samples, const Neighborhoods& neigh
 FitResult grow_splats(const Samples& samples, const Neighborhoods& neighbors, const std::vector<Frame>& frames,
                       const FitOptions& options);
 
+// The colour test of the growth (the splat thesis §2.3.2; kernels/splat_fit.h's): every channel within
+// `tolerance`. Also the colour rule of the surface fit's splats (splats/surface_fit.cpp).
+bool color_similar(Rgba8 a, Rgba8 b, int tolerance);
+
 // Sets kOnHullBit on the entries of q (sample indices, start point first, bits clear) whose
 // projection on the plane through c spanned by fu, fv lies on the convex hull of the projected
 // set, for |q| > 3; the start point is never marked (the splat thesis §2.2.3). The growth's own rule.

@@ -501,7 +501,7 @@ bool keeps_colour(const Surface& surface, const Mesh& mesh, const ColorSource& c
     if (near.triangle == UINT32_MAX) return false;
     const SurfaceTriangle& t = surface.triangles()[near.triangle];
     const Rgba8 c = color_at(mesh, colors, t, closest_point(t, p));
-    return std::abs(c.r - colour.r) <= tolerance && std::abs(c.g - colour.g) <= tolerance && std::abs(c.b - colour.b) <= tolerance;
+    return reference::color_similar(c, colour, tolerance);
   };
   for (const auto& [rho, count] : {std::pair{1.0, 64}, std::pair{0.75, 48}, std::pair{0.5, 32}, std::pair{0.25, 16}})
     for (int k = 0; k < count; ++k)
