@@ -49,6 +49,11 @@ void set_rows(const std::vector<std::vector<std::uint32_t>>& sets, FitResult& re
   }
 }
 
+std::uint32_t budget_growth_cap(std::size_t samples, std::uint32_t requested, std::size_t budget) {
+  const std::size_t share = budget / std::max<std::size_t>(samples, 1);
+  return static_cast<std::uint32_t>(std::min<std::size_t>(requested, std::max<std::size_t>(kMinBudgetCap, share)));
+}
+
 void validate(const FitOptions& options) {
   if (!(std::isfinite(options.eps) && options.eps > 0))
     throw Error(fmt::format("--eps must be a positive length, not {}", options.eps));

@@ -28,6 +28,13 @@
 namespace splatcl::splats {
 
 inline constexpr std::uint32_t kMaxCoveredLimit = 1u << 20;
+// The accepted sets' budget (entries over all splats) that sets the thesis's growth cap when none is
+// given: max(kMinBudgetCap, kCoveredBudget / samples). Without it a flat face of n samples costs n²:
+// a 10 x 10 x 0.05 plate at grid:1.5 (180k samples) would hold ~10^10 entries.
+inline constexpr std::size_t kCoveredBudget = std::size_t{1} << 26;  // 256 MiB of uint32
+inline constexpr std::uint32_t kMinBudgetCap = 128;
+// The cap a budget of `budget` entries allows `samples` samples, never above `requested`.
+std::uint32_t budget_growth_cap(std::size_t samples, std::uint32_t requested, std::size_t budget = kCoveredBudget);
 
 struct FitOptions {
   float eps = 0;                 // ε, absolute, in model units

@@ -141,6 +141,9 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   phase("knn", [&] { run.neighbors = find_neighbors(run.samples.positions, options.k); });
   FitOptions growth = options.fit;
   if (options.surface_bound) growth.eps = growth_eps(options.fit.eps);
+  if (options.covered_budget > 0)
+    growth.max_covered = budget_growth_cap(run.samples.size(), growth.max_covered, options.covered_budget);
+  run.max_covered = growth.max_covered;
   if (runtime) {
     run.fit_backend = runtime->info().name;
     // Frames and growth are separate kernels; their device times split the fit phase.
@@ -223,7 +226,7 @@ nlohmann::json run_statistics(const SplatRun& run, const PipelineOptions& option
           {"size_at_accepted", options.fit.size_at_accepted},
           {"clipped_splats", clipped},
           {"surface_bound", run.surface_bound},
-          {"max_covered", options.fit.max_covered},
+          {"max_covered", run.max_covered},
           {"sampling_note", run.samples.note},
           {"surface_fit", {{"shrunk_splats", run.surface_fit.shrunk},
                            {"gap_splats", run.gap_splats.size()},

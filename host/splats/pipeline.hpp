@@ -28,8 +28,9 @@ namespace splatcl::splats {
 // frames are oriented by the neighbours on their side of a crease, and with the colour variant
 // every splat keeps to its colour (fill_gaps). 5: polygons whose fan triangles stand more than 30°
 // off their normal are loaded as their fan (core/mesh.cpp), so their samples take the triangles'
-// normals.
-inline constexpr int kSplatMethodVersion = 5;
+// normals. 6: the thesis's method (thesis_only) caps growth at kCoveredBudget / samples when no cap is
+// given, so that flat faces stay linear.
+inline constexpr int kSplatMethodVersion = 6;
 
 struct PipelineOptions {
   SamplingOptions sampling;
@@ -39,6 +40,9 @@ struct PipelineOptions {
   // The two-sided bound (splats/surface_fit.hpp): grown splats bounded by the surface, zero-size
   // splats left out, gaps filled. Off: the thesis's method alone.
   bool surface_bound = false;
+  // Non-zero: fit.max_covered is lowered to budget_growth_cap(samples, ..., covered_budget) once the
+  // samples are known (the thesis's method without a given cap: its sets' memory is what is bounded).
+  std::size_t covered_budget = 0;
 };
 
 struct PhaseTime {
@@ -65,6 +69,7 @@ struct SplatRun {
   double scale = 1;
   std::vector<PhaseTime> phases;
   FitTimings fit_timings;
+  std::uint32_t max_covered = 0;        // the growth cap the fit ran with
   std::string fit_backend;              // device name, or "reference"
 
   double total_ms() const;

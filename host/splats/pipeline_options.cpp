@@ -11,6 +11,10 @@
 namespace splatcl::splats {
 
 const std::vector<ParameterInfo>& splat_parameters() {
+  static const std::string max_covered_help =
+      fmt::format("Growth cap: a splat stops growing when it covers this many samples (keeps flat regions linear), 4..{}; with "
+                  "thesis_only the default is {} / samples, at least {} (bounds the accepted sets' memory)",
+                  kMaxCoveredLimit, kCoveredBudget, kMinBudgetCap);
   static const std::vector<ParameterInfo> list{
       {"eps", "Geometric tolerance epsilon, absolute in model units (0: eps_diag times the bounding-box diagonal)", false, false, true},
       {"eps_diag", "Epsilon as a fraction of the bounding-box diagonal when eps is 0", false, false, true},
@@ -21,9 +25,9 @@ const std::vector<ParameterInfo>& splat_parameters() {
       {"samples", "auto (vertices plus, on every face, grid points at a spacing of 0.5*sqrt(eps*diagonal), coarsened to fit "
                   "max_samples), vertices, grid:N (the thesis: spacing shortest-edge / N) or spacing:D (absolute spacing D)"},
       {"max_samples", "Sample budget: a sampling estimated to exceed it is refused before any work (auto coarsens instead), 1000..2147483647", false, false, true},
-      {"max_covered", "Growth cap: a splat stops growing when it covers this many samples (keeps flat regions linear), 4..1048576", false, false, true},
-      {"thesis_only", "Only the thesis's method: its size corrections, no surface bound on splat size, no gap filling, no growth "
-                      "cap (the two-sided bound is then not guaranteed)", true},
+      {"max_covered", max_covered_help.c_str(), false, false, true},
+      {"thesis_only", "Only the thesis's method: its size corrections, no surface bound on splat size, no gap filling, growth "
+                      "capped only by memory (see max_covered; the two-sided bound is then not guaranteed)", true},
       {"crease_angle", "Crease angle in degrees, (0, 180]: where faces meet at more than it (a sharp edge), the samples beside the "
                        "edge keep their face's normal and a splat's frame takes only the neighbours on its side, so the splats lie in "
                        "the faces instead of bevelling the edge; 180 is the thesis's frames (the default with thesis_only)", false, false, true},
@@ -109,7 +113,7 @@ nlohmann::json to_json(const SplatParameters& p) {
           {"k", p.k},
           {"samples", p.samples},
           {"max_samples", p.max_samples},
-          {"max_covered", p.max_covered},
+          {"max_covered", p.max_covered.value_or(p.thesis_only ? kMaxCoveredLimit : kDefaultMaxCovered)},
           {"thesis_only", p.thesis_only},
           {"crease_angle", crease_angle(p)},
           {"color_tol", p.color_tol},
@@ -136,7 +140,8 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   options.fit.crease_degrees = static_cast<float>(crease_angle(p));
   options.sampling.crease_degrees = options.fit.crease_degrees;
   options.sampling.max_samples = p.max_samples;
-  options.fit.max_covered = p.thesis_only ? kMaxCoveredLimit : p.max_covered;
+  options.fit.max_covered = p.max_covered.value_or(p.thesis_only ? kMaxCoveredLimit : kDefaultMaxCovered);
+  options.covered_budget = p.thesis_only && !p.max_covered ? kCoveredBudget : 0;
   options.surface_bound = !p.thesis_only;
   options.fit.size_at_accepted = !p.thesis_only;
   setup.diagonal = mesh.bounds().diagonal();

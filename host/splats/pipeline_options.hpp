@@ -19,8 +19,10 @@ struct SplatParameters {
   unsigned k = 10;                   // neighbourhood size
   std::string samples = "auto";      // or "vertices", "grid:N", "spacing:D"
   std::size_t max_samples = kDefaultMaxSamples;
-  unsigned max_covered = 128;        // growth cap (samples per splat)
-  bool thesis_only = false;          // the thesis's method alone: no surface bound, no gap filling, no growth cap
+  // Growth cap (samples per splat); unset: kDefaultMaxCovered, or with thesis_only the share of
+  // kCoveredBudget per sample (budget_growth_cap).
+  std::optional<unsigned> max_covered;
+  bool thesis_only = false;          // the thesis's method alone: no surface bound, no gap filling, growth capped by memory only
   int color_tol = 255;               // φ per channel; 255 ignores colour
   std::string color_field = "grey";  // colours without a texture
   std::string texture;               // image through the mesh's texture coordinates; empty: none
@@ -35,6 +37,7 @@ struct SplatParameters {
 };
 
 inline constexpr double kDefaultCreaseAngle = 60;
+inline constexpr unsigned kDefaultMaxCovered = 128;
 // How the model's faces are loaded for these parameters.
 Winding winding(const SplatParameters& params);
 // The crease angle the parameters resolve to.

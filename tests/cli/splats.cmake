@@ -107,3 +107,8 @@ add_test(NAME cli.error_splats_output_is_model COMMAND ${EXPECT_ERROR} "-o .*csm
          splats ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj -o ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj)
 add_test(NAME cli.error_splats_output_dir_is_file COMMAND ${EXPECT_ERROR} "cannot write -o .*csm-overwrite-me.obj/out.ply: .*csm-overwrite-me.obj is a file, not a directory"
          $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj/out.ply)
+# --max-covered is honoured with --thesis-only (it was ignored: the thesis's growth had no cap).
+add_test(NAME cli.splats_thesis_max_covered COMMAND ${EXPECT_OUTPUT} --file ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-thesis.json "\"largest_covered_set\": 40,"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-thesis.json "\"max_covered\": 40,"
+         -- $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:8 --eps 0.002 --thesis-only --crease-angle 60 --max-covered 40
+         -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-thesis.ply --stats ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-thesis.json)

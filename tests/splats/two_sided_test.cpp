@@ -327,6 +327,42 @@ TEST(TwoSidedBound, GrowthCapBoundsEverySplat) {
   EXPECT_TRUE(check_surface(mesh, run.records(), check).ok());
 }
 
+// The thesis's method has no size cap, but its accepted sets have a memory budget: on a plane,
+// where every splat would cover every sample (n² entries), each stops at budget / n samples.
+// Without a budget the same run covers the whole plane with every splat.
+TEST(ThesisGrowth, AFlatFaceIsCappedByTheSetsBudget) {
+  const Mesh mesh = plane_mesh(40);  // 1,681 vertices
+  SplatParameters params;
+  params.samples = "vertices";
+  params.thesis_only = true;
+  SplatSetup setup = splat_setup(params, mesh, mesh.source);
+  EXPECT_EQ(setup.options.covered_budget, kCoveredBudget);
+  const auto largest_set = [](const SplatRun& run) {
+    std::size_t largest = 0;
+    for (std::size_t j = 0; j < run.fit.covered.size(); ++j) largest = std::max(largest, run.fit.covered.row_size(j));
+    return largest;
+  };
+  setup.options.covered_budget = 0;
+  const SplatRun whole = generate_splats(mesh, setup.colors, setup.options, &runtime());
+  EXPECT_EQ(largest_set(whole), 1681u);
+  setup.options.covered_budget = 1681 * 300;
+  const SplatRun capped = generate_splats(mesh, setup.colors, setup.options, &runtime());
+  EXPECT_EQ(capped.max_covered, 300u);
+  EXPECT_EQ(largest_set(capped), 300u);
+  EXPECT_LE(capped.fit.covered.items.size(), std::size_t{1681} * 300);
+  EXPECT_EQ(capped.after.uncovered, 0u);
+  // Tiny budgets still let a splat grow kMinBudgetCap samples.
+  EXPECT_EQ(budget_growth_cap(1'000'000, kMaxCoveredLimit, 1000), kMinBudgetCap);
+  EXPECT_EQ(budget_growth_cap(10, 64, kCoveredBudget), 64u);
+  // A cap given with the thesis's method is the cap, and no budget is applied over it.
+  params.max_covered = 50;
+  setup = splat_setup(params, mesh, mesh.source);
+  EXPECT_EQ(setup.options.covered_budget, 0u);
+  const SplatRun given = generate_splats(mesh, setup.colors, setup.options, &runtime());
+  EXPECT_EQ(given.max_covered, 50u);
+  EXPECT_EQ(largest_set(given), 50u);
+}
+
 // The test models at two ε (Release only: under the sanitizers this would take many minutes).
 TEST(TwoSidedBound, HoldsOnTheSharedModels) {
   if (kSanitized) GTEST_SKIP() << "the test models are checked in the Release build";
