@@ -424,6 +424,17 @@ std::vector<Gap> find_gaps(const Surface& surface, const std::vector<Ellipse>& s
   return gaps;
 }
 
+// The largest value in [lo, hi] that passes a test that holds up to some value and fails beyond it,
+// for lo passing: bisection, at most `steps` halvings and only while hi > lo · ratio.
+template <class Passes>
+double largest_passing(double lo, double hi, int steps, double ratio, const Passes& passes) {
+  for (int step = 0; step < steps && hi > lo * ratio; ++step) {
+    const double mid = 0.5 * (lo + hi);
+    (passes(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 // An ellipse in the triangle's plane centred on the gap, as large as the surface bound allows (up
 // to `largest`): the largest passing circle, then, of four orientations of the major axis, the one
 // that passes at the greatest length (along a crease or a boundary, the surface allows a long thin
@@ -447,18 +458,14 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
     e.a = a, e.b = b;
     return within_surface(surface, e, eps, scratch, &recent) && (!same_colour || same_colour(e, recent));
   };
-  // The largest passing value in (lo, hi] of a monotone test, by doubling then bisection.
-  const auto largest_passing = [&](double lo, double start, const auto& passes) {
+  // The largest passing value from lo on (up to `largest`), by doubling from `start`, then bisection.
+  const auto grow_while_passing = [&](double lo, double start, const auto& passes) {
     double hi = start;
     while (hi < largest && passes(hi)) lo = hi, hi *= 2;
     if (hi >= largest && lo > 0 && passes(largest)) return largest;
-    for (int step = 0; step < 5 && hi > lo * 1.15; ++step) {
-      const double r = 0.5 * (lo + hi);
-      (passes(r) ? lo : hi) = r;
-    }
-    return lo;
+    return largest_passing(lo, hi, 5, 1.15, passes);
   };
-  double radius = largest_passing(0.0, 2 * eps, [&](double r) { return test(r, r); });
+  double radius = grow_while_passing(0.0, 2 * eps, [&](double r) { return test(r, r); });
   for (double r = eps / 32; !(radius > 0) && r > eps / 4096; r *= 0.5)
     if (test(r, r)) radius = r;
   if (!(radius > 0)) radius = eps / 4096;  // the centre itself lies on the surface
@@ -468,7 +475,7 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
     const double angle = std::numbers::pi * k / 4;
     e.u = std::cos(angle) * x + std::sin(angle) * y;
     e.v = cross(e.normal, e.u);
-    const double a = largest_passing(radius, 2 * radius, [&](double a_) { return test(a_, radius); });
+    const double a = grow_while_passing(radius, 2 * radius, [&](double a_) { return test(a_, radius); });
     if (a > best_a * 1.05) best_a = a, best_u = e.u;
   }
   e.u = best_u, e.v = cross(e.normal, best_u);
@@ -630,21 +637,20 @@ std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, con
     if (colour_varies && e.a > 0) {
       const ColourTest keeps = same_colour(selected[j].color);
       Surface::Recent recent;
-      const auto largest_passing = [&](double lo, double hi, const auto& set) {
-        for (int step = 0; step < 10; ++step) {
-          const double mid = 0.5 * (lo + hi);
-          set(mid);
-          (keeps(e, recent) ? lo : hi) = mid;
-        }
-        set(lo);
+      // Sets the largest size in [lo, hi] whose ellipse keeps the colour (lo is taken to).
+      const auto shrink_to_colour = [&](double lo, double hi, const auto& set) {
+        set(largest_passing(lo, hi, 10, 1.0, [&](double x) {
+          set(x);
+          return keeps(e, recent);
+        }));
       };
       if (!keeps(e, recent)) {
         const double major = e.a, minor = e.b;
         e.a = minor;
         if (keeps(e, recent))
-          largest_passing(minor, major, [&](double x) { e.a = x; });
+          shrink_to_colour(minor, major, [&](double x) { e.a = x; });
         else
-          largest_passing(std::min(minor, colour.margin), minor, [&](double x) { e.a = e.b = x; });
+          shrink_to_colour(std::min(minor, colour.margin), minor, [&](double x) { e.a = e.b = x; });
       }
     }
     changed[j] = e.a != a || e.b != b;
