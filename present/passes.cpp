@@ -17,6 +17,7 @@ SplatPass::SplatPass(gl::Program program)
       scale_(program_.uniform("u_scale")),
       lod_(program_.uniform("u_lod")),
       mirror_(program_.uniform("u_mirror")),
+      back_offset_(program_.uniform("u_back_offset")),
       ambient_(program_.uniform("u_ambient")),
       sh_(program_.uniform("u_sh")) {}
 
@@ -27,6 +28,7 @@ void SplatPass::begin(const SplatFrame& frame) const {
   glUniform3fv(eye_, 1, glm::value_ptr(frame.eye));
   glUniform1f(scale_, frame.scale);
   glUniform1i(ambient_, frame.ambient);
+  glUniform1f(back_offset_, frame.back_offset);
   glUniform3fv(sh_, 9, glm::value_ptr(frame.sh[0]));
 }
 

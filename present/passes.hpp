@@ -29,6 +29,9 @@ struct SplatFrame {
   float scale = 1.0f;    // k: multiplies every splat's axes
   int ambient = 0;       // the per-splat ambient term (splat_head.glsl): 0 sky × AO, 1 sky, 2 the AO itself
   const glm::vec3* sh = nullptr;  // 9 irradiance SH coefficients of the sky
+  // How much farther a two-sided object's back copies are drawn than their splats lie, in both splat
+  // passes (splat.vert.glsl): where front and back copies meet at a fold, the front side wins.
+  float back_offset = 0.0f;
 };
 
 // One object's draw: its placement and a run of splat instances (static and lighting rows).
@@ -54,7 +57,7 @@ class SplatPass {
 
  private:
   gl::Program program_;
-  GLint model_, view_, proj_, eye_, scale_, lod_, mirror_, ambient_, sh_;
+  GLint model_, view_, proj_, eye_, scale_, lod_, mirror_, back_offset_, ambient_, sh_;
 };
 
 class VisibilityPass : SplatPass {

@@ -1030,6 +1030,9 @@ void Presenter::draw_splats(Frame& f) {
   // The per-splat ambient term (splat_head.glsl): 2 = the AO itself for the AO view.
   splat_frame.ambient = debug_view == DebugView::AmbientOcclusion ? 2 : ambient_occlusion ? 0 : 1;
   splat_frame.sh = g.sh.data();
+  // A back copy must stand a whole blending window (ε) in front of a front side to show: 2ε on top
+  // of the visibility pass's ε (splat.vert.glsl). 1ε left 4 of the 13 pixels of the saddle test.
+  splat_frame.back_offset = 2 * q.depth_offset;
   const std::vector<SplatDraw> draws = splat_draws(f.placements, f.eye, f.stats.splats);
   glDisable(GL_CULL_FACE);
   // The accumulation targets are the G-buffer; the fourth holds key lights 1-3 only.

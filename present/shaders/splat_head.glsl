@@ -21,6 +21,8 @@ uniform float u_lod;  // LOD error per model unit of eye distance; 0 = off
 // A two-sided object's offset from each splat to its mirrored copy (SplatDraw::mirror), 0 = none:
 // where the splat faces away, its copy, which faces the eye, is drawn in its place.
 uniform uint u_mirror;
+// Whether splat_head took the mirrored copy.
+bool a_back_copy = false;
 uniform int u_ambient;
 flat out vec3 v_albedo;
 flat out vec3 v_normal;
@@ -50,6 +52,7 @@ bool splat_head(uint s, out vec3 c, out vec3 n, out mat3 m) {
   if (u_mirror != 0u && !faces_eye(m, c)) {  // the copy lies where the splat does
     s += u_mirror;
     fetch_row(s);
+    a_back_copy = true;
   }
   n = normalize(m * static3(SPLAT_NORMAL));
   a_major = static3(SPLAT_MAJOR);
