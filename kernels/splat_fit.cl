@@ -4,7 +4,8 @@
 // multiply-adds is off so both round identically.
 //
 // Build options: LITERAL_LAMBDA (0/1), RETEST_VIOLATOR (0/1), CLIP (0/1), SIZE_AT_ACCEPTED (0/1),
-// MAX_COVERED (uint), ON_HULL_BIT (uint).
+// ON_HULL_BIT (uint). The growth cap is an argument (max_covered): the thesis's depends on the
+// sample count, and a build option would compile the program again for every model.
 #pragma OPENCL FP_CONTRACT OFF
 #include "splat_fit.h"
 
@@ -220,7 +221,7 @@ void seen_clear(__global uint* table, uint mask, __global const uint* list, uint
 // Grows the splat of item s (sample items[s]) with one worker's scratch.
 void grow_one(__global const float4* positions, __global const float4* normals, __global const uchar4* colors,
               __global const uint* neighbors, uint k, __global const Frame* frames, float crease_cos, float eps,
-              int color_tolerance, uint i, uint capacity, uint hash_mask,
+              int color_tolerance, uint max_covered, uint i, uint capacity, uint hash_mask,
               __global uint* q, __global uint* seen, __global ulong* ring, __global uint* aux, __global uint* table,
               __global uint* count_out, __global float4* splats, __global float4* clips) {
   __global uint* rejected = aux;  // clipped splats: the skipped violators
@@ -250,7 +251,7 @@ void grow_one(__global const float4* positions, __global const float4* normals, 
   float b = 0.0f;
   float clip_x = 0.0f, clip_y = 0.0f;  // sum of the unit in-plane directions to the skipped violators
   uint rejected_count = 0;
-  bool full = false;  // Q reached MAX_COVERED: both phases end as if no violator was met
+  bool full = false;  // Q reached max_covered: both phases end as if no violator was met
   for (int ellipse = 0; ellipse < 2; ++ellipse) {
     if (ellipse) {
       circle_extent1 = extent1, circle_extent2 = extent2, circle_stop = stop;
@@ -297,7 +298,7 @@ void grow_one(__global const float4* positions, __global const float4* normals, 
           stop = violation, extent2 = key, stopped = true;
           break;
         }
-        if (qn == MAX_COVERED) {
+        if (qn == max_covered) {
           full = true;
           break;
         }
@@ -376,7 +377,7 @@ void grow_one(__global const float4* positions, __global const float4* normals, 
 __kernel void splat_grow(__global const float4* positions, __global const float4* normals,
                          __global const uchar4* colors, __global const uint* neighbors, uint k,
                          __global const Frame* frames, float crease_cos, float eps,
-                         int color_tolerance, __global const uint* items, uint item_count, uint capacity,
+                         int color_tolerance, uint max_covered, __global const uint* items, uint item_count, uint capacity,
                          uint seen_capacity, uint hash_mask, uint block, __global uint* next_block,
                          __global uint* q_slots, __global uint* seen_slots, __global ulong* ring_slots,
                          __global uint* aux_slots, __global uint* hash_slots, __global uint* counts,
@@ -388,7 +389,7 @@ __kernel void splat_grow(__global const float4* positions, __global const float4
   __global uint* table = hash_slots + w * (hash_mask + 1u);
   if (block == 0u) {
     if (w < item_count)
-      grow_one(positions, normals, colors, neighbors, k, frames, crease_cos, eps, color_tolerance, items[w], capacity, hash_mask,
+      grow_one(positions, normals, colors, neighbors, k, frames, crease_cos, eps, color_tolerance, max_covered, items[w], capacity, hash_mask,
                q_slots + w * capacity, seen, ring, aux, table, counts + w, splats, clips);
     return;
   }
@@ -397,7 +398,7 @@ __kernel void splat_grow(__global const float4* positions, __global const float4
     if (begin >= item_count) return;
     const uint end = min(item_count, begin + block);
     for (uint s = begin; s < end; ++s)
-      grow_one(positions, normals, colors, neighbors, k, frames, crease_cos, eps, color_tolerance, items[s], capacity, hash_mask,
+      grow_one(positions, normals, colors, neighbors, k, frames, crease_cos, eps, color_tolerance, max_covered, items[s], capacity, hash_mask,
                q_slots + (size_t)s * capacity, seen, ring, aux, table, counts + s, splats, clips);
   }
 }

@@ -25,9 +25,9 @@ constexpr std::size_t kScratchBudget = std::size_t{16} << 20;
 constexpr std::uint32_t kCpuBlock = 16;
 
 std::string build_options(const Runtime& runtime, const FitOptions& options) {
-  std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DCLIP={} -DON_HULL_BIT={}u -DMAX_COVERED={}u -DSIZE_AT_ACCEPTED={}",
+  std::string text = fmt::format("-DLITERAL_LAMBDA={} -DRETEST_VIOLATOR={} -DCLIP={} -DON_HULL_BIT={}u -DSIZE_AT_ACCEPTED={}",
                                  options.literal_lambda ? 1 : 0, options.retest_violator ? 1 : 0, options.clip ? 1 : 0, kOnHullBit,
-                                 options.max_covered, options.size_at_accepted ? 1 : 0);
+                                 options.size_at_accepted ? 1 : 0);
   // The reference's std::sqrt and division are correctly rounded; ask the device for the same.
   const cl_device_fp_config config = runtime.device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>();
   if (config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) text += " -cl-fp32-correctly-rounded-divide-sqrt";
@@ -140,7 +140,7 @@ FitResult fit_splats(Runtime& runtime, const Samples& samples, const Neighborhoo
         queue.enqueueWriteBuffer(items, CL_FALSE, 0, count * sizeof(std::uint32_t), pending.data() + begin);
         queue.enqueueFillBuffer(next_block, std::uint32_t{0}, 0, sizeof(std::uint32_t));
         set_args(grow, positions, normals, colors, neighbor_buffer, k, frame_buffer, crease_cosine(options.crease_degrees), options.eps,
-                 static_cast<cl_int>(options.color_tolerance), items, static_cast<cl_uint>(count), capacity,
+                 static_cast<cl_int>(options.color_tolerance), static_cast<cl_uint>(options.max_covered), items, static_cast<cl_uint>(count), capacity,
                  static_cast<cl_uint>(seen_capacity), static_cast<cl_uint>(hash_size - 1),
                  static_cast<cl_uint>(cpu_shape ? kCpuBlock : 0), next_block, q_slots, seen_slots, ring_slots,
                  aux_slots, hash_slots, counts, splat_buffer, clip_buffer);
