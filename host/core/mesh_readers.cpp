@@ -87,6 +87,15 @@ std::string lower_extension(const std::string& path) {
 
 bool known_mesh_extension(const std::string& ext) { return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl"; }
 
+// A keyword of a text format, in any case: some exporters write ASCII STL as "SOLID ... FACET NORMAL".
+bool is_keyword(std::string_view token, std::string_view word) {
+  return token.size() == word.size() &&
+         std::equal(token.begin(), token.end(), word.begin(), [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
+// A UTF-8 byte-order mark some editors put before a text file's first line.
+constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+
 std::string plural(std::uint64_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
 
 // Three coordinates from tokens[first, first + 3): counted as unreadable or non-finite into `raw`.
@@ -651,8 +660,10 @@ class StlVertices {
 RawMesh read_stl(const std::string& path, std::string_view text) {
   RawMesh raw;
   StlVertices vertices(raw);
-  const std::size_t first = std::min(text.find_first_not_of(" \t\r\n"), text.size());
-  const bool ascii_start = text.substr(first, 5) == "solid";
+  // A binary STL's 80-byte header may start with anything, so the byte-order mark is skipped for the text form only.
+  const std::string_view ascii = text.starts_with(kUtf8Bom) ? text.substr(kUtf8Bom.size()) : text;
+  const std::size_t first = std::min(ascii.find_first_not_of(" \t\r\n"), ascii.size());
+  const bool ascii_start = is_keyword(ascii.substr(first, 5), "solid");
   if (text.size() >= 84) {
     std::uint32_t triangles = 0;
     std::memcpy(&triangles, text.data() + 80, 4);
@@ -680,18 +691,18 @@ RawMesh read_stl(const std::string& path, std::string_view text) {
   }
   if (!ascii_start) refuse(path, "not an STL file (neither 'solid' text nor a binary triangle count)");
   std::vector<std::string_view> tokens;
-  split(text, tokens);
+  split(ascii, tokens);
   bool in_facet = false;
   for (std::size_t i = 0; i < tokens.size(); ++i) {
-    if (tokens[i] == "facet") {
+    if (is_keyword(tokens[i], "facet")) {
       in_facet = true;
-    } else if (tokens[i] == "vertex" && in_facet) {
+    } else if (is_keyword(tokens[i], "vertex") && in_facet) {
       double c[3] = {0, 0, 0};
       bool readable = i + 3 < tokens.size();
       for (int k = 0; readable && k < 3; ++k) readable = parse_number(tokens[i + 1 + static_cast<std::size_t>(k)], c[k]);
       vertices.corner(c, readable);
       i += 3;
-    } else if (tokens[i] == "endfacet" && in_facet) {
+    } else if (is_keyword(tokens[i], "endfacet") && in_facet) {
       in_facet = false;
       raw.end_face();
     }
@@ -862,10 +873,12 @@ RawMesh read_mesh_file(const std::string& path) {
 RawMesh parse_mesh_file(const std::string& path, std::string_view text) {
   const std::string ext = lower_extension(path);
   if (!known_mesh_extension(ext)) refuse(path, "not an OBJ, PLY, OFF or STL file (by its extension)");
+  if (ext == ".stl") return read_stl(path, text);
+  // Before, an OBJ's mark made its first vertex unreadable: every later index pointed one vertex off.
+  if (text.starts_with(kUtf8Bom)) text.remove_prefix(kUtf8Bom.size());
   if (ext == ".obj") return read_obj(path, text);
   if (ext == ".off") return read_off(path, text);
-  if (ext == ".ply") return read_ply(path, text);
-  return read_stl(path, text);
+  return read_ply(path, text);
 }
 
 }  // namespace splatcl::mesh_io

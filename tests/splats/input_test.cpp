@@ -52,6 +52,34 @@ TEST(MeshLoad, ReadsOffAndPlyAndStl) {
   EXPECT_EQ(load_mesh(stl).face_count(), 1u);
 }
 
+// Text files that start with a UTF-8 byte-order mark, and ASCII STL in upper case, read as without.
+// Before, an OBJ's mark made its first vertex line unreadable, so every later index pointed one
+// vertex off (a tangle of wrong triangles, self-check passing against it); OFF and PLY were
+// refused, and "SOLID ... FACET" was taken for a binary STL.
+TEST(MeshLoad, ByteOrderMarksAndUpperCaseStlReadAsPlainFiles) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 2 5\n";
+  const Mesh plain = load_mesh(temp_file("plain.obj", obj));
+  const Mesh marked = load_mesh(temp_file("bom.obj", bom + obj));
+  ASSERT_EQ(marked.face_count(), plain.face_count());
+  EXPECT_EQ(marked.vertices, plain.vertices);
+  EXPECT_EQ(marked.corners, plain.corners);
+  EXPECT_EQ(load_mesh(temp_file("bom.off", bom + "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")).face_count(), 1u);
+  EXPECT_EQ(load_mesh(temp_file("bom.ply", bom + "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"))
+                .face_count(),
+            1u);
+  const std::string stl = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
+                          "facet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+  std::string upper = stl;
+  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  EXPECT_EQ(load_mesh(temp_file("bom.stl", bom + stl)).face_count(), 2u);
+  const Mesh shouted = load_mesh(temp_file("upper.stl", upper));
+  EXPECT_EQ(shouted.face_count(), 2u);
+  EXPECT_EQ(shouted.vertices.size(), 4u);
+}
+
 TEST(MeshLoad, BadFilesGiveOneLineNamingTheFile) {
   expect_error_naming([] { load_mesh("/no/such/model.obj"); }, "/no/such/model.obj");
   const std::string garbage = temp_file("garbage.obj", "this is not a mesh\n");
