@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "io/checksum.hpp"
+#include "io/json_keys.hpp"
 #include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
@@ -170,6 +171,11 @@ void validate(const ModelParams& params) {
   if (params.want_csm) csm::validate(params.csm);
 }
 
+namespace {
+// The characters of an id's path segments.
+bool id_character(char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-'; }
+}  // namespace
+
 void check_model_id(const std::string& id) {
   auto fail = [&](const std::string& why) { throw Error(fmt::format("model id '{}' {}", id, why)); };
   if (id.empty()) fail("is empty");
@@ -178,8 +184,9 @@ void check_model_id(const std::string& id) {
     if (part.empty()) fail("has an empty path segment");
     if (part.front() == '.') fail("has a segment starting with '.'");
     for (const char ch : part)
-      if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-'))
-        fail(fmt::format("has the character '{}' (use letters, digits, '.', '_', '-' and '/')", ch));
+      if (!id_character(ch))
+        fail(fmt::format("has the character '{}' (use letters, digits, '.', '_', '-' and '/')",
+                         static_cast<unsigned char>(ch) < 0x80 ? printable(std::string(1, ch)) : fmt::format("\\x{:02X}", static_cast<unsigned char>(ch))));
   }
   if (id.back() == '/') fail("ends with '/'");
 }
@@ -187,8 +194,25 @@ void check_model_id(const std::string& id) {
 std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::string& name, const std::string& folder,
                                             const nlohmann::json& overrides, const ModelParams& base) {
   nlohmann::json doc;
+  // nlohmann keeps the last of two equal keys in an object: a key given twice, or a parameter under
+  // two spellings (eps_diag, eps-diag), is refused instead of one value winning silently.
+  std::vector<std::vector<std::string>> open_objects;  // the keys so far of each object being read
+  const auto no_duplicate_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::object_start) open_objects.emplace_back();
+    if (event == nlohmann::json::parse_event_t::object_end && !open_objects.empty()) open_objects.pop_back();
+    if (event == nlohmann::json::parse_event_t::key && !open_objects.empty()) {
+      const std::string key = parsed.get<std::string>();
+      for (const std::string& earlier : open_objects.back())
+        if (parameter_key(earlier) == parameter_key(key))
+          throw Error(earlier == key ? fmt::format("{}: key '{}' appears twice in one object", name, printable(key))
+                                     : fmt::format("{}: keys '{}' and '{}' in one object name the same parameter", name, printable(earlier),
+                                                   printable(key)));
+      open_objects.back().push_back(key);
+    }
+    return true;
+  };
   try {
-    doc = nlohmann::json::parse(text);
+    doc = nlohmann::json::parse(text, no_duplicate_keys);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number beyond double
     std::string what = e.what();
     if (const auto at = what.find("] "); what.rfind("[json.exception", 0) == 0 && at != std::string::npos) what = what.substr(at + 2);
@@ -275,7 +299,11 @@ std::vector<ModelEntry> parse_csv_manifest(const std::string& text, const std::s
         else if (column != "id" &&
                  std::find(parameter_keys().begin(), parameter_keys().end(), parameter_key(column)) == parameter_keys().end())
           throw Error(fmt::format("{}: unknown column '{}' (known: id, path, {})", where, column, joined(parameter_keys())));
-        if (std::count(header.begin(), header.end(), column) > 1) throw Error(fmt::format("{}: column '{}' appears twice", where, column));
+        // eps_diag and eps-diag name one parameter: the later column used to win silently.
+        for (std::size_t j = 0; j < i; ++j)
+          if (parameter_key(header[j]) == parameter_key(column))
+            throw Error(header[j] == column ? fmt::format("{}: column '{}' appears twice", where, column)
+                                            : fmt::format("{}: columns '{}' and '{}' name the same parameter", where, header[j], column));
       }
       if (!has_path) throw Error(where + ": the header has no 'path' column");
       continue;
@@ -339,9 +367,15 @@ std::vector<ModelEntry> scan_directory(const std::string& folder, const std::str
     }
     const std::string extension = lower(p.extension().string());
     if (hidden || (extension != ".obj" && extension != ".ply" && extension != ".off" && extension != ".stl")) continue;
+    // A FIFO or device named like a mesh is no mesh: reading one waited forever, holding the locks.
+    if (!it->is_regular_file(ec)) continue;
     ModelEntry entry;
     entry.input = p.lexically_normal().string();
+    // A file name's other characters (a space, an accent's bytes) become '_' in its id: "Chair 01.obj"
+    // refused the whole directory run.
     entry.id = fs::path(p.lexically_relative(folder)).replace_extension().generic_string();
+    for (char& ch : entry.id)
+      if (ch != '/' && !id_character(ch)) ch = '_';
     entry.origin = entry.input;
     entry.params = defaults;
     models.push_back(checked_entry(std::move(entry)));

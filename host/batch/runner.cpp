@@ -240,7 +240,12 @@ class Worker {
     std::optional<Mesh> oriented;
     const auto splat_mesh = [&]() -> const Mesh& {
       if (splats::winding(entry.params.splats) == Winding::AsGiven || !mesh.problems.winding_disagrees()) return mesh;
-      if (!oriented) oriented = load_mesh(entry.input, Winding::Orient);
+      if (!oriented) {
+        oriented = load_mesh(entry.input, Winding::Orient);
+        // What splatcl splats reports ("N faces turned ... face outward"): the as-given "faces point
+        // inward" read as if the splats faced in.
+        r.warning = oriented->problems.summary();
+      }
       return *oriented;
     };
     for (const auto& p : pending) {
@@ -397,6 +402,17 @@ void check_run_paths(const std::string& input, bool input_is_directory, const st
   for (const auto& m : all_models) inputs.emplace(comparable_path(m.input), &m);
   if (const auto it = inputs.find(sum); it != inputs.end())
     throw Error("batch: --summary " + summary + " is the input of model '" + it->second->id + "' (" + it->second->origin + ")");
+  // Written over, the lock file would let a second run build the models this one holds.
+  if (sum == comparable_path((fs::path(output_dir) / kLockFileName).string()))
+    throw Error("batch: --summary " + summary + " is the output directory's lock file");
+  std::map<fs::path, std::pair<std::string, const ModelEntry*>> targets;  // every output: its name and model
+  for (const auto& m : all_models)
+    for (const std::string& name : output_names(m.id)) targets.emplace(comparable_path((fs::path(output_dir) / name).string()), std::pair{name, &m});
+  for (const auto& [target, owner] : targets)
+    for (fs::path folder = target.parent_path(); path_within(folder, out) && folder != out; folder = folder.parent_path())
+      if (const auto it = targets.find(folder); it != targets.end())
+        throw Error("batch: the output " + owner.first + " of model '" + owner.second->id + "' lies in " + it->second.first +
+                    ", the output of model '" + it->second.second->id + "'");
   for (const auto& m : all_models)
     for (const std::string& name : output_names(m.id)) {
       const fs::path target = comparable_path((fs::path(output_dir) / name).string());
@@ -416,7 +432,7 @@ void prepare_output_directory(const std::string& output_dir) {
 
 std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir,
                                       const std::string& summary_path) {
-  auto locks = std::make_unique<KeyLocks>((fs::path(output_dir) / ".splatcl-batch.lock").string());
+  auto locks = std::make_unique<KeyLocks>((fs::path(output_dir) / kLockFileName).string());
   for (const auto& m : models) {
     const pid_t holder = locks->try_lock(m.id);
     if (holder != 0)

@@ -92,6 +92,9 @@ void prepare_output_directory(const std::string& output_dir);
 std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir,
                                       const std::string& summary_path);
 
+// The per-model locks' file in the output directory.
+inline constexpr const char* kLockFileName = ".splatcl-batch.lock";
+
 // Output file names of a model, relative to the output directory.
 std::string record_name(const std::string& id);  // ID.batch.json
 std::string splats_name(const std::string& id);  // ID.splats.ply (+ ID.splats.json)

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "batch/manifest.hpp"
 #include "batch/runner.hpp"
@@ -38,7 +39,7 @@ struct BatchCommand {
   // Parameter options (the splat and CSM build parameters): kept as given and validated by the
   // manifest's own rules, as the command-line layer of every model's parameters.
   std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();
-  std::string outputs;
+  std::optional<std::string> outputs;  // given empty, it is refused as "outputs": [] is (it built both)
 };
 
 struct MergeCommand {
@@ -56,10 +57,10 @@ std::string bar(std::size_t done, std::size_t total) {
 nlohmann::json overrides_of(const BatchCommand& c) {
   nlohmann::json overrides = nlohmann::json::object();
   for (const auto& [option, value] : *c.given) overrides[parameter_key(option)] = value;
-  if (!c.outputs.empty()) {
+  if (c.outputs) {
     nlohmann::json names = nlohmann::json::array();
     std::string name;
-    for (const char ch : c.outputs + ",") {
+    for (const char ch : *c.outputs + ",") {
       if (ch != ',') {
         name += ch;
       } else if (!name.empty()) {

@@ -144,11 +144,78 @@ std::vector<double> face_volumes(const std::vector<Vec3>& positions, const Faces
   return volume;
 }
 
+// Whether the ray from p along a fixed oblique direction crosses the faces `part` lists an odd
+// number of times (fan triangles, in double): p inside that closed surface.
+bool inside_closed_part(const std::vector<Vec3>& positions, const Faces& faces, const std::vector<std::uint32_t>& part, const D3& p) {
+  const D3 dir{0.5773502691896258, 0.5773502691896257 + 1e-7, 0.5773502691896258 - 2e-7};
+  int crossings = 0;
+  for (const std::uint32_t f : part) {
+    const std::uint32_t begin = faces.offsets[f], end = faces.offsets[f + 1];
+    const D3 a = to_double(positions[faces.corners[begin]]);
+    for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
+      const D3 e1 = sub(to_double(positions[faces.corners[c]]), a), e2 = sub(to_double(positions[faces.corners[c + 1]]), a);
+      const D3 h = cross3(dir, e2);
+      const double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+      if (det == 0) continue;
+      const D3 s = sub(p, a);
+      const double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
+      if (u < 0 || u > 1) continue;
+      const D3 q = cross3(s, e1);
+      const double v = (dir[0] * q[0] + dir[1] * q[1] + dir[2] * q[2]) / det;
+      if (v < 0 || u + v > 1) continue;
+      if ((e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det > 0) ++crossings;
+    }
+  }
+  return crossings % 2 == 1;
+}
+
+// Of the closed parts (each a list of faces wound consistently), those that enclose negative volume
+// yet lie inside no other closed part: none of them can be a cavity's wall, so each faces inward.
+// A part counts as inside another when two of three of its corners are (ray parity), so that a ray
+// grazing an edge of the other part cannot decide alone.
+std::vector<std::size_t> outermost_inward_parts(const std::vector<Vec3>& positions, const Faces& faces, const std::vector<double>& volume,
+                                                const std::vector<std::vector<std::uint32_t>>& parts) {
+  std::vector<std::array<D3, 2>> box(parts.size(), {D3{INFINITY, INFINITY, INFINITY}, D3{-INFINITY, -INFINITY, -INFINITY}});
+  for (std::size_t id = 0; id < parts.size(); ++id)
+    for (const std::uint32_t f : parts[id])
+      for (std::uint32_t c = faces.offsets[f]; c < faces.offsets[f + 1]; ++c) {
+        const D3 q = to_double(positions[faces.corners[c]]);
+        for (int i = 0; i < 3; ++i) box[id][0][i] = std::min(box[id][0][i], q[i]), box[id][1][i] = std::max(box[id][1][i], q[i]);
+      }
+  const auto box_within = [&](std::size_t inner, std::size_t outer) {
+    for (int i = 0; i < 3; ++i)
+      if (box[inner][0][i] < box[outer][0][i] || box[inner][1][i] > box[outer][1][i]) return false;
+    return true;
+  };
+  std::vector<std::size_t> found;
+  for (std::size_t id = 0; id < parts.size(); ++id) {
+    const std::vector<std::uint32_t>& own = parts[id];
+    double sum = 0, magnitude = 0;
+    for (const std::uint32_t f : own) sum += volume[f], magnitude += std::fabs(volume[f]);
+    if (own.empty() || !(sum < 0 && -sum > 1e-6 * magnitude)) continue;
+    const std::uint32_t voters[3] = {faces.corners[faces.offsets[own.front()]], faces.corners[faces.offsets[own[own.size() / 2]]],
+                                     faces.corners[faces.offsets[own.back()] + 1]};
+    bool nested = false;
+    for (std::size_t other = 0; other < parts.size() && !nested; ++other) {
+      if (other == id || !box_within(id, other)) continue;
+      int inside = 0;
+      for (const std::uint32_t v : voters) inside += inside_closed_part(positions, faces, parts[other], to_double(positions[v])) ? 1 : 0;
+      nested = inside >= 2;
+    }
+    if (!nested) found.push_back(id);
+  }
+  return found;
+}
+
 // Faces turned (their corners reversed) so that each edge two faces share is used in opposite
 // directions, spread face to face across such edges from the first face of each connected part;
 // an open part keeps the winding most of its faces had in the file; then, if the closed parts
 // (every edge shared by exactly two faces) together enclose negative volume, each of them is
-// turned outward (their sum, so a shell that faces into a cavity inside an outward one stays).
+// turned outward (their sum, so a shell that faces into a cavity inside an outward one stays);
+// last, a closed part that still encloses negative volume but lies inside no other closed part
+// cannot be a cavity's wall and is turned outward (an inside-out part beside others: a mirrored
+// part of an assembly kept its inward faces while the sum was positive). A part inside another
+// keeps the file's side: a cavity, or parts that overlap.
 // Returns how many faces end up turned.
 std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   const std::size_t n = faces.count();
@@ -217,16 +284,26 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   for (std::uint32_t f = 0; f < n; ++f)
     if (turn[f]) reverse(f);
   // Turning changes no edge's face count: a closed part stays closed.
-  const std::vector<double> volume = face_volumes(positions, faces);
+  std::vector<double> volume = face_volumes(positions, faces);
   double closed_volume = 0, closed_magnitude = 0;
   for (std::uint32_t f = 0; f < n; ++f)
     if (part_closed[part[f]]) closed_volume += volume[f], closed_magnitude += std::fabs(volume[f]);
-  if (closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude)
+  const bool all_inward = closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude;
+  if (all_inward)
     for (std::uint32_t f = 0; f < n; ++f)
       if (part_closed[part[f]]) {
         reverse(f);
         turn[f] ^= 1;
+        volume[f] = -volume[f];
       }
+  std::vector<std::vector<std::uint32_t>> closed_parts(part_turned.size());
+  for (std::uint32_t f = 0; f < n; ++f)
+    if (part_closed[part[f]]) closed_parts[part[f]].push_back(f);
+  for (const std::size_t id : outermost_inward_parts(positions, faces, volume, closed_parts))
+    for (const std::uint32_t f : closed_parts[id]) {
+      reverse(f);
+      turn[f] ^= 1;
+    }
   return static_cast<std::size_t>(std::count(turn.begin(), turn.end(), 1));
 }
 
@@ -400,9 +477,16 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   for (std::uint32_t f = 0; f < n; ++f)
     if (open[f]) open_component[components.find(f)] = 1;
   double closed_volume = 0, closed_magnitude = 0;
+  std::vector<std::vector<std::uint32_t>> closed_parts(n);  // by component root
   for (std::uint32_t f = 0; f < n; ++f)
-    if (!open_component[components.find(f)]) closed_volume += volume[f], closed_magnitude += std::fabs(volume[f]);
-  problems.inward = closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude;
+    if (!open_component[components.find(f)]) {
+      closed_volume += volume[f], closed_magnitude += std::fabs(volume[f]);
+      closed_parts[components.find(f)].push_back(f);
+    }
+  std::erase_if(closed_parts, [](const std::vector<std::uint32_t>& part) { return part.empty(); });
+  // The rule orient_faces turns by: all closed parts together, or one inside no other.
+  problems.inward = (closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude) ||
+                    (problems.inconsistent_edges == 0 && !outermost_inward_parts(positions, faces, volume, closed_parts).empty());
 }
 
 // OpenMesh's face-normal average, on a copy scaled by a power of two (exact) when the coordinates
@@ -538,7 +622,7 @@ std::string MeshProblems::summary() const {
   if (complex_faces > 0) parts.push_back(plural(complex_faces, "non-manifold or oppositely wound face", "non-manifold or oppositely wound faces") + " kept detached");
   if (inconsistent_edges > 0)
     parts.push_back(plural(inconsistent_edges, "edge", "edges") + " with inconsistent orientation (two faces use it in the same direction)");
-  if (inward) parts.push_back("faces point inward (the closed surface encloses negative volume)");
+  if (inward) parts.push_back("faces point inward (a closed surface encloses negative volume)");
   if (turned_faces > 0)
     parts.push_back(plural(turned_faces, "face", "faces") + " turned to agree with their neighbours' winding and face outward");
   std::string line;

@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
@@ -24,6 +25,10 @@ std::string checksum_hex(std::uint64_t checksum) { return fmt::format("{:016x}",
 std::string checksum_of(std::string_view bytes) { return checksum_hex(fnv1a64(bytes)); }
 
 std::string checksum_of_file(const std::string& path, std::uint64_t* bytes) {
+  // Opening a FIFO waits for a writer: refuse what is not a plain file before opening it.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw Error("cannot read " + path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read " + path + ": " + std::strerror(errno));
   std::vector<char> block(1 << 20);

@@ -29,7 +29,8 @@ namespace splatcl::splats {
 // every splat keeps to its colour (fill_gaps). 5: polygons whose fan triangles stand more than 30°
 // off their normal are loaded as their fan (core/mesh.cpp), so their samples take the triangles'
 // normals. 6: the thesis's method (thesis_only) caps growth at kCoveredBudget / samples when no cap is
-// given, so that flat faces stay linear.
+// given, so that flat faces stay linear; a UTF-8 byte-order mark no longer shifts an OBJ's indices;
+// an inside-out closed part that lies inside no other is turned outward (core/mesh.cpp).
 inline constexpr int kSplatMethodVersion = 6;
 
 struct PipelineOptions {

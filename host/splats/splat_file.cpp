@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -19,17 +20,25 @@ namespace {
 constexpr const char* kProperties[] = {"x", "y", "z", "nx", "ny", "nz", "ux", "uy", "uz", "vx", "vy", "vz", "major", "minor"};
 constexpr const char* kClipProperties[] = {"clip_x", "clip_y", "clip_offset"};
 
-// Comment values are single tokens; spaces in a path become %20.
+// Comment values are single tokens on one header line: a space, '%' and control characters in a
+// path are written %XX (a newline in a model's file name split the line, and the file was no PLY).
 std::string escape(const std::string& text) {
   std::string out;
-  for (const char c : text) c == ' ' ? out += "%20" : out += c;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte <= 0x20 || byte == 0x7F || c == '%')
+      out += fmt::format("%{:02X}", byte);
+    else
+      out += c;
+  }
   return out;
 }
 std::string unescape(const std::string& text) {
+  const auto hex = [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; };
   std::string out;
   for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text.compare(i, 3, "%20") == 0) {
-      out += ' ';
+    if (text[i] == '%' && i + 2 < text.size() && hex(text[i + 1]) && hex(text[i + 2])) {
+      out += static_cast<char>(std::stoi(text.substr(i + 1, 2), nullptr, 16));
       i += 2;
     } else {
       out += text[i];

@@ -140,6 +140,14 @@ TEST(Manifest, CsvErrorsNameFileAndLine) {
   EXPECT_EQ(error_of([] { csv("id,path,clip\nchair,a.obj,maybe\n"); }), "m.csv:2 (chair): 'clip' must be true or false, got 'maybe'");
   EXPECT_EQ(error_of([] { csv("path\n\"a.obj\n"); }), "m.csv:2: unterminated quote");
   EXPECT_EQ(error_of([] { csv("path,path\na.obj,b.obj\n"); }), "m.csv:1: column 'path' appears twice");
+  // Two spellings of one parameter (the later column won silently), and JSON keys given twice.
+  EXPECT_EQ(error_of([] { csv("path,eps_diag,eps-diag\na.obj,0.001,0.002\n"); }), "m.csv:1: columns 'eps_diag' and 'eps-diag' name the same parameter");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "eps-diag": 0.002, "eps_diag": 0.001}]})"); }),
+            "m.json: keys 'eps-diag' and 'eps_diag' in one object name the same parameter");
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "k": 8, "k": 12}]})"); }), "m.json: key 'k' appears twice in one object");
+  EXPECT_EQ(error_of([] { json(R"({"models": ["a.obj"], "models": ["b.obj"]})"); }), "m.json: key 'models' appears twice in one object");
+  // The same key in two objects is no duplicate.
+  EXPECT_EQ(json(R"({"defaults": {"k": 8}, "models": [{"path": "a.obj", "k": 12}, {"path": "b.obj", "k": 9}]})").size(), 2u);
   EXPECT_EQ(error_of([] { csv("# nothing\n"); }), "m.csv: empty (expected a header line with a 'path' column)");
   EXPECT_EQ(error_of([] { csv("path\n"); }), "m.csv: no models");
 }
@@ -191,6 +199,18 @@ TEST(Manifest, DirectoryScanFindsMeshesRecursivelySkippingHiddenAndOutput) {
   std::filesystem::create_directories(dir / "empty");
   write_text(dir / "empty/readme.txt", "x");
   EXPECT_EQ(error_of([&] { scan_directory(dir / "empty"); }), "no meshes (.obj, .ply, .off, .stl) in " + (dir / "empty"));
+}
+
+// File names with characters an id may not hold (a space, an accent) get '_' there; before, one
+// such file refused the whole directory run. A manifest's own ids are still checked, the byte named.
+TEST(Manifest, DirectoryScanTurnsOtherCharactersOfAFileNameIntoUnderscores) {
+  ScratchDir dir("manifest-scan-names");
+  for (const char* name : {"Chair 01.obj", "St\xC3\xBChle/a+b.stl"}) write_text(dir / name, "x");
+  std::vector<std::string> ids;
+  for (const auto& m : scan_directory(dir.path().string())) ids.push_back(m.id);
+  EXPECT_EQ(ids, (std::vector<std::string>{"Chair_01", "St__hle/a_b"}));
+  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "id": "St\u00fchle"}]})"); }),
+            "m.json: models[0] (St\xC3\xBChle): model id 'St\xC3\xBChle' has the character '\\xC3' (use letters, digits, '.', '_', '-' and '/')");
 }
 
 TEST(Manifest, UnknownParametersNameTheModelAndTheParameter) {

@@ -20,6 +20,9 @@ add_test(NAME cli.error_batch_bad_option COMMAND ${EXPECT_ERROR} "ok.csv:2 \\(a\
          $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --maps 1000)
 add_test(NAME cli.error_batch_bad_shard COMMAND ${EXPECT_ERROR} "bad shard '3/3': i must be below N"
          $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --shard 3/3)
+# --outputs "" is refused as "outputs": [] is (it built both outputs).
+add_test(NAME cli.error_batch_empty_outputs COMMAND ${EXPECT_ERROR} "'outputs' must name at least one of splats, csm"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --outputs "")
 add_test(NAME cli.error_batch_no_output COMMAND ${EXPECT_ERROR} "-o OUTDIR" $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv)
 add_test(NAME cli.error_batch_merge_not_summary COMMAND ${EXPECT_ERROR} "not-summary.json: not a splatcl batch summary"
          $<TARGET_FILE:splatcl> batch merge ${BATCH_DIR}/not-summary.json -o ${BATCH_DIR}/merged.json)

@@ -70,6 +70,27 @@ case $mode in
     "$expect_error" "batch: --summary $work/out/cube.splats.ply is the output cube.splats.ply of model 'cube'$" \
       "$splatcl" batch "$work/set.csv" -o "$work/out" --summary "$work/out/cube.splats.ply" || fail "not refused"
     [ -e "$work/out/cube.splats.ply" ] && fail "the model was built although the run was refused" ;;
+  batch-summary-is-lock)  # written over, the lock file no longer kept a second run off these models
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    "$expect_error" "batch: --summary $work/out/.splatcl-batch.lock is the output directory's lock file$" \
+      "$splatcl" batch "$work/set.csv" -o "$work/out" --summary "$work/out/.splatcl-batch.lock" || fail "not refused"
+    [ -e "$work/out/cube.splats.ply" ] && fail "the model was built although the run was refused" ;;
+  batch-output-in-output)  # model 'a' writes the file a.csm; 'a.csm/b' would need it as a folder (it failed at run time, every run)
+    printf '{"models": [{"path": "%s", "id": "a"}, {"path": "%s", "id": "a.csm/b"}]}' "$cube" "$cube" >"$work/set.json"
+    "$expect_error" "batch: the output a.csm/b.batch.json of model 'a.csm/b' lies in a.csm, the output of model 'a'$" \
+      "$splatcl" batch "$work/set.json" -o "$work/out" || fail "not refused"
+    [ -e "$work/out/a.csm" ] && fail "a model was built although the run was refused" ;;
+  batch-fifo-input)  # a FIFO named like a mesh: reading it waited forever for a writer
+    mkdir -p "$work/in"
+    cp "$cube" "$work/in/cube.obj"
+    mkfifo "$work/in/pipe.obj" || { echo "mkfifo failed: skipped"; exit 77; }
+    timeout 60 "$splatcl" batch "$work/in" -o "$work/out" --reference --maps 64 --res 16 >"$work/log" 2>&1 || fail "the directory run failed: $(cat "$work/log")"
+    [ -e "$work/out/cube.splats.ply" ] || fail "the mesh beside the FIFO was not built"
+    [ -e "$work/out/pipe.batch.json" ] && fail "the FIFO was taken as a model"
+    printf 'path\n%s\n' "$work/in/pipe.obj" >"$work/set.csv"
+    timeout 60 "$expect_error" "^splatcl: batch: 1 of 1 models failed" "$splatcl" batch "$work/set.csv" -o "$work/out2" --reference --maps 64 --res 16 \
+      || fail "a manifest naming the FIFO did not fail at once"
+    grep -q "not a regular file" "$work/out2/summary.json" || fail "the summary does not say why: $(cat "$work/out2/summary.json")" ;;
   batch-output-is-input | batch-output-inside-input | batch-output-contains-input)
     mkdir -p "$work/in/sub"
     cp "$cube" "$work/in/sub/cube.obj"

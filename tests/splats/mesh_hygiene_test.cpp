@@ -344,7 +344,7 @@ TEST(MeshHygiene, InsideOutClosedMeshIsWarned) {
   const Mesh inside_out = make_mesh(v, inward, "inside-out cube");
   EXPECT_TRUE(inside_out.problems.inward);
   EXPECT_EQ(inside_out.problems.inconsistent_edges, 0u);
-  EXPECT_EQ(inside_out.problems.summary(), "faces point inward (the closed surface encloses negative volume)");
+  EXPECT_EQ(inside_out.problems.summary(), "faces point inward (a closed surface encloses negative volume)");
   // Far from the origin and at any scale, the same.
   std::vector<Vec3> far = v;
   for (Vec3& p : far) p = 1e30f * p + Vec3{3e30f, -2e30f, 1e30f};
@@ -441,6 +441,68 @@ TEST(MeshHygiene, OrientTurnsFacesToAgreeAndFaceOutward) {
   EXPECT_EQ(mixed.problems.turned_faces, reversed);
   clean_after(mixed.problems);
   EXPECT_TRUE(all_outward(mixed, {1e4f, -2e4f, 3e4f}));
+}
+
+// A closed part that lies inside no other closed part faces outward, whatever the others enclose:
+// an inside-out cube beside a larger outward one kept its inward faces (their volumes summed
+// positive), so its splats faced into it. One inside another keeps the file's side (a cavity, or
+// parts that overlap), and a hollow shell turned inside out as a whole is turned as a whole.
+TEST(MeshHygiene, OrientTurnsAnInsideOutPartThatLiesInsideNoOther) {
+  const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const std::vector<std::vector<std::uint32_t>> outward{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  // Cube `scale` · v + offset, facing out or in, appended.
+  const auto add_cube = [&](std::vector<Vec3>& vertices, std::vector<std::vector<std::uint32_t>>& faces, float scale, Vec3 offset,
+                            bool inside_out) {
+    const auto base = static_cast<std::uint32_t>(vertices.size());
+    for (const Vec3& p : v) vertices.push_back(scale * p + offset);
+    for (auto f : outward) {
+      if (inside_out) std::reverse(f.begin(), f.end());
+      for (auto& i : f) i += base;
+      faces.push_back(f);
+    }
+  };
+  // Whether each face of cube `cube` (6 faces each, in order) points away from that cube's centre.
+  const auto faces_out = [](const Mesh& mesh, std::size_t cube, Vec3 centre) {
+    for (std::size_t f = 6 * cube; f < 6 * cube + 6; ++f) {
+      const std::vector<Vec3> p = face_positions(mesh, f);
+      if (!(dot(face_normal(mesh, f), p[0] + p[2] - 2.0f * centre) > 0)) return false;
+    }
+    return true;
+  };
+  const auto load = [&](const char* name, const std::vector<Vec3>& vertices, const std::vector<std::vector<std::uint32_t>>& faces) {
+    return load_mesh(temp_file(name, obj_text(vertices, faces)), Winding::Orient);
+  };
+  {  // beside: the small one is turned
+    std::vector<Vec3> vertices;
+    std::vector<std::vector<std::uint32_t>> faces;
+    add_cube(vertices, faces, 2, {0, 0, 0}, false);
+    add_cube(vertices, faces, 1, {5, 0, 0}, true);
+    const Mesh mesh = load("orient-beside.obj", vertices, faces);
+    // Loaded as given it is warned, by the same rule (batch orients the faces only when warned).
+    EXPECT_TRUE(make_mesh(vertices, faces, "beside").problems.inward);
+    EXPECT_EQ(mesh.problems.turned_faces, 6u);
+    EXPECT_TRUE(faces_out(mesh, 0, {1, 1, 1}));
+    EXPECT_TRUE(faces_out(mesh, 1, {5.5f, 0.5f, 0.5f}));
+  }
+  {  // inside: a cavity's wall, kept facing into the cavity
+    std::vector<Vec3> vertices;
+    std::vector<std::vector<std::uint32_t>> faces;
+    add_cube(vertices, faces, 4, {0, 0, 0}, false);
+    add_cube(vertices, faces, 1, {1.3f, 1.2f, 1.1f}, true);
+    const Mesh mesh = load("orient-cavity.obj", vertices, faces);
+    EXPECT_FALSE(make_mesh(vertices, faces, "cavity").problems.any());
+    EXPECT_EQ(mesh.problems.turned_faces, 0u);
+    EXPECT_FALSE(faces_out(mesh, 1, {1.8f, 1.7f, 1.6f}));
+  }
+  {  // the hollow cube inside out as a whole: both shells turned, the cavity's wall faces into it again
+    const auto [hollow, shell] = hollow_cube(v, outward);
+    auto reversed = shell;
+    for (auto& f : reversed) std::reverse(f.begin(), f.end());
+    const Mesh mesh = load("orient-hollow-inverted.obj", hollow, reversed);
+    EXPECT_EQ(mesh.problems.turned_faces, 12u);
+    EXPECT_TRUE(faces_out(mesh, 0, {0.5f, 0.5f, 0.5f}));
+    EXPECT_FALSE(faces_out(mesh, 1, {0.5f, 0.5f, 0.5f}));
+  }
 }
 
 // Polygons every consumer fans from their first corner: a concave one is split by ear clipping, so

@@ -173,6 +173,13 @@ TEST(SplatFile, RoundTripAndCorruption) {
   EXPECT_EQ(file.splats[2].center.x, 2.0f);
   EXPECT_EQ(file.splats[2].minor.y, 0.25f);
   EXPECT_TRUE(file.splats[1].color == (Rgba8{10, 2, 3, 255}));
+  // A model whose file name holds a newline, a tab, a '%' and spaces: one header line, read back
+  // as it was (the newline split the comment line, and the file was no longer a PLY).
+  SplatFileInfo odd = info;
+  odd.model = "bad\nname\t100% of it.obj";
+  const std::string odd_path = temp_path("odd-name.ply");
+  write_splat_file(odd_path, splats, odd);
+  EXPECT_EQ(read_splat_file(odd_path).info.model, odd.model);
 
   std::string bytes;
   {
