@@ -226,15 +226,19 @@ class Worker {
     if (entry.params.want_splats) consider("splats", splats::to_json(entry.params.splats));
     if (entry.params.want_csm) consider("csm", csm::to_json(entry.params.csm));
     // What loading found wrong with the mesh, kept in the record for runs that reuse every output.
+    bool warning_recorded = false;
     if (record) {
       const auto checksum = record->find("input_checksum"), warning = record->find("warning");
-      if (checksum != record->end() && *checksum == r.input_checksum && warning != record->end() && warning->is_string()) r.warning = *warning;
+      if (checksum != record->end() && *checksum == r.input_checksum && warning != record->end() && warning->is_string())
+        r.warning = *warning, warning_recorded = true;
     }
     if (pending.empty()) return;
 
     report_(entry.id + ": loading");
     const Mesh mesh = load_mesh(entry.input);
-    r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
+    // The recorded one is of these bytes and says what the (reused) splats got; a rebuild of the
+    // splats says it again below.
+    if (!warning_recorded) r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
     // The splats take the faces oriented (unless keep_winding), as splatcl splats does; the CSM
     // capture takes them as given. A second load only when orienting would turn a face.
     std::optional<Mesh> oriented;

@@ -329,9 +329,10 @@ void run_model(Session& session, const BenchModel& model, const ScratchFile& scr
   measure_two_sided(session, model, path, [&] { return load_mesh(path); }, scratch);
 }
 
-// The flat grid, two-sided end to end only. The thesis's rows are left out: without a growth cap every
-// splat on a plane grows over the whole grid (`splatcl splats GRID --thesis-only --samples vertices`:
-// 15–43 s and 1.4 GiB for one run on 2 cores, docs/results/splats.md, "Cost of the two-sided bound").
+// The flat grid, two-sided end to end only. The thesis's rows are left out: its growth is capped only
+// by the sets' memory (2^26 / samples), so every splat on a plane grows over most of the grid
+// (`splatcl splats GRID --thesis-only --samples vertices`: 14.7 s and 1.0 GiB for one run on 2 cores,
+// docs/results/splats.md, "Cost of the two-sided bound").
 void run_flat_grid(Session& session, const ScratchFile& scratch) {
   const std::size_t side = flat_grid_side(session);
   measure_two_sided(session, kFlatGrid, fmt::format("{} (generated, {}x{} vertices)", kFlatGrid.name, side, side),

@@ -144,78 +144,166 @@ std::vector<double> face_volumes(const std::vector<Vec3>& positions, const Faces
   return volume;
 }
 
-// Whether the ray from p along a fixed oblique direction crosses the faces `part` lists an odd
-// number of times (fan triangles, in double): p inside that closed surface.
-bool inside_closed_part(const std::vector<Vec3>& positions, const Faces& faces, const std::vector<std::uint32_t>& part, const D3& p) {
-  const D3 dir{0.5773502691896258, 0.5773502691896257 + 1e-7, 0.5773502691896258 - 2e-7};
-  int crossings = 0;
-  for (const std::uint32_t f : part) {
-    const std::uint32_t begin = faces.offsets[f], end = faces.offsets[f + 1];
-    const D3 a = to_double(positions[faces.corners[begin]]);
-    for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
-      const D3 e1 = sub(to_double(positions[faces.corners[c]]), a), e2 = sub(to_double(positions[faces.corners[c + 1]]), a);
-      const D3 h = cross3(dir, e2);
-      const double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
-      if (det == 0) continue;
-      const D3 s = sub(p, a);
-      const double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
-      if (u < 0 || u > 1) continue;
-      const D3 q = cross3(s, e1);
-      const double v = (dir[0] * q[0] + dir[1] * q[1] + dir[2] * q[2]) / det;
-      if (v < 0 || u + v > 1) continue;
-      if ((e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det > 0) ++crossings;
-    }
-  }
-  return crossings % 2 == 1;
+double dot3(const D3& a, const D3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+D3 unit3(const D3& a) {
+  const double length = std::sqrt(dot3(a, a));
+  return {a[0] / length, a[1] / length, a[2] / length};
 }
 
-// Of the closed parts (each a list of faces wound consistently), those that enclose negative volume
-// yet lie inside no other closed part: none of them can be a cavity's wall, so each faces inward.
-// A part counts as inside another when two of three of its corners are (ray parity), so that a ray
-// grazing an edge of the other part cannot decide alone.
-std::vector<std::size_t> outermost_inward_parts(const std::vector<Vec3>& positions, const Faces& faces, const std::vector<double>& volume,
-                                                const std::vector<std::vector<std::uint32_t>>& parts) {
-  std::vector<std::array<D3, 2>> box(parts.size(), {D3{INFINITY, INFINITY, INFINITY}, D3{-INFINITY, -INFINITY, -INFINITY}});
-  for (std::size_t id = 0; id < parts.size(); ++id)
-    for (const std::uint32_t f : parts[id])
+// The parity rays' direction, oblique to the axes and their diagonals (CAD meshes are full of
+// both), and a basis of the plane across it.
+struct ParityFrame {
+  D3 dir, u, v;
+};
+const ParityFrame& parity_frame() {
+  static const ParityFrame frame = [] {
+    const D3 dir = unit3({0.3713906763541037, 0.5570860145311556, 0.7427813527082074});
+    const D3 u = unit3(cross3(dir, {1, 0, 0}));
+    return ParityFrame{dir, u, cross3(dir, u)};
+  }();
+  return frame;
+}
+
+// A closed part's fan triangles, bucketed by their projection along one oblique direction, so that
+// the parity of the ray from a point along it tests only the triangles over that point.
+class ParityIndex {
+ public:
+  ParityIndex(const std::vector<Vec3>& positions, const Faces& faces, const std::vector<std::uint32_t>& part) {
+    for (const std::uint32_t f : part)
+      for (std::uint32_t c = faces.offsets[f] + 1; c + 1 < faces.offsets[f + 1]; ++c)
+        triangles_.push_back({to_double(positions[faces.corners[faces.offsets[f]]]), to_double(positions[faces.corners[c]]),
+                              to_double(positions[faces.corners[c + 1]])});
+    for (const auto& t : triangles_)
+      for (const D3& q : t) {
+        const double uv[2] = {dot3(q, frame_.u), dot3(q, frame_.v)};
+        for (int i = 0; i < 2; ++i) lo_[i] = std::min(lo_[i], uv[i]), hi_[i] = std::max(hi_[i], uv[i]);
+      }
+    side_ = std::clamp<std::size_t>(static_cast<std::size_t>(std::sqrt(static_cast<double>(triangles_.size()))), 1, 1024);
+    cells_.resize(side_ * side_);
+    for (std::size_t t = 0; t < triangles_.size(); ++t) {
+      double tlo[2] = {INFINITY, INFINITY}, thi[2] = {-INFINITY, -INFINITY};
+      for (const D3& q : triangles_[t]) {
+        const double uv[2] = {dot3(q, frame_.u), dot3(q, frame_.v)};
+        for (int i = 0; i < 2; ++i) tlo[i] = std::min(tlo[i], uv[i]), thi[i] = std::max(thi[i], uv[i]);
+      }
+      // A hair wider, so that rounding in the projections cannot put a crossing's point in the next cell.
+      for (int i = 0; i < 2; ++i) {
+        const double pad = 1e-9 * (hi_[i] - lo_[i]);
+        tlo[i] -= pad, thi[i] += pad;
+      }
+      for (std::size_t y = cell(tlo[1], 1); y <= cell(thi[1], 1); ++y)
+        for (std::size_t x = cell(tlo[0], 0); x <= cell(thi[0], 0); ++x) cells_[y * side_ + x].push_back(static_cast<std::uint32_t>(t));
+    }
+  }
+  // Whether the ray from p along kDir crosses the part an odd number of times: p inside it.
+  bool contains(const D3& p) const {
+    const double u = dot3(p, frame_.u), v = dot3(p, frame_.v);
+    if (!(u >= lo_[0] && u <= hi_[0] && v >= lo_[1] && v <= hi_[1])) return false;
+    int crossings = 0;
+    for (const std::uint32_t t : cells_[cell(v, 1) * side_ + cell(u, 0)]) {
+      const auto& [a, b, c] = triangles_[t];
+      const D3 e1 = sub(b, a), e2 = sub(c, a), h = cross3(frame_.dir, e2);
+      const double det = dot3(e1, h);
+      if (det == 0) continue;
+      const D3 s = sub(p, a), q = cross3(s, e1);
+      const double bu = dot3(s, h) / det, bv = dot3(frame_.dir, q) / det;
+      if (bu < 0 || bv < 0 || bu + bv > 1) continue;
+      if (dot3(e2, q) / det > 0) ++crossings;
+    }
+    return crossings % 2 == 1;
+  }
+
+ private:
+  const ParityFrame& frame_ = parity_frame();
+  std::size_t cell(double value, int axis) const {
+    const double extent = hi_[axis] - lo_[axis];
+    if (!(extent > 0)) return 0;
+    return std::min(side_ - 1, static_cast<std::size_t>(std::max(0.0, (value - lo_[axis]) / extent * static_cast<double>(side_))));
+  }
+  std::vector<std::array<D3, 3>> triangles_;
+  double lo_[2] = {INFINITY, INFINITY}, hi_[2] = {-INFINITY, -INFINITY};
+  std::size_t side_ = 1;
+  std::vector<std::vector<std::uint32_t>> cells_;
+};
+
+// Which closed parts (each a list of consistently wound faces, with its faces' volumes) to turn:
+// each that encloses negative volume yet lies in no other closed part (an inside-out part, or the
+// outer shell of an inside-out nest), together with every part that lies in it, so that a cavity
+// inside it keeps facing into the cavity. A part that lies in another and is not turned with it
+// keeps the file's side: a cavity's wall, or parts that overlap. P lies in Q when two of three
+// points just inside P, beside three of its faces, are inside Q (ray parity): points on P's own
+// surface decided nothing where a cavity touched the outer wall.
+std::vector<std::uint8_t> parts_to_turn(const std::vector<Vec3>& positions, const Faces& faces, const std::vector<double>& volume,
+                                        const std::vector<std::vector<std::uint32_t>>& parts) {
+  const std::size_t count = parts.size();
+  std::vector<double> part_volume(count, 0), magnitude(count, 0);
+  std::vector<std::array<D3, 2>> box(count, {D3{INFINITY, INFINITY, INFINITY}, D3{-INFINITY, -INFINITY, -INFINITY}});
+  for (std::size_t id = 0; id < count; ++id)
+    for (const std::uint32_t f : parts[id]) {
+      part_volume[id] += volume[f], magnitude[id] += std::fabs(volume[f]);
       for (std::uint32_t c = faces.offsets[f]; c < faces.offsets[f + 1]; ++c) {
         const D3 q = to_double(positions[faces.corners[c]]);
         for (int i = 0; i < 3; ++i) box[id][0][i] = std::min(box[id][0][i], q[i]), box[id][1][i] = std::max(box[id][1][i], q[i]);
       }
+    }
+  const auto inverted = [&](std::size_t id) { return part_volume[id] < 0 && -part_volume[id] > 1e-6 * magnitude[id]; };
+  std::vector<std::uint8_t> turn(count, 0);
+  bool any_inverted = false;
+  for (std::size_t id = 0; id < count; ++id) any_inverted = any_inverted || inverted(id);
+  if (!any_inverted) return turn;
   const auto box_within = [&](std::size_t inner, std::size_t outer) {
     for (int i = 0; i < 3; ++i)
       if (box[inner][0][i] < box[outer][0][i] || box[inner][1][i] > box[outer][1][i]) return false;
     return true;
   };
-  std::vector<std::size_t> found;
-  for (std::size_t id = 0; id < parts.size(); ++id) {
+  // Three points just inside each part (on the side its volume's sign puts inside), beside faces
+  // spread over its list; fewer where its faces have no area.
+  const auto voters = [&](std::size_t id) {
+    std::vector<D3> points;
     const std::vector<std::uint32_t>& own = parts[id];
-    double sum = 0, magnitude = 0;
-    for (const std::uint32_t f : own) sum += volume[f], magnitude += std::fabs(volume[f]);
-    if (own.empty() || !(sum < 0 && -sum > 1e-6 * magnitude)) continue;
-    const std::uint32_t voters[3] = {faces.corners[faces.offsets[own.front()]], faces.corners[faces.offsets[own[own.size() / 2]]],
-                                     faces.corners[faces.offsets[own.back()] + 1]};
+    const double inward = part_volume[id] >= 0 ? -1.0 : 1.0;
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t i = k * own.size() / 3; i < own.size(); ++i) {
+        const std::uint32_t f = own[i], begin = faces.offsets[f];
+        const D3 a = to_double(positions[faces.corners[begin]]), b = to_double(positions[faces.corners[begin + 1]]),
+                 c = to_double(positions[faces.corners[begin + 2]]);
+        const D3 n = cross3(sub(b, a), sub(c, a));
+        const double length = std::sqrt(dot3(n, n));
+        if (!(length > 0)) continue;
+        const double offset = inward * 1e-3 * std::sqrt(length / 2) / length;
+        points.push_back({(a[0] + b[0] + c[0]) / 3 + offset * n[0], (a[1] + b[1] + c[1]) / 3 + offset * n[1], (a[2] + b[2] + c[2]) / 3 + offset * n[2]});
+        break;
+      }
+    return points;
+  };
+  std::vector<std::optional<ParityIndex>> index(count);
+  const auto lies_in = [&](std::size_t inner, std::size_t outer) {
+    if (inner == outer || !box_within(inner, outer)) return false;
+    if (!index[outer]) index[outer].emplace(positions, faces, parts[outer]);
+    const std::vector<D3> points = voters(inner);
+    std::size_t inside = 0;
+    for (const D3& p : points) inside += index[outer]->contains(p) ? 1 : 0;
+    return 2 * inside > points.size();
+  };
+  for (std::size_t id = 0; id < count; ++id) {
+    if (!inverted(id)) continue;
     bool nested = false;
-    for (std::size_t other = 0; other < parts.size() && !nested; ++other) {
-      if (other == id || !box_within(id, other)) continue;
-      int inside = 0;
-      for (const std::uint32_t v : voters) inside += inside_closed_part(positions, faces, parts[other], to_double(positions[v])) ? 1 : 0;
-      nested = inside >= 2;
-    }
-    if (!nested) found.push_back(id);
+    for (std::size_t other = 0; other < count && !nested; ++other) nested = lies_in(id, other);
+    if (nested) continue;
+    turn[id] = 1;
+    for (std::size_t inner = 0; inner < count; ++inner)
+      if (lies_in(inner, id)) turn[inner] = 1;
   }
-  return found;
+  return turn;
 }
 
 // Faces turned (their corners reversed) so that each edge two faces share is used in opposite
 // directions, spread face to face across such edges from the first face of each connected part;
-// an open part keeps the winding most of its faces had in the file; then, if the closed parts
-// (every edge shared by exactly two faces) together enclose negative volume, each of them is
-// turned outward (their sum, so a shell that faces into a cavity inside an outward one stays);
-// last, a closed part that still encloses negative volume but lies inside no other closed part
-// cannot be a cavity's wall and is turned outward (an inside-out part beside others: a mirrored
-// part of an assembly kept its inward faces while the sum was positive). A part inside another
-// keeps the file's side: a cavity, or parts that overlap.
+// an open part keeps the winding most of its faces had in the file; then the closed parts (every
+// edge shared by exactly two faces) that parts_to_turn picks are turned: an inside-out part that
+// lies in no other, with the parts inside it (a shell facing into a cavity inside an outward one
+// stays; an inside-out part beside an outward one kept its inward faces while only the parts'
+// volumes together were judged).
 // Returns how many faces end up turned.
 std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   const std::size_t n = faces.count();
@@ -284,26 +372,17 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   for (std::uint32_t f = 0; f < n; ++f)
     if (turn[f]) reverse(f);
   // Turning changes no edge's face count: a closed part stays closed.
-  std::vector<double> volume = face_volumes(positions, faces);
-  double closed_volume = 0, closed_magnitude = 0;
-  for (std::uint32_t f = 0; f < n; ++f)
-    if (part_closed[part[f]]) closed_volume += volume[f], closed_magnitude += std::fabs(volume[f]);
-  const bool all_inward = closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude;
-  if (all_inward)
-    for (std::uint32_t f = 0; f < n; ++f)
-      if (part_closed[part[f]]) {
-        reverse(f);
-        turn[f] ^= 1;
-        volume[f] = -volume[f];
-      }
+  const std::vector<double> volume = face_volumes(positions, faces);
   std::vector<std::vector<std::uint32_t>> closed_parts(part_turned.size());
   for (std::uint32_t f = 0; f < n; ++f)
     if (part_closed[part[f]]) closed_parts[part[f]].push_back(f);
-  for (const std::size_t id : outermost_inward_parts(positions, faces, volume, closed_parts))
-    for (const std::uint32_t f : closed_parts[id]) {
-      reverse(f);
-      turn[f] ^= 1;
-    }
+  const std::vector<std::uint8_t> turn_part = parts_to_turn(positions, faces, volume, closed_parts);
+  for (std::size_t id = 0; id < closed_parts.size(); ++id)
+    if (turn_part[id])
+      for (const std::uint32_t f : closed_parts[id]) {
+        reverse(f);
+        turn[f] ^= 1;
+      }
   return static_cast<std::size_t>(std::count(turn.begin(), turn.end(), 1));
 }
 
@@ -426,9 +505,10 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
   return split;
 }
 
-// Zero-area faces, edges two faces use in the same direction, and whether the closed parts of the
-// surface (components whose every edge two faces share in opposite directions) enclose negative
-// volume. In double, about the bounding box's centre, so any float coordinates give finite sums.
+// Zero-area faces, edges two faces use in the same direction, and whether a closed part of the
+// surface (a component whose every edge two faces share in opposite directions) faces inward: one
+// parts_to_turn picks. In double, about the bounding box's centre, so any float coordinates give
+// finite sums.
 void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshProblems& problems) {
   const auto key = [](std::uint32_t from, std::uint32_t to) { return std::uint64_t{from} << 32 | to; };
   const std::size_t n = faces.count();
@@ -476,17 +556,25 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   std::vector<std::uint8_t> open_component(n, 0);
   for (std::uint32_t f = 0; f < n; ++f)
     if (open[f]) open_component[components.find(f)] = 1;
+  // Closed parts by compact id (one list per component, not per face).
+  std::vector<std::uint32_t> part_of_root(n, UINT32_MAX);
+  std::vector<std::vector<std::uint32_t>> closed_parts;
   double closed_volume = 0, closed_magnitude = 0;
-  std::vector<std::vector<std::uint32_t>> closed_parts(n);  // by component root
-  for (std::uint32_t f = 0; f < n; ++f)
-    if (!open_component[components.find(f)]) {
-      closed_volume += volume[f], closed_magnitude += std::fabs(volume[f]);
-      closed_parts[components.find(f)].push_back(f);
-    }
-  std::erase_if(closed_parts, [](const std::vector<std::uint32_t>& part) { return part.empty(); });
-  // The rule orient_faces turns by: all closed parts together, or one inside no other.
-  problems.inward = (closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude) ||
-                    (problems.inconsistent_edges == 0 && !outermost_inward_parts(positions, faces, volume, closed_parts).empty());
+  for (std::uint32_t f = 0; f < n; ++f) {
+    const std::uint32_t root = components.find(f);
+    if (open_component[root]) continue;
+    closed_volume += volume[f], closed_magnitude += std::fabs(volume[f]);
+    if (part_of_root[root] == UINT32_MAX) part_of_root[root] = static_cast<std::uint32_t>(closed_parts.size()), closed_parts.emplace_back();
+    closed_parts[part_of_root[root]].push_back(f);
+  }
+  // Warned exactly where orient_faces would turn a closed part (its parts agree across every edge
+  // then); with faces that disagree, by the closed parts' volume together.
+  if (problems.inconsistent_edges == 0) {
+    const std::vector<std::uint8_t> turn = parts_to_turn(positions, faces, volume, closed_parts);
+    problems.inward = std::find(turn.begin(), turn.end(), 1) != turn.end();
+  } else {
+    problems.inward = closed_volume < 0 && -closed_volume > 1e-6 * closed_magnitude;
+  }
 }
 
 // OpenMesh's face-normal average, on a copy scaled by a power of two (exact) when the coordinates

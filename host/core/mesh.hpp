@@ -15,8 +15,8 @@
 // - Counted and kept: zero-area faces (collinear corners; they add no samples); faces OpenMesh
 //   cannot add to its half-edge structure (a non-manifold edge or vertex, or a winding opposite to a
 //   neighbour's), which are kept detached on copies of their vertices as OpenMesh's own importer
-//   does; edges two faces use in the same direction (inconsistent orientation); closed surfaces
-//   enclosing negative volume (faces point inward).
+//   does; edges two faces use in the same direction (inconsistent orientation); a closed part that
+//   encloses negative volume and lies in no other (faces point inward).
 // - Refused with one Error line naming the file: a missing or unreadable file, an unknown format, a
 //   truncated file (an OFF or PLY with fewer records than its header declares, a binary STL whose
 //   size does not match its triangle count), a PLY header without end_header (in the first MiB) or
@@ -45,7 +45,7 @@ struct MeshProblems {
   std::size_t zero_area_faces = 0;       // kept: corners collinear (or coincident), the face has zero area
   std::size_t complex_faces = 0;         // kept detached: OpenMesh refused the face (non-manifold, or wound against a neighbour)
   std::size_t inconsistent_edges = 0;    // undirected edges that two faces use in the same direction
-  bool inward = false;                   // the closed parts of the mesh enclose negative volume: faces point inward
+  bool inward = false;                   // a closed part faces inward: one that encloses negative volume and lies in no other closed part
   std::size_t turned_faces = 0;          // Winding::Orient: faces whose corners were reversed (see there)
   // Not a problem (any() ignores it): polygons a fan from their first corner would not triangulate
   // inside their outline (concave, or non-planar with a folding fan), split into triangles by ear

@@ -62,7 +62,9 @@ double sample_spacing(const SplatRun& run) {
 double float_rounding(const Box& box) {
   // Each coordinate of a splat's centre (within the box) and of its two axes (each shorter than the
   // diagonal) rounds by at most 2^-24 of its magnitude when written.
-  return std::sqrt(3.0) * std::ldexp(reach_of(box) + 2.0 * box.diagonal(), -24);  // 2.0: twice a float diagonal of 1.7e38 overflowed float
+  // In double throughout: twice a float diagonal of 1.7e38 overflowed float (every eps was refused).
+  const double x = double{box.hi.x} - box.lo.x, y = double{box.hi.y} - box.lo.y, z = double{box.hi.z} - box.lo.z;
+  return std::sqrt(3.0) * std::ldexp(reach_of(box) + 2 * std::sqrt(x * x + y * y + z * z), -24);
 }
 
 std::vector<SplatRecord> SplatRun::records() const {

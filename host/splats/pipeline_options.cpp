@@ -113,7 +113,11 @@ nlohmann::json to_json(const SplatParameters& p) {
           {"k", p.k},
           {"samples", p.samples},
           {"max_samples", p.max_samples},
-          {"max_covered", p.max_covered.value_or(p.thesis_only ? kMaxCoveredLimit : kDefaultMaxCovered)},
+          // null: the thesis's cap from the sets' budget (budget_growth_cap), which differs from any fixed
+          // value, so that batch does not reuse splats built with another cap.
+          {"max_covered", p.max_covered ? nlohmann::json(*p.max_covered)
+                          : p.thesis_only ? nlohmann::json(nullptr)
+                                          : nlohmann::json(kDefaultMaxCovered)},
           {"thesis_only", p.thesis_only},
           {"crease_angle", crease_angle(p)},
           {"color_tol", p.color_tol},

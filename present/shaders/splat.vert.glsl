@@ -13,8 +13,10 @@ uniform float u_depth_offset;  // ε of the visibility pass, 0 in the accumulati
 // A back copy's extra push in both passes (SplatFrame::back_offset): at a fold, where the surface
 // turns away, the splats beyond the fold face away and their back copies, lying in tangent planes,
 // stand in front of the surface there, within ε of the front side's splats; pushed back by 2ε, they
-// show only where they stand ε in front of any front side (inside a bowl, where all are back
-// copies, as before).
+// show only where they stand ε in front of any front side (among back copies alone, inside a bowl,
+// nothing changes). Only grazing ones (the eye within ~78° of their plane, fully within ~72°):
+// seen more steeply, a back side is a surface like any other, and a sheet lying on the floor, seen
+// from its back, blends with the floor within ε as before instead of vanishing under it.
 uniform float u_back_offset;
 void main() {
   vec3 c, n;
@@ -48,7 +50,12 @@ void main() {
   // w is proportional to the view z, which splat_local.glsl's argument needs). Done per vertex rather than
   // per pixel, the fragment shader writes no depth and llvmpipe keeps its early depth test; across
   // a splat the offset differs from ε by a second-order amount in the splat's angular size.
-  float push = 1.0 + (u_depth_offset + (a_back_copy ? u_back_offset : 0.0)) / length(v_view_pos);
+  float back_push = 0.0;
+  if (a_back_copy) {
+    float facing = abs(dot(normalize(m * cross(a_major, a_minor)), normalize(u_eye - c)));
+    back_push = u_back_offset * clamp((0.5 - facing) / 0.3, 0.0, 1.0);
+  }
+  float push = 1.0 + (u_depth_offset + back_push) / length(v_view_pos);
   gl_Position = u_proj * vec4(v_view_pos * push, 1.0);
   v_local_scaled = vec3(corner, 1.0) * push;
   // The near plane where the un-pushed splat crosses it, in both passes (GL_CLIP_DISTANCE0): the

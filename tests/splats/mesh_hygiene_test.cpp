@@ -494,6 +494,31 @@ TEST(MeshHygiene, OrientTurnsAnInsideOutPartThatLiesInsideNoOther) {
     EXPECT_EQ(mesh.problems.turned_faces, 0u);
     EXPECT_FALSE(faces_out(mesh, 1, {1.8f, 1.7f, 1.6f}));
   }
+  {  // a cavity whose top lies in the outer cube's top face (separate vertices): kept, and not warned
+    std::vector<Vec3> vertices;
+    std::vector<std::vector<std::uint32_t>> faces;
+    add_cube(vertices, faces, 4, {0, 0, 0}, false);
+    add_cube(vertices, faces, 2, {1, 1, 2}, true);
+    EXPECT_FALSE(make_mesh(vertices, faces, "touching cavity").problems.any()) << make_mesh(vertices, faces, "touching cavity").problems.summary();
+    EXPECT_EQ(load("orient-touching-cavity.obj", vertices, faces).problems.turned_faces, 0u);
+  }
+  {  // a correct hollow cube beside a larger inside-out cube: only the inside-out one is turned (all
+     // three parts' volumes together are negative; turning them all left the cavity facing out)
+    const auto [hollow, shell] = hollow_cube(v, outward);
+    std::vector<Vec3> vertices = hollow;
+    std::vector<std::vector<std::uint32_t>> faces = shell;
+    add_cube(vertices, faces, 3, {5, 0, 0}, true);
+    const Mesh mesh = load("orient-hollow-beside.obj", vertices, faces);
+    EXPECT_EQ(mesh.problems.turned_faces, 6u);
+    EXPECT_TRUE(faces_out(mesh, 0, {0.5f, 0.5f, 0.5f}));
+    EXPECT_FALSE(faces_out(mesh, 1, {0.5f, 0.5f, 0.5f}));
+    EXPECT_TRUE(faces_out(mesh, 2, {6.5f, 1.5f, 1.5f}));
+  }
+  {  // an inside-out tetrahedron alone (few faces: its test points beside distinct faces)
+    const std::vector<Vec3> corners{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const Mesh mesh = load("orient-tetrahedron.obj", corners, {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
+    EXPECT_EQ(mesh.problems.turned_faces, 4u);
+  }
   {  // the hollow cube inside out as a whole: both shells turned, the cavity's wall faces into it again
     const auto [hollow, shell] = hollow_cube(v, outward);
     auto reversed = shell;

@@ -115,14 +115,16 @@ TEST(TwoSidedBound, TheThesisAloneBreaksIt) {
 }
 
 // Huge and tiny coordinates: the same cube scaled by 1e18 and 1e-18 gives the same splats in
-// units of its size (ε keeps its meaning), and the bound holds. At 5e37 (coordinates up to 2e38,
-// near the float limit) the float rounding estimate overflowed to inf and every ε was refused.
+// units of its size (ε keeps its meaning), and the bound holds. Centred and scaled by 1.1e38 (a
+// diagonal of 1.9e38, near the float limit) the float rounding estimate overflowed to inf and every
+// ε was refused.
 TEST(TwoSidedBound, HugeAndTinyCoordinates) {
   const Mesh unit = cube_mesh();
   const Outcome reference = build_and_check(unit, 0.01, &runtime(), 50'000);
-  for (const float scale : {1e18f, 1e-18f, 5e37f}) {
+  for (const float scale : {1e18f, 1e-18f, 1.1e38f}) {
+    const Vec3 offset = scale > 1e30f ? Vec3{-0.5f, -0.5f, -0.5f} : Vec3{3, -2, 1};
     std::vector<Vec3> vertices = unit.vertices;
-    for (Vec3& p : vertices) p = scale * (p + Vec3{3, -2, 1});
+    for (Vec3& p : vertices) p = scale * (p + offset);
     std::vector<std::vector<std::uint32_t>> faces;
     for (std::size_t f = 0; f < unit.face_count(); ++f)
       faces.emplace_back(unit.corners.begin() + unit.face_offsets[f], unit.corners.begin() + unit.face_offsets[f + 1]);
