@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "runtime/error.hpp"
 
@@ -12,11 +15,16 @@ namespace splatcl::bench {
 std::string comparison_key(const Record& record) {
   std::string key = record.suite + "/" + record.case_name + "/" + record.impl + "/" + record.device;
   if (record.size) key += fmt::format("/{} {}", *record.size, record.size_unit);
+  // In name order: a JSON file and a CSV of the same run list the fields in different orders, and
+  // every record with two of them ("bits", "shape") failed to match across the two.
+  std::vector<std::pair<std::string, std::string>> fields;
   for (const auto& [field, value] : record.extra.items()) {
     // Measured figures, not identity.
     if (value.is_structured() || field == "bytes" || field == "flops" || field == "device_total_ms") continue;
-    key += "/" + field + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+    fields.emplace_back(field, value.is_string() ? value.get<std::string>() : value.dump());
   }
+  std::sort(fields.begin(), fields.end());
+  for (const auto& [field, value] : fields) key += "/" + field + "=" + value;
   return key;
 }
 

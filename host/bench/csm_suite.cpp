@@ -290,11 +290,16 @@ void bench_queries(Session& session, const Mesh& mesh, const CsmSizes& sizes) {
 
 }  // namespace
 
-void run_csm_suite(Session& session) {
+void check_csm_model() {
   const std::filesystem::path path = std::filesystem::path(splats_models_dir()) / kModelFile;
   if (!std::filesystem::is_directory(splats_models_dir()))
     throw Error("models directory " + splats_models_dir() + " does not exist (set it with --models)");
-  const Mesh mesh = load_mesh(path.string());
+  if (!std::filesystem::is_regular_file(path)) throw Error("bench csm: missing model " + path.string() + " (--models DIR)");
+}
+
+void run_csm_suite(Session& session) {
+  check_csm_model();
+  const Mesh mesh = load_mesh((std::filesystem::path(splats_models_dir()) / kModelFile).string());
   const CsmSizes sizes = sizes_for(session);
   cl::Buffer z1, z2;
   const CaptureOutput captured = bench_capture(session, mesh, sizes, z1, z2);

@@ -45,14 +45,18 @@ constexpr std::size_t kFlatGridSide = 100;
 
 std::filesystem::path model_path(const BenchModel& model) { return std::filesystem::path(splats_models_dir()) / model.file; }
 
+}  // namespace
+
 // Fails before any timing when a model is missing, naming what to pass.
-void check_models() {
+void check_splats_models() {
   const std::string& dir = splats_models_dir();
   if (!std::filesystem::is_directory(dir)) throw Error("bench splats: models directory " + dir + " does not exist (--models DIR)");
   for (const BenchModel& model : kModels)
     if (!std::filesystem::is_regular_file(model_path(model)))
       throw Error("bench splats: missing model " + model_path(model).string() + " (--models DIR)");
 }
+
+namespace {
 
 // Benchmarks time only correct work: the device fit must equal the reference's exactly.
 void expect_same_fit(const std::string& what, const spl::FitResult& actual, const spl::FitResult& expected) {
@@ -347,7 +351,7 @@ std::string& splats_models_dir() {
 }
 
 void run_splats_suite(Session& session) {
-  check_models();
+  check_splats_models();
   const ScratchFile scratch;
   // --quick: the bunny and the flat grid (≈ 10 s more on 2 cores), not ogre.
   for (const BenchModel& model : kModels) {

@@ -14,6 +14,8 @@ struct Suite {
   const char* description;
   void (*run)(Session& session);
   bool takes_size;  // whether --size applies (else the suite's standard inputs have a fixed size)
+  // Checks the suite's inputs (its models) before any suite runs; throws Error naming what is missing.
+  void (*check_inputs)() = nullptr;
 };
 
 // Every suite, in the order `splatcl bench --help` lists them.
@@ -39,6 +41,7 @@ void run_cluster_suite(Session& session);
 // 1/scale-th vertex of each model (ε stays that of the whole model), so every phase sees that share of
 // the samples.
 void run_splats_suite(Session& session);
+void check_splats_models();
 std::string& splats_models_dir();
 
 // The coherent-shadow-map kernels on stanford-bunny (from splats_models_dir()): capture rays/s
@@ -46,5 +49,6 @@ std::string& splats_models_dir();
 // samples/s, visibility queries/s on a coherent floor grid and AO samples/s, each beside the native
 // reference. Under a minute at the standard sizes; --quick shrinks them for tests.
 void run_csm_suite(Session& session);
+void check_csm_model();
 
 }  // namespace splatcl::bench

@@ -208,7 +208,18 @@ Action register_bench(CLI::App& app) {
     check_output_file(o.json_path, "--json");
     check_output_file(o.csv_path, "--csv");
     check_distinct_outputs({{"--json", o.json_path}, {"--csv", o.csv_path}});
+    // Written over, the baseline was compared with the run itself: "0 regressed".
+    check_outputs_spare_inputs({{"--json", o.json_path}, {"--csv", o.csv_path}}, {{"--compare baseline", o.compare_path}});
     if (!o.compare_path.empty()) read_any_results(o.compare_path);  // a bad baseline fails before the run
+    for (const bench::Suite* suite : chosen)
+      if (suite->check_inputs) suite->check_inputs();  // a missing model fails before the other suites run
+    if (!o.plot_dir.empty()) {
+      // Not after the whole run: a plot directory that cannot be made, or no gnuplot.
+      std::error_code error;
+      std::filesystem::create_directories(o.plot_dir, error);
+      check_writable_directory(o.plot_dir, "--plot " + o.plot_dir);
+      if (bench::find_gnuplot().empty()) throw Error("--plot: gnuplot not found on PATH: install gnuplot-nox (scripts/setup.sh does)");
+    }
     bench::RunOptions run = o.run;
     run.scaling = bench::parse_scaling(o.scaling);
     if (run.session.quick) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/bvh.hpp"
@@ -16,11 +17,9 @@ namespace {
 // that two triangles share may miss both (a one-pixel hole on a column aligned with a meridian).
 constexpr float kEdgeTolerance = 1e-5f;
 
-// Every surface of the scene at its time, relative to the camera's eye (small float error near
-// the camera, where depth matters most) and in units of `unit` (trace_unit: a scene in huge units
-// would overflow the tracer's products).
-std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye, float unit) {
-  std::vector<BvhTriangle> triangles;
+// Every surface of the scene at its time: the objects' meshes placed, and the floor's square.
+std::vector<Mesh> placed_meshes(const Scene& scene) {
+  std::vector<Mesh> meshes;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const ObjectSpec& object = scene.objects[i];
     if (!object.mesh.splat_path.empty())
@@ -32,16 +31,36 @@ std::vector<BvhTriangle> scene_triangles(const Scene& scene, Vec3 eye, float uni
       const glm::vec4 p = placement * glm::vec4(v.x, v.y, v.z, 1.0f);
       v = {p.x, p.y, p.z};
     }
-    const std::vector<BvhTriangle> object_triangles = mesh_triangles(mesh, eye, unit);
-    triangles.insert(triangles.end(), object_triangles.begin(), object_triangles.end());
+    meshes.push_back(std::move(mesh));
   }
   if (scene.floor.enabled) {
     const float h = 0.5f * scene.floor.size, y = scene.floor.y;
-    const Mesh floor = make_mesh({{-h, y, -h}, {-h, y, h}, {h, y, h}, {h, y, -h}}, {{0, 1, 2, 3}}, "floor");
-    const std::vector<BvhTriangle> floor_triangles = mesh_triangles(floor, eye, unit);
-    triangles.insert(triangles.end(), floor_triangles.begin(), floor_triangles.end());
+    meshes.push_back(make_mesh({{-h, y, -h}, {-h, y, h}, {h, y, h}, {h, y, -h}}, {{0, 1, 2, 3}}, "floor"));
+  }
+  return meshes;
+}
+
+// The surfaces relative to the camera's eye (small float error near the camera, where depth
+// matters most) in units of `unit` (trace_unit: a scene in huge units would overflow the tracer's
+// products).
+std::vector<BvhTriangle> scene_triangles(const std::vector<Mesh>& meshes, Vec3 eye, float unit) {
+  std::vector<BvhTriangle> triangles;
+  for (const Mesh& mesh : meshes) {
+    const std::vector<BvhTriangle> mesh_part = mesh_triangles(mesh, eye, unit);
+    triangles.insert(triangles.end(), mesh_part.begin(), mesh_part.end());
   }
   return triangles;
+}
+
+// How far the surfaces reach from the eye (in double), or the far plane where that is nearer.
+float traced_reach(const std::vector<Mesh>& meshes, Vec3 eye, float far_plane) {
+  double reach = 0;
+  for (const Mesh& mesh : meshes)
+    for (const Vec3& v : mesh.vertices) {
+      const double x = double{v.x} - eye.x, y = double{v.y} - eye.y, z = double{v.z} - eye.z;
+      reach = std::max(reach, std::sqrt(x * x + y * y + z * z));
+    }
+  return reach > 0 && reach < far_plane ? static_cast<float>(reach) : far_plane;
 }
 
 }  // namespace
@@ -50,8 +69,12 @@ DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t heigh
   if (width == 0 || height == 0) throw Error("ray_cast: frame size must be at least 1x1");
   const Camera& camera = scene.camera;
   const ViewFrame frame = view_frame(camera);
-  const float unit = trace_unit(camera.far_plane);  // rays reach at most the far plane
-  const Bvh bvh = build_bvh(scene_triangles(scene, frame.eye, unit));
+  const std::vector<Mesh> meshes = placed_meshes(scene);
+  // Rays reach at most the far plane or the farthest surface. From the far plane alone, a far of
+  // 1e32 shrank a scene of size 10 to 1e-31 units: degenerate triangles, and the BVH build
+  // recursed until the stack overflowed.
+  const float unit = trace_unit(traced_reach(meshes, frame.eye, camera.far_plane));
+  const Bvh bvh = build_bvh(scene_triangles(meshes, frame.eye, unit));
   const float tan_y = std::tan(0.5f * camera.fov_y);
   const float tan_x = tan_y * static_cast<float>(width) / static_cast<float>(height);
 

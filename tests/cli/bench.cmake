@@ -39,6 +39,15 @@ add_test(NAME cli.error_bench_json_dir COMMAND ${EXPECT_ERROR} "cannot write --j
 add_test(NAME cli.error_bench_csm_missing_models COMMAND ${EXPECT_ERROR} "models directory .*no-such-dir does not exist" $<TARGET_FILE:splatcl>
          bench csm --quick --models no-such-dir)
 add_test(NAME cli.error_bench_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device matches" $<TARGET_FILE:splatcl> bench csm --quick --device no-such-device)
+# Refused before any run: an output that names the --compare baseline (it was written over, then
+# the run compared with itself: "0 regressed"); a missing model of a later suite (the earlier suites
+# ran first, and their results were lost); --plot without gnuplot.
+add_test(NAME cli.error_bench_output_is_baseline COMMAND ${EXPECT_ERROR} "--json .*bench-fast.json would overwrite the --compare baseline"
+         $<TARGET_FILE:splatcl> bench primitives --quick --json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --compare ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json)
+add_test(NAME cli.error_bench_missing_model_first COMMAND ${EXPECT_ERROR} "bench splats: models directory .*no-such-dir does not exist"
+         $<TARGET_FILE:splatcl> bench --quick --models no-such-dir)
+add_test(NAME cli.error_bench_run_plot_without_gnuplot COMMAND ${EXPECT_ERROR} "--plot: gnuplot not found on PATH" env PATH=/nonexistent
+         $<TARGET_FILE:splatcl> bench primitives --quick --plot ${CMAKE_CURRENT_BINARY_DIR}/bench-plots-run-nognuplot)
 add_test(NAME cli.error_bench_plot_without_gnuplot COMMAND ${EXPECT_ERROR} "gnuplot not found on PATH" env PATH=/nonexistent
          $<TARGET_FILE:splatcl> bench plot ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json -o ${CMAKE_CURRENT_BINARY_DIR}/bench-plots-nognuplot)
 # splatcl bench tune and the tuning database: a typo in --kernel fails before any run; a database

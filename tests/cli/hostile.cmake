@@ -168,3 +168,6 @@ set_tests_properties(hostile.csm_verify_transform_unshifted PROPERTIES FIXTURES_
 file(WRITE ${HOSTILE_DIR}/k-string.json "{\"models\": [{\"path\": \"${SPLATS_CUBE}\", \"k\": \"10\"}]}")
 hostile_error(manifest_json_number_string "k-string.json: models\\[0\\] \\(splats-cube\\): 'k' must be a number, got '10'$"
               batch ${HOSTILE_DIR}/k-string.json -o ${HOSTILE_DIR}/k-string-out)
+# A far plane beyond float range was read as inf and refused without naming the scene or the field.
+file(WRITE ${HOSTILE_DIR}/far-beyond-float.json "{\"objects\": [{\"name\": \"s\", \"mesh\": {\"procedural\": \"sphere\"}}], \"camera\": {\"eye\": [0, 0, 5], \"target\": [0, 0, 0], \"far\": 1e39}}")
+hostile_error(scene_far_beyond_float "far-beyond-float.json: camera.far is beyond float range" cluster ${HOSTILE_DIR}/far-beyond-float.json --size 16x16)

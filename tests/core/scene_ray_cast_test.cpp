@@ -187,6 +187,26 @@ TEST(SceneRayCast, HugeAndTinyUnitsGiveTheSameFrame) {
   }
 }
 
+// A far plane far beyond the scene changes nothing: the tracer's unit follows what the rays can
+// reach. From the far plane alone, far = 1e32 shrank the scene to 1e-31 units and the BVH build
+// recursed until the stack overflowed (a crash of `splatcl cluster`); far = 1e20 hit nothing.
+TEST(SceneRayCast, AFarPlaneBeyondTheSceneGivesTheSameFrame) {
+  const auto cast = [](float far_plane) {
+    Scene scene = empty_scene();
+    scene.camera.target = {0, 0, -1};
+    scene.camera.far_plane = far_plane;
+    scene.objects.push_back(sphere(2, {0, 0, -10}, 32, 16));
+    scene.objects.push_back(box(1.5f, {2.5f, 1, -8}));
+    return ray_cast(scene, 48, 32);
+  };
+  const DepthFrame near_far = cast(100);
+  for (const float far_plane : {1e20f, 1e32f, 3e38f}) {
+    const DepthFrame frame = cast(far_plane);
+    EXPECT_EQ(frame.view_z, near_far.view_z) << far_plane;
+    EXPECT_EQ(frame.normals, near_far.normals) << far_plane;
+  }
+}
+
 TEST(SceneRayCast, RefusesSplatFilesAndEmptyFrames) {
   Scene scene = empty_scene();
   EXPECT_THROW(ray_cast(scene, 0, 4), Error);
