@@ -231,8 +231,22 @@ std::vector<std::string> write_plots(const Results& results, const std::string& 
 
   std::string script = "# Written by 'splatcl bench plot'; rerun with: gnuplot " + (dir / "plots.gp").string() + "\n";
   for (const auto& plot : plots) script += "\n" + plot.script + "unset output\nreset\n";
-  const fs::path script_path = dir / "plots.gp";
+  // gnuplot draws into PNAME.png.part here (renamed when every plot is complete); the kept script
+  // names the PNGs themselves, so that rerunning it redraws them (it wrote only *.png.part files).
+  std::string kept = script;
+  for (const auto& plot : plots)
+    for (std::size_t at = 0; (at = kept.find(quote(plot.png + ".part"), at)) != std::string::npos;)
+      kept.replace(at, quote(plot.png + ".part").size(), quote(plot.png));
+  write_file_atomically((dir / "plots.gp").string(), kept);
+  const fs::path script_path = dir / "plots.gp.part";
   write_file_atomically(script_path.string(), script);
+  struct RemoveScript {
+    fs::path path;
+    ~RemoveScript() {
+      std::error_code ignored;
+      fs::remove(path, ignored);
+    }
+  } remove_script{script_path};
 
   const std::string gnuplot = find_gnuplot();
   if (gnuplot.empty())

@@ -83,6 +83,7 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
                  "OpenCL device(s): index, type (cpu, gpu), name substring, or all (every device but simulators); "
                  "repeat or comma-separate for several, measured side by side in one run. Default $SPLATCL_DEVICE, else all")
       ->delimiter(',')
+      ->check(empty_device_value)
       ->type_name("DEVICE");
   app.add_option("--scaling", o.scaling,
                  "size: every suite at 1/8, 1/4, 1/2 and 1x its problem sizes (--steps); threads: rerun "
@@ -170,6 +171,7 @@ Action register_bench(CLI::App& app) {
   tune->add_option("--device", options->tune.devices,
                    "OpenCL device(s) as for bench; default $SPLATCL_DEVICE, else every device present but simulators")
       ->delimiter(',')
+      ->check(empty_device_value)
       ->type_name("DEVICE");
   tune->add_option("--kernel", options->tune.kernels, "Kernels to tune: scan, compact, radix-sort (default: all)")
       ->delimiter(',')

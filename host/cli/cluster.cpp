@@ -212,7 +212,8 @@ Action register_cluster(CLI::App& app) {
   auto o = std::make_shared<ClusterOptions>();
   add_device_option(*sub, o->device);
   sub->add_option("scene", o->scene_path, "Scene JSON, as render and view read it (schema in docs/presenter.md; its meshes and floor are ray cast, splat-file objects are refused); default: the embedded data/presenter-scene.json");
-  sub->add_option("-o,--output", o->output_dir, "Directory for lights-per-cluster.png, clusters.png, shaded.png and summary.json (created if missing)");
+  sub->add_option("-o,--output", o->output_dir, "Directory for lights-per-cluster.png, clusters.png, shaded.png and summary.json (created if missing)")
+      ->check([](const std::string& value) { return value.empty() ? std::string("empty: name a directory") : std::string(); });
   sub->add_option("--size", o->size, "Frame size WIDTHxHEIGHT")->capture_default_str();
   sub->add_option("--tile", o->tile, "Tile size WIDTHxHEIGHT in pixels")->capture_default_str();
   sub->add_option("--compaction", o->compaction, "global-sort, tile-sort (the thesis's per-tile sort) or bitmask")->capture_default_str();

@@ -13,6 +13,8 @@ struct DeviceOptions {
   std::string device;  // index, type or name substring; empty = $SPLATCL_DEVICE or default
 };
 void add_device_option(CLI::App& app, DeviceOptions& options);
+// The check every --device option takes: an empty value is refused (bench took it as the default).
+std::string empty_device_value(const std::string& value);
 
 Action register_devices(CLI::App& app);
 Action register_cluster(CLI::App& app);

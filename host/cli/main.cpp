@@ -14,10 +14,14 @@
 
 namespace splatcl::cli {
 
+std::string empty_device_value(const std::string& value) {
+  return value.empty() ? std::string("empty: give an index, a type (cpu, gpu) or a name substring") : std::string();
+}
+
 void add_device_option(CLI::App& app, DeviceOptions& options) {
   app.add_option("--device", options.device,
                  "OpenCL device: index, type (cpu, gpu) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU")
-      ->check([](const std::string& value) { return value.empty() ? std::string("empty: give an index, a type (cpu, gpu) or a name substring") : std::string(); });
+      ->check(empty_device_value);
 }
 
 }  // namespace splatcl::cli

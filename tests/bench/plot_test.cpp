@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <unistd.h>
 
 #include "bench/plot.hpp"
@@ -61,6 +62,11 @@ TEST(BenchPlot, WritesThroughputAndScalingPngs) {
   EXPECT_TRUE(fs::exists(dir / "plots" / "scaling-threads-csm.png"));
   EXPECT_TRUE(fs::exists(dir / "plots" / "plots.gp"));
   for (const auto& entry : fs::directory_iterator(dir / "plots")) EXPECT_NE(entry.path().extension(), ".part") << entry.path();
+  // The kept script redraws the PNGs themselves (it named *.png.part, which a rerun left beside them).
+  std::ifstream kept(dir / "plots" / "plots.gp");
+  const std::string script((std::istreambuf_iterator<char>(kept)), {});
+  EXPECT_EQ(script.find(".part"), std::string::npos);
+  EXPECT_NE(script.find("throughput-csm.png\""), std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -171,3 +171,10 @@ hostile_error(manifest_json_number_string "k-string.json: models\\[0\\] \\(splat
 # A far plane beyond float range was read as inf and refused without naming the scene or the field.
 file(WRITE ${HOSTILE_DIR}/far-beyond-float.json "{\"objects\": [{\"name\": \"s\", \"mesh\": {\"procedural\": \"sphere\"}}], \"camera\": {\"eye\": [0, 0, 5], \"target\": [0, 0, 0], \"far\": 1e39}}")
 hostile_error(scene_far_beyond_float "far-beyond-float.json: camera.far is beyond float range" cluster ${HOSTILE_DIR}/far-beyond-float.json --size 16x16)
+# Empty values: bench took --device '' as the default device (devices and cluster refused it), and
+# cluster -o '' wrote nothing and exited 0.
+# (add_test itself: a function's ARGN drops empty arguments)
+add_test(NAME hostile.option_bench_device_empty COMMAND ${EXPECT_ERROR} "--device: empty: give an index" $<TARGET_FILE:splatcl> bench --quick --device "")
+add_test(NAME hostile.option_bench_tune_device_empty COMMAND ${EXPECT_ERROR} "--device: empty: give an index" $<TARGET_FILE:splatcl> bench tune --device ""
+         -o ${HOSTILE_DIR}/tune.json)
+add_test(NAME hostile.option_cluster_output_empty COMMAND ${EXPECT_ERROR} "--output: empty: name a directory" $<TARGET_FILE:splatcl> cluster -o "" --size 8x8)
