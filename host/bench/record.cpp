@@ -10,6 +10,8 @@
 #include <limits>
 #include <thread>
 
+#include <fmt/format.h>
+
 #include "io/atomic_file.hpp"
 #include "io/text_file.hpp"
 #include "runtime/error.hpp"
@@ -184,6 +186,10 @@ Record record_from_json(const Json& json) {
   record.median_ms = required_number(json, "median_ms");
   record.min_ms = required_number(json, "min_ms");
   record.max_ms = required_number(json, "max_ms");
+  // A time no run can take: report printed it and compare read a change of +0.0 % against it.
+  if (!(record.min_ms > 0 && record.min_ms <= record.median_ms && record.median_ms <= record.max_ms && std::isfinite(record.max_ms)))
+    throw Error(fmt::format("benchmark record times must be finite with 0 < min_ms <= median_ms <= max_ms, got {} / {} / {}", record.min_ms,
+                            record.median_ms, record.max_ms));
   record.throughput = optional_number(json, "throughput");
   record.throughput_unit = optional_string(json, "throughput_unit");
   record.peak_rss_mb = optional_number(json, "peak_rss_mb");

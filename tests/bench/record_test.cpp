@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include <filesystem>
 #include <fstream>
 
@@ -96,6 +98,13 @@ TEST(BenchRecord, MissingOrMistypedRequiredFieldIsAnError) {
   json = to_json(full_record());
   json["size"] = -1;
   EXPECT_THROW(record_from_json(json), Error);
+  // Times no run can take (report printed them; compare read +0.0 % against a median of 0 or -1).
+  for (const auto& [min_ms, median_ms, max_ms] : {std::tuple{-1.0, -1.0, -1.0}, std::tuple{0.0, 0.0, 0.0}, std::tuple{2.0, 1.0, 3.0},
+                                                  std::tuple{1.0, 3.0, 2.0}}) {
+    json = to_json(full_record());
+    json["min_ms"] = min_ms, json["median_ms"] = median_ms, json["max_ms"] = max_ms;
+    EXPECT_THROW(record_from_json(json), Error) << min_ms << " / " << median_ms << " / " << max_ms;
+  }
 }
 
 TEST(BenchRecord, ExtraFieldMayNotShadowAFixedOne) {
