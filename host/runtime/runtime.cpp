@@ -146,8 +146,9 @@ std::vector<DeviceInfo> default_devices() {
 
 DeviceInfo choose_device(const std::string& selector_in) {
   std::string selector = selector_in;
+  std::string origin;  // names the variable where the selector came from it, not from --device
   if (selector.empty()) {
-    if (const char* env = std::getenv(kDeviceEnvVar)) selector = env;
+    if (const char* env = std::getenv(kDeviceEnvVar)) selector = env, origin = std::string(" (from $") + kDeviceEnvVar + ")";
   }
   if (selector.empty()) {
     const auto devices = default_devices();
@@ -163,14 +164,15 @@ DeviceInfo choose_device(const std::string& selector_in) {
   if (std::all_of(wanted.begin(), wanted.end(), [](unsigned char c) { return std::isdigit(c); })) {
     const auto index = std::stoul(wanted);
     if (index >= devices.size())
-      throw Error("device index " + wanted + " out of range: " + std::to_string(devices.size()) + " device(s) found (see 'splatcl devices')");
+      throw Error("device index " + wanted + origin + " out of range: " + std::to_string(devices.size()) +
+                  " device(s) found (see 'splatcl devices')");
     return devices[index];
   }
   for (const auto& d : devices)
     if (d.type == wanted) return d;
   for (const auto& d : devices)
     if (lower(d.name).find(wanted) != std::string::npos || lower(d.platform).find(wanted) != std::string::npos) return d;
-  throw Error("no OpenCL device matches '" + selector + "' (see 'splatcl devices')");
+  throw Error("no OpenCL device matches '" + selector + "'" + origin + " (see 'splatcl devices')");
 }
 
 const char* to_string(Shape shape) {

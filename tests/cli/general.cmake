@@ -15,6 +15,9 @@ add_test(NAME cli.cluster_every_variant COMMAND ${EXPECT_OUTPUT} --match "^grid 
          -- $<TARGET_FILE:splatcl> cluster --size 200x120 --tile 16x16 --compaction bitmask --assignment brute --normal-bits --window-depth --lights 300)
 add_test(NAME cli.error_unknown_command COMMAND ${EXPECT_ERROR} "unknown command 'nonsense' \\(commands: devices, cluster" $<TARGET_FILE:splatcl> nonsense)
 add_test(NAME cli.error_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device matches" $<TARGET_FILE:splatcl> devices --device no-such-device)
+# The variable is named where the selector came from it (the message read as if --device were wrong).
+add_test(NAME cli.error_bad_device_variable COMMAND ${EXPECT_ERROR} "no OpenCL device matches 'no-such-device' \\(from \\$SPLATCL_DEVICE\\)"
+         env SPLATCL_DEVICE=no-such-device $<TARGET_FILE:splatcl> cluster --size 8x8)
 add_test(NAME cli.error_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> cluster missing.json)
 add_test(NAME cli.error_bad_size COMMAND ${EXPECT_ERROR} "--size" $<TARGET_FILE:splatcl> cluster --size 12by7)
 add_test(NAME cli.error_bad_compaction COMMAND ${EXPECT_ERROR} "compaction" $<TARGET_FILE:splatcl> cluster --compaction quick)
