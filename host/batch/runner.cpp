@@ -412,19 +412,17 @@ void check_run_paths(const std::string& input, bool input_is_directory, const st
   std::map<fs::path, std::pair<std::string, const ModelEntry*>> targets;  // every output: its name and model
   for (const auto& m : all_models)
     for (const std::string& name : output_names(m.id)) targets.emplace(comparable_path((fs::path(output_dir) / name).string()), std::pair{name, &m});
-  for (const auto& [target, owner] : targets)
+  for (const auto& [target, owner] : targets) {
+    const auto& [name, m] = owner;
+    if (target == sum) throw Error("batch: --summary " + summary + " is the output " + name + " of model '" + m->id + "'");
+    if (!input_is_directory && target == in) throw Error("batch: the output " + name + " of model '" + m->id + "' is the manifest " + input);
+    if (const auto it = inputs.find(target); it != inputs.end())
+      throw Error("batch: the output " + name + " of model '" + m->id + "' is the input of model '" + it->second->id + "' (" + it->second->input + ")");
     for (fs::path folder = target.parent_path(); path_within(folder, out) && folder != out; folder = folder.parent_path())
       if (const auto it = targets.find(folder); it != targets.end())
-        throw Error("batch: the output " + owner.first + " of model '" + owner.second->id + "' lies in " + it->second.first +
-                    ", the output of model '" + it->second.second->id + "'");
-  for (const auto& m : all_models)
-    for (const std::string& name : output_names(m.id)) {
-      const fs::path target = comparable_path((fs::path(output_dir) / name).string());
-      if (target == sum) throw Error("batch: --summary " + summary + " is the output " + name + " of model '" + m.id + "'");
-      if (!input_is_directory && target == in) throw Error("batch: the output " + name + " of model '" + m.id + "' is the manifest " + input);
-      if (const auto it = inputs.find(target); it != inputs.end())
-        throw Error("batch: the output " + name + " of model '" + m.id + "' is the input of model '" + it->second->id + "' (" + it->second->input + ")");
-    }
+        throw Error("batch: the output " + name + " of model '" + m->id + "' lies in " + it->second.first + ", the output of model '" +
+                    it->second.second->id + "'");
+  }
 }
 
 void prepare_output_directory(const std::string& output_dir) {

@@ -237,20 +237,20 @@ std::vector<std::uint8_t> parts_to_turn(const std::vector<Vec3>& positions, cons
                                         const std::vector<std::vector<std::uint32_t>>& parts) {
   const std::size_t count = parts.size();
   std::vector<double> part_volume(count, 0), magnitude(count, 0);
-  std::vector<std::array<D3, 2>> box(count, {D3{INFINITY, INFINITY, INFINITY}, D3{-INFINITY, -INFINITY, -INFINITY}});
   for (std::size_t id = 0; id < count; ++id)
-    for (const std::uint32_t f : parts[id]) {
-      part_volume[id] += volume[f], magnitude[id] += std::fabs(volume[f]);
-      for (std::uint32_t c = faces.offsets[f]; c < faces.offsets[f + 1]; ++c) {
-        const D3 q = to_double(positions[faces.corners[c]]);
-        for (int i = 0; i < 3; ++i) box[id][0][i] = std::min(box[id][0][i], q[i]), box[id][1][i] = std::max(box[id][1][i], q[i]);
-      }
-    }
+    for (const std::uint32_t f : parts[id]) part_volume[id] += volume[f], magnitude[id] += std::fabs(volume[f]);
   const auto inverted = [&](std::size_t id) { return part_volume[id] < 0 && -part_volume[id] > 1e-6 * magnitude[id]; };
   std::vector<std::uint8_t> turn(count, 0);
   bool any_inverted = false;
   for (std::size_t id = 0; id < count; ++id) any_inverted = any_inverted || inverted(id);
-  if (!any_inverted) return turn;
+  if (!any_inverted) return turn;  // every load comes here: the boxes and tests below only when needed
+  std::vector<std::array<D3, 2>> box(count, {D3{INFINITY, INFINITY, INFINITY}, D3{-INFINITY, -INFINITY, -INFINITY}});
+  for (std::size_t id = 0; id < count; ++id)
+    for (const std::uint32_t f : parts[id])
+      for (std::uint32_t c = faces.offsets[f]; c < faces.offsets[f + 1]; ++c) {
+        const D3 q = to_double(positions[faces.corners[c]]);
+        for (int i = 0; i < 3; ++i) box[id][0][i] = std::min(box[id][0][i], q[i]), box[id][1][i] = std::max(box[id][1][i], q[i]);
+      }
   const auto box_within = [&](std::size_t inner, std::size_t outer) {
     for (int i = 0; i < 3; ++i)
       if (box[inner][0][i] < box[outer][0][i] || box[inner][1][i] > box[outer][1][i]) return false;
