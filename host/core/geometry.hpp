@@ -29,12 +29,14 @@ struct Box {
     hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
   }
   bool empty() const { return lo.x > hi.x; }
-  // In double: a float |hi − lo|² overflows for extents above ~1e19 and underflows below ~1e-19.
-  float diagonal() const {
-    if (empty()) return 0.0f;
+  // In double: a float |hi − lo|² overflows for extents above ~1e19 and underflows below ~1e-19;
+  // a diagonal near the float limit (1.7e38) is finite only in double.
+  double exact_diagonal() const {
+    if (empty()) return 0.0;
     const double x = double{hi.x} - lo.x, y = double{hi.y} - lo.y, z = double{hi.z} - lo.z;
-    return static_cast<float>(std::sqrt(x * x + y * y + z * z));
+    return std::sqrt(x * x + y * y + z * z);
   }
+  float diagonal() const { return static_cast<float>(exact_diagonal()); }
 };
 
 }  // namespace splatcl

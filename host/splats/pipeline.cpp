@@ -63,8 +63,7 @@ double float_rounding(const Box& box) {
   // Each coordinate of a splat's centre (within the box) and of its two axes (each shorter than the
   // diagonal) rounds by at most 2^-24 of its magnitude when written.
   // In double throughout: twice a float diagonal of 1.7e38 overflowed float (every eps was refused).
-  const double x = double{box.hi.x} - box.lo.x, y = double{box.hi.y} - box.lo.y, z = double{box.hi.z} - box.lo.z;
-  return std::sqrt(3.0) * std::ldexp(reach_of(box) + 2 * std::sqrt(x * x + y * y + z * z), -24);
+  return std::sqrt(3.0) * std::ldexp(reach_of(box) + 2 * box.exact_diagonal(), -24);
 }
 
 std::vector<SplatRecord> SplatRun::records() const {
@@ -100,8 +99,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   PipelineOptions normalised_options;
   const bool normalise = needs_normalising(input_box);
   if (normalise) {
-    const double diagonal = std::sqrt(std::pow(double{input_box.hi.x} - input_box.lo.x, 2) + std::pow(double{input_box.hi.y} - input_box.lo.y, 2) +
-                                      std::pow(double{input_box.hi.z} - input_box.lo.z, 2));
+    const double diagonal = input_box.exact_diagonal();
     if (!(diagonal > 0 && std::isfinite(diagonal)))
       throw Error(input_mesh.source + ": the mesh has no extent (all vertices coincide) or an extent beyond double range");
     run.origin = 0.5 * (DVec3(input_box.lo) + DVec3(input_box.hi));
