@@ -232,16 +232,11 @@ std::vector<TuneResult> run_tuning(const TuneOptions& options) {
   std::vector<Primitive> chosen;
   for (const auto& name : options.kernels) chosen.push_back(parse_tuned_kernel(name));
   if (chosen.empty()) chosen.assign(std::begin(kPrimitives), std::end(kPrimitives));
-  TuneOptions effective = options;
-  if (options.quick) {
-    effective.measure.runs = std::min(effective.measure.runs, 2);
-    effective.measure.warmup = std::min(effective.measure.warmup, 1);
-  }
   const auto n = static_cast<std::size_t>(options.quick ? std::uint64_t{1} << 16 : options.size);
   std::vector<TuneResult> results;
   for (const DeviceInfo& device : bench_devices(options.devices)) {
     Runtime runtime(device);
-    Tuner tuner(runtime, effective);
+    Tuner tuner(runtime, options);
     for (const Primitive primitive : chosen)
       for (const Shape shape : options.shapes) results.push_back(tuner.tune(primitive, shape, n));
   }

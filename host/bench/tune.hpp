@@ -21,7 +21,7 @@ struct TuneOptions {
   std::vector<std::string> kernels;  // "scan", "compact", "radix-sort"; empty: all three
   std::vector<Shape> shapes{Shape::Cpu, Shape::Gpu};
   std::uint64_t size = kFullHdPixels;
-  bool quick = false;  // 64k elements, 2 runs: for tests, figures not comparable
+  bool quick = false;  // 64k elements (the CLI also takes 2 runs): figures not comparable
   MeasureOptions measure{1, 5};
 };
 

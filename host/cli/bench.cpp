@@ -72,7 +72,9 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
     app.add_option("--size", o.run.session.size, "Elements per case of the primitives suite (default: one key per pixel of 1920x1080)")
         ->capture_default_str()
         ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{std::numeric_limits<std::uint32_t>::max()}));
-  app.add_flag("--quick", o.run.session.quick, "Small inputs and few runs, for smoke tests (figures not comparable)");
+  app.add_flag("--quick", o.run.session.quick,
+               "Small inputs and at most 2 runs and 1 warm-up unless --runs/--warmup, for smoke tests (figures not "
+               "comparable); not with --size");
   app.add_option("--runs", o.run.session.measure.runs, "Timed runs per case; median, min and max are reported")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
@@ -119,6 +121,19 @@ int report_comparison(const bench::Results& current, const std::string& baseline
     return 1;
   }
   return 0;
+}
+
+// How often `name` was given on any of `apps` (the run options are on `bench` and on every suite).
+std::size_t times_given(const std::vector<CLI::App*>& apps, const std::string& name) {
+  std::size_t count = 0;
+  for (CLI::App* app : apps)
+    if (const CLI::Option* option = app->get_option_no_throw(name)) count += option->count();
+  return count;
+}
+
+// --quick picks its own problem sizes: a --size beside it was silently replaced before.
+void refuse_size_beside_quick(const std::vector<CLI::App*>& apps) {
+  if (times_given(apps, "--size") > 0) throw Error("--quick sets its own problem sizes: drop --size or --quick");
 }
 
 void print_plots(const std::vector<std::string>& pngs) {
@@ -182,11 +197,20 @@ Action register_bench(CLI::App& app) {
   tune->add_option("--runs", options->tune.measure.runs, "Timed runs per candidate")->capture_default_str()->check(CLI::Range(1, 1000));
   tune->add_option("--shape", options->tune_shape, "Tune one shape only: cpu or gpu (default: both)")
       ->check(CLI::IsMember({"cpu", "gpu"}));
-  tune->add_flag("--quick", options->tune.quick, "64k elements, 2 runs: a smoke test (figures not comparable)");
+  tune->add_flag("--quick", options->tune.quick, "64k elements, 2 runs unless --runs: a smoke test (figures not comparable); not with --size");
 
-  return [options, suite_commands, report, compare, plot, tune] {
+  std::vector<CLI::App*> run_apps{bench};
+  for (const auto& [sub, suite] : suite_commands) run_apps.push_back(sub);
+
+  return [options, suite_commands, run_apps, report, compare, plot, tune] {
     BenchOptions& o = *options;
-    if (tune->parsed()) return run_tune(o);
+    if (tune->parsed()) {
+      if (o.tune.quick) {
+        refuse_size_beside_quick({tune});
+        if (times_given({tune}, "--runs") == 0) o.tune.measure.runs = 2;  // a given --runs wins
+      }
+      return run_tune(o);
+    }
     if (report->parsed()) {
       std::fputs(bench::markdown_report(read_any_results(o.results_path)).c_str(), stdout);
       return 0;
@@ -225,8 +249,10 @@ Action register_bench(CLI::App& app) {
     bench::RunOptions run = o.run;
     run.scaling = bench::parse_scaling(o.scaling);
     if (run.session.quick) {
-      run.session.measure.runs = std::min(run.session.measure.runs, 2);
-      run.session.measure.warmup = std::min(run.session.measure.warmup, 1);
+      refuse_size_beside_quick(run_apps);
+      // Few runs unless given: --quick --runs 5 used to run 2.
+      if (times_given(run_apps, "--runs") == 0) run.session.measure.runs = std::min(run.session.measure.runs, 2);
+      if (times_given(run_apps, "--warmup") == 0) run.session.measure.warmup = std::min(run.session.measure.warmup, 1);
     }
     if (run.devices.empty())
       if (const char* env = std::getenv(kDeviceEnvVar); env && *env) run.devices.push_back(env);

@@ -20,6 +20,7 @@ TEST(BenchTune, QuickScanTuningWritesARecordForTheDevice) {
   options.kernels = {"scan"};
   options.shapes = {Shape::Cpu};  // no kernel builds beyond the default program: seconds, not minutes
   options.quick = true;
+  options.measure = {1, 2};
   const auto results = run_tuning(options);
   ASSERT_EQ(results.size(), 1u);
   const TuneResult& r = results[0];

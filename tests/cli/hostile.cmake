@@ -178,3 +178,9 @@ add_test(NAME hostile.option_bench_device_empty COMMAND ${EXPECT_ERROR} "--devic
 add_test(NAME hostile.option_bench_tune_device_empty COMMAND ${EXPECT_ERROR} "--device: empty: give an index" $<TARGET_FILE:splatcl> bench tune --device ""
          -o ${HOSTILE_DIR}/tune.json)
 add_test(NAME hostile.option_cluster_output_empty COMMAND ${EXPECT_ERROR} "--output: empty: name a directory" $<TARGET_FILE:splatcl> cluster -o "" --size 8x8)
+# --quick replaced a given --size silently (and capped a given --runs at 2).
+hostile_error(option_bench_quick_with_size "--quick sets its own problem sizes: drop --size or --quick$" bench primitives --quick --size 1000)
+hostile_error(option_bench_quick_with_size_on_bench "--quick sets its own problem sizes" bench --size 1000 primitives --quick)
+hostile_error(option_bench_tune_quick_with_size "--quick sets its own problem sizes" bench tune --quick --size 1000 -o ${HOSTILE_DIR}/tune-quick.json)
+add_test(NAME hostile.option_bench_quick_keeps_given_runs COMMAND ${EXPECT_OUTPUT} --file ${HOSTILE_DIR}/quick-runs.json "\"runs\": 3"
+         -- $<TARGET_FILE:splatcl> bench primitives --quick --runs 3 --device cpu --json ${HOSTILE_DIR}/quick-runs.json)
