@@ -22,7 +22,7 @@ namespace prim = splatcl::primitives;
 using prim::LaunchParameters;
 using prim::Primitive;
 
-constexpr Primitive kPrimitives[] = {Primitive::Scan, Primitive::Compact, Primitive::RadixSort};
+using prim::kPrimitives;
 constexpr std::uint64_t kTuneSeed = 0x70E5u;
 
 // The values `bench tune` tries for each parameter; the defaults are among them.
@@ -223,9 +223,8 @@ class Tuner {
 }  // namespace
 
 Primitive parse_tuned_kernel(const std::string& name) {
-  for (const Primitive primitive : kPrimitives)
-    if (name == prim::tuning_name(primitive)) return primitive;
-  throw Error("unknown kernel '" + name + "' to tune (one of: scan, compact, radix-sort)");
+  if (const auto primitive = prim::parse_tuning_name(name)) return *primitive;
+  throw Error("unknown kernel '" + name + "' to tune (one of: " + prim::kTuningNames + ")");
 }
 
 std::vector<TuneResult> run_tuning(const TuneOptions& options) {

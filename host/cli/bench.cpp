@@ -21,6 +21,7 @@
 #include "bench/runner.hpp"
 #include "bench/suites.hpp"
 #include "bench/tune.hpp"
+#include "primitives/tuning.hpp"
 #include "cli/commands.hpp"
 #include "io/output_files.hpp"
 #include "runtime/error.hpp"
@@ -46,7 +47,10 @@ struct BenchOptions {
 int run_tune(const BenchOptions& o) {
   check_output_file(o.tuning_path, "-o");
   splatcl::TuningDatabase database;
-  if (std::filesystem::exists(o.tuning_path)) database = splatcl::TuningDatabase::read(o.tuning_path);
+  if (std::filesystem::exists(o.tuning_path)) {
+    database = splatcl::TuningDatabase::read(o.tuning_path);
+    primitives::check_database(database);  // its other records are written back as they are
+  }
   bench::TuneOptions options = o.tune;
   if (!o.tune_shape.empty()) options.shapes = {parse_shape(o.tune_shape)};
   if (options.devices.empty())

@@ -1,6 +1,7 @@
 #include "primitives/tuning.hpp"
 
 #include <algorithm>
+#include <mutex>
 
 #include "runtime/error.hpp"
 
@@ -48,6 +49,12 @@ const char* tuning_name(Primitive primitive) {
   }
 }
 
+std::optional<Primitive> parse_tuning_name(const std::string& name) {
+  for (const Primitive primitive : kPrimitives)
+    if (name == tuning_name(primitive)) return primitive;
+  return std::nullopt;
+}
+
 std::vector<std::string> tunable_parameters(Primitive primitive, Shape shape) {
   if (shape == Shape::Gpu) return {"group_size", "items_per_work_item"};
   if (primitive == Primitive::RadixSort) return {"digit_bits", "chunks_per_compute_unit", "min_chunk_items"};
@@ -83,6 +90,16 @@ LaunchParameters apply_record(const TuningRecord& record, Primitive primitive, S
 
 LaunchParameters tuned_parameters(const Runtime& runtime, Primitive primitive, Shape shape) {
   const auto database = TuningDatabase::active();
+  {
+    // Once per database: a record for another device or kernel was never looked at before.
+    static std::mutex mutex;
+    static const TuningDatabase* checked = nullptr;
+    std::lock_guard lock(mutex);
+    if (checked != database.get()) {
+      check_database(*database);
+      checked = database.get();
+    }
+  }
   const TuningRecord* record = database->find(tuning_name(primitive), to_string(shape), runtime.info());
   return record ? apply_record(*record, primitive, shape, database->source()) : LaunchParameters{};
 }
@@ -98,8 +115,10 @@ std::size_t gpu_local_bytes(const LaunchParameters& p, Primitive primitive, std:
   }
 }
 
-void validate(const LaunchParameters& p, Primitive primitive, Shape shape, const DeviceInfo& device, std::size_t key_bytes,
-              bool with_values) {
+namespace {
+
+// The kernels' own bounds, the same on every device.
+void validate_own_bounds(const LaunchParameters& p, Primitive primitive, Shape shape) {
   if (shape == Shape::Cpu) {
     if (p.chunks_per_compute_unit < 1 || p.chunks_per_compute_unit > kMaxChunksPerUnit)
       refuse(primitive, "chunks_per_compute_unit", p.chunks_per_compute_unit, "is outside 1 .. " + std::to_string(kMaxChunksPerUnit));
@@ -112,15 +131,41 @@ void validate(const LaunchParameters& p, Primitive primitive, Shape shape, const
   const std::int64_t group = p.group_size;
   if (group < kScanRakes || group % kScanRakes != 0)
     refuse(primitive, "group_size", group, "must be a positive multiple of " + std::to_string(kScanRakes) + " (the group scan's rakes)");
-  if (static_cast<std::size_t>(group) > device.max_work_group_size)
-    refuse(primitive, "group_size", group,
-           "exceeds the " + std::to_string(device.max_work_group_size) + " work-items per group of '" + device.name + "'");
   if (p.items_per_work_item < 1 || p.items_per_work_item > kMaxItemsPerWorkItem)
     refuse(primitive, "items_per_work_item", p.items_per_work_item, "is outside 1 .. " + std::to_string(kMaxItemsPerWorkItem));
   if (primitive == Primitive::RadixSort && group * p.items_per_work_item > kMaxGpuSortBlock)
     refuse(primitive, "items_per_work_item", p.items_per_work_item,
            "makes blocks of " + std::to_string(group * p.items_per_work_item) + " keys (at most " + std::to_string(kMaxGpuSortBlock) +
                ": " + std::to_string(SPLIT_FIELD_BITS) + "-bit per-way counts)");
+}
+
+}  // namespace
+
+void check_database(const TuningDatabase& database) {
+  const auto& records = database.records();
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const TuningRecord& record = records[i];
+    const std::string where = database.source() + ": records[" + std::to_string(i) + "] (" + record.kernel + ", " + record.shape + ")";
+    const auto primitive = parse_tuning_name(record.kernel);
+    if (!primitive) throw Error(where + ": unknown kernel (one of: " + kTuningNames + ")");
+    const Shape shape = parse_shape(record.shape);
+    const LaunchParameters parameters = apply_record(record, *primitive, shape, where);
+    try {
+      validate_own_bounds(parameters, *primitive, shape);
+    } catch (const Error& e) {
+      throw Error(where + ": " + e.what());
+    }
+  }
+}
+
+void validate(const LaunchParameters& p, Primitive primitive, Shape shape, const DeviceInfo& device, std::size_t key_bytes,
+              bool with_values) {
+  validate_own_bounds(p, primitive, shape);
+  if (shape == Shape::Cpu) return;
+  const std::int64_t group = p.group_size;
+  if (static_cast<std::size_t>(group) > device.max_work_group_size)
+    refuse(primitive, "group_size", group,
+           "exceeds the " + std::to_string(device.max_work_group_size) + " work-items per group of '" + device.name + "'");
   const std::size_t local = gpu_local_bytes(p, primitive, key_bytes, with_values);
   if (local > device.local_mem_bytes)
     refuse(primitive, "group_size", group,

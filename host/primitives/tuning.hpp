@@ -4,6 +4,7 @@
 // valid record safe to launch: results equal the references whatever the values.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,8 +14,12 @@
 namespace splatcl::primitives {
 
 enum class Primitive { Scan, Compact, RadixSort };
+inline constexpr Primitive kPrimitives[] = {Primitive::Scan, Primitive::Compact, Primitive::RadixSort};
 // The kernel name of its tuning records: "scan", "compact", "radix-sort".
 const char* tuning_name(Primitive primitive);
+// The primitive of a record's kernel name; none for any other.
+std::optional<Primitive> parse_tuning_name(const std::string& name);
+inline constexpr const char* kTuningNames = "scan, compact, radix-sort";
 
 struct LaunchParameters {
   // CPU shape: one work-item per chunk; chunks = min(n / min_chunk_items, compute units x
@@ -49,6 +54,11 @@ std::size_t gpu_local_bytes(const LaunchParameters& parameters, Primitive primit
 // (CL_DEVICE_MAX_WORK_GROUP_SIZE, CL_DEVICE_LOCAL_MEM_SIZE). key_bytes and with_values: radix sort.
 void validate(const LaunchParameters& parameters, Primitive primitive, Shape shape, const DeviceInfo& device,
               std::size_t key_bytes = 4, bool with_values = false);
+// Every record of `database`, whatever its device: a known kernel, parameters of its shape, and
+// within the kernels' own bounds (the device's limits are checked when a device uses a record).
+// Throws Error naming the database, the record's index and the cause. tuned_parameters checks the
+// active database once; `bench tune` checks the one it merges into.
+void check_database(const TuningDatabase& database);
 // After the build: throws Error when the compiled kernel allows fewer work-items per group than
 // `group_size` (CL_KERNEL_WORK_GROUP_SIZE) or needs more local memory than the device has.
 void validate_built_kernel(const cl::Kernel& kernel, const char* label, std::size_t group_size, const DeviceInfo& device);

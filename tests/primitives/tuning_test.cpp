@@ -121,6 +121,29 @@ TEST(Tuning, ValuesBeyondTheDeviceOrTheKernelsAreRefused) {
   EXPECT_NE(expect_error([&] { validate(cpu, Primitive::Scan, Shape::Cpu, gpu); }).find("chunks_per_compute_unit = 0"), std::string::npos);
 }
 
+// Records for other devices were never looked at: a database with a kernel 'fft' or a negative
+// chunk count for another vendor's CPU loaded, and `bench tune` wrote them back.
+TEST(Tuning, EveryRecordIsCheckedWhateverItsDevice) {
+  const auto check = [](const std::string& records) {
+    return expect_error([&] { check_database(TuningDatabase::parse(R"({"records": [)" + records + "]}", "t.json")); });
+  };
+  const std::string good = R"({"kernel": "scan", "shape": "gpu", "device": {"vendor": "X"}, "parameters": {"group_size": 64}})";
+  EXPECT_NO_THROW(check_database(TuningDatabase::parse(R"({"records": [)" + good + "]}", "t.json")));
+  EXPECT_EQ(check(good + R"(, {"kernel": "fft", "shape": "cpu", "device": {"vendor": "Y"}, "parameters": {}})"),
+            "t.json: records[1] (fft, cpu): unknown kernel (one of: scan, compact, radix-sort)");
+  EXPECT_EQ(check(R"({"kernel": "compact", "shape": "cpu", "device": {"vendor": "Y"}, "parameters": {"chunks_per_compute_unit": -3}})"),
+            "t.json: records[0] (compact, cpu): tuning of compact: chunks_per_compute_unit = -3 is outside 1 .. 256");
+  EXPECT_EQ(check(R"({"kernel": "radix-sort", "shape": "gpu", "device": {"type": "gpu"}, "parameters": {"group_size": 100}})"),
+            "t.json: records[0] (radix-sort, gpu): tuning of radix-sort: group_size = 100 must be a positive multiple of 16 (the group "
+            "scan's rakes)");
+  EXPECT_EQ(check(R"({"kernel": "scan", "shape": "gpu", "device": {"type": "gpu"}, "parameters": {"digit_bits": 4}})"),
+            "t.json: records[0] (scan, gpu): scan (gpu shape) has no parameter 'digit_bits' (known: group_size, "
+            "items_per_work_item)");
+  // The device's own limits wait for the device: 4096 work-items suit some GPU.
+  EXPECT_NO_THROW(check_database(TuningDatabase::parse(
+      R"({"records": [{"kernel": "scan", "shape": "gpu", "device": {"type": "gpu"}, "parameters": {"group_size": 4096}}]})", "t.json")));
+}
+
 TEST(Tuning, ADriverRefusesParametersTheTestDeviceCannotRun) {
   LaunchParameters p;
   p.group_size = static_cast<std::int64_t>(runtime().info().max_work_group_size) + 16;
