@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/progress.hpp"
 #include "cluster/cluster.hpp"
 #include "cluster/shading.hpp"
 #include "cluster/scene_input.hpp"
@@ -142,7 +143,11 @@ int run_cluster(const ClusterOptions& o) {
   // Clustered shading must equal shading with every light: same formula, same summation order.
   const Vec3 albedo{0.8f, 0.8f, 0.8f};
   const auto shaded = shade_clustered(layout, frame.view_z, frame.normals, lights, clusters, lists, albedo);
-  const auto reference = shade_brute_force(layout, frame.view_z, frame.normals, lights, albedo);
+  ProgressLine progress("cluster");
+  const auto reference = shade_brute_force(layout, frame.view_z, frame.normals, lights, albedo, [&](std::size_t done, std::size_t rows) {
+    progress.show(fmt::format("checking against brute-force shading with {} lights: {} of {} rows", lights.size(), done, rows));
+  });
+  progress.clear();
   float max_difference = 0.0f;
   for (std::size_t i = 0; i < shaded.size(); ++i) max_difference = std::max(max_difference, std::abs(shaded[i] - reference[i]));
 

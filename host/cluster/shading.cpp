@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numbers>
 #include <span>
 
@@ -12,10 +13,11 @@ namespace splatcl::cluster {
 namespace {
 
 // Shades pixel rows in parallel; light_span(p) gives the lights (indices) to evaluate at pixel p.
+// `progress` (when set) hears the rows done, one call at a time, the last with every row.
 template <class LightSpan>
 std::vector<float> shade_rows(const ClusterLayout& layout, const std::vector<float>& view_z,
                               const std::vector<Vec3>& normals, const std::vector<PointLight>& lights, Vec3 albedo,
-                              LightSpan light_span) {
+                              LightSpan light_span, const RowProgress& progress = {}) {
   const std::uint32_t width = layout.config.width, height = layout.config.height;
   if (view_z.size() != layout.pixel_count() || normals.size() != layout.pixel_count())
     throw Error("shading: depth or normal buffer does not match the frame size");
@@ -43,8 +45,13 @@ std::vector<float> shade_rows(const ClusterLayout& layout, const std::vector<flo
         rgb[3 * p + 2] = albedo.z * sum.z;
       }
   };
+  std::mutex progress_mutex;
+  std::size_t rows_done = 0;
   parallel_for(height, 4, [&](std::size_t y, std::size_t) {
     shade_range(static_cast<std::uint32_t>(y), static_cast<std::uint32_t>(y + 1));
+    if (!progress) return;
+    std::lock_guard lock(progress_mutex);
+    progress(++rows_done, height);
   });
   return rgb;
 }
@@ -71,11 +78,11 @@ std::vector<float> shade_clustered(const ClusterLayout& layout, const std::vecto
 
 std::vector<float> shade_brute_force(const ClusterLayout& layout, const std::vector<float>& view_z,
                                      const std::vector<Vec3>& normals, const std::vector<PointLight>& lights,
-                                     Vec3 albedo) {
+                                     Vec3 albedo, const RowProgress& progress) {
   std::vector<std::uint32_t> all(lights.size());
   for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
   return shade_rows(layout, view_z, normals, lights, albedo,
-                    [&](std::size_t) { return std::span<const std::uint32_t>(all); });
+                    [&](std::size_t) { return std::span<const std::uint32_t>(all); }, progress);
 }
 
 }  // namespace splatcl::cluster

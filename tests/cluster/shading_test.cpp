@@ -2,6 +2,8 @@
 // light, bit for bit (same formula, lights summed in the same ascending order, culled ones add 0).
 #include <gtest/gtest.h>
 
+#include <numeric>
+
 #include "cluster/shading.hpp"
 #include "cluster_fixture.hpp"
 #include "runtime/error.hpp"
@@ -52,6 +54,23 @@ TEST(ClusterShading, BackgroundStaysBlackAndSizesAreChecked) {
       EXPECT_EQ(rgb[3 * p], 0.0f);
     }
   EXPECT_THROW(shade_brute_force(layout, {}, frame.depth.normals, frame.lights, {1, 1, 1}), Error);
+}
+
+// `cluster --lights 300000` checked silently for 28 s: the brute-force shading reports its rows,
+// one call at a time, counting up to the frame's rows, and the image does not change.
+TEST(ClusterShading, BruteForceReportsItsRowsWithoutChangingTheImage) {
+  const auto frame = make_frame(200, 64, 48);
+  const auto layout = ClusterLayout::make(frame.config);
+  std::vector<std::size_t> reported;
+  const auto with_progress = shade_brute_force(layout, frame.depth.view_z, frame.depth.normals, frame.lights, {1, 1, 1},
+                                               [&](std::size_t done, std::size_t rows) {
+                                                 EXPECT_EQ(rows, 48u);
+                                                 reported.push_back(done);
+                                               });
+  std::vector<std::size_t> every_row(48);
+  std::iota(every_row.begin(), every_row.end(), std::size_t{1});
+  EXPECT_EQ(reported, every_row);
+  EXPECT_EQ(with_progress, shade_brute_force(layout, frame.depth.view_z, frame.depth.normals, frame.lights, {1, 1, 1}));
 }
 
 }  // namespace
