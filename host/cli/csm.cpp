@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string_view>
 
@@ -175,6 +176,7 @@ int run_build(const BuildCommand& c) {
   check_distinct_outputs({{"-o", c.output}, {"--coherence", c.coherence}});
   check_outputs_spare_inputs({{"-o", c.output}, {"--coherence", c.coherence}}, {{"model", c.model}});
   check_output_extension(c.output, "-o", {".csm"}, "a coherent shadow map");
+  check_output_extension(c.coherence, "--coherence", {".png", ".exr"}, "the coherence map image");
   ProgressLine progress("csm");
   const Mesh mesh = load_model(c.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
@@ -205,6 +207,7 @@ int run_build(const BuildCommand& c) {
 
 int run_info(const InfoCommand& c) {
   check_output_file(c.coherence, "--coherence");
+  check_output_extension(c.coherence, "--coherence", {".png", ".exr"}, "the coherence map image");  // not after the report
   Encoding encoding = Encoding::Plain;
   std::size_t bytes = 0;
   const Csm csm = read_csm(c.file, &encoding, &bytes);
@@ -228,6 +231,8 @@ int run_analyze(const AnalyzeCommand& c) {
   if (c.build.model.empty()) throw Error("csm analyze: a MODEL is required (see splatcl csm analyze --help)");
   if (c.kmeans.empty() && !c.wavelet) throw Error("csm analyze: choose --kmeans K (repeatable) and/or --wavelet");
   const BuildOptions options = build_options(c.build);
+  for (const std::uint32_t k : c.kmeans)  // before the build, not minutes after it
+    if (k > options.maps) throw Error(fmt::format("--kmeans {} is more clusters than the {} maps (--maps)", k, options.maps));
   ProgressLine progress("csm");
   const Mesh mesh = load_model(c.build.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
@@ -391,8 +396,11 @@ Action register_csm(CLI::App& app) {
   add_device_option(*analyze, a->build.device);
   analyze->add_option("model", a->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
   add_in_memory_build_options(*analyze, a->build);
-  analyze->add_option("--kmeans", a->kmeans, "Cluster the maps into K clusters (repeatable; all maps are kept in memory)");
-  analyze->add_option("--iterations", a->iterations, "Largest number of k-means (Lloyd) iterations")->capture_default_str();
+  analyze->add_option("--kmeans", a->kmeans, "Cluster the maps into K clusters, 1 .. --maps (repeatable; all maps are kept in memory)")
+      ->check(CLI::Range(1u, std::numeric_limits<std::uint32_t>::max()));
+  analyze->add_option("--iterations", a->iterations, "Largest number of k-means (Lloyd) iterations, at least 1")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1000000u));
   analyze->add_option("--seed", a->seed, "Seed of the k-means start")->capture_default_str();
   analyze->add_flag("--wavelet", a->wavelet, "Haar-wavelet re-layout of the per-pixel segments: zero coefficients and size estimate");
   analyze->add_flag("--reference", a->build.reference, "Use the native C++ references instead of the OpenCL kernels");

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -24,6 +25,15 @@ Mesh load_model(const std::string& path, ProgressLine& progress, Winding winding
     if (strict) throw Error(fmt::format("{}: {} (--strict)", path, mesh.problems.summary()));
     pending_warnings().push_back(fmt::format("splatcl: warning: {}: {}", path, mesh.problems.summary()));
   }
+  // Vertices are floats: far from the origin for its size a mesh loses its detail on reading (a unit
+  // sphere at 1e7 became a handful of points 1 apart, and csm built from it without a word).
+  const Box box = mesh.bounds();
+  const double step = std::ldexp(box.reach(), -24), diagonal = box.exact_diagonal();
+  if (diagonal > 0 && step > kFloatStepWarning * diagonal)
+    pending_warnings().push_back(fmt::format("splatcl: warning: {}: coordinates reach {:.7g}, where floats step by {:.3g} ({:.2g} % of the "
+                                             "mesh's {:.4g} diagonal): detail finer than that was lost on reading; translate the mesh "
+                                             "nearer the origin",
+                                             path, box.reach(), step, 100 * step / diagonal, diagonal));
   return mesh;
 }
 

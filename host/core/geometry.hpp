@@ -2,6 +2,7 @@
 // Small vector types shared by the stages (Vec3 is the one of math/vec3.hpp). Vec4 and Rgba8
 // match OpenCL's float4 and uchar4 layouts, so sample and splat arrays upload to the device
 // without repacking.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -37,6 +38,12 @@ struct Box {
     return std::sqrt(x * x + y * y + z * z);
   }
   float diagonal() const { return static_cast<float>(exact_diagonal()); }
+  // The largest |coordinate| of the box: floats there step by 2^-24 of it.
+  double reach() const {
+    if (empty()) return 0.0;
+    return std::max({std::fabs(double{lo.x}), std::fabs(double{lo.y}), std::fabs(double{lo.z}), std::fabs(double{hi.x}),
+                     std::fabs(double{hi.y}), std::fabs(double{hi.z})});
+  }
 };
 
 }  // namespace splatcl

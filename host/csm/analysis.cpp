@@ -355,6 +355,7 @@ std::vector<KMeansResult> kmeans_analysis(const std::vector<float>& z1, const st
                                           std::size_t pixels, const std::vector<std::uint32_t>& ks, std::uint32_t seed,
                                           std::uint32_t max_iterations) {
   if (z1.size() != pixels * maps || z2.size() != z1.size()) throw Error("kmeans_analysis: depth arrays do not hold maps x pixels values");
+  if (max_iterations == 0) throw Error("k-means: at least one iteration assigns the maps to clusters");
   // Depths lie in [0, 1] (a sphere exit may round a hair above 1): 2 stands for the empty pixels' +∞.
   const auto feature2 = [](float v) { return std::fmin(v, 2.0f); };
   std::vector<KMeansResult> results;

@@ -65,8 +65,13 @@ add_test(NAME cli.error_csm_mode_output COMMAND ${EXPECT_ERROR} "only measures s
 add_test(NAME cli.error_csm_mode_hilbert_res COMMAND ${EXPECT_ERROR} "power-of-two resolution, not 12" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE}
          --mode per-map --maps 16 --res 12)
 add_test(NAME cli.error_csm_analyze_nothing COMMAND ${EXPECT_ERROR} "--kmeans K" $<TARGET_FILE:splatcl> csm analyze ${SPLATS_CUBE} --maps 16 --res 8)
-add_test(NAME cli.error_csm_analyze_big_k COMMAND ${EXPECT_ERROR} "k = 32 must be between 1 and the map count 16" $<TARGET_FILE:splatcl> csm analyze
+add_test(NAME cli.error_csm_analyze_big_k COMMAND ${EXPECT_ERROR} "^splatcl: --kmeans 32 is more clusters than the 16 maps \\(--maps\\)$" $<TARGET_FILE:splatcl> csm analyze
          ${SPLATS_CUBE} --maps 16 --res 8 --kmeans 32)
+# --iterations 0 crashed (no map had a cluster); --kmeans 0 failed only after the build.
+add_test(NAME cli.error_csm_analyze_no_iterations COMMAND ${EXPECT_ERROR} "--iterations: Value 0 not in range 1 to 1000000" $<TARGET_FILE:splatcl> csm analyze
+         ${SPLATS_CUBE} --maps 16 --res 8 --kmeans 4 --iterations 0)
+add_test(NAME cli.error_csm_analyze_zero_k COMMAND ${EXPECT_ERROR} "--kmeans: Value 0 not in range 1 to 4294967295" $<TARGET_FILE:splatcl> csm analyze
+         ${SPLATS_CUBE} --maps 16 --res 8 --kmeans 0)
 # An output that names an input, or the wrong kind of file, is refused before any work (the model
 # stays as it was; a copy written here is the input).
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
@@ -78,3 +83,9 @@ add_test(NAME cli.error_csm_output_extension COMMAND ${EXPECT_ERROR} "-o out.txt
 add_test(NAME cli.error_csm_quality_other_model COMMAND ${EXPECT_ERROR} "the CSM was not built from .*csm-overwrite-me.obj" $<TARGET_FILE:splatcl>
          csm quality ${CMAKE_CURRENT_BINARY_DIR}/csm-overwrite-me.obj --csm ${CSM_OUT} --views 1 --image 16)
 set_tests_properties(cli.error_csm_quality_other_model PROPERTIES FIXTURES_REQUIRED csm_cube)
+# A coherence map that is no image: csm info printed its whole report and then failed.
+add_test(NAME cli.error_csm_info_coherence_not_an_image COMMAND ${EXPECT_ERROR} "^splatcl: --coherence .*coh.txt: the file must end in .png or .exr \\(the coherence map image\\)$"
+         $<TARGET_FILE:splatcl> csm info ${CSM_OUT} --coherence ${CMAKE_CURRENT_BINARY_DIR}/coh.txt)
+set_tests_properties(cli.error_csm_info_coherence_not_an_image PROPERTIES FIXTURES_REQUIRED csm_cube)
+add_test(NAME cli.error_csm_build_coherence_not_an_image COMMAND ${EXPECT_ERROR} "^splatcl: --coherence .*coh.txt: the file must end in .png or .exr"
+         $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/coh-build.csm --maps 16 --res 8 --coherence ${CMAKE_CURRENT_BINARY_DIR}/coh.txt)

@@ -239,6 +239,7 @@ TEST(CsmAnalysis, KMeansWithKEqualToNIsPerPixelAndFewerClustersCostErrors) {
   for (const KMeansResult& k : r) EXPECT_EQ(k.samples, std::uint64_t{maps} * pixels);
   EXPECT_THROW(kmeans_analysis(z1, z2, maps, pixels, {0}, 1), Error);
   EXPECT_THROW(kmeans_analysis(z1, z2, maps, pixels, {maps + 1}, 1), Error);
+  EXPECT_THROW(kmeans_analysis(z1, z2, maps, pixels, {4}, 1, 0), Error);  // no iteration: no map had a cluster (a crash)
 }
 
 TEST(CsmAnalysis, KMeansWithKEqualToNReproducesPerPixelOnABuild) {
