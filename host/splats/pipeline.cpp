@@ -33,16 +33,11 @@ SplatRecord grown_record(const FitResult& fit, const Samples& samples, std::uint
   return {xyz(s.center), xyz(s.normal), xyz(s.major), xyz(s.minor), samples.colors[j], clip.x, clip.y, clip.z};
 }
 
-// Meshes whose coordinates are this far from 1 are processed in units of their diagonal.
-double reach_of(const Box& box) {
-  return std::max({std::fabs(double{box.lo.x}), std::fabs(double{box.lo.y}), std::fabs(double{box.lo.z}), std::fabs(double{box.hi.x}),
-                   std::fabs(double{box.hi.y}), std::fabs(double{box.hi.z})});
-}
-
-// Also a mesh far from the origin for its size (a scan in georeferenced coordinates): its float
-// samples would carry steps of its distance's precision into the fit.
+// Meshes whose coordinates are far from 1 are processed in units of their diagonal; so is a mesh far
+// from the origin for its size (a scan in georeferenced coordinates): its float samples would carry
+// steps of its distance's precision into the fit.
 bool needs_normalising(const Box& box) {
-  const double diagonal = box.diagonal(), reach = reach_of(box);
+  const double diagonal = box.diagonal(), reach = box.reach();
   return !(diagonal >= 1e-6 && diagonal <= 1e6 && reach <= 1e6 && reach <= 100 * diagonal);
 }
 
@@ -63,7 +58,7 @@ double float_rounding(const Box& box) {
   // Each coordinate of a splat's centre (within the box) and of its two axes (each shorter than the
   // diagonal) rounds by at most 2^-24 of its magnitude when written.
   // In double throughout: twice a float diagonal of 1.7e38 overflowed float (every eps was refused).
-  return std::sqrt(3.0) * std::ldexp(reach_of(box) + 2 * box.exact_diagonal(), -24);
+  return std::sqrt(3.0) * std::ldexp(box.reach() + 2 * box.exact_diagonal(), -24);
 }
 
 std::vector<SplatRecord> SplatRun::records() const {
@@ -120,7 +115,7 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   if (input_options.surface_bound && !(rounding <= 0.5 * input_options.fit.eps))
     throw Error(fmt::format("{}: coordinates reach {:.7g}, where the float splat file's steps move a splat by up to {:.3g}, more than "
                             "half of eps {:.3g}: translate the mesh nearer the origin or raise --eps",
-                            input_mesh.source, reach_of(input_box), rounding, input_options.fit.eps));
+                            input_mesh.source, input_box.reach(), rounding, input_options.fit.eps));
   const auto bound_eps = static_cast<float>((input_options.fit.eps - rounding) / (normalise ? run.scale : 1.0));
   const Mesh& mesh = normalise ? normalised_mesh : input_mesh;
   const ColorSource& colors = normalise ? normalised_colors : input_colors;
@@ -268,9 +263,9 @@ VerifyReport verify_splats(const Samples& samples, const std::vector<SplatRecord
     index.buildIndex();
     parallel_for(splats.size(), 64, [&](std::size_t j, std::size_t) {
       const SplatRecord& s = splats[j];
-      const double a = length(s.major), b = length(s.minor);
+      const double a = exact_length(s.major), b = exact_length(s.minor);
       if (!(a > 0 && b > 0) || !finite(s.center)) return;
-      const Vec3 u = normalized(s.major), v = normalized(s.minor), nrm = normalized(s.normal);
+      const Vec3 u = exact_normalized(s.major), v = exact_normalized(s.minor), nrm = exact_normalized(s.normal);
       const float reach = static_cast<float>(std::sqrt(a * a + height_limit * height_limit) * (1 + slack));
       std::vector<std::vector<std::size_t>> ids;
       std::vector<std::vector<float>> distances;

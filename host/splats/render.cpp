@@ -27,11 +27,11 @@ void render_splats(const std::string& path, const std::vector<SplatRecord>& spla
   const Vec3 light = normalized(back + 0.5f * up + 0.3f * right);
   for (std::size_t i = 0; i < splats.size(); ++i) {
     const SplatRecord& s = splats[i];
-    const float a = length(s.major), b = length(s.minor);
+    const auto a = static_cast<float>(exact_length(s.major)), b = static_cast<float>(exact_length(s.minor));
     const Vec3 n = normalized(s.normal);
     const float facing = dot(n, back);
     if (!(a > 0 && b > 0) || std::fabs(facing) < 1e-3f) continue;
-    const Vec3 u = (1.0f / a) * s.major, v = (1.0f / b) * s.minor;
+    const Vec3 u = exact_normalized(s.major), v = exact_normalized(s.minor);
     const Vec3 c{dot(s.center, right), dot(s.center, up), dot(s.center, back)};
     const int x0 = static_cast<int>(std::floor((c.x - a - cx) * scale + half_w)), x1 = static_cast<int>(std::ceil((c.x + a - cx) * scale + half_w));
     const int y0 = static_cast<int>(std::floor((c.y - a - cy) * scale + half_h)), y1 = static_cast<int>(std::ceil((c.y + a - cy) * scale + half_h));

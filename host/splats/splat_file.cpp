@@ -88,7 +88,8 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
   std::string body;
   for (const SplatRecord& s : splats) {
     const float values[] = {s.center.x, s.center.y, s.center.z, s.normal.x, s.normal.y, s.normal.z, s.major.x,
-                            s.major.y,  s.major.z,  s.minor.x,  s.minor.y,  s.minor.z,  length(s.major), length(s.minor)};
+                            s.major.y,  s.major.z,  s.minor.x,  s.minor.y,  s.minor.z,  static_cast<float>(exact_length(s.major)),
+                            static_cast<float>(exact_length(s.minor))};
     for (int p = 0; p < 6; ++p) append_bytes(body, values[p]);
     append_bytes(body, s.color.r), append_bytes(body, s.color.g), append_bytes(body, s.color.b);
     for (int p = 6; p < 14; ++p) append_bytes(body, values[p]);
@@ -196,9 +197,10 @@ SplatFile decode_splat_file(const std::string& data, const std::string& path) {
     if (!finite3(s.normal) || std::abs(length(s.normal) - 1.0f) > 1e-2f) throw bad("the normal is not a finite unit vector");
     if (!finite3(s.major) || !finite3(s.minor)) throw bad("non-finite semi-axis");
     for (int a = 0; a < 2; ++a) {
-      const float expected = length(a == 0 ? s.major : s.minor);
-      if (!(lengths[a] >= 0) || !std::isfinite(lengths[a]) || std::abs(lengths[a] - expected) > 1e-4f * expected + 1e-30f)
-        throw bad(fmt::format("{} axis length {} is not the length {} of its vector", a == 0 ? "major" : "minor", lengths[a], expected));
+      const double expected = exact_length(a == 0 ? s.major : s.minor);
+      if (!(lengths[a] >= 0) || !std::isfinite(lengths[a]) || std::abs(lengths[a] - expected) > 1e-4 * expected)
+        throw bad(fmt::format("{} axis length {} is not the length {} of its vector", a == 0 ? "major" : "minor", lengths[a],
+                              static_cast<float>(expected)));
     }
     if (file.info.clipped && (!std::isfinite(s.clip_x) || !std::isfinite(s.clip_y) || std::isnan(s.clip_offset) || s.clip_offset == -INFINITY))
       throw bad("bad clip line");

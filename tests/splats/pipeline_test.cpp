@@ -199,6 +199,23 @@ TEST(SplatFile, RoundTripAndCorruption) {
   EXPECT_THROW(read_splat_file(temp_path("missing.ply")), Error);
 }
 
+// The stored major/minor lengths are the axes' lengths at any float scale: computed in float, the
+// squares overflowed beyond 1.8e19 (a mesh at 1e20 stored major = inf, and splats verify refused
+// its own file) and underflowed below 1e-19 (stored 0, which the reader took for the length of a
+// vector whose float length underflowed too). The reader measures in double as well, so reading
+// each file back checks every stored length to 1e-4.
+TEST(SplatFile, StoredLengthsAreTheAxesLengthsAtAnyScale) {
+  for (const float scale : {3e19f, 1e30f, 3e-25f, 1e-35f}) {
+    std::vector<SplatRecord> splats(2);
+    splats[0].major = {scale, scale, 0}, splats[0].minor = {0, 0, 0.5f * scale}, splats[0].normal = {0.70710678f, -0.70710678f, 0};
+    splats[1].major = {0, 0, 2 * scale}, splats[1].minor = {0.3f * scale, 0.4f * scale, 0}, splats[1].normal = {-0.8f, 0.6f, 0};
+    for (auto& s : splats) s.center = {scale, 0, 0};
+    const std::string path = temp_path("scaled.ply");
+    write_splat_file(path, splats, SplatFileInfo{"scaled", "vertices", scale, 10, 20, "hard", false});
+    EXPECT_NO_THROW(read_splat_file(path)) << "scale " << scale;
+  }
+}
+
 TEST(SplatPipeline, BunnyAtTheThesisDefault) {
   const std::string path = model_path("stanford-bunny.obj");
   if (path.empty()) GTEST_SKIP() << "stanford-bunny.obj not found in " << SPLATCL_MODELS_DIR;
