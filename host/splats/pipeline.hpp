@@ -30,8 +30,10 @@ namespace splatcl::splats {
 // off their normal are loaded as their fan (core/mesh.cpp), so their samples take the triangles'
 // normals. 6: the thesis's method (thesis_only) caps growth at kCoveredBudget / samples when no cap is
 // given, so that flat faces stay linear; a UTF-8 byte-order mark no longer shifts an OBJ's indices;
-// an inside-out closed part that lies inside no other is turned outward (core/mesh.cpp).
-inline constexpr int kSplatMethodVersion = 6;
+// an inside-out closed part that lies inside no other is turned outward (core/mesh.cpp). 7: gap
+// splats also try major axes along their triangle's other edges (fewer of them along the borders
+// of non-square faces).
+inline constexpr int kSplatMethodVersion = 7;
 
 struct PipelineOptions {
   SamplingOptions sampling;

@@ -436,8 +436,8 @@ double largest_passing(double lo, double hi, int steps, double ratio, const Pass
 }
 
 // An ellipse in the triangle's plane centred on the gap, as large as the surface bound allows (up
-// to `largest`): the largest passing circle, then, of four orientations of the major axis, the one
-// that passes at the greatest length (along a crease or a boundary, the surface allows a long thin
+// to `largest`): the largest passing circle, then, of the orientations of the major axis tried
+// (four from the longest edge, and the other edges'), the one that passes at the greatest length (along a crease or a boundary, the surface allows a long thin
 // splat where a circle stays small).
 // `same_colour`, when set, must also pass: the colour variant's tolerance over the splat.
 using ColourTest = std::function<bool(const Ellipse&, Surface::Recent&)>;
@@ -469,11 +469,25 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
   for (double r = eps / 32; !(radius > 0) && r > eps / 4096; r *= 0.5)
     if (test(r, r)) radius = r;
   if (!(radius > 0)) radius = eps / 4096;  // the centre itself lies on the surface
-  double best_a = radius;
-  DVec3 best_u = x;
+  // Major axes to try: four from the longest edge, and along the triangle's other two edges (the
+  // sides of a quad split on its diagonal: on a 1 x 2 face no multiple of 45 degrees from the
+  // diagonal runs along the face's border, and its gaps took 13x the splats of a square's).
+  std::vector<DVec3> directions;
   for (int k = 0; k < 4; ++k) {
     const double angle = std::numbers::pi * k / 4;
-    e.u = std::cos(angle) * x + std::sin(angle) * y;
+    directions.push_back(std::cos(angle) * x + std::sin(angle) * y);
+  }
+  for (const DVec3& edge : edges) {
+    const DVec3 along = normalized(edge - dot(edge, e.normal) * e.normal);
+    if (!(length(along) > 0)) continue;
+    // Not one already tried (within about 3 degrees, either way along).
+    if (std::none_of(directions.begin(), directions.end(), [&](DVec3 d) { return std::fabs(dot(d, along)) > 0.9986; }))
+      directions.push_back(along);
+  }
+  double best_a = radius;
+  DVec3 best_u = x;
+  for (const DVec3& direction : directions) {
+    e.u = direction;
     e.v = cross(e.normal, e.u);
     const double a = grow_while_passing(radius, 2 * radius, [&](double a_) { return test(a_, radius); });
     if (a > best_a * 1.05) best_a = a, best_u = e.u;
