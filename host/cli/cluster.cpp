@@ -87,7 +87,10 @@ int run_cluster(const ClusterOptions& o) {
     std::error_code ec;
     std::filesystem::create_directories(o.output_dir, ec);
     if (ec) throw Error("cannot create -o directory " + o.output_dir + ": " + ec.message());
-    for (const auto& name : output_names) check_output_file((std::filesystem::path(o.output_dir) / name).string(), "-o");
+    std::vector<std::pair<std::string, std::string>> outputs;
+    for (const auto& name : output_names) outputs.emplace_back("-o", (std::filesystem::path(o.output_dir) / name).string());
+    for (const auto& [option, path] : outputs) check_output_file(path, option);
+    check_outputs_spare_inputs(outputs, scene_input_files(scene));
   }
 
   auto runtime = Runtime::create(o.device.device);

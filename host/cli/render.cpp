@@ -44,9 +44,13 @@ int run_render(const RenderOptions& o) {
   check_output_file(o.output, "-o");
   check_output_file(o.json, "--json");
   check_distinct_outputs({{"-o", o.output}, {"--json", o.json}});
-  if (!(std::isfinite(o.dt) && o.dt >= 0)) throw Error(fmt::format("--dt {} is not a time step in seconds (finite, not negative)", o.dt));
-  if (o.time && !std::isfinite(*o.time)) throw Error(fmt::format("--time {} is not a scene time in seconds (finite)", *o.time));
+  // Within float range: the frames' times are floats (--time 1e39 failed as "a placement is not invertible").
+  if (!(std::isfinite(static_cast<float>(o.dt)) && o.dt >= 0))
+    throw Error(fmt::format("--dt {} is not a time step in seconds (finite within float range, not negative)", o.dt));
+  if (o.time && !std::isfinite(static_cast<float>(*o.time)))
+    throw Error(fmt::format("--time {} is not a scene time in seconds (finite within float range)", *o.time));
   const splatcl::Scene scene = o.scene.load();
+  check_outputs_spare_inputs({{"-o", o.output}, {"--json", o.json}}, scene_input_files(scene));  // --json scene.json replaced the scene
   auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::offscreen();
   ProgressLine progress("render");

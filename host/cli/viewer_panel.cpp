@@ -177,7 +177,7 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
     if (ImGui::Combo("debug view [1-8]", &view, kViews.data(), static_cast<int>(kViews.size())))
       v.debug_view = static_cast<present::DebugView>(view);
     ImGui::Checkbox("paused [Space]", &v.paused);
-    ImGui::SliderFloat("splat scale k", &q.splat_scale, 0.25f, 3.0f, "%.3f");
+    ImGui::SliderFloat("splat scale k", &q.splat_scale, kMinSplatScale, kMaxSplatScale, "%.3f");
     ImGui::SliderFloat("depth offset eps", &q.depth_offset, 0.0f, 0.2f, "%.4f");
     int lights = static_cast<int>(s.generated.count);
     const int explicit_lights = static_cast<int>(s.lights.size() - s.generated.count);

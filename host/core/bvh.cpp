@@ -96,10 +96,12 @@ class Builder {
     int best_axis = -1, best_bin = 0;
     for (int axis = 0; axis < 3; ++axis) {
       const float extent = centres.hi[axis] - centres.lo[axis];
-      if (!(extent > 0)) continue;
+      const float scale = kBins / extent;
+      // A denormal extent gives an infinite scale, and 0 x inf a NaN bin (an index far out of the
+      // bins: a splat object fitted around one huge Gaussian crashed here).
+      if (!(extent > 0) || !std::isfinite(scale)) continue;
       std::array<Bounds, kBins> bin_bounds;
       std::array<std::uint32_t, kBins> bin_counts{};
-      const float scale = kBins / extent;
       for (std::uint32_t i = begin; i < end; ++i) {
         const Item& item = items_[order_[i]];
         const int b = std::min(kBins - 1, static_cast<int>((item.centre[axis] - centres.lo[axis]) * scale));

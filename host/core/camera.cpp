@@ -44,7 +44,6 @@ Camera camera_from_json(const nlohmann::json& json, const JsonFields& fields, co
   c.far_plane = fields.number_or(json, "far", c.far_plane, path);
   if (!(c.fov_y > 0 && c.fov_y < std::numbers::pi_v<float>)) fields.fail(path + ".fov_y_degrees must be in (0, 180)");
   if (!(c.near_plane > 0 && c.far_plane > c.near_plane)) fields.fail(path + " needs 0 < near < far");
-  if (!std::isfinite(c.far_plane)) fields.fail(path + ".far is beyond float range (at most 3.4e38)");
   try {
     view_frame(c);  // eye and target apart, up not along the view
   } catch (const Error& e) {

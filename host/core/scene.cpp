@@ -30,10 +30,13 @@ struct Reader {
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
     throw Error(fmt::format("{}: '{}' {}", source, field, what));
   }
+  // Numbers are finite as floats (json_float): 1e39 became inf, which failed far from here with
+  // another cause ("not invertible", "non-finite centre") or drew nothing.
   float number(const json& j, const std::string& field, float fallback) const {
     if (!j.contains(field)) return fallback;
-    if (!j[field].is_number() || !std::isfinite(j[field].get<double>())) fail(field, "must be a finite number");
-    return j[field].get<float>();
+    float v = 0;
+    if (!json_float(j[field], v)) fail(field, "must be a finite number (within float range, |x| < 3.4e38)");
+    return v;
   }
   float positive(const json& j, const std::string& field, float fallback) const {
     const float v = number(j, field, fallback);
@@ -59,10 +62,11 @@ struct Reader {
   glm::vec3 vec3(const json& j, const std::string& field, glm::vec3 fallback) const {
     if (!j.contains(field)) return fallback;
     const json& v = j[field];
-    if (v.is_number()) return glm::vec3(v.get<float>());
-    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
-      fail(field, "must be an array of 3 numbers");
-    return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+    glm::vec3 out;
+    if (v.is_number() && json_float(v, out.x)) return glm::vec3(out.x);  // one number for all three
+    if (!v.is_array() || v.size() != 3 || !json_float(v[0], out.x) || !json_float(v[1], out.y) || !json_float(v[2], out.z))
+      fail(field, "must be an array of 3 finite numbers (within float range)");
+    return out;
   }
   // A colour or radiance: every channel finite and >= 0, and with `most` > 0 at most that (an
   // albedo reflects at most all the light).
@@ -81,10 +85,11 @@ struct Reader {
   std::array<float, 2> range(const json& j, const std::string& field, std::array<float, 2> fallback) const {
     if (!j.contains(field)) return fallback;
     const json& v = j[field];
-    if (v.is_number()) return {v.get<float>(), v.get<float>()};
-    if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number() || v[0].get<float>() > v[1].get<float>())
-      fail(field, "must be [min, max]");
-    return {v[0].get<float>(), v[1].get<float>()};
+    float lo = 0, hi = 0;
+    if (v.is_number() && json_float(v, lo)) return {lo, lo};
+    if (!v.is_array() || v.size() != 2 || !json_float(v[0], lo) || !json_float(v[1], hi) || lo > hi)
+      fail(field, "must be [min, max] (finite numbers within float range)");
+    return {lo, hi};
   }
   std::string text(const json& j, const std::string& field, const std::string& fallback,
                    std::initializer_list<const char*> allowed = {}) const {
@@ -385,7 +390,9 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.ao_bias = r.non_negative(q, "ao_bias", Q.ao_bias, "a depth bias in CSM depth units");
     Q.shadow_lift = r.non_negative(q, "shadow_lift", Q.shadow_lift, "a lift off the surface in world units");
     Q.shadow_lift_auto = !q.contains("shadow_lift");
-    Q.splat_scale = r.positive(q, "splat_scale", Q.splat_scale);
+    Q.splat_scale = r.number(q, "splat_scale", Q.splat_scale);
+    if (!(Q.splat_scale >= kMinSplatScale && Q.splat_scale <= kMaxSplatScale))  // k = 10 took 260 s of gap covering
+      r.fail("splat_scale", fmt::format("must be in [{:g}, {:g}], not {:g}", kMinSplatScale, kMaxSplatScale, Q.splat_scale));
     Q.antialias = r.non_negative(q, "antialias", Q.antialias, "0 = off");
     Q.depth_offset = r.non_negative(q, "depth_offset", Q.depth_offset, "the visibility pass's ε behind the nearest splat");
     Q.depth_offset_auto = !q.contains("depth_offset");
@@ -424,6 +431,18 @@ Scene default_scene() { return parse_scene(embedded_data().at("presenter-scene.j
 std::string scene_path(const std::string& path, const std::string& directory) {
   const std::filesystem::path p(path);
   return p.is_absolute() || directory.empty() ? p.string() : (std::filesystem::path(directory) / p).string();
+}
+
+std::vector<std::pair<std::string, std::string>> scene_input_files(const Scene& scene) {
+  std::vector<std::pair<std::string, std::string>> files;
+  if (scene.source != default_scene_name()) files.emplace_back("scene", scene.source);
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const ObjectSpec& object = scene.objects[i];
+    const std::string where = object_where(scene, i);
+    for (const auto& [what, path] : {std::pair{"mesh", &object.mesh.path}, {"splat file", &object.mesh.splat_path}, {"texture", &object.texture}})
+      if (!path->empty()) files.emplace_back(std::string(what) + " (" + where + ")", scene_path(*path, scene.directory));
+  }
+  return files;
 }
 
 FitTransform fit_transform(const std::vector<Vec3>& points, const MeshFit& fit, glm::vec3 rotation_degrees,

@@ -44,11 +44,18 @@ const nlohmann::json& JsonFields::field(const nlohmann::json& object, const char
   return *it;
 }
 
+bool json_float(const nlohmann::json& value, float& out) {
+  if (!value.is_number()) return false;
+  out = value.get<float>();
+  return std::isfinite(out);
+}
+
 float JsonFields::number(const nlohmann::json& value, const std::string& path) const {
   if (!value.is_number()) fail(path + " must be a number");
-  const double v = value.get<double>();
-  if (!std::isfinite(v)) fail(path + " must be finite");
-  return static_cast<float>(v);
+  float v = 0;
+  if (!json_float(value, v))
+    fail(path + (std::isfinite(value.get<double>()) ? " is beyond float range (at most 3.4e38)" : " must be finite"));
+  return v;
 }
 
 float JsonFields::number_or(const nlohmann::json& object, const char* name, float fallback, const std::string& path) const {

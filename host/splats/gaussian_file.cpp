@@ -149,6 +149,11 @@ std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const st
       if (result == mesh_io::PlyBody::Malformed) throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, vertices->properties[k].name));
     }
     const auto at = [&](int i) { return v[static_cast<std::size_t>(i)]; };
+    // NaN in the colour, opacity or normal was taken silently (a NaN opacity kept the Gaussian, a
+    // NaN colour rounded to whatever lround gives).
+    for (const int i : {dc[0], dc[1], dc[2], opacity, normal[0], normal[1], normal[2]})
+      if (i >= 0 && std::isnan(at(i)))
+        throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, vertices->properties[static_cast<std::size_t>(i)].name));
     if (opacity >= 0 && 1.0 / (1.0 + std::exp(-at(opacity))) < kGaussianMinReadAlpha) continue;
     double q[4] = {at(rot[0]), at(rot[1]), at(rot[2]), at(rot[3])};
     const double q_len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
@@ -176,6 +181,8 @@ std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const st
     s.normal = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
     s.major = {static_cast<float>(major.x), static_cast<float>(major.y), static_cast<float>(major.z)};
     s.minor = {static_cast<float>(minor.x), static_cast<float>(minor.y), static_cast<float>(minor.z)};
+    if (!finite(s.major) || !finite(s.minor))  // exp(scale) finite as a double, beyond float range
+      throw fail(fmt::format("Gaussian {}: its scale makes an axis beyond float range", r + 1));
     if (dc[0] >= 0 && dc[1] >= 0 && dc[2] >= 0) {
       std::uint8_t rgb[3];
       for (int c = 0; c < 3; ++c) rgb[c] = static_cast<std::uint8_t>(std::lround(std::clamp(255.0 * (0.5 + kShC0 * at(dc[c])), 0.0, 255.0)));

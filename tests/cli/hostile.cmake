@@ -184,3 +184,35 @@ hostile_error(option_bench_quick_with_size_on_bench "--quick sets its own proble
 hostile_error(option_bench_tune_quick_with_size "--quick sets its own problem sizes" bench tune --quick --size 1000 -o ${HOSTILE_DIR}/tune-quick.json)
 add_test(NAME hostile.option_bench_quick_keeps_given_runs COMMAND ${EXPECT_OUTPUT} --file ${HOSTILE_DIR}/quick-runs.json "\"runs\": 3"
          -- $<TARGET_FILE:splatcl> bench primitives --quick --runs 3 --device cpu --json ${HOSTILE_DIR}/quick-runs.json)
+# A mesh far from the origin for its size loses its detail on reading (vertices are floats): a unit
+# tetrahedron at 1e7 built a CSM without a word. Near the origin the same mesh warns of nothing.
+file(WRITE ${HOSTILE_DIR}/tetra-1e7.obj "v 10000000 0 0\nv 10000001 0 0\nv 10000000 1 0\nv 10000000 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+file(WRITE ${HOSTILE_DIR}/tetra-near.obj "v 1000 0 0\nv 1001 0 0\nv 1000 1 0\nv 1000 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+add_test(NAME hostile.mesh_far_from_origin_warns COMMAND ${EXPECT_OUTPUT}
+         --match "tetra-1e7.obj: coordinates reach 1e\\+07, where floats step by 0.596 \\(34 % of the mesh's 1.732 diagonal\\): detail finer than that was lost on reading"
+         -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/tetra-1e7.obj -o ${HOSTILE_DIR}/tetra-1e7.csm --maps 16 --res 8)
+add_test(NAME hostile.mesh_near_origin_does_not_warn COMMAND ${EXPECT_OUTPUT} --no-match "warning"
+         -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/tetra-near.obj -o ${HOSTILE_DIR}/tetra-near.csm --maps 16 --res 8)
+# Numbers beyond float range in a scene (finite as doubles, inf as floats) failed far from the
+# field with another cause ("an occluder placement is not invertible", "camera up vector is
+# parallel") or drew nothing; splat_scale had no upper bound (k = 10: 260 s of gap covering).
+file(WRITE ${HOSTILE_DIR}/position-beyond-float.json "{\"objects\": [{\"name\": \"s\", \"mesh\": {\"procedural\": \"sphere\"}, \"position\": [1e39, 0, 0]}]}")
+hostile_error(scene_position_beyond_float "position-beyond-float.json: objects\\[0\\] 's': 'position' must be an array of 3 finite numbers \\(within float range\\)$"
+              cluster ${HOSTILE_DIR}/position-beyond-float.json --size 16x16)
+file(WRITE ${HOSTILE_DIR}/eye-beyond-float.json "{\"objects\": [], \"camera\": {\"eye\": [0, 1e39, 5], \"target\": [0, 0, 0]}}")
+hostile_error(scene_eye_beyond_float "eye-beyond-float.json: camera.eye\\[1\\] is beyond float range" cluster ${HOSTILE_DIR}/eye-beyond-float.json --size 16x16)
+file(WRITE ${HOSTILE_DIR}/intensity-beyond-float.json "{\"objects\": [], \"lights\": {\"count\": 4, \"intensity\": 1e39}}")
+hostile_error(scene_intensity_beyond_float "intensity-beyond-float.json: lights: 'intensity' must be a finite number \\(within float range"
+              cluster ${HOSTILE_DIR}/intensity-beyond-float.json --size 16x16)
+file(WRITE ${HOSTILE_DIR}/splat-scale-10.json "{\"objects\": [], \"quality\": {\"splat_scale\": 10}}")
+hostile_error(scene_splat_scale_bound "splat-scale-10.json: 'splat_scale' must be in \\[0.25, 3\\], not 10$" cluster ${HOSTILE_DIR}/splat-scale-10.json --size 16x16)
+hostile_error(option_render_time_beyond_float "--time 1e\\+39 is not a scene time in seconds \\(finite within float range\\)$" render --time 1e39)
+# render --json naming the scene replaced the scene with the timings; cluster -o over a folder
+# holding the scene as summary.json likewise.
+file(WRITE ${HOSTILE_DIR}/render-own-scene.json "{\"objects\": []}")
+hostile_error(render_json_over_scene "--json .*render-own-scene.json would overwrite the scene .*render-own-scene.json$"
+              render ${HOSTILE_DIR}/render-own-scene.json --json ${HOSTILE_DIR}/render-own-scene.json --size 16x16)
+file(MAKE_DIRECTORY ${HOSTILE_DIR}/cluster-own-scene)
+file(WRITE ${HOSTILE_DIR}/cluster-own-scene/summary.json "{\"objects\": []}")
+hostile_error(cluster_output_over_scene "-o .*summary.json would overwrite the scene .*summary.json$"
+              cluster ${HOSTILE_DIR}/cluster-own-scene/summary.json -o ${HOSTILE_DIR}/cluster-own-scene --size 16x16)

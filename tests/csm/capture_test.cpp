@@ -118,6 +118,28 @@ TEST(CsmCapture, BvhTraversalMatchesBruteForce) {
   }
 }
 
+// A cluster of triangles spread over denormal distances beside one large one (a splat object
+// fitted around one huge Gaussian): the binning's scale kBins / extent was infinite, 0 x inf gave
+// a NaN bin and the build wrote far out of its bins (a segfault). Every triangle stays in the tree.
+TEST(CsmCapture, BvhBuildsOverDenormalSpreads) {
+  std::vector<BvhTriangle> triangles;
+  const auto add = [&](float x, float size) {
+    BvhTriangle t{};
+    t.v0[0] = x;
+    t.e1[0] = size;
+    t.e2[1] = size;
+    triangles.push_back(t);
+  };
+  for (int i = 0; i < 64; ++i) add(static_cast<float>(i) * 1e-44f, 1e-40f);
+  add(0.5f, 1.0f);
+  const Bvh bvh = build_bvh(triangles);
+  EXPECT_EQ(bvh.triangles.size(), triangles.size());
+  EXPECT_LE(bvh.depth, kBvhMaxDepth);
+  // The large triangle is still found: a ray down onto it at (0.7, 0.1).
+  const float o[3] = {0.7f, 0.1f, 1.0f}, dir[3] = {0.0f, 0.0f, -1.0f}, inv[3] = {INFINITY, INFINITY, -1.0f};
+  EXPECT_EQ(first_two_hits(bvh, o, dir, inv, 1e-6f).t1, 1.0f);
+}
+
 TEST(CsmCapture, DegenerateMeshesAreOneClearError) {
   const Mesh flat = make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}}, "collinear");
   EXPECT_THROW(CaptureScene(flat, bounding_sphere(flat), 8, SingleHit::SphereExit), Error);

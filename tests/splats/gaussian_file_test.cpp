@@ -317,6 +317,14 @@ TEST(GaussianFile, ReadingRefusesWhatIsNotAGaussianFile) {
           "more than the 36 bytes after end_header can hold");
   refused(head + all + "end_header\n0 0 0 800 0 0 1 0 0 0\n", "scale_0 is not finite");
   refused(head + all + "end_header\n0 0 x 0 0 0 1 0 0 0\n", "'z' is not a number");
+  // exp(100) is finite as a double and an axis of 2.7e43 is not a float: accepted as inf before.
+  refused(head + all + "end_header\n0 0 0 100 0 0 1 0 0 0\n", "Gaussian 1: its scale makes an axis beyond float range");
+  // NaN colour, opacity or normal: kept silently before (a NaN opacity passed the faintness test).
+  std::string extra = all;
+  for (const char* p : {"nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2", "opacity"}) extra += std::string("property float ") + p + "\n";
+  refused(head + extra + "end_header\n0 0 0 0 0 0 1 0 0 0 0 0 1 0.1 0.2 0.3 nan\n", "Gaussian 1: 'opacity' is not a number");
+  refused(head + extra + "end_header\n0 0 0 0 0 0 1 0 0 0 0 0 1 nan 0.2 0.3 2\n", "Gaussian 1: 'f_dc_0' is not a number");
+  refused(head + extra + "end_header\n0 0 0 0 0 0 1 0 0 0 0 nan 1 0.1 0.2 0.3 2\n", "Gaussian 1: 'ny' is not a number");
   refused("ply\nformat ascii 1.0\nelement vertex 0\n" + all + "end_header\n", "no Gaussians");
   refused("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n", "no vertex element");
   refused("not a ply", "not a PLY file");
