@@ -32,10 +32,10 @@ void GBuffer::bind_and_clear(int targets) const {
   glNamedFramebufferDrawBuffers(accum_fbo_.get(), targets, buffers);
   glBindFramebuffer(GL_FRAMEBUFFER, accum_fbo_.get());
   const float zero[4] = {0, 0, 0, 0};
-  const float one = 1.0f;
+  const float farthest = 0.0f;  // reversed depth: far is 0
   for (GLint b = 0; b < targets; ++b) glClearBufferfv(GL_COLOR, b, zero);
   glDepthMask(GL_TRUE);
-  glClearBufferfv(GL_DEPTH, 0, &one);
+  glClearBufferfv(GL_DEPTH, 0, &farthest);
 }
 
 std::vector<float> GBuffer::read_channel(int target) const {

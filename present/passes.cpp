@@ -71,7 +71,7 @@ void AccumulationPass::run(const GBuffer& gbuffer, const SplatFrame& frame, cons
                            float beta, bool footprints) const {
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.accumulation_framebuffer());
   glDepthMask(GL_FALSE);
-  glDepthFunc(GL_LEQUAL);
+  glDepthFunc(GL_GEQUAL);  // reversed depth: nearer is greater
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
   glEnable(GL_CLIP_DISTANCE0);  // the near plane as the visibility pass cuts it (splat.vert.glsl)

@@ -59,6 +59,16 @@ csm::Transform to_transform(const glm::mat4& m) {
 
 Vec4 vec4(glm::vec3 v) { return {v.x, v.y, v.z, 0.0f}; }
 
+// Reversed depth: near maps to 1 and far to 0 in glClipControl's [0, 1] range (set by
+// use_reversed_depth), so the float depth buffer keeps about 2^-24 relative precision at every
+// distance. With the standard mapping its steps grew as distance^2 / near: at near 1e-4, or a camera
+// 500 units out, they passed the visibility pass's offset and the floor's splats hid each other in
+// bands. Depth tests are GREATER / GEQUAL against a clear of 0.
+glm::mat4 reversed_depth_projection(const Camera& cam, float aspect) {
+  return glm::perspectiveRH_ZO(cam.fov_y, aspect, cam.far_plane, cam.near_plane);
+}
+void use_reversed_depth() { glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE); }
+
 // Every occluder object placed at `placements` (one per scene object), as CSM instances.
 std::vector<csm::Instance> occluder_instances(const Scene& scene, const std::vector<glm::mat4>& placements) {
   std::vector<csm::Instance> instances;
@@ -906,7 +916,7 @@ FrameStats Presenter::render(float time) {
   const Camera& cam = scene_.camera;
   f.eye = {cam.eye.x, cam.eye.y, cam.eye.z};
   f.view = glm::lookAt(f.eye, {cam.target.x, cam.target.y, cam.target.z}, {cam.up.x, cam.up.y, cam.up.z});
-  f.proj = glm::perspective(cam.fov_y, static_cast<float>(width_) / static_cast<float>(height_), cam.near_plane, cam.far_plane);
+  f.proj = reversed_depth_projection(cam, static_cast<float>(width_) / static_cast<float>(height_));
   f.view_frame = view_frame(cam);
   start_lighting(f);
   if (f.settings.mode == RenderMode::Points) finish_lighting(f);
@@ -1037,9 +1047,10 @@ void Presenter::draw_splats(Frame& f) {
   glDisable(GL_CULL_FACE);
   // The accumulation targets are the G-buffer; the fourth holds key lights 1-3 only.
   const GBuffer& gbuffer = g.targets->gbuffer;
+  use_reversed_depth();
   gbuffer.bind_and_clear(scene_.key_lights.size() > 1 ? 4 : 3);
   glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  glDepthFunc(GL_GREATER);  // reversed depth (reversed_depth_projection)
   if (f.settings.mode == RenderMode::Points) {
     g.timers.begin("gl: points");
     g.point_pass->run(splat_frame, draws, height_, footprints);
@@ -1263,16 +1274,16 @@ std::vector<std::uint8_t> Presenter::render_mesh_mask(float time) {
   const Camera& cam = scene_.camera;
   const glm::mat4 view = glm::lookAt(glm::vec3(cam.eye.x, cam.eye.y, cam.eye.z), {cam.target.x, cam.target.y, cam.target.z},
                                      {cam.up.x, cam.up.y, cam.up.z});
-  const glm::mat4 proj = glm::perspective(cam.fov_y, static_cast<float>(width_) / static_cast<float>(height_),
-                                          cam.near_plane, cam.far_plane);
+  const glm::mat4 proj = reversed_depth_projection(cam, static_cast<float>(width_) / static_cast<float>(height_));
+  use_reversed_depth();
   glViewport(0, 0, width_, height_);
   glBindFramebuffer(GL_FRAMEBUFFER, g.targets->mesh.framebuffer());
-  const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
+  const float zero[4] = {0, 0, 0, 0}, farthest = 0.0f;
   glDepthMask(GL_TRUE);
   glClearBufferfv(GL_COLOR, 0, zero);
-  glClearBufferfv(GL_DEPTH, 0, &one);
+  glClearBufferfv(GL_DEPTH, 0, &farthest);
   glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  glDepthFunc(GL_GREATER);
   std::vector<glm::mat4> models;
   std::vector<GLuint> vertex_arrays;
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {

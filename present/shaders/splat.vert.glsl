@@ -60,9 +60,10 @@ void main() {
   v_local_scaled = vec3(corner, 1.0) * push;
   // The near plane where the un-pushed splat crosses it, in both passes (GL_CLIP_DISTANCE0): the
   // pushed triangle lies ε farther and its own near clip kept pixels pass 2 clipped, a black band
-  // where the near plane cuts a surface. The distance z + w of the un-pushed clip position, times
+  // where the near plane cuts a surface. The distance w - z of the un-pushed clip position (reversed
+  // depth: the near plane is z = w), times
   // push, is zero along the pushed triangle's edges where the un-pushed one's is (the same argument
   // as for v_local_scaled: x, y and w scale by push, the screen position stays).
   vec4 unpushed = u_proj * vec4(v_view_pos, 1.0);
-  gl_ClipDistance[0] = push * (unpushed.z + unpushed.w);
+  gl_ClipDistance[0] = push * (unpushed.w - unpushed.z);
 }

@@ -255,6 +255,25 @@ TEST_F(PresenterTest, PerSplatColoursReachTheAlbedo) {
     }
 }
 
+// The depth buffer holds reversed depth (near 1, far 0), so its float steps stay about 2^-24 of
+// the distance at every distance. With the standard mapping they grew as distance^2 / near: at near
+// 1e-5 they passed the visibility pass's offset and the floor's splats hid each other in bands, and
+// the torus showed dark specks. A near plane 10^4 times closer gives the same image.
+TEST_F(PresenterTest, ASmallNearPlaneGivesTheSameImage) {
+  const auto render_with_near = [&](float near_plane) {
+    Scene scene = test_scene();
+    scene.camera.near_plane = near_plane;
+    Presenter presenter(scene, *runtime_, 160, 120, SPLATCL_TEST_CACHE);
+    presenter.render(0.0f);
+    return presenter.read_display_rgb();
+  };
+  const std::vector<float> usual = render_with_near(0.1f), close = render_with_near(1e-5f);
+  ASSERT_EQ(usual.size(), close.size());
+  std::size_t off = 0;
+  for (std::size_t i = 0; i < usual.size(); ++i) off += std::abs(usual[i] - close[i]) > 8.0f / 255.0f;
+  EXPECT_EQ(off, 0u) << "of " << usual.size() << " values";
+}
+
 // Timing the GL passes by wall clock (glFinish around each pass) changes no pixel and reports the
 // same passes; without HDR output the tone-mapped image is the same and read_hdr_rgb refuses.
 TEST_F(PresenterTest, WallClockPassesAndHdrOutputChangeNoPixel) {
