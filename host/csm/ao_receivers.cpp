@@ -94,7 +94,8 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
                               choice.begin() + static_cast<std::ptrdiff_t>(first + count));
     for (std::size_t k = 0; k < count; ++k) {
       const Vec3 nrm = receiver_normal(receiver, first + k);
-      const Vec3 p = receiver.vertices[first + k] + nrm * options.lift;
+      const float lift = options.lifts.empty() ? 0.0f : options.lifts.at(first + k);
+      const Vec3 p = receiver.vertices[first + k] + nrm * lift;
       request.positions[k] = {p.x, p.y, p.z, 1};
       request.normals[k] = {nrm.x, nrm.y, nrm.z, 0};
     }
@@ -106,11 +107,28 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
   return out;
 }
 
-float receiver_lift(const std::vector<const Csm*>& csms, const std::vector<Instance>& instances, float texels) {
-  float texel = 0;
-  for (const Instance& instance : instances)
-    if (instance.occluder < csms.size()) texel = std::max(texel, placed_texel(csms[instance.occluder]->info, instance.placement));
-  return texels * texel;
+std::vector<float> receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
+                                  float texels) {
+  struct Placed {
+    glm::vec3 centre;
+    float radius, texel;
+  };
+  std::vector<Placed> placed;
+  for (const Instance& instance : instances) {
+    if (instance.occluder >= csms.size()) continue;
+    const CsmInfo& info = csms[instance.occluder]->info;
+    const MovedReach reach = moved_reach(info, instance.placement, 0.0f);
+    placed.push_back({reach.centre, reach.radius, placed_texel(info, instance.placement)});
+  }
+  std::vector<float> lifts(receiver.vertices.size(), 0.0f);
+  parallel_for(lifts.size(), 1024, [&](std::size_t v, std::size_t) {
+    const Vec3 p = receiver.vertices[v];
+    float texel = 0;
+    for (const Placed& o : placed)
+      if (glm::distance(glm::vec3(p.x, p.y, p.z), o.centre) <= o.radius) texel = std::max(texel, o.texel);
+    lifts[v] = texels * texel;
+  });
+  return lifts;
 }
 
 std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& occluder, const ReceiverAoOptions& options) {

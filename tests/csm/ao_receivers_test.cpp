@@ -11,6 +11,7 @@
 
 #include "csm/ao_receivers.hpp"
 #include "csm/build.hpp"
+#include "csm/query_reach.hpp"
 #include "csm_test_support.hpp"
 #include "runtime/error.hpp"
 
@@ -194,6 +195,28 @@ TEST(CsmAoReceivers, PlyNamesEachVertexsIndexInTheFile) {
   EXPECT_EQ(faces, expected);
 }
 
+// Each receiver vertex is lifted by the texel of the coarsest occluder whose bounding sphere holds
+// it. One lift for all took the coarsest placed occluder anywhere: the slab again, 100x larger and
+// 1000 units away, lifted the box's vertices above the near slab by its texel, and their AO read
+// about 1 instead of about 0.5.
+TEST(CsmAoReceivers, EachReceiverIsLiftedByTheOccludersAroundIt) {
+  const Mesh receivers = boxes_mesh({{{-0.5f, 0.2f, -0.5f}, {0.5f, 0.6f, 0.5f}}, {{50, 50, 50}, {51, 51, 51}}}, "receivers");
+  const Transform far = parse_placement("100,0,0,1000,0,100,0,0,0,0,100,0,0,0,0,1");
+  const std::vector<Instance> both{{0, kIdentity}, {0, far}}, near_only{{0, kIdentity}};
+  const std::vector<float> lifts = receiver_lifts(receivers, {&slab()}, both, 1.0f);
+  const float texel = placed_texel(slab().info, kIdentity);
+  ASSERT_EQ(lifts.size(), receivers.vertices.size());
+  for (std::size_t v = 0; v < lifts.size(); ++v) EXPECT_EQ(lifts[v], receivers.vertices[v].x < 10 ? texel : 0.0f) << v;
+  ReceiverAoOptions options;
+  options.lifts = lifts;
+  const std::vector<Vec4> with_far = receiver_ambient_occlusion(receivers, VisibilityScene({&slab()}, both), options, nullptr);
+  options.lifts = receiver_lifts(receivers, {&slab()}, near_only, 1.0f);
+  const std::vector<Vec4> alone = receiver_ambient_occlusion(receivers, VisibilityScene({&slab()}, near_only), options, nullptr);
+  double difference = 0;
+  for (std::size_t v = 0; v < alone.size(); ++v) difference += std::abs(with_far[v].w - alone[v].w);
+  EXPECT_LE(difference / static_cast<double>(alone.size()), 0.02);
+}
+
 // The ray-cast ground truth: far from everything every direction is lit, and on the slab's own
 // vertices it agrees with the CSM's AO up to the CSM's error (most vertices equal).
 TEST(CsmAoReceivers, RaycastAoIsTheGroundTruthOfTheSameDirections) {
@@ -259,7 +282,7 @@ TEST(CsmAoReceivers, AnOpenSheetDoesNotShadowItselfOnceLifted) {
   ReceiverAoOptions options;
   const std::vector<float> ray = raycast_ambient_occlusion(sheet, sheet, options);
   const auto error_at = [&](float texels) {
-    options.lift = receiver_lift({&csm}, {{0, kIdentity}}, texels);
+    options.lifts = receiver_lifts(sheet, {&csm}, {{0, kIdentity}}, texels);
     const std::vector<Vec4> ao = receiver_ambient_occlusion(sheet, scene, options, nullptr);
     double error = 0;
     for (std::size_t v = 0; v < ray.size(); ++v) error += std::abs(ray[v] - ao[v].w);
