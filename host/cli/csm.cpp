@@ -288,11 +288,22 @@ int run_verify(const VerifyCommand& c) {
   const LosslessReport report = check_lossless(csm, mesh, runtime.get(), map_progress(progress, "recaptured"), method);
   progress.clear();
   if (report.violations)
-    throw Error(fmt::format("{}: not lossless for {} of {} (map, pixel) samples; first at map {}, pixel {}: stored {} outside [{}, {})",
+    throw Error(fmt::format("{}: not lossless for {} of {} (map, pixel) samples; first at map {}, pixel {}: stored {:.9g} outside [{:.9g}, "
+                            "{:.9g}){}",
                             c.file, report.violations, report.samples, report.first_map, report.first_pixel, report.first_depth,
-                            report.first_z1, report.first_z2));
-  fmt::print("lossless   all {} (map, pixel) samples of {} keep their depth-test result (recaptured by {}{})\n", report.samples, c.model,
-             to_string(method), c.capture.empty() ? ", as recorded in the file" : "");
+                            report.first_z1, report.first_z2,
+                            report.tolerance > 0 ? fmt::format(" by more than the hit epsilon {:g} (recaptured by {}, the file by {})",
+                                                               report.tolerance, to_string(method), to_string(csm.info.capture))
+                                                 : std::string()));
+  if (report.tolerance > 0) {
+    fmt::print("lossless   {} of {} (map, pixel) samples of {} keep their depth-test result, recaptured by {} as a cross-check of the "
+               "file's {} (depths within the hit epsilon {:g}); the other {} are hit by one method only, at triangle edges\n",
+               report.samples - report.edge_disagreements, report.samples, c.model, to_string(method), to_string(csm.info.capture),
+               report.tolerance, report.edge_disagreements);
+  } else {
+    fmt::print("lossless   all {} (map, pixel) samples of {} keep their depth-test result (recaptured by {}{})\n", report.samples, c.model,
+               to_string(method), c.capture.empty() ? ", as recorded in the file" : "");
+  }
   return 0;
 }
 

@@ -83,9 +83,13 @@ void require_built_from(const Csm& csm, const Mesh& mesh);
 
 struct LosslessReport {
   std::uint64_t samples = 0, violations = 0;
+  // Cross-checks only (tolerance > 0): samples one capture method hits and the other misses (a ray
+  // grazing a triangle's edge), not counted as violations.
+  std::uint64_t edge_disagreements = 0;
   std::uint32_t first_map = 0;
   std::size_t first_pixel = 0;
   float first_depth = 0, first_z1 = 0, first_z2 = 0;
+  float tolerance = 0;  // depth units: the hit epsilon when recaptured by another method than the file's, else 0
 };
 // The model file's mesh is moved into object space by the CSM's stored object transform first.
 // Throws Error (require_built_from) for a CSM of another model.

@@ -226,6 +226,46 @@ TEST(CsmFile, CaptureMethodRoundTripsAndVerifyUsesIt) {
   EXPECT_THROW(decode_csm(with_checksum(bytes), "unknown.csm"), Error);
 }
 
+// Recaptured by the other method, an open mesh's single-surface pixels (the exact rule: [z1, z1])
+// failed on one-ulp depth differences (11,864 of 65,536 samples of a wavy sheet); the cross-check
+// allows the hit epsilon, counts pixels one method hits and the other misses apart, and still
+// finds a stored depth moved by more.
+TEST(CsmFile, CrossCheckWithTheOtherCaptureMethodAllowsTheHitEpsilon) {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  const int cells = 6;
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) {
+      const float x = 2.0f * static_cast<float>(i) / cells - 1, z = 2.0f * static_cast<float>(j) / cells - 1;
+      vertices.push_back({x, 0.2f * std::sin(2 * x) * std::cos(1.5f * z), z});
+    }
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (cells + 1) + a); };
+      faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j)});
+      faces.push_back({at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)});
+    }
+  const Mesh sheet = make_mesh(vertices, faces, "wavy sheet");
+  BuildOptions o;
+  o.maps = 64;
+  o.resolution = 32;
+  Csm csm = build_csm(sheet, o, nullptr).csm;
+  ASSERT_EQ(csm.info.capture, CaptureMethod::Raster);
+  const LosslessReport same = check_lossless(csm, sheet, nullptr);
+  EXPECT_EQ(same.violations, 0u);
+  EXPECT_EQ(same.tolerance, 0.0f);
+  const LosslessReport cross = check_lossless(csm, sheet, nullptr, {}, CaptureMethod::Raycast);
+  EXPECT_EQ(cross.violations, 0u);
+  EXPECT_GT(cross.tolerance, 0.0f);
+  EXPECT_LE(cross.edge_disagreements, cross.samples / 1000);
+  for (float& depth : csm.depth)
+    if (depth != INFINITY) {
+      depth += 10 * cross.tolerance;  // one stored depth moved by ten hit epsilons
+      break;
+    }
+  EXPECT_GE(check_lossless(csm, sheet, nullptr, {}, CaptureMethod::Raycast).violations, 1u);
+}
+
 TEST(CsmFile, OtherVersionsAreOneClearError) {
   EXPECT_EQ(kCsmVersion, 2u);
   for (const std::uint32_t version : {1u, 3u, 0u}) {
