@@ -259,20 +259,7 @@ TEST(CsmAoReceivers, RaycastAoIsTheGroundTruthOfTheSameDirections) {
 // surface the texel covers. On the surface (lift 0) a finely tessellated wavy sheet shadowed itself
 // where ray casting sees nothing; lifted a texel (the default of splatcl ao) the receivers match it.
 TEST(CsmAoReceivers, AnOpenSheetDoesNotShadowItselfOnceLifted) {
-  std::vector<Vec3> vertices;
-  std::vector<std::vector<std::uint32_t>> faces;
-  constexpr int cells = 24;
-  for (int j = 0; j <= cells; ++j)
-    for (int i = 0; i <= cells; ++i) {
-      const float x = -1 + 2.0f * static_cast<float>(i) / cells, z = -1 + 2.0f * static_cast<float>(j) / cells;
-      vertices.push_back({x, 0.1f * std::sin(3 * x) * std::cos(2 * z), z});
-    }
-  for (int j = 0; j < cells; ++j)
-    for (int i = 0; i < cells; ++i) {
-      const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (cells + 1) + a); };
-      faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
-    }
-  const Mesh sheet = make_mesh(vertices, faces, "wavy sheet");
+  const Mesh sheet = wavy_sheet_mesh(24);
   ASSERT_FALSE(sheet.closed());
   BuildOptions build;
   build.maps = 1024;

@@ -2,6 +2,7 @@
 // Shared by the CSM tests: one Runtime per process, small meshes made in code, the test models.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <numbers>
@@ -44,6 +45,24 @@ inline Mesh cube_mesh() { return boxes_mesh({{{-1, -1, -1}, {1, 1, 1}}}, "cube")
 // An open square in z = 0 (every hit is single-surface).
 inline Mesh square_mesh() {
   return make_mesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2, 3}}, "square");
+}
+
+// An open wavy sheet over [-1, 1]² in cells × cells quads, y = 0.1 sin(3x) cos(2z): every hit is
+// single-surface (the exact rule).
+inline Mesh wavy_sheet_mesh(int cells) {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) {
+      const float x = -1 + 2.0f * static_cast<float>(i) / static_cast<float>(cells), z = -1 + 2.0f * static_cast<float>(j) / static_cast<float>(cells);
+      vertices.push_back({x, 0.1f * std::sin(3 * x) * std::cos(2 * z), z});
+    }
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      const auto at = [&](int a, int b) { return static_cast<std::uint32_t>(b * (cells + 1) + a); };
+      faces.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  return make_mesh(vertices, faces, "wavy sheet");
 }
 
 // A closed UV sphere.
