@@ -3,10 +3,21 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <filesystem>
+
+#include "runtime/error.hpp"
 
 namespace splatcl::cli {
 
 splatcl::Scene SceneOptions::load() const {
+  // The asset cache before any work: a --cache naming a file failed at the first object, after the
+  // scene, the device and the GL context were set up, blamed on that object.
+  const std::string dir = cache_dir();
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (!std::filesystem::is_directory(dir))
+    throw Error(fmt::format("{} {}: cannot be the asset cache: {}", cache.empty() ? "asset cache" : "--cache", dir,
+                            error ? error.message() : std::string("not a directory")));
   splatcl::Scene s = scene.empty() ? splatcl::default_scene() : splatcl::load_scene(scene);
   present::apply_overrides(s, overrides);
   return s;

@@ -25,7 +25,8 @@ ViewFrame view_frame(const Camera& camera) {
   ViewFrame frame;
   frame.eye = camera.eye;
   frame.back = normalized(forward) * -1.0f;
-  const Vec3 right = cross(camera.up, frame.back);
+  // The up vector's direction only: a short one ([0, 1e-7, 0]) read as parallel to the view.
+  const Vec3 right = cross(exact_normalized(camera.up), frame.back);
   if (!(length(right) > 1e-6f)) throw Error("camera up vector is parallel to the view direction (or zero)");
   frame.right = normalized(right);
   frame.up = cross(frame.back, frame.right);
@@ -38,7 +39,13 @@ Camera camera_from_json(const nlohmann::json& json, const JsonFields& fields, co
   Camera c;
   c.eye = fields.vec3(fields.field(json, "eye", path), path + ".eye");
   c.target = fields.vec3(fields.field(json, "target", path), path + ".target");
-  if (json.contains("up")) c.up = fields.vec3(json["up"], path + ".up");
+  if (json.contains("up")) {
+    c.up = fields.vec3(json["up"], path + ".up");
+  } else if (const Vec3 view = exact_normalized(c.target - c.eye); std::fabs(view.y) > 0.9999f) {
+    // Looking straight down (or up) the default +y is the view direction: image up is -z instead
+    // (a top view was refused until an "up" was written by hand).
+    c.up = {0, 0, -1};
+  }
   c.fov_y = fields.number_or(json, "fov_y_degrees", 60.0f, path) * std::numbers::pi_v<float> / 180.0f;
   c.near_plane = fields.number_or(json, "near", c.near_plane, path);
   c.far_plane = fields.number_or(json, "far", c.far_plane, path);

@@ -216,3 +216,7 @@ file(MAKE_DIRECTORY ${HOSTILE_DIR}/cluster-own-scene)
 file(WRITE ${HOSTILE_DIR}/cluster-own-scene/summary.json "{\"objects\": []}")
 hostile_error(cluster_output_over_scene "-o .*summary.json would overwrite the scene .*summary.json$"
               cluster ${HOSTILE_DIR}/cluster-own-scene/summary.json -o ${HOSTILE_DIR}/cluster-own-scene --size 16x16)
+# --cache naming a file failed at the first object, after the device and GL context were set up,
+# blamed on that object.
+file(WRITE ${HOSTILE_DIR}/cache-is-a-file "not a folder")
+hostile_error(render_cache_is_a_file "--cache .*cache-is-a-file: cannot be the asset cache: Not a directory$" render --cache ${HOSTILE_DIR}/cache-is-a-file --size 16x16)

@@ -69,8 +69,17 @@ TEST(PresenterScene, RefusesValuesThatRenderNonsense) {
       {R"({"objects": [], "lights": {"count": 4, "extent": -3}})", "bad.json: lights: 'extent' must not be negative"},
       {R"({"objects": [], "lights": {"count": 4, "height": [-1, 2]}})", "bad.json: lights: 'height' must not be negative"},
       {R"({"objects": [], "camera": {"eye": [0, 1, 0], "target": [0, 1, 0]}})", "bad.json: camera eye and target coincide"},
-      {R"({"objects": [], "camera": {"eye": [0, 1, 0], "target": [0, 2, 0]}})", "bad.json: camera up vector is parallel"},
+      {R"({"objects": [], "camera": {"eye": [0, 1, 0], "target": [0, 2, 0], "up": [0, -3, 0]}})", "bad.json: camera up vector is parallel"},
   };
+  // Straight down or up without an "up": image up is -z (the default +y was refused as parallel),
+  // and a short up vector keeps its direction.
+  for (const float target_y : {-5.0f, 5.0f}) {
+    const Scene top = parse_scene(R"({"objects": [], "camera": {"eye": [0, 0, 0], "target": [0, )" + std::to_string(target_y) + ", 0]}}",
+                                  "top.json", ".");
+    EXPECT_EQ(top.camera.up, (Vec3{0, 0, -1}));
+    EXPECT_NO_THROW(view_frame(top.camera));
+  }
+  EXPECT_NO_THROW(parse_scene(R"({"objects": [], "camera": {"eye": [0, 1, 5], "target": [0, 0, 0], "up": [0, 1e-7, 0]}})", "short.json", "."));
   for (const auto& [text, expected] : cases) EXPECT_NE(message(text).find(expected), std::string::npos) << text << " gave: " << message(text);
   // The edges of the ranges are accepted.
   EXPECT_NO_THROW(parse_scene(R"({"objects": [], "quality": {"depth_offset": 0, "ao_bias": 0, "antialias": 0, "specular": 100}, "floor": true,
