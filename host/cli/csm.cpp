@@ -312,6 +312,11 @@ int run_quality(const QualityCommand& c) {
   QualityOptions options = c.options;
   options.filter = parse_filter(c.filter);
   validate(options);  // before the model is loaded or anything allocated
+  if (!c.csm_file.empty() && !c.build.given->empty()) {  // they were ignored silently
+    std::string names;
+    for (const auto& [name, value] : *c.build.given) names += (names.empty() ? "" : ", ") + name;
+    throw Error(fmt::format("--csm {}: the build options {} do not apply to a CSM read from a file; drop them or --csm", c.csm_file, names));
+  }
   ProgressLine progress("csm");
   const Mesh mesh = load_model(c.build.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
@@ -319,6 +324,11 @@ int run_quality(const QualityCommand& c) {
   Csm csm;
   if (!c.csm_file.empty()) {
     csm = read_csm(c.csm_file);
+    try {
+      require_built_from(csm, mesh);
+    } catch (const Error& e) {
+      throw Error(c.csm_file + ": " + e.what());  // which file was not built from the model
+    }
   } else {
     csm = build_csm(mesh, build_options(c.build), runtime.get(), map_progress(progress, "captured and compressed")).csm;
   }

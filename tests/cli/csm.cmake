@@ -89,3 +89,7 @@ add_test(NAME cli.error_csm_info_coherence_not_an_image COMMAND ${EXPECT_ERROR} 
 set_tests_properties(cli.error_csm_info_coherence_not_an_image PROPERTIES FIXTURES_REQUIRED csm_cube)
 add_test(NAME cli.error_csm_build_coherence_not_an_image COMMAND ${EXPECT_ERROR} "^splatcl: --coherence .*coh.txt: the file must end in .png or .exr"
          $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/coh-build.csm --maps 16 --res 8 --coherence ${CMAKE_CURRENT_BINARY_DIR}/coh.txt)
+# csm quality --csm FILE ignored the build options silently.
+add_test(NAME cli.error_csm_quality_csm_with_build_options COMMAND ${EXPECT_ERROR} "--csm .*csm-cube.csm: the build options --maps do not apply to a CSM read from a file"
+         $<TARGET_FILE:splatcl> csm quality ${SPLATS_CUBE} --csm ${CSM_OUT} --maps 16)
+set_tests_properties(cli.error_csm_quality_csm_with_build_options PROPERTIES FIXTURES_REQUIRED csm_cube)

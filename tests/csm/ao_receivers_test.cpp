@@ -41,6 +41,8 @@ TEST(CsmAoReceivers, ParsesPlacements) {
   EXPECT_EQ(parse_placement("1,0,0,5,0,1,0,6,0,0,1,7,0,0,0,1")[7], 6);
   EXPECT_THROW(parse_placement("1,2"), Error);
   EXPECT_THROW(parse_placement("1,x,3"), Error);
+  // A singular 16-number placement is named here (it failed later as "an occluder placement is not invertible").
+  EXPECT_THROW(parse_placement("0,0,0,5,0,1,0,6,0,0,1,7,0,0,0,1"), Error);
   EXPECT_THROW(parse_placement("1,nan,3"), Error);
   EXPECT_THROW(parse_placement(""), Error);
   EXPECT_THROW(parse_placement("1,0,0,5,0,1,0,6,0,0,1,7,0,0,1,1"), Error);
