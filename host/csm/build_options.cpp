@@ -21,6 +21,10 @@ const std::vector<ParameterInfo>& csm_parameters() {
       {"capture", "Capture method: raster (two-layer depth buffer) or raycast (SAH BVH); same depths up to rounding and "
                   "triangle-edge pixels; recorded in the .csm"},
       {"batch", "Maps captured per batch (0: about 8 M samples); memory only, the file is the same", false, false, true},
+      {"hit_eps", "Hits closer than this x the bounding sphere's diameter count as one surface (shared edges), 1e-7..1e-2 "
+                  "(default 1e-5): a part thinner than that reads as one surface, so its back face is lost and what lies "
+                  "under it reads as lit; lower it for thin parts (a 1 mm pane in a 100 m model: below 5e-6)",
+       false, false, true},
   };
   return list;
 }
@@ -51,6 +55,11 @@ void set_parameter(CsmParameters& p, const std::string& name, const nlohmann::js
     p.capture = string_parameter(name, value);
   } else if (key == "batch") {
     p.batch = static_cast<std::uint32_t>(integer_parameter(name, value, 0, 1 << 24));
+  } else if (key == "hit_eps") {
+    const auto v = static_cast<float>(number_parameter(name, value));  // compared as the float it is stored as
+    if (!(v >= kMinHitEpsilon && v <= kMaxHitEpsilon))
+      throw Error(fmt::format("'{}' must be in [{:g}, {:g}], got {}", name, kMinHitEpsilon, kMaxHitEpsilon, shown_value(value)));
+    p.hit_eps = v;
   } else {
     throw Error(fmt::format("unknown CSM parameter '{}'", name));
   }
@@ -76,8 +85,11 @@ void validate(const CsmParameters& p) {
 }
 
 nlohmann::json to_json(const CsmParameters& p) {
-  return {{"maps", p.maps},   {"res", p.res},   {"dist", p.dist},         {"order", p.order},
-          {"pole", p.pole},   {"single_hit", p.single_hit}, {"capture", p.capture}, {"encoding", p.encoding}};
+  nlohmann::json json = {{"maps", p.maps},   {"res", p.res},   {"dist", p.dist},         {"order", p.order},
+                         {"pole", p.pole},   {"single_hit", p.single_hit}, {"capture", p.capture}, {"encoding", p.encoding}};
+  // Only when not the default, so that records of earlier runs keep their parameters checksum.
+  if (p.hit_eps != kDefaultHitEpsilon) json["hit_eps"] = p.hit_eps;
+  return json;
 }
 
 BuildOptions to_build_options(const CsmParameters& p) {
@@ -91,6 +103,7 @@ BuildOptions to_build_options(const CsmParameters& p) {
   options.single_hit = parse_single_hit(p.single_hit);
   options.capture = parse_capture_method(p.capture);
   options.batch_maps = p.batch;
+  options.hit_epsilon = p.hit_eps;
   return options;
 }
 

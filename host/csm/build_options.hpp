@@ -20,7 +20,10 @@ struct CsmParameters {
   std::string capture = to_string(kDefaultCaptureMethod);
   std::string encoding = "plain";
   std::uint32_t batch = 0;  // maps per capture batch; 0: about 8 M samples. Memory only, same file.
+  // Hits closer than hit_eps x the bounding sphere's diameter count as one surface (shared edges).
+  float hit_eps = kDefaultHitEpsilon;
 };
+inline constexpr float kMinHitEpsilon = 1e-7f, kMaxHitEpsilon = 1e-2f;
 
 // Every parameter, in the order of `splatcl csm build --help`.
 const std::vector<ParameterInfo>& csm_parameters();
