@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -155,6 +156,50 @@ std::string seconds(double ms) { return fmt::format("{:.1f} s", ms / 1000.0); }
 
 }  // namespace
 
+std::string stray_splats_warning(const std::vector<splats::SplatRecord>& splats) {
+  constexpr std::size_t kFewest = 100;  // fewer splats have no "rest" to stray from
+  constexpr double kStrayFactor = 10;
+  if (splats.size() < kFewest) return {};
+  // The central 98 % of the centres per axis, and the discs' whole box.
+  double lo[3], hi[3], full_lo[3], full_hi[3];
+  std::vector<double> values(splats.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    for (std::size_t i = 0; i < splats.size(); ++i) values[i] = (&splats[i].center.x)[axis];
+    const auto at = [&](double q) {
+      const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+      std::nth_element(values.begin(), values.begin() + k, values.end());
+      return values[static_cast<std::size_t>(k)];
+    };
+    lo[axis] = at(0.01), hi[axis] = at(0.99);
+    full_lo[axis] = INFINITY, full_hi[axis] = -INFINITY;
+  }
+  std::vector<double> reach(splats.size());
+  for (std::size_t i = 0; i < splats.size(); ++i) {
+    reach[i] = exact_length(splats[i].major);
+    for (int axis = 0; axis < 3; ++axis) {
+      const double c = (&splats[i].center.x)[axis];
+      full_lo[axis] = std::min(full_lo[axis], c - reach[i]), full_hi[axis] = std::max(full_hi[axis], c + reach[i]);
+    }
+  }
+  const auto diagonal = [](const double* a, const double* b) {
+    return std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+  };
+  const double central = diagonal(lo, hi), whole = diagonal(full_lo, full_hi);
+  if (!(central > 0) || !(whole > kStrayFactor * central)) return {};
+  std::size_t stray = 0;
+  for (std::size_t i = 0; i < splats.size(); ++i) {
+    double outside = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double c = (&splats[i].center.x)[axis];
+      outside = std::max({outside, lo[axis] - c, c - hi[axis]});
+    }
+    stray += outside + reach[i] > central;
+  }
+  return fmt::format("{} of {} splats reach far outside the rest (the box the fit scales is {:.3g}x the extent of the central "
+                     "98 %): stray Gaussians of a capture? The object is fitted by that box; crop them from the file",
+                     stray, splats.size(), whole / central);
+}
+
 void check_asset_settings(const Scene& scene) {
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     if (!scene.objects[i].mesh.splat_path.empty()) continue;  // a splat file is drawn as it is
@@ -184,6 +229,9 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     assets.splats = std::move(file.splats);
     assets.mesh = splat_disc_mesh(assets.splats, path);
     if (object.fit.enabled()) {
+      // One stray Gaussian far out (common in trained captures) sets the fitted box, and the object
+      // shrank to nothing without a word.
+      assets.fit_warning = stray_splats_warning(assets.splats);
       // Affine, so the fitted splats' discs are the discs' corners fitted.
       const FitTransform t = fit_transform(assets.mesh.vertices, object.fit, object.rotation_degrees, path);
       fit_splats(assets.splats, t);

@@ -38,7 +38,12 @@ struct ObjectAssets {
   std::string key;  // cache key (hex)
   bool splats_cached = false, gaps_cached = false, drawn_cached = false, tree_cached = false, fields_cached = false, csm_cached = false;
   double build_ms = 0;
+  std::string fit_warning;  // a splat file's fit: stray_splats_warning, empty when none
 };
+
+// Empty, or a warning when a few splats reach far beyond the rest (the discs' box more than 10x the
+// diagonal of the central 98 % of the centres): a fit would scale the object by them.
+std::string stray_splats_warning(const std::vector<splats::SplatRecord>& splats);
 
 // Cache directory: $SPLATCL_CACHE, else $XDG_CACHE_HOME/splatcl, else ~/.cache/splatcl, else
 // ./.splatcl-cache.

@@ -939,9 +939,11 @@ FrameStats Presenter::render(float time) {
 
 std::vector<std::string> Presenter::mesh_warnings() const {
   std::vector<std::string> lines;
-  for (std::size_t i = 0; i < scene_.objects.size(); ++i)
+  for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     if (scene_.objects[i].mesh.splat_path.empty() && assets_[i].mesh.problems.any())
       lines.push_back(fmt::format("{}: {}: {}", object_where(scene_, i), assets_[i].mesh.source, assets_[i].mesh.problems.summary()));
+    if (!assets_[i].fit_warning.empty()) lines.push_back(fmt::format("{}: {}", object_where(scene_, i), assets_[i].fit_warning));
+  }
   return lines;
 }
 

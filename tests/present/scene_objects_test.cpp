@@ -76,6 +76,26 @@ TEST(SceneObjects, FitScalesToTheSizeAndRestsOnTheFloorUnderTheRotation) {
   EXPECT_NEAR(glm::length(box.lo + box.hi), 0.0f, 1e-6f);
 }
 
+// A trained capture's stray Gaussian far from the rest set the box a fit scales, and the object
+// shrank to nothing without a word (a helper's audit: one Gaussian of semi-axis 40 beside a cow of
+// size 1). The splat file's object now warns; a compact one does not.
+TEST(SceneObjects, AFitAroundStraySplatsWarns) {
+  std::vector<splats::SplatRecord> grid;
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) {
+      splats::SplatRecord s;
+      s.center = {0.05f * static_cast<float>(i), 0.0f, 0.05f * static_cast<float>(j)};
+      s.normal = {0, 1, 0}, s.major = {0.03f, 0, 0}, s.minor = {0, 0, 0.03f};
+      grid.push_back(s);
+    }
+  EXPECT_EQ(stray_splats_warning(grid), "");
+  splats::SplatRecord floater = grid[0];
+  floater.center = {30, 5, 0}, floater.major = {40, 0, 0}, floater.minor = {0, 0, 40};
+  grid.push_back(floater);
+  const std::string warning = stray_splats_warning(grid);
+  EXPECT_EQ(warning.rfind("1 of 401 splats reach far outside the rest", 0), 0u) << warning;
+}
+
 TEST(SceneObjects, FitAndObjectQualityAreCheckedLikeEveryOtherKey) {
   const auto refused = [](const std::string& object, const std::string& expected) {
     try {
