@@ -34,7 +34,7 @@ class GBuffer {
   GLuint accumulation_framebuffer() const { return accum_fbo_.get(); }     // targets and depth
   GLuint texture(int target) const { return accum_[target].get(); }
   // Binds the accumulation framebuffer drawing `targets` (3, or 4 with 2+ key lights), clears
-  // them to 0 and the depth to 1.
+  // them to 0 and the depth to 0 (reversed depth: far).
   void bind_and_clear(int targets) const;
 
   // Readbacks, row 0 = bottom.

@@ -18,6 +18,7 @@
 #include "cluster/cluster.hpp"
 #include "cluster/scene_input.hpp"
 #include "csm/ao.hpp"
+#include "csm/ao_receivers.hpp"
 #include "csm/query_reach.hpp"
 #include "csm/splat_lighting.hpp"
 #include "csm/sphere_grid.hpp"
@@ -337,21 +338,26 @@ std::vector<CoveredPixel> floor_pixels(const Scene& scene, const std::vector<Cov
 
 // How far per-pixel receivers are lifted along their normal for the AO and the shadow queries
 // (csm/query_reach.hpp): floor pixels only by the bias, for shadows; others as a splat on the
-// object with the largest texel, whose object the pixel does not name. One per entry of `pixels`.
+// coarsest occluder whose bounding sphere holds the pixel (csm::coarsest_texel_around; the pixel
+// does not name its object). One per entry of `pixels`. The coarsest occluder anywhere lifted every
+// pixel by a far, coarse object's texel.
 struct PixelLift {
   float ao = 0, shadow = 0;
 };
 std::vector<PixelLift> pixel_lifts(const Scene& scene, const std::vector<CoveredPixel>& pixels, const std::vector<float>& normals,
                                    const std::vector<const csm::Csm*>& csms, const std::vector<glm::mat4>& placements) {
-  float texel = 0;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i)
-    if (scene.objects[i].occluder) texel = std::max(texel, csm::placed_texel(csms[i]->info, to_transform(placements[i])));
-  const PixelLift on_floor{0.0f, scene.quality.shadow_lift},
-      off_floor{csm::kAoLiftTexels * texel, scene.quality.shadow_lift + csm::kShadowLiftTexels * texel};
+  std::vector<Vec3> points;
+  points.reserve(pixels.size());
+  for (const CoveredPixel& c : pixels) points.push_back(c.world);
+  const std::vector<float> texels = csm::coarsest_texel_around(points, csms, occluder_instances(scene, placements));
   std::vector<char> is_floor(normals.size() / 3, 0);
   for (const CoveredPixel& c : floor_pixels(scene, pixels, normals)) is_floor[c.index] = 1;
   std::vector<PixelLift> lifts;
-  for (const CoveredPixel& c : pixels) lifts.push_back(is_floor[c.index] ? on_floor : off_floor);
+  lifts.reserve(pixels.size());
+  for (std::size_t k = 0; k < pixels.size(); ++k)
+    lifts.push_back(is_floor[pixels[k].index] ? PixelLift{0.0f, scene.quality.shadow_lift}
+                                              : PixelLift{csm::kAoLiftTexels * texels[k],
+                                                          scene.quality.shadow_lift + csm::kShadowLiftTexels * texels[k]});
   return lifts;
 }
 

@@ -46,7 +46,8 @@ int run_ao(const AoCommand& c) {
   options.batch = std::clamp<std::size_t>((std::size_t{1} << 24) / options.samples, 256, std::size_t{1} << 16);
   if (options.patterns == 0 || options.patterns > kMaxPatterns)
     throw Error(fmt::format("ao: --patterns {} is not a pattern count in 1..{}", options.patterns, kMaxPatterns));
-  if (!std::isfinite(options.bias)) throw Error(fmt::format("ao: --bias {} must be finite", options.bias));
+  // 1e39 reads as the float inf: say what was wrong with what was typed.
+  if (!std::isfinite(options.bias)) throw Error("ao: --bias must be a finite number within float range (|x| < 3.4e38)");
   if (!(c.lift_texels >= 0 && c.lift_texels <= kMaxLiftTexels))
     throw Error(fmt::format("ao: --lift {} is not a texel count in 0..{}", c.lift_texels, kMaxLiftTexels));
   check_output_file(c.output, "-o");

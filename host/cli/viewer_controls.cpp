@@ -140,9 +140,12 @@ Controls::Controls(splatcl::Scene& scene, const ViewState& state)
 
 Camera Controls::camera() const {
   Camera c = scene_.camera;
-  const glm::vec3 eye = orbit_.eye();
+  const glm::vec3 eye = orbit_.eye(), up = orbit_.up();
   c.eye = {eye.x, eye.y, eye.z};
   c.target = {orbit_.target.x, orbit_.target.y, orbit_.target.z};
+  // The orbit's own up (its pitch stays within +-1.4 rad): a scene's up of -z for a top view rolled
+  // the image as the orbit turned and became parallel to the view at pitch 0.
+  c.up = {up.x, up.y, up.z};
   return c;
 }
 

@@ -141,7 +141,7 @@ class Controls {
   ViewState& state() { return state_; }
   const ViewState& state() const { return state_; }
   splatcl::Scene& scene() { return scene_; }
-  // The camera of the current orbit (the scene's up, field of view and planes).
+  // The camera of the current orbit (its own up; the scene's field of view and planes).
   Camera camera() const;
 
   // Held-key speeds: object moves in world units per second per unit of camera distance, and turns.

@@ -40,7 +40,8 @@ Camera camera_from_json(const nlohmann::json& json, const JsonFields& fields, co
   c.eye = fields.vec3(fields.field(json, "eye", path), path + ".eye");
   c.target = fields.vec3(fields.field(json, "target", path), path + ".target");
   if (json.contains("up")) {
-    c.up = fields.vec3(json["up"], path + ".up");
+    // Kept as its direction: glm::lookAt works in float, where a short one ([0, 1e-25, 0]) made NaN.
+    c.up = exact_normalized(fields.vec3(json["up"], path + ".up"));
   } else if (const Vec3 view = exact_normalized(c.target - c.eye); std::fabs(view.y) > 0.9999f) {
     // Looking straight down (or up) the default +y is the view direction: image up is -z instead
     // (a top view was refused until an "up" was written by hand).

@@ -111,8 +111,8 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
   return out;
 }
 
-std::vector<float> receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
-                                  float texels) {
+std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const std::vector<const Csm*>& csms,
+                                         const std::vector<Instance>& instances) {
   struct Placed {
     glm::vec3 centre;
     float radius, texel;
@@ -122,16 +122,24 @@ std::vector<float> receiver_lifts(const Mesh& receiver, const std::vector<const 
     if (instance.occluder >= csms.size()) continue;
     const CsmInfo& info = csms[instance.occluder]->info;
     const MovedReach reach = moved_reach(info, instance.placement, 0.0f);
-    placed.push_back({reach.centre, reach.radius, placed_texel(info, instance.placement)});
+    // A little beyond the sphere: its world centre is rounded to float, which far from the origin
+    // for the object's size moves it by more than the radius's 1e-4 slack.
+    const float radius = reach.radius * 1.001f + 1e-6f * glm::length(reach.centre);
+    placed.push_back({reach.centre, radius, placed_texel(info, instance.placement)});
   }
-  std::vector<float> lifts(receiver.vertices.size(), 0.0f);
-  parallel_for(lifts.size(), 1024, [&](std::size_t v, std::size_t) {
-    const Vec3 p = receiver.vertices[v];
-    float texel = 0;
+  std::vector<float> texels(points.size(), 0.0f);
+  parallel_for(texels.size(), 1024, [&](std::size_t v, std::size_t) {
+    const glm::vec3 p(points[v].x, points[v].y, points[v].z);
     for (const Placed& o : placed)
-      if (glm::distance(glm::vec3(p.x, p.y, p.z), o.centre) <= o.radius) texel = std::max(texel, o.texel);
-    lifts[v] = texels * texel;
+      if (glm::distance(p, o.centre) <= o.radius) texels[v] = std::max(texels[v], o.texel);
   });
+  return texels;
+}
+
+std::vector<float> receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
+                                  float texels) {
+  std::vector<float> lifts = coarsest_texel_around(receiver.vertices, csms, instances);
+  for (float& lift : lifts) lift *= texels;
   return lifts;
 }
 

@@ -36,6 +36,11 @@ inline constexpr float kDefaultLiftTexels = 1, kMaxLiftTexels = 1000;
 // of radius 100 1000 units away: AO 1.000 instead of 0.403 under a plate).
 std::vector<float> receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
                                   float texels);
+// For each point, the world size of a texel (csm/query_reach.hpp placed_texel) of the coarsest
+// placed occluder whose bounding sphere holds it, 0 where none does: receiver_lifts, and the
+// presenter's per-pixel receivers.
+std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const std::vector<const Csm*>& csms,
+                                         const std::vector<Instance>& instances);
 
 // Parses a placement: "tx,ty,tz" (translation), "tx,ty,tz,rx,ry,rz" (then rotations in degrees,
 // applied about x, then y, then z, before the translation) or 16 numbers (row-major 4 × 4 affine).

@@ -156,8 +156,13 @@ LosslessReport check_lossless(const Csm& csm, const Mesh& model, Runtime* runtim
   std::vector<float> z1, z2;
   // Each pixel walks its segment list forward as the maps go by: no search needed.
   std::vector<std::uint32_t> cursor(csm.offsets.begin(), csm.offsets.end() - 1);
-  LosslessReport report;
-  std::vector<LosslessReport> per_worker(worker_count(pixels, 64));
+  // Per worker: the violations, and (cross-checks only) the samples one method hits and the other
+  // misses, a ray grazing a triangle's edge: a difference of the captures, not a loss of the file's,
+  // unless there are many of them (a file storing "lit" over a whole surface).
+  std::vector<LosslessReport> per_worker(worker_count(pixels, 64)), edges_per_worker(per_worker.size());
+  const auto add = [](LosslessReport& r, std::uint32_t map, std::size_t p, float g, float a, float b) {
+    if (r.violations++ == 0 || map < r.first_map) r.first_map = map, r.first_pixel = p, r.first_depth = g, r.first_z1 = a, r.first_z2 = b;
+  };
   for_each_batch(info.maps, batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
     capture.get(first, count, z1, z2);
     parallel_for(pixels, 64, [&](std::size_t p, std::size_t w) {
@@ -168,33 +173,27 @@ LosslessReport check_lossless(const Csm& csm, const Mesh& model, Runtime* runtim
         const float g = csm.depth[cursor[p]], a = z1[std::size_t{k} * pixels + p], b = z2[std::size_t{k} * pixels + p];
         ++r.samples;
         if (keeps_result(g, a, b)) continue;
-        // Across methods a pixel grazing a triangle's edge may be hit by one and missed by the
-        // other: a difference of the captures, not a loss of the file's.
-        if (tolerance > 0 && (g == INFINITY) != (a == INFINITY)) {
-          ++r.edge_disagreements;
-          continue;
-        }
-        if (r.violations++ == 0 || map < r.first_map) {
-          r.first_map = map;
-          r.first_pixel = p;
-          r.first_depth = g;
-          r.first_z1 = a;
-          r.first_z2 = b;
-        }
+        // No hit is z1 = 1, z2 = +inf in a capture, +inf in the file.
+        if (tolerance > 0 && (g == INFINITY) != (b == INFINITY)) add(edges_per_worker[w], map, p, g, a, b);
+        else add(r, map, p, g, a, b);
       }
     });
   });
-  for (const LosslessReport& r : per_worker) {
-    if (r.violations && (report.violations == 0 || r.first_map < report.first_map)) {
-      report.first_map = r.first_map;
-      report.first_pixel = r.first_pixel;
-      report.first_depth = r.first_depth;
-      report.first_z1 = r.first_z1;
-      report.first_z2 = r.first_z2;
+  LosslessReport report, edges;
+  const auto merge = [](LosslessReport& into, const LosslessReport& r) {
+    if (r.violations && (into.violations == 0 || r.first_map < into.first_map)) {
+      into.first_map = r.first_map, into.first_pixel = r.first_pixel, into.first_depth = r.first_depth;
+      into.first_z1 = r.first_z1, into.first_z2 = r.first_z2;
     }
-    report.samples += r.samples;
-    report.violations += r.violations;
-    report.edge_disagreements += r.edge_disagreements;
+    into.samples += r.samples;
+    into.violations += r.violations;
+  };
+  for (const LosslessReport& r : per_worker) merge(report, r);
+  for (const LosslessReport& r : edges_per_worker) merge(edges, r);
+  if (edges.violations * kMostEdgeSamples > report.samples) {
+    merge(report, edges);  // too many to be edges: they fail the check
+  } else {
+    report.edge_disagreements = edges.violations;
   }
   report.tolerance = tolerance;
   return report;

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <string_view>
 
@@ -198,7 +199,7 @@ SplatFile decode_splat_file(const std::string& data, const std::string& path) {
     if (!finite3(s.major) || !finite3(s.minor)) throw bad("non-finite semi-axis");
     for (int a = 0; a < 2; ++a) {
       const double expected = exact_length(a == 0 ? s.major : s.minor);
-      if (!(lengths[a] >= 0) || !std::isfinite(lengths[a]) || std::abs(lengths[a] - expected) > 1e-4 * expected)
+      if (!(lengths[a] >= 0) || !std::isfinite(lengths[a]) || std::abs(lengths[a] - expected) > 1e-4 * expected + std::numeric_limits<float>::denorm_min())
         throw bad(fmt::format("{} axis length {} is not the length {} of its vector", a == 0 ? "major" : "minor", lengths[a],
                               static_cast<float>(expected)));
     }

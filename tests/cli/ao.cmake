@@ -62,3 +62,7 @@ add_test(NAME cli.error_ao_transform_beyond_float COMMAND ${EXPECT_ERROR} "'1e39
 add_test(NAME cli.error_ao_singular_transform COMMAND ${EXPECT_ERROR} "bad occluder transform '0,0,0,1,0,1,0,0,0,0,1,0,0,0,0,1': its 3x3 part has determinant 0, not invertible"
          $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --occluder-transform 0,0,0,1,0,1,0,0,0,0,1,0,0,0,0,1 -o out.ply)
 set_tests_properties(cli.error_ao_singular_transform PROPERTIES FIXTURES_REQUIRED csm_cube)
+# --bias 1e39 reads as the float inf: the message says what is wrong with what was typed.
+add_test(NAME cli.error_ao_bias_beyond_float COMMAND ${EXPECT_ERROR} "ao: --bias must be a finite number within float range"
+         $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --bias 1e39 -o out.ply)
+set_tests_properties(cli.error_ao_bias_beyond_float PROPERTIES FIXTURES_REQUIRED csm_cube)

@@ -143,6 +143,22 @@ TEST(ViewerControls, FloorAndSilhouetteKeysToggleThePanelsSettings) {
   EXPECT_EQ(off.quality.antialias, splatcl::Quality{}.antialias);
 }
 
+// A top view (no "up" in the scene: -z) orbited all round: the camera's up follows the orbit, so the
+// image does not roll and never becomes parallel to the view (view quit with "camera up vector is
+// parallel" when the drag reached pitch 0 at yaw 0).
+TEST(ViewerControls, ATopViewOrbitsWithTheOrbitsUp) {
+  splatcl::Scene scene = splatcl::parse_scene(R"({"objects": [], "camera": {"eye": [0, 8, 0], "target": [0, 0, 0]}})", "top.json", ".");
+  Controls controls(scene);
+  for (const float pitch : {1.4f, 0.7f, 0.0f, -0.7f})
+    for (const float yaw : {0.0f, 1.5707964f, 3.1415927f}) {
+      controls.orbit().pitch = pitch, controls.orbit().yaw = yaw;
+      const splatcl::Camera c = controls.camera();
+      ASSERT_NO_THROW(splatcl::view_frame(c)) << pitch << " " << yaw;
+      const splatcl::ViewFrame frame = splatcl::view_frame(c);
+      EXPECT_NEAR(frame.right.y, 0.0f, 1e-5f) << "rolled at pitch " << pitch << ", yaw " << yaw;
+    }
+}
+
 TEST(ViewerControls, WheelZoomChangesTheDistanceAndTheSceneCamera) {
   Fixture f;
   const float d0 = f.controls->orbit().distance;
