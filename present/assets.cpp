@@ -12,6 +12,7 @@
 #include "csm/build.hpp"
 #include "io/checksum.hpp"
 #include "io/text_file.hpp"
+#include "math/dvec3.hpp"
 #include "present/cache_blob.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
@@ -161,7 +162,7 @@ std::string stray_splats_warning(const std::vector<splats::SplatRecord>& splats)
   constexpr double kStrayFactor = 10;
   if (splats.size() < kFewest) return {};
   // The central 98 % of the centres per axis, and the discs' whole box.
-  double lo[3], hi[3], full_lo[3], full_hi[3];
+  DVec3 lo, hi, full_lo(INFINITY, INFINITY, INFINITY), full_hi(-INFINITY, -INFINITY, -INFINITY);
   std::vector<double> values(splats.size());
   for (int axis = 0; axis < 3; ++axis) {
     for (std::size_t i = 0; i < splats.size(); ++i) values[i] = (&splats[i].center.x)[axis];
@@ -170,29 +171,21 @@ std::string stray_splats_warning(const std::vector<splats::SplatRecord>& splats)
       std::nth_element(values.begin(), values.begin() + k, values.end());
       return values[static_cast<std::size_t>(k)];
     };
-    lo[axis] = at(0.01), hi[axis] = at(0.99);
-    full_lo[axis] = INFINITY, full_hi[axis] = -INFINITY;
+    (&lo.x)[axis] = at(0.01), (&hi.x)[axis] = at(0.99);
   }
   std::vector<double> reach(splats.size());
   for (std::size_t i = 0; i < splats.size(); ++i) {
-    reach[i] = exact_length(splats[i].major);
-    for (int axis = 0; axis < 3; ++axis) {
-      const double c = (&splats[i].center.x)[axis];
-      full_lo[axis] = std::min(full_lo[axis], c - reach[i]), full_hi[axis] = std::max(full_hi[axis], c + reach[i]);
-    }
+    const DVec3 c(splats[i].center);
+    reach[i] = length(DVec3(splats[i].major));
+    full_lo = {std::min(full_lo.x, c.x - reach[i]), std::min(full_lo.y, c.y - reach[i]), std::min(full_lo.z, c.z - reach[i])};
+    full_hi = {std::max(full_hi.x, c.x + reach[i]), std::max(full_hi.y, c.y + reach[i]), std::max(full_hi.z, c.z + reach[i])};
   }
-  const auto diagonal = [](const double* a, const double* b) {
-    return std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
-  };
-  const double central = diagonal(lo, hi), whole = diagonal(full_lo, full_hi);
+  const double central = length(hi - lo), whole = length(full_hi - full_lo);
   if (!(central > 0) || !(whole > kStrayFactor * central)) return {};
   std::size_t stray = 0;
   for (std::size_t i = 0; i < splats.size(); ++i) {
-    double outside = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double c = (&splats[i].center.x)[axis];
-      outside = std::max({outside, lo[axis] - c, c - hi[axis]});
-    }
+    const DVec3 c(splats[i].center);
+    const double outside = std::max({0.0, lo.x - c.x, c.x - hi.x, lo.y - c.y, c.y - hi.y, lo.z - c.z, c.z - hi.z});
     stray += outside + reach[i] > central;
   }
   return fmt::format("{} of {} splats reach far outside the rest (the box the fit scales is {:.3g}x the extent of the central "

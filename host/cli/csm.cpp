@@ -324,11 +324,8 @@ int run_quality(const QualityCommand& c) {
   Csm csm;
   if (!c.csm_file.empty()) {
     csm = read_csm(c.csm_file);
-    try {  // which file: measure_quality checks the same, in this order, without naming it
-      for (std::size_t k = 0; k < 16; ++k)
-        if (csm.info.object_transform[k] != kIdentity[k])
-          throw Error("csm quality needs a CSM built from the model as loaded (identity object transform)");
-      require_built_from(csm, mesh);
+    try {  // measure_quality checks it too, without naming the file
+      require_quality_csm(csm, mesh);
     } catch (const Error& e) {
       throw Error(c.csm_file + ": " + e.what());
     }

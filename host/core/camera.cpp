@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl {
@@ -26,7 +27,7 @@ ViewFrame view_frame(const Camera& camera) {
   frame.eye = camera.eye;
   frame.back = normalized(forward) * -1.0f;
   // The up vector's direction only: a short one ([0, 1e-7, 0]) read as parallel to the view.
-  const Vec3 right = cross(exact_normalized(camera.up), frame.back);
+  const Vec3 right = cross(to_float(normalized(DVec3(camera.up))), frame.back);
   if (!(length(right) > 1e-6f)) throw Error("camera up vector is parallel to the view direction (or zero)");
   frame.right = normalized(right);
   frame.up = cross(frame.back, frame.right);
@@ -41,8 +42,8 @@ Camera camera_from_json(const nlohmann::json& json, const JsonFields& fields, co
   c.target = fields.vec3(fields.field(json, "target", path), path + ".target");
   if (json.contains("up")) {
     // Kept as its direction: glm::lookAt works in float, where a short one ([0, 1e-25, 0]) made NaN.
-    c.up = exact_normalized(fields.vec3(json["up"], path + ".up"));
-  } else if (const Vec3 view = exact_normalized(c.target - c.eye); std::fabs(view.y) > 0.9999f) {
+    c.up = to_float(normalized(DVec3(fields.vec3(json["up"], path + ".up"))));
+  } else if (const Vec3 view = to_float(normalized(DVec3(c.target) - DVec3(c.eye))); std::fabs(view.y) > 0.9999f) {
     // Looking straight down (or up) the default +y is the view direction: image up is -z instead
     // (a top view was refused until an "up" was written by hand).
     c.up = {0, 0, -1};

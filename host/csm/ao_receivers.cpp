@@ -42,10 +42,11 @@ Transform parse_placement(const std::string& text) {
     Transform m;
     std::copy(values.begin(), values.end(), m.begin());
     if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) throw Error("bad occluder transform '" + text + "': the last row must be 0,0,0,1");
-    // Named here: the queries' inversion failed later with "an occluder placement is not invertible".
-    const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) + m[2] * (m[4] * m[9] - m[5] * m[8]);
-    if (!(std::abs(det) > 1e-30) || !std::isfinite(det))
-      throw Error(fmt::format("bad occluder transform '{}': its 3x3 part has determinant {:g}, not invertible", text, det));
+    try {  // named here: the queries' inversion failed later without naming the placement
+      invert_affine(m);
+    } catch (const Error& e) {
+      throw Error("bad occluder transform '" + text + "': " + e.what());
+    }
     return m;
   }
   if (values.size() != 3 && values.size() != 6)

@@ -37,15 +37,20 @@ Vec3 random_direction(std::mt19937& rng) {
 
 }  // namespace
 
+void require_quality_csm(const Csm& csm, const Mesh& mesh) {
+  for (std::size_t k = 0; k < 16; ++k)
+    if (csm.info.object_transform[k] != kIdentity[k])
+      throw Error("csm quality needs a CSM built from the model as loaded (identity object transform)");
+  // The reference renders `mesh`: a CSM of another model gives a meaningless score.
+  require_built_from(csm, mesh);
+}
+
 QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOptions& options, Runtime* runtime) {
   const CsmInfo& info = csm.info;
-  for (std::size_t k = 0; k < 16; ++k)
-    if (info.object_transform[k] != kIdentity[k]) throw Error("csm quality needs a CSM built from the model as loaded (identity object transform)");
+  require_quality_csm(csm, mesh);
   validate(options);
   const Vec3 c = info.sphere.centre;
   const float r = info.sphere.radius;
-  // The reference renders `mesh`: a CSM of another model gives a meaningless score.
-  require_built_from(csm, mesh);
   // Traced in units of trace_unit(R), as the ray-cast capture is: in the model's units the tracer
   // overflowed from R ~ 1e13 and saw no pixel.
   const float unit = trace_unit(r);

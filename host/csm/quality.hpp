@@ -63,5 +63,8 @@ struct QualityReport {
 // `mesh` is the model the CSM was built from (identity object transform, else Error). CSM queries
 // run on `runtime`, or on the native reference when null; primary and shadow rays on the host BVH.
 QualityReport measure_quality(const Csm& csm, const Mesh& mesh, const QualityOptions& options, Runtime* runtime);
+// What measure_quality needs of the CSM: built from `mesh` as loaded (identity object transform,
+// require_built_from). Throws Error.
+void require_quality_csm(const Csm& csm, const Mesh& mesh);
 
 }  // namespace splatcl::csm

@@ -32,6 +32,9 @@ Transform multiply(const Transform& a, const Transform& b) {
   return c;
 }
 
+
+}  // namespace
+
 Transform invert_affine(const Transform& m) {
   const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], i = m[10];
   const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
@@ -46,8 +49,6 @@ Transform invert_affine(const Transform& m) {
   }
   return out;
 }
-
-}  // namespace
 
 const char* to_string(Filter value) { return kFilterNames[static_cast<std::uint32_t>(value)]; }
 

@@ -72,6 +72,9 @@ device::CsmOccluder grid_occluder(const SphereGrid& grid, std::vector<float>& bo
 
 // The world → object transform of an instance of `csm` (object transform · placement⁻¹).
 Transform world_to_object(const CsmInfo& info, const Transform& placement);
+// The inverse of an affine placement; throws Error "an occluder placement is not invertible" when
+// its 3 x 3 part's determinant is 0, below 1e-30 in magnitude or not finite.
+Transform invert_affine(const Transform& m);
 
 // The instance table of `placed` instances of the CSMs whose headers are `infos` (computed in
 // double, stored as float). Throws Error for an instance naming a missing CSM or a singular placement.

@@ -18,19 +18,6 @@ inline Vec3 operator*(Vec3 a, float s) { return s * a; }
 inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
-// The length in double: the float squares overflow beyond 1.8e19 and underflow below 1e-19 (a splat
-// file of a mesh at 1e20 stored major = inf for a finite axis vector).
-inline double exact_length(Vec3 a) {
-  const double x = a.x, y = a.y, z = a.z;
-  return std::sqrt(x * x + y * y + z * z);
-}
-// Unit vector along a at any float scale (normalized() gives the zero vector where the float length
-// overflows); the zero vector stays zero.
-inline Vec3 exact_normalized(Vec3 a) {
-  const double l = exact_length(a);
-  if (!(l > 0)) return Vec3{};
-  return {static_cast<float>(a.x / l), static_cast<float>(a.y / l), static_cast<float>(a.z / l)};
-}
 // Unit vector along a; the zero vector stays zero (instead of becoming NaN).
 inline Vec3 normalized(Vec3 a) {
   const float l = length(a);

@@ -9,6 +9,7 @@
 
 #include <flann/flann.hpp>
 
+#include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "core/parallel.hpp"
@@ -263,9 +264,10 @@ VerifyReport verify_splats(const Samples& samples, const std::vector<SplatRecord
     index.buildIndex();
     parallel_for(splats.size(), 64, [&](std::size_t j, std::size_t) {
       const SplatRecord& s = splats[j];
-      const double a = exact_length(s.major), b = exact_length(s.minor);
+      const double a = length(DVec3(s.major)), b = length(DVec3(s.minor));
       if (!(a > 0 && b > 0) || !finite(s.center)) return;
-      const Vec3 u = exact_normalized(s.major), v = exact_normalized(s.minor), nrm = exact_normalized(s.normal);
+      const Vec3 u = to_float(normalized(DVec3(s.major))), v = to_float(normalized(DVec3(s.minor))),
+                 nrm = to_float(normalized(DVec3(s.normal)));
       const float reach = static_cast<float>(std::sqrt(a * a + height_limit * height_limit) * (1 + slack));
       std::vector<std::vector<std::size_t>> ids;
       std::vector<std::vector<float>> distances;

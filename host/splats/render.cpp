@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "io/image.hpp"
+#include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::splats {
@@ -27,11 +28,11 @@ void render_splats(const std::string& path, const std::vector<SplatRecord>& spla
   const Vec3 light = normalized(back + 0.5f * up + 0.3f * right);
   for (std::size_t i = 0; i < splats.size(); ++i) {
     const SplatRecord& s = splats[i];
-    const auto a = static_cast<float>(exact_length(s.major)), b = static_cast<float>(exact_length(s.minor));
+    const auto a = static_cast<float>(length(DVec3(s.major))), b = static_cast<float>(length(DVec3(s.minor)));
     const Vec3 n = normalized(s.normal);
     const float facing = dot(n, back);
     if (!(a > 0 && b > 0) || std::fabs(facing) < 1e-3f) continue;
-    const Vec3 u = exact_normalized(s.major), v = exact_normalized(s.minor);
+    const Vec3 u = to_float(normalized(DVec3(s.major))), v = to_float(normalized(DVec3(s.minor)));
     const Vec3 c{dot(s.center, right), dot(s.center, up), dot(s.center, back)};
     const int x0 = static_cast<int>(std::floor((c.x - a - cx) * scale + half_w)), x1 = static_cast<int>(std::ceil((c.x + a - cx) * scale + half_w));
     const int y0 = static_cast<int>(std::floor((c.y - a - cy) * scale + half_h)), y1 = static_cast<int>(std::ceil((c.y + a - cy) * scale + half_h));

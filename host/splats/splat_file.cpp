@@ -13,6 +13,7 @@
 #include "io/binary.hpp"
 #include "io/checksum.hpp"
 #include "io/text_file.hpp"
+#include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::splats {
@@ -88,9 +89,11 @@ std::uint64_t file_checksum(std::string_view header_with_zeros, std::string_view
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info) {
   std::string body;
   for (const SplatRecord& s : splats) {
-    const float values[] = {s.center.x, s.center.y, s.center.z, s.normal.x, s.normal.y, s.normal.z, s.major.x,
-                            s.major.y,  s.major.z,  s.minor.x,  s.minor.y,  s.minor.z,  static_cast<float>(exact_length(s.major)),
-                            static_cast<float>(exact_length(s.minor))};
+    // The lengths in double: the float squares overflow beyond 1.8e19 and underflow below 1e-19 (a
+    // mesh at 1e20 stored major = inf for a finite axis vector).
+    const float values[] = {s.center.x, s.center.y, s.center.z, s.normal.x, s.normal.y, s.normal.z, s.major.x, s.major.y, s.major.z,
+                            s.minor.x,  s.minor.y,  s.minor.z,  static_cast<float>(length(DVec3(s.major))),
+                            static_cast<float>(length(DVec3(s.minor)))};
     for (int p = 0; p < 6; ++p) append_bytes(body, values[p]);
     append_bytes(body, s.color.r), append_bytes(body, s.color.g), append_bytes(body, s.color.b);
     for (int p = 6; p < 14; ++p) append_bytes(body, values[p]);
@@ -198,7 +201,7 @@ SplatFile decode_splat_file(const std::string& data, const std::string& path) {
     if (!finite3(s.normal) || std::abs(length(s.normal) - 1.0f) > 1e-2f) throw bad("the normal is not a finite unit vector");
     if (!finite3(s.major) || !finite3(s.minor)) throw bad("non-finite semi-axis");
     for (int a = 0; a < 2; ++a) {
-      const double expected = exact_length(a == 0 ? s.major : s.minor);
+      const double expected = length(DVec3(a == 0 ? s.major : s.minor));
       if (!(lengths[a] >= 0) || !std::isfinite(lengths[a]) || std::abs(lengths[a] - expected) > 1e-4 * expected + std::numeric_limits<float>::denorm_min())
         throw bad(fmt::format("{} axis length {} is not the length {} of its vector", a == 0 ? "major" : "minor", lengths[a],
                               static_cast<float>(expected)));
