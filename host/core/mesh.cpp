@@ -195,7 +195,7 @@ class ParityIndex {
         for (std::size_t x = cell(tlo[0], 0); x <= cell(thi[0], 0); ++x) cells_[y * side_ + x].push_back(static_cast<std::uint32_t>(t));
     }
   }
-  // Whether the ray from p along kDir crosses the part an odd number of times: p inside it.
+  // Whether the ray from p along the frame's direction crosses the part an odd number of times: p inside it.
   bool contains(const D3& p) const {
     const double u = dot3(p, frame_.u), v = dot3(p, frame_.v);
     if (!(u >= lo_[0] && u <= hi_[0] && v >= lo_[1] && v <= hi_[1])) return false;

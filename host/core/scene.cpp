@@ -391,7 +391,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.shadow_lift = r.non_negative(q, "shadow_lift", Q.shadow_lift, "a lift off the surface in world units");
     Q.shadow_lift_auto = !q.contains("shadow_lift");
     Q.splat_scale = r.number(q, "splat_scale", Q.splat_scale);
-    if (!(Q.splat_scale >= kMinSplatScale && Q.splat_scale <= kMaxSplatScale))  // k = 10 took 260 s of gap covering
+    if (!(Q.splat_scale >= kMinSplatScale && Q.splat_scale <= kMaxSplatScale))  // the gap covering grows with k
       r.fail("splat_scale", fmt::format("must be in [{:g}, {:g}], not {:g}", kMinSplatScale, kMaxSplatScale, Q.splat_scale));
     Q.antialias = r.non_negative(q, "antialias", Q.antialias, "0 = off");
     Q.depth_offset = r.non_negative(q, "depth_offset", Q.depth_offset, "the visibility pass's ε behind the nearest splat");

@@ -23,12 +23,12 @@ std::optional<std::string> unknown_key(const nlohmann::json& object, std::initia
 // "a, b, c": the known keys for an error message.
 std::string key_list(std::initializer_list<const char*> known);
 
-// Field access for a reader of closed JSON objects: every error is one line, `prefix` then the
-// field's path and what is wrong ("scene: camera.eye must be an array of 3 numbers").
 // A JSON number that is finite as a float (1e39 is finite as a double and becomes inf): its value
 // in `out`, else false.
 bool json_float(const nlohmann::json& value, float& out);
 
+// Field access for a reader of closed JSON objects: every error is one line, `prefix` then the
+// field's path and what is wrong ("scene: camera.eye must be an array of 3 numbers").
 struct JsonFields {
   std::string prefix;
   [[noreturn]] void fail(const std::string& message) const;

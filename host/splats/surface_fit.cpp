@@ -437,8 +437,9 @@ double largest_passing(double lo, double hi, int steps, double ratio, const Pass
 
 // An ellipse in the triangle's plane centred on the gap, as large as the surface bound allows (up
 // to `largest`): the largest passing circle, then, of the orientations of the major axis tried
-// (four from the longest edge, and the other edges'), the one that passes at the greatest length (along a crease or a boundary, the surface allows a long thin
-// splat where a circle stays small).
+// (four from the longest edge, and along the other edges), the one that passes at the greatest
+// length (along a crease or a boundary, the surface allows a long thin splat where a circle stays
+// small).
 // `same_colour`, when set, must also pass: the colour variant's tolerance over the splat.
 using ColourTest = std::function<bool(const Ellipse&, Surface::Recent&)>;
 Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double largest, std::vector<DVec3>& scratch,
