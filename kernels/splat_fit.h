@@ -51,6 +51,13 @@ inline bool splat_same_side_of_crease(float ax, float ay, float az, float bx, fl
   return ax * bx + ay * by + az * bz >= crease_cos;
 }
 
+// Whether two sample normals lie on opposed sheets of the surface: facing apart beyond 180° minus
+// the crease angle (the two sides of a thin plate or of a knife edge). Never at crease_cos <= -1 (the
+// thesis). The kNN graph (host/splats/neighbors.cpp) passes over such neighbours too.
+inline bool splat_opposed_sheets(float ax, float ay, float az, float bx, float by, float bz, float crease_cos) {
+  return crease_cos > -1.0f && ax * bx + ay * by + az * bz < -crease_cos;
+}
+
 // Whether a candidate at height h above the splat's plane, with sample normal (bx, by, bz), lies on
 // another sheet of the surface than the splat's sample (normal (ax, ay, az)): behind the plane and
 // facing away from it beyond 180° minus the crease angle (the other side of a thin plate or a
@@ -59,8 +66,7 @@ inline bool splat_same_side_of_crease(float ax, float ay, float az, float bx, fl
 // thinner than about 2 ε at the sample under their start (every one shrank to nothing, and gap
 // filling had to cover the whole part). Off at crease_cos <= -1 (the thesis's growth).
 inline bool splat_other_sheet(float ax, float ay, float az, float bx, float by, float bz, float h, float crease_cos) {
-  if (crease_cos <= -1.0f || !(h < 0.0f)) return false;
-  return ax * bx + ay * by + az * bz < -crease_cos;
+  return h < 0.0f && splat_opposed_sheets(ax, ay, az, bx, by, bz, crease_cos);
 }
 
 // Sort key of a candidate at in-plane offset (x, y): its distance (circle phase) or

@@ -266,7 +266,8 @@ void run_thesis_cases(Session& session, const BenchModel& model, const ScratchFi
   spl::Neighborhoods neighbors;
   // The kNN graph is FLANN's exact single kd-tree (splats/neighbors.hpp): the peer library itself.
   session.measure(Case{"knn", "flann", false, n, "samples", problem}, {},
-                  [&] { neighbors = spl::find_neighbors(samples.positions, options.k); });
+                  [&] { neighbors = spl::find_neighbors(samples.positions, options.k, &samples.normals, spl::crease_cosine(options.fit.crease_degrees));
+                  });
 
   // Fit: PCA frames, growth and safe points.
   spl::FitResult expected, fit;

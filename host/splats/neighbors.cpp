@@ -6,14 +6,21 @@
 
 #include <flann/flann.hpp>
 
+#include <fmt/format.h>
+
 #include "core/parallel.hpp"
 #include "runtime/error.hpp"
+#include "splats/fit_device.hpp"
 
 namespace splatcl::splats {
 
-Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k) {
+Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k, const std::vector<Vec4>* normals,
+                             float crease_cos) {
   if (k == 0) throw Error("the neighbourhood size k must be at least 1");
   const std::size_t n = positions.size();
+  if (normals && normals->size() != n)
+    throw Error(fmt::format("find_neighbors: {} normals for {} positions", normals->size(), n));
+  const bool sheets = normals && crease_cos > -1.0f;
   Neighborhoods result;
   result.k = static_cast<std::uint32_t>(std::min<std::size_t>(k, n > 0 ? n - 1 : 0));
   result.kth_distance.assign(n, 0.0f);
@@ -25,7 +32,6 @@ Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k) {
   flann::Matrix<float> data(const_cast<float*>(&positions[0].x), n, 3, sizeof(Vec4));
   flann::Index<flann::L2_Simple<float>> index(data, flann::KDTreeSingleIndexParams(10));
   index.buildIndex();
-  const std::size_t want = kk + 1;
   constexpr std::size_t kBlock = 256;
   struct Scratch {
     std::vector<std::size_t> ids;
@@ -33,23 +39,36 @@ Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k) {
     std::vector<std::pair<float, std::uint32_t>> found;
   };
   std::vector<Scratch> scratch(worker_count(n, kBlock));
-  for (Scratch& s : scratch) s = {std::vector<std::size_t>(want), std::vector<float>(want), {}};
   flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
   params.sorted = true;
   parallel_for(n, kBlock, [&](std::size_t i, std::size_t w) {
     auto& [ids, distances, found] = scratch[w];
-    flann::Matrix<float> query(const_cast<float*>(&positions[i].x), 1, 3, sizeof(Vec4));
-    flann::Matrix<std::size_t> id_row(ids.data(), 1, want);
-    flann::Matrix<float> distance_row(distances.data(), 1, want);
-    index.knnSearch(query, id_row, distance_row, want, params);
-    // Ties broken by index so the graph does not depend on the tree's visiting order.
-    found.resize(want);
-    for (std::size_t r = 0; r < want; ++r) found[r] = {distances[r], static_cast<std::uint32_t>(ids[r])};
-    std::sort(found.begin(), found.end());
-    // Drop the sample itself by index (duplicates have equal distance); if it is missing, the farthest.
-    auto self = std::find_if(found.begin(), found.end(), [&](const auto& f) { return f.second == i; });
-    if (self == found.end()) self = found.end() - 1;
-    found.erase(self);
+    // The plain row first: a row with no neighbour on an opposed sheet is the plain graph's row
+    // (ties at the k-th distance included); otherwise wider searches until k of its own are found.
+    for (std::size_t want = kk + 1;; want = std::min(n, want * 4)) {
+      ids.resize(want), distances.resize(want);
+      flann::Matrix<float> query(const_cast<float*>(&positions[i].x), 1, 3, sizeof(Vec4));
+      flann::Matrix<std::size_t> id_row(ids.data(), 1, want);
+      flann::Matrix<float> distance_row(distances.data(), 1, want);
+      index.knnSearch(query, id_row, distance_row, want, params);
+      // Ties broken by index so the graph does not depend on the tree's visiting order.
+      found.resize(want);
+      for (std::size_t r = 0; r < want; ++r) found[r] = {distances[r], static_cast<std::uint32_t>(ids[r])};
+      std::sort(found.begin(), found.end());
+      // Drop the sample itself by index (duplicates have equal distance); if it is missing, the farthest.
+      auto self = std::find_if(found.begin(), found.end(), [&](const auto& f) { return f.second == i; });
+      if (self == found.end()) self = found.end() - 1;
+      found.erase(self);
+      if (!sheets) break;
+      const Vec4 a = (*normals)[i];
+      const auto same_sheet = [&](const std::pair<float, std::uint32_t>& f) {
+        const Vec4 b = (*normals)[f.second];
+        return !device::splat_opposed_sheets(a.x, a.y, a.z, b.x, b.y, b.z, crease_cos);
+      };
+      // Those of the sample's sheet first, each part still by distance.
+      const auto others = std::stable_partition(found.begin(), found.end(), same_sheet);
+      if (static_cast<std::size_t>(others - found.begin()) >= kk || want == n) break;
+    }
     for (std::size_t r = 0; r < kk; ++r) result.indices[i * kk + r] = found[r].second;
     const float d = std::sqrt(found[kk - 1].first);
     result.kth_distance[i] = d;

@@ -134,7 +134,8 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
     sampling.coarsen = true;
   }
   phase("sampling", [&] { run.samples = sample_mesh(mesh, sampling, colors); });
-  phase("knn", [&] { run.neighbors = find_neighbors(run.samples.positions, options.k); });
+  phase("knn", [&] { run.neighbors = find_neighbors(run.samples.positions, options.k, &run.samples.normals, crease_cosine(options.fit.crease_degrees));
+  });
   FitOptions growth = options.fit;
   if (options.surface_bound) growth.eps = growth_eps(options.fit.eps);
   if (options.covered_budget > 0)

@@ -32,8 +32,10 @@ namespace splatcl::splats {
 // given, so that flat faces stay linear; a UTF-8 byte-order mark no longer shifts an OBJ's indices;
 // an inside-out closed part that lies inside no other is turned outward (core/mesh.cpp). 7: gap
 // splats also try major axes along their triangle's other edges (fewer of them along the borders
-// of non-square faces).
-inline constexpr int kSplatMethodVersion = 7;
+// of non-square faces). 8: the kNN graph passes over samples on an opposed sheet (a thin plate's
+// other side; splats/neighbors.hpp), and the surface bound shrinks a long grown splat from 4:1
+// instead of whole (needles).
+inline constexpr int kSplatMethodVersion = 8;
 
 struct PipelineOptions {
   SamplingOptions sampling;

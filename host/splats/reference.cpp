@@ -7,15 +7,11 @@
 #include <tuple>
 
 #include "core/parallel.hpp"
+#include "splats/fit_device.hpp"
 
 namespace splatcl::splats::reference {
 
-// The size rule, sort key, colour test and hull test, one source with the kernel.
-namespace device {
-using uint = std::uint32_t;
-using std::size_t;
-#include "../../kernels/splat_fit.h"
-}  // namespace device
+// The size rule, sort key, colour test and hull test: splats::device, one source with the kernel.
 
 static_assert(static_cast<int>(Stop::None) == STOP_NONE && static_cast<int>(Stop::Geometry) == STOP_GEOMETRY &&
                   static_cast<int>(Stop::Color) == STOP_COLOR,

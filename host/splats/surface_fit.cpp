@@ -32,6 +32,8 @@ constexpr std::size_t kMaxGapRounds = 10;
 // gaps this many mean gap-splat sizes apart.
 constexpr std::size_t kGapLookahead = 4096;
 constexpr double kGapSpread = 4;
+// The surface bound shrinks a grown splat from at most this aspect (bound_by_surface).
+constexpr double kShrinkAspect = 4;
 
 // In-plane coordinates of p relative to e, and its height above the plane.
 struct Local {
@@ -165,6 +167,31 @@ bool parallelogram_within(const SurfaceTriangle& t, DVec3 centre, DVec3 hu, DVec
   return true;
 }
 
+namespace {
+
+// The largest value in [lo, hi] that passes a test that holds up to some value and fails beyond it,
+// for lo passing: bisection, at most `steps` halvings and only while hi > lo · ratio.
+template <class Passes>
+double largest_passing(double lo, double hi, int steps, double ratio, const Passes& passes) {
+  for (int step = 0; step < steps && hi > lo * ratio; ++step) {
+    const double mid = 0.5 * (lo + hi);
+    (passes(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+// The largest value from lo (passing) on, up to `largest`, that passes: doubling from `start`, then
+// bisection.
+template <class Passes>
+double grow_while_passing(double lo, double start, double largest, const Passes& passes) {
+  double hi = start;
+  while (hi < largest && passes(hi)) lo = hi, hi *= 2;
+  if (hi >= largest && lo > 0 && passes(largest)) return largest;
+  return largest_passing(lo, hi, 5, 1.15, passes);
+}
+
+}  // namespace
+
 bool certified_within_surface(const Surface& surface, const Ellipse& e, double eps) {
   if (!(e.a > 0 && e.b > 0)) return true;
   // Rectangles of the ellipse's parameter domain [-1, 1]², split in four while roughly square in
@@ -256,12 +283,19 @@ void bound_by_surface(const Surface& surface, const Samples& samples, const Neig
       shrunk[i] = 1;  // zero size: its sets are emptied below
       return;
     }
-    const double a0 = e.a, b0 = e.b;
+    const double a0 = e.a;
+    // The ellipse phase's major can reach far beyond the model (a minor of 16 ε with a major of
+    // 200,000 ε on an octahedron). Scaled down whole, such a splat became a needle (a minor of
+    // ε/130, aspect 13,000:1); it is shrunk from kShrinkAspect times its minor instead, and its
+    // major then extended as far as it passes.
+    const double b0 = e.b, a1 = std::min(a0, kShrinkAspect * b0);
     Surface::Recent recent;  // the tests at several sizes query the same part of the surface
-    const auto test = [&](double s, double t) {  // both axes at scale s, then the major extended by t
-      e.b = s * b0, e.a = s * a0 + t * (a0 - s * a0);
+    const auto passes = [&](double a, double b) {
+      e.a = a, e.b = b;
       return within_surface(surface, e, eps, scratch[worker], &recent);
     };
+    const auto test = [&](double s, double t) { return passes(s * a1 + t * (a1 - s * a1), s * b0); };  // scale s, major extended by t
+    if (a1 < a0 && passes(a0, b0)) return;
     // A first guess from the samples: the scale at which the nearest same-facing neighbour of the
     // covered samples that lies more than ε off the splat's plane projects onto its rim.
     double guess = 1;
@@ -269,19 +303,19 @@ void bound_by_surface(const Surface& surface, const Samples& samples, const Neig
       for (const std::uint32_t* q = neighbors.row(*m); q != neighbors.row(*m) + neighbors.k; ++q) {
         const Local l = local(e, DVec3(xyz(samples.positions[*q])));
         if (std::fabs(l.h) <= eps || dot(DVec3(xyz(samples.normals[*q])), e.normal) <= 0) continue;
-        guess = std::min(guess, std::sqrt(l.x * l.x / (a0 * a0) + l.y * l.y / (b0 * b0)));
+        guess = std::min(guess, std::sqrt(l.x * l.x / (a1 * a1) + l.y * l.y / (b0 * b0)));
       }
     }
     // The guess first (the whole splat when the samples suggest nothing), then halving.
     guess = std::max(guess, 1.0 / 16);
     double lo = 0, hi = 1;
     if (test(guess, 0)) {
-      if (guess == 1) return;
+      if (guess == 1 && a1 == a0) return;
       lo = guess;
     } else {
       hi = guess;
     }
-    for (int step = 0; step < (lo > 0 ? 2 : 4); ++step) {
+    for (int step = 0; step < (lo > 0 ? 2 : 4) && lo < 1; ++step) {
       const double s = 0.5 * (lo + hi);
       (test(s, 0) ? lo : hi) = s;
     }
@@ -291,9 +325,13 @@ void bound_by_surface(const Surface& surface, const Samples& samples, const Neig
       hi *= 0.5;
       if (test(hi, 0)) lo = hi;
     }
-    double extend = 0;  // as much of the major axis back as still passes
-    if (a0 > b0 * 1.25 && lo < 1 && test(lo, 0.5)) extend = 0.5;
-    const float fb = static_cast<float>(lo * b0), fa = static_cast<float>(lo * a0 + extend * (a0 - lo * a0));
+    double fa_double = lo * a1;  // as much of the major axis back as still passes
+    if (lo > 0 && a1 < a0) {
+      fa_double = grow_while_passing(fa_double, 2 * fa_double, a0, [&](double a) { return passes(a, lo * b0); });
+    } else if (a1 > b0 * 1.25 && lo < 1 && test(lo, 0.5)) {
+      fa_double = lo * a1 + 0.5 * (a1 - lo * a1);
+    }
+    const float fb = static_cast<float>(lo * b0), fa = static_cast<float>(fa_double);
     const Vec3 u = xyz(fit.frames[i].u), v = xyz(fit.frames[i].v);
     shape.major = {u.x * fa, u.y * fa, u.z * fa, fa};
     shape.minor = {v.x * fb, v.y * fb, v.z * fb, fb};
@@ -424,17 +462,6 @@ std::vector<Gap> find_gaps(const Surface& surface, const std::vector<Ellipse>& s
   return gaps;
 }
 
-// The largest value in [lo, hi] that passes a test that holds up to some value and fails beyond it,
-// for lo passing: bisection, at most `steps` halvings and only while hi > lo · ratio.
-template <class Passes>
-double largest_passing(double lo, double hi, int steps, double ratio, const Passes& passes) {
-  for (int step = 0; step < steps && hi > lo * ratio; ++step) {
-    const double mid = 0.5 * (lo + hi);
-    (passes(mid) ? lo : hi) = mid;
-  }
-  return lo;
-}
-
 // An ellipse in the triangle's plane centred on the gap, as large as the surface bound allows (up
 // to `largest`): the largest passing circle, then, of the orientations of the major axis tried
 // (four from the longest edge, and along the other edges), the one that passes at the greatest
@@ -459,14 +486,7 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
     e.a = a, e.b = b;
     return within_surface(surface, e, eps, scratch, &recent) && (!same_colour || same_colour(e, recent));
   };
-  // The largest passing value from lo on (up to `largest`), by doubling from `start`, then bisection.
-  const auto grow_while_passing = [&](double lo, double start, const auto& passes) {
-    double hi = start;
-    while (hi < largest && passes(hi)) lo = hi, hi *= 2;
-    if (hi >= largest && lo > 0 && passes(largest)) return largest;
-    return largest_passing(lo, hi, 5, 1.15, passes);
-  };
-  double radius = grow_while_passing(0.0, 2 * eps, [&](double r) { return test(r, r); });
+  double radius = grow_while_passing(0.0, 2 * eps, largest, [&](double r) { return test(r, r); });
   for (double r = eps / 32; !(radius > 0) && r > eps / 4096; r *= 0.5)
     if (test(r, r)) radius = r;
   if (!(radius > 0)) radius = eps / 4096;  // the centre itself lies on the surface
@@ -490,7 +510,7 @@ Ellipse gap_splat(const Surface& surface, const Gap& gap, double eps, double lar
   for (const DVec3& direction : directions) {
     e.u = direction;
     e.v = cross(e.normal, e.u);
-    const double a = grow_while_passing(radius, 2 * radius, [&](double a_) { return test(a_, radius); });
+    const double a = grow_while_passing(radius, 2 * radius, largest, [&](double a_) { return test(a_, radius); });
     if (a > best_a * 1.05) best_a = a, best_u = e.u;
   }
   e.u = best_u, e.v = cross(e.normal, best_u);

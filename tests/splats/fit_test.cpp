@@ -152,7 +152,7 @@ TEST(SplatFit, WholeFitMatchesReferenceBitForBitAtBenchSize) {
   colors.bounds = mesh.bounds();
   Input in;
   in.samples = sample_mesh(mesh, pipeline.sampling, colors);
-  in.neighbors = find_neighbors(in.samples.positions, pipeline.k);
+  in.neighbors = find_neighbors(in.samples.positions, pipeline.k, &in.samples.normals, crease_cosine(pipeline.fit.crease_degrees));
   ASSERT_GT(in.samples.size(), 30000u);
   expect_same_whole_fit(in, geometry(3e-4f));
 }

@@ -8,6 +8,7 @@
 
 #include "io/image.hpp"
 #include "runtime/error.hpp"
+#include "splats/fit.hpp"
 #include "splats/neighbors.hpp"
 #include "splats/sampling.hpp"
 #include "splats_test_support.hpp"
@@ -293,6 +294,53 @@ TEST(Neighbors, ExactAgainstBruteForceWithIndexTies) {
     }
     EXPECT_DOUBLE_EQ(nb.weight[i], std::numbers::pi * nb.kth_distance[i] * nb.kth_distance[i]);
   }
+}
+
+// Two sheets 0.05 apart on a 0.2 lattice (a thin plate's sides, normals +z and -z): with the
+// normals, every row holds the k nearest of the sample's own sheet, exactly (brute force), where
+// the plain graph takes the sheet below first; a row on a sheet of fewer than k + 1 samples is
+// filled with the other sheet's nearest. At crease 180 (cosine -2) the plain graph.
+TEST(Neighbors, PassOverTheOtherSheetOfAThinPlate) {
+  std::vector<Vec4> points, normals;
+  for (int sheet = 0; sheet < 2; ++sheet)
+    for (int y = 0; y < 12; ++y)
+      for (int x = 0; x < 12; ++x) {
+        points.push_back({0.2f * static_cast<float>(x), 0.2f * static_cast<float>(y), sheet ? 0.0f : 0.05f, 0});
+        normals.push_back({0, 0, sheet ? -1.0f : 1.0f, 0});
+      }
+  const std::size_t one_sheet = points.size() / 2;
+  const float crease_cos = crease_cosine(60.0f);
+  const unsigned k = 10;
+  const Neighborhoods plain = find_neighbors(points, k);
+  const Neighborhoods sheets = find_neighbors(points, k, &normals, crease_cos);
+  std::size_t plain_crossings = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::vector<std::pair<float, std::uint32_t>> same;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      if (j == i || (j < one_sheet) != (i < one_sheet)) continue;
+      const Vec3 d = xyz(points[j]) - xyz(points[i]);
+      same.emplace_back(dot(d, d), static_cast<std::uint32_t>(j));
+    }
+    std::sort(same.begin(), same.end());
+    for (unsigned r = 0; r < k; ++r) {
+      ASSERT_EQ(sheets.row(i)[r], same[r].second) << "sample " << i << " rank " << r;
+      plain_crossings += (plain.row(i)[r] < one_sheet) != (i < one_sheet);
+    }
+    ASSERT_FLOAT_EQ(sheets.kth_distance[i], std::sqrt(same[k - 1].first));
+  }
+  EXPECT_GE(plain_crossings, points.size()) << "the plain graph should reach the other sheet";
+  const Neighborhoods thesis = find_neighbors(points, k, &normals, crease_cosine(180.0f));
+  EXPECT_EQ(thesis.indices, plain.indices);
+
+  // A sheet of 3 samples above 20: each row takes its 2 others, then the nearest 8 below.
+  const std::vector<Vec4> small{{0, 0, 0.05f, 0}, {0.2f, 0, 0.05f, 0}, {0, 0.2f, 0.05f, 0}};
+  std::vector<Vec4> mixed(small), mixed_normals(3, Vec4{0, 0, 1, 0});
+  for (int x = 0; x < 20; ++x) mixed.push_back({0.1f * static_cast<float>(x), 0, 0, 0}), mixed_normals.push_back({0, 0, -1, 0});
+  const Neighborhoods filled = find_neighbors(mixed, k, &mixed_normals, crease_cos);
+  EXPECT_EQ(filled.row(0)[0], 1u);
+  EXPECT_EQ(filled.row(0)[1], 2u);
+  for (unsigned r = 2; r < k; ++r) EXPECT_GE(filled.row(0)[r], 3u);
+  EXPECT_THROW(find_neighbors(mixed, k, &normals, crease_cos), Error);  // one normal per position
 }
 
 TEST(Neighbors, FewerSamplesThanK) {
