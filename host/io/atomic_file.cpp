@@ -19,13 +19,27 @@
 
 namespace splatcl {
 
+std::string written_through(const std::string& path) {
+  namespace fs = std::filesystem;
+  fs::path p(path);
+  // Linux follows at most 40 links in a path.
+  for (int links = 0; links < 40; ++links) {
+    std::error_code ec;
+    if (!fs::is_symlink(fs::symlink_status(p, ec))) return p.string();
+    const fs::path next = fs::read_symlink(p, ec);
+    if (ec) throw Error("cannot write " + path + ": " + ec.message());
+    p = next.is_absolute() ? next : p.parent_path() / next;
+  }
+  throw Error("cannot write " + path + ": too many levels of symbolic links");
+}
+
 void write_atomically(const std::string& path, const std::function<void(const std::string& temp_path)>& write) {
   namespace fs = std::filesystem;
-  const fs::path target(path);
+  const fs::path target(written_through(path));
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir)) throw Error("cannot write " + path + ": directory " + dir.string() + " does not exist");
   // The pid keeps concurrent writers of the same target apart.
-  const std::string temp = path + ".tmp" + std::to_string(::getpid());
+  const std::string temp = target.string() + ".tmp" + std::to_string(::getpid());
   // Removed by a terminating signal while it exists (io/in_flight.hpp).
   struct InFlight {
     int slot;
@@ -50,7 +64,12 @@ void write_atomically(const std::string& path, const std::function<void(const st
 
 void remove_dead_temporaries(const std::string& path) {
   namespace fs = std::filesystem;
-  const fs::path target(path);
+  fs::path target(path);
+  try {
+    target = written_through(path);
+  } catch (const Error&) {
+    return;  // a loop of links has no temporaries; writing it names the loop
+  }
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   const std::string name = target.filename().string();
   if (name.empty()) return;

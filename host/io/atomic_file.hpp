@@ -7,7 +7,14 @@
 
 namespace splatcl {
 
-// Calls write(temp_path) and renames temp_path to path. On any failure the temporary is removed
+// The file that writing `path` replaces: `path` itself, or, when it is a symbolic link, the file it
+// leads to through every link (a missing target of a dangling link included). Outputs are written
+// through links: renaming onto the link itself replaced it with a plain file. Throws Error naming
+// `path` for a loop of links.
+std::string written_through(const std::string& path);
+
+// Calls write(temp_path) and renames temp_path to path (to written_through(path), beside which the
+// temporary lies). On any failure the temporary is removed
 // and splatcl::Error names `path`.
 void write_atomically(const std::string& path, const std::function<void(const std::string& temp_path)>& write);
 

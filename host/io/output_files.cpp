@@ -39,7 +39,7 @@ void check_output_file(const std::string& path, const std::string& what) {
   const std::string name = "cannot write " + what + " " + path + ": ";
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw Error(name + "it is a directory");
-  const fs::path target(path);
+  const fs::path target(written_through(path));
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
     throw Error(name + (fs::exists(dir, ec) ? dir.string() + " is a file, not a directory" : "directory " + dir.string() + " does not exist"));
@@ -111,9 +111,10 @@ StagedOutputs::~StagedOutputs() {
 }
 
 std::string StagedOutputs::stage(const std::string& path) {
-  // The pid keeps concurrent runs writing the same target apart.
-  const std::string staged = path + ".partial" + std::to_string(::getpid()) + fs::path(path).extension().string();
-  entries_.push_back({path, staged, register_in_flight(staged)});
+  // The pid keeps concurrent runs writing the same target apart; through a link, beside its file.
+  const std::string through = written_through(path);
+  const std::string staged = through + ".partial" + std::to_string(::getpid()) + fs::path(path).extension().string();
+  entries_.push_back({path, through, staged, register_in_flight(staged)});
   return staged;
 }
 
@@ -136,7 +137,7 @@ void StagedOutputs::commit() {
     const Entry& e = entries_[committed_];
     std::error_code ec;
     if (!fs::is_regular_file(e.staged, ec)) throw Error("cannot write " + e.target + ": it was never written");
-    fs::rename(e.staged, e.target, ec);
+    fs::rename(e.staged, e.through, ec);
     if (ec) throw Error("cannot write " + e.target + ": " + ec.message());
     unregister_in_flight(e.in_flight);
   }

@@ -63,7 +63,7 @@ class StagedOutputs {
 
  private:
   struct Entry {
-    std::string target, staged;
+    std::string target, through, staged;  // as given, written_through(target), the staged name
     int in_flight = -1;  // io/in_flight.hpp: removed by a terminating signal until committed
   };
   std::vector<Entry> entries_;

@@ -112,6 +112,61 @@ std::vector<float> noise(int w, int h) {
 
 // OpenImageIO's PNG writer reports success on a full disk; the image lands
 // truncated under its name. Every image format goes through write_file_atomically now.
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// An output given as a symbolic link is written through it: the link stays a link and its file
+// gets the contents (renaming onto the link replaced it with a plain file, and the file it named
+// kept the old contents). Through a chain of links, relative ones, a dangling link (the file it
+// names is made), and for staged outputs; a loop of links is refused, naming the path.
+TEST(AtomicFile, OutputsAreWrittenThroughSymbolicLinks) {
+  const auto dir = fresh_dir("splatcl_atomic_links");
+  fs::create_directories(dir / "data");
+  {
+    std::ofstream(dir / "data" / "real.txt") << "old";
+  }
+  fs::create_symlink("data/real.txt", dir / "link.txt");  // relative to the link's directory
+  fs::create_symlink(dir / "link.txt", dir / "chain.txt");
+  write_file_atomically((dir / "chain.txt").string(), "new");
+  EXPECT_TRUE(fs::is_symlink(dir / "chain.txt"));
+  EXPECT_TRUE(fs::is_symlink(dir / "link.txt"));
+  EXPECT_EQ(read_all(dir / "data" / "real.txt"), "new");
+  EXPECT_EQ(written_through((dir / "chain.txt").string()), (dir / "data" / "real.txt").string());
+
+  fs::create_symlink("data/made.txt", dir / "dangling.txt");
+  write_file_atomically((dir / "dangling.txt").string(), "made");
+  EXPECT_TRUE(fs::is_symlink(dir / "dangling.txt"));
+  EXPECT_EQ(read_all(dir / "data" / "made.txt"), "made");
+
+  fs::create_symlink("data/staged.ply", dir / "staged-link.ply");
+  check_output_file((dir / "staged-link.ply").string(), "-o");
+  {
+    StagedOutputs outputs;
+    const std::string staged = outputs.stage((dir / "staged-link.ply").string());
+    EXPECT_EQ(fs::path(staged).parent_path(), dir / "data");  // beside the file, so the rename is atomic
+    outputs.write((dir / "staged-link.ply").string(), [](const std::string& name) { std::ofstream(name) << "ply"; });
+    outputs.commit();
+  }
+  EXPECT_TRUE(fs::is_symlink(dir / "staged-link.ply"));
+  EXPECT_EQ(read_all(dir / "data" / "staged.ply"), "ply");
+  std::size_t entries = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir / "data")) ++entries;
+  EXPECT_EQ(entries, 3u) << "no temporaries left";
+
+  fs::create_symlink("loop-b.txt", dir / "loop-a.txt");
+  fs::create_symlink("loop-a.txt", dir / "loop-b.txt");
+  try {
+    write_file_atomically((dir / "loop-a.txt").string(), "x");
+    FAIL() << "a loop of links was written";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("loop-a.txt: too many levels of symbolic links"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ImageOutput, FullDiskIsAWriteFailureWithNothingAtTheTarget) {
   const auto dir = fresh_dir("splatcl_io_full_disk");
   for (const char* name : {"frame.png", "frame.exr"}) {
