@@ -392,7 +392,7 @@ std::string manifest_checksum(const std::vector<ModelEntry>& models) {
   for (const ModelEntry* m : sorted)
     all.push_back({m->id, m->input, m->params.want_splats ? splats::to_json(m->params.splats) : nlohmann::json(),
                    m->params.want_csm ? csm::to_json(m->params.csm) : nlohmann::json()});
-  return checksum_of(all.dump());
+  return checksum_of(json_text(all, -1));
 }
 
 }  // namespace splatcl::batch

@@ -1,4 +1,5 @@
 #include "batch/runner.hpp"
+#include "io/json_keys.hpp"
 
 #include <fmt/format.h>
 
@@ -146,7 +147,7 @@ std::string params_checksum(const std::string& kind, nlohmann::json params) {
       throw Error(std::string("texture: ") + e.what());
     }
   }
-  return checksum_of(params.dump());
+  return checksum_of(json_text(params, -1));
 }
 
 nlohmann::json files_json(const std::vector<OutputFile>& files) {
@@ -177,6 +178,13 @@ class Worker {
     const fs::path dir(options_.output_dir);
     try {
       fs::create_directories((dir / entry.id).parent_path());
+      // The model's outputs can be written (no folder in their place, a writable folder) before
+      // its work, not after a build that then fails to write them.
+      const std::vector<std::string> names = output_names(entry.id);
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        const bool wanted = k == 0 || (k <= 2 ? entry.params.want_splats : entry.params.want_csm);
+        if (wanted) check_output_file((dir / names[k]).string(), "output");
+      }
       r.input_checksum = checksum_of_file(entry.input, &r.input_bytes);
       build_outputs(entry, r, dir);
     } catch (const FatalError&) {
@@ -186,7 +194,7 @@ class Worker {
     }
     r.ok = r.reason.empty();
     try {
-      write_counted((dir / record_name(entry.id)).string(), record_json(r).dump(2) + "\n");
+      write_counted((dir / record_name(entry.id)).string(), json_text(record_json(r)) + "\n");
     } catch (...) {
       add_reason(r, describe(std::current_exception()));
       r.ok = false;
@@ -218,8 +226,16 @@ class Worker {
       std::string checksum;
     };
     std::vector<Pending> pending;
+    // An output whose parameters cannot be checksummed (its texture unreadable) fails alone: the
+    // other is still reused or built (a missing texture dropped a valid CSM from the record).
     auto consider = [&](const std::string& kind, const nlohmann::json& params) {
-      const std::string checksum = params_checksum(kind, params);
+      std::string checksum;
+      try {
+        checksum = params_checksum(kind, params);
+      } catch (const Error& e) {
+        add_reason(r, kind + ": " + e.what());
+        return;
+      }
       if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum)) r.outputs.push_back(std::move(*reused));
       else pending.push_back({kind, params, checksum});
     };
@@ -236,9 +252,11 @@ class Worker {
 
     report_(entry.id + ": loading");
     const Mesh mesh = load_mesh(entry.input);
-    // The recorded one is of these bytes and says what the (reused) splats got; a rebuild of the
-    // splats says it again below.
-    if (!warning_recorded) r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
+    // The recorded one is of these bytes and says what the (reused) splats got; splats built now
+    // say it again (as given here, or oriented below): a rerun with keep_winding kept the earlier
+    // run's "faces turned ... face outward" for splats that face inward.
+    const bool splats_built = std::any_of(pending.begin(), pending.end(), [](const Pending& p) { return p.kind == "splats"; });
+    if (!warning_recorded || splats_built) r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
     // The splats take the faces oriented (unless keep_winding), as splatcl splats does; the CSM
     // capture takes them as given. A second load only when orienting would turn a face.
     std::optional<Mesh> oriented;
@@ -282,7 +300,7 @@ class Worker {
     const std::string ply = splats_name(entry.id), stats_name = entry.id + ".splats.json";
     write_splat_file((dir / ply).string(), records, splat_file_info(setup, run, entry.input));
     count_write();
-    const std::string stats_text = splat_statistics(run, setup, entry.input, ply).dump(2) + "\n";
+    const std::string stats_text = json_text(splat_statistics(run, setup, entry.input, ply)) + "\n";
     write_counted((dir / stats_name).string(), stats_text);
     return {describe_written_file(dir, ply), describe_file(stats_name, stats_text)};
   }
@@ -321,7 +339,7 @@ class Worker {
         {"batch_maps", result.batch_maps},
         {"device", device ? device->info().name : std::string("reference")},
         {"time_ms", {{"setup", result.setup_ms}, {"capture", result.capture_ms}, {"compress", result.compress_ms}, {"total", result.total_ms}}}};
-    const std::string stats_text = stats.dump(2) + "\n";
+    const std::string stats_text = json_text(stats) + "\n";
     write_counted((dir / stats_name).string(), stats_text);
     return {describe_file(name, bytes), describe_file(stats_name, stats_text)};
   }
@@ -387,6 +405,7 @@ std::string record_name(const std::string& id) { return id + ".batch.json"; }
 std::string splats_name(const std::string& id) { return id + ".splats.ply"; }
 std::string csm_name(const std::string& id) { return id + ".csm"; }
 std::vector<std::string> output_names(const std::string& id) {
+  // Worker::process relies on the order: the record, the splats' two files, the CSM's two.
   return {record_name(id), splats_name(id), id + ".splats.json", csm_name(id), id + ".csm.json"};
 }
 

@@ -1,4 +1,5 @@
 #include "bench/record.hpp"
+#include "io/json_keys.hpp"
 
 #include <sys/utsname.h>
 #include <unistd.h>
@@ -222,7 +223,7 @@ Results results_from_json(const Json& json) {
 }
 
 void write_results(const std::string& path, const Results& results) {
-  write_file_atomically(path, to_json(results).dump(2) + "\n");
+  write_file_atomically(path, json_text(to_json(results)) + "\n");
 }
 
 Results read_results(const std::string& path) { return parse_results(read_text_file(path, ""), path); }

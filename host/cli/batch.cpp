@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "batch/manifest.hpp"
+#include "io/json_keys.hpp"
 #include "batch/runner.hpp"
 #include "batch/shard.hpp"
 #include "batch/summary.hpp"
@@ -139,7 +140,7 @@ int run_batch_command(const BatchCommand& c) {
   progress.clear();
   info.wall_s = clock.elapsed_ms() / 1000;
   const nlohmann::json summary = make_summary(info, results);
-  write_file_atomically(summary_path, summary.dump(2) + "\n");
+  write_file_atomically(summary_path, json_text(summary) + "\n");
 
   const auto& counts = summary["counts"];
   fmt::print("batch   {} of {} models{}: {} ok ({} reused), {} failed in {:.1f} s; summary {}\n", models.size(), all.size(),
@@ -157,7 +158,7 @@ int run_merge(const MergeCommand& c) {
   std::vector<std::pair<std::string, nlohmann::json>> named;
   for (const auto& path : c.summaries) named.emplace_back(path, read_summary(path));
   const nlohmann::json merged = merge_summaries(named, c.partial);
-  write_file_atomically(c.output, merged.dump(2) + "\n");
+  write_file_atomically(c.output, json_text(merged) + "\n");
   const auto& counts = merged["counts"];
   fmt::print("merged  {} summaries: {} models, {} ok ({} reused), {} failed; wrote {}\n", named.size(), counts["models"].get<std::size_t>(),
              counts["ok"].get<std::size_t>(), counts["reused"].get<std::size_t>(), counts["failed"].get<std::size_t>(), c.output);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "io/json_keys.hpp"
 #include "cli/progress.hpp"
 #include "cluster/cluster.hpp"
 #include "cluster/shading.hpp"
@@ -203,7 +204,7 @@ int run_cluster(const ClusterOptions& o) {
         {"light_list_entries", pipeline.light_index_count()}, {"max_lights_per_cluster", max_per_cluster},
         {"shading_max_difference_vs_brute_force", max_difference}};
     for (const auto& [name, ms] : stage_ms) summary["stage_ms"][name] = ms;
-    outputs.write((dir / "summary.json").string(), [&](const std::string& path) { write_file_atomically(path, summary.dump(2) + "\n"); });
+    outputs.write((dir / "summary.json").string(), [&](const std::string& path) { write_file_atomically(path, json_text(summary) + "\n"); });
     outputs.commit();
     fmt::print("wrote      {}/{{lights-per-cluster.png, clusters.png, shaded.png, summary.json}}\n", o.output_dir);
   }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "io/json_keys.hpp"
 #include "cli/progress.hpp"
 #include "cli/scene_figures.hpp"
 #include "cli/scene_options.hpp"
@@ -133,7 +134,7 @@ int run_render(const RenderOptions& o) {
                                     // The figures of splatcl view's panel: its modes and toggles, and each object's.
                                     {"settings", settings_json(scene, presenter.debug_view, presenter.ambient_occlusion, presenter.pixel_ao)},
                                     {"objects", to_json(object_figures(presenter, scene))}};
-    outputs.write(o.json, [&](const std::string& path) { write_file_atomically(path, summary.dump(2) + "\n"); });
+    outputs.write(o.json, [&](const std::string& path) { write_file_atomically(path, json_text(summary) + "\n"); });
   }
   outputs.commit();
   if (!o.output.empty()) fmt::print("image      {}\n", o.output);

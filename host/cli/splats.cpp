@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "io/json_keys.hpp"
 #include "cli/parameter_options.hpp"
 #include "cli/model_input.hpp"
 #include "cli/progress.hpp"
@@ -102,7 +103,7 @@ int run_splats(const SplatsOptions& o) {
   run.phases.push_back({"write", write_clock.elapsed_ms()});
   nlohmann::json stats = splat_statistics(run, setup, o.model, o.output);
   if (check) stats["surface_check"] = to_json(*check);
-  if (!o.stats.empty()) outputs.write(o.stats, [&](const std::string& path) { write_file_atomically(path, stats.dump(2) + "\n"); });
+  if (!o.stats.empty()) outputs.write(o.stats, [&](const std::string& path) { write_file_atomically(path, json_text(stats) + "\n"); });
   if (!o.render.empty()) {
     progress.show("rendering " + o.render);
     splats::RenderOptions view;
@@ -206,7 +207,7 @@ int run_verify(const VerifyOptions& o) {
     nlohmann::json json = to_json(r);
     json["model"] = o.model;
     json["splats_file"] = o.splats;
-    write_file_atomically(o.json, json.dump(2) + "\n");
+    write_file_atomically(o.json, json_text(json) + "\n");
   }
   progress.clear();
 

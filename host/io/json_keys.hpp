@@ -12,6 +12,12 @@
 
 namespace splatcl {
 
+// The text of a JSON document splatcl writes or checksums: `indent` spaces per level (-1: one
+// line), a byte of a string that is not UTF-8 written as U+FFFD. A file name in another encoding
+// (a Latin-1 "café.obj") failed every writer with the library's "invalid UTF-8 byte" message.
+std::string json_text(const nlohmann::json& document, int indent = 2);
+std::string json_text(const nlohmann::ordered_json& document, int indent = 2);  // keys in their order
+
 // `text` for a one-line error message: control characters (a newline in a JSON key or value)
 // written as escapes (\n, \t, \xNN), the rest as it is.
 std::string printable(std::string_view text);

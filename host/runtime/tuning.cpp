@@ -138,7 +138,7 @@ std::string TuningDatabase::to_json_text() const {
                    "splatcl launch parameters per kernel, shape and device (docs/portability.md, 'Tuning'); written by "
                    "splatcl bench tune"},
                   {"records", records}};
-  return json.dump(2) + "\n";
+  return json_text(json) + "\n";
 }
 
 void TuningDatabase::write(const std::string& path) const { write_file_atomically(path, to_json_text()); }

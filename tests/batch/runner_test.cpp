@@ -86,6 +86,27 @@ TEST(BatchRunner, BuildsValidOutputsThenReusesThem) {
   EXPECT_EQ(read_text(options.output_dir + "/cube.splats.ply"), ply_before);  // deterministic
 }
 
+// A file name in another encoding (Latin-1 "caf\xE9.obj", not UTF-8) is built, recorded and then
+// reused: every JSON writer failed on it ("[json.exception.type_error.316] invalid UTF-8 byte"),
+// first the manifest checksum, so a directory run stopped before any model. The JSON files show
+// the byte as U+FFFD.
+TEST(BatchRunner, FileNamesThatAreNotUtf8AreBuiltAndReused) {
+  ScratchDir dir("runner-latin1");
+  write_text(dir / "in/caf\xE9.obj", test::kCubeObj);
+  const std::vector<ModelEntry> models = scan_directory(dir / "in");
+  ASSERT_EQ(models.size(), 1u);
+  EXPECT_EQ(models[0].id, "caf_");
+  EXPECT_FALSE(manifest_checksum(models).empty());
+  const RunOptions options = reference_options(dir);
+  const auto first = run_batch(models, options);
+  ASSERT_EQ(first.size(), 1u);
+  ASSERT_TRUE(first[0].ok) << first[0].reason;
+  EXPECT_NE(read_text(options.output_dir + "/caf_.batch.json").find("caf\xEF\xBF\xBD.obj"), std::string::npos);
+  const auto second = run_batch(models, options);
+  ASSERT_TRUE(second[0].ok) << second[0].reason;
+  EXPECT_TRUE(second[0].reused());
+}
+
 TEST(BatchRunner, RebuildsExactlyWhatChangedOrIsCorrupt) {
   ScratchDir dir("runner-rebuild");
   write_text(dir / "cube.obj", test::kCubeObj);
@@ -247,6 +268,33 @@ TEST(BatchRunner, InsideOutModelsGetOutwardSplatsUnlessTheWindingIsKept) {
   EXPECT_EQ(outward_share("kept"), 0.0);
   // The CSM does not depend on the winding the splats took.
   EXPECT_EQ(read_text(std::filesystem::path(dir / "out") / "turned.csm"), read_text(std::filesystem::path(dir / "out") / "kept.csm"));
+
+  // Rerun with the winding kept for the first: its splats are rebuilt facing in, and its record
+  // says so (it kept the earlier run's "turned ... face outward").
+  entries[0].params.splats.keep_winding = true;
+  const ModelResult rerun = run_batch({entries[0]}, reference_options(dir)).at(0);
+  ASSERT_TRUE(rerun.ok) << rerun.reason;
+  EXPECT_FALSE(output(rerun, "splats")->reused);
+  EXPECT_TRUE(output(rerun, "csm")->reused);
+  EXPECT_NE(rerun.warning.find("faces point inward"), std::string::npos) << rerun.warning;
+  EXPECT_EQ(outward_share("turned"), 0.0);
+}
+
+// A model's outputs are checked before its work: a folder where one of its files goes fails the
+// model at once, naming the file, and nothing is built (before, the build ran and then failed to
+// write; a folder at the record's name gave a raw "basic_filebuf::underflow" message).
+TEST(BatchRunner, AModelsOutputsAreCheckedBeforeItsWork) {
+  ScratchDir dir("runner-output-check");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  const RunOptions options = reference_options(dir);
+  for (const char* name : {"cube.csm", "cube.batch.json"}) {
+    std::filesystem::remove_all(options.output_dir);
+    std::filesystem::create_directories(std::filesystem::path(options.output_dir) / name);
+    const ModelResult r = run_batch({model(dir, "cube", "cube.obj")}, options).at(0);
+    EXPECT_FALSE(r.ok);
+    EXPECT_EQ(r.reason.rfind("cannot write output " + options.output_dir + "/" + name + ": it is a directory", 0), 0u) << r.reason;
+    EXPECT_FALSE(std::filesystem::exists(options.output_dir + "/cube.splats.ply")) << name;
+  }
 }
 
 TEST(BatchRunner, ParallelJobsGiveTheSameOutputs) {
@@ -305,10 +353,15 @@ TEST(BatchRunner, TexturedModelsColourTheirSplatsAndRebuildWhenTheImageChanges) 
   EXPECT_TRUE(run_batch(models, options).at(0).reused());
 
   // A missing image or a mesh without texture coordinates fails the model, naming the cause.
+  // The splats alone fail: the CSM is still reused and stays in the record (a missing texture
+  // dropped it, so fixing the texture rebuilt it).
   models[0].params.splats.texture = dir / "missing.png";
   r = run_batch(models, options).at(0);
   EXPECT_FALSE(r.ok);
-  EXPECT_NE(r.reason.find("missing.png"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("splats: texture: cannot read " + (dir / "missing.png")), std::string::npos) << r.reason;
+  ASSERT_NE(output(r, "csm"), nullptr);
+  EXPECT_TRUE(output(r, "csm")->reused);
+  EXPECT_NE(read_text(options.output_dir + "/box.batch.json").find("\"csm\""), std::string::npos);
   write_text(dir / "plain.obj", test::kCubeObj);
   std::vector<ModelEntry> plain{model(dir, "plain", "plain.obj")};
   plain[0].params.splats.texture = dir / "red.png";
