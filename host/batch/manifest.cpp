@@ -353,6 +353,13 @@ std::vector<ModelEntry> scan_directory(const std::string& folder, const std::str
   if (!fs::is_directory(folder, ec)) throw Error("cannot read directory " + folder + ": it does not exist");
   ModelParams defaults = base;
   apply_overrides(defaults, overrides, "command line");
+  // Every model of a directory takes these: a bad combination is the command line's, not the first
+  // model's ("../m/cube.obj (cube): 'maps': --maps 1000 is not a perfect square").
+  try {
+    validate(defaults);
+  } catch (const Error& e) {
+    throw Error(std::string("command line: ") + e.what());
+  }
   const fs::path excluded = exclude.empty() ? fs::path() : fs::weakly_canonical(exclude, ec);
   std::vector<ModelEntry> models;
   fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec), end;

@@ -21,6 +21,7 @@ namespace {
 constexpr const char* kFormat = "splatcl-batch-summary";
 constexpr int kVersion = 1;
 
+// ok = built + reused: a failed model counts as failed only (it was counted as built, whatever it did).
 nlohmann::json counts(const nlohmann::json& models) {
   std::size_t ok = 0, failed = 0, reused = 0;
   for (const auto& m : models) {
@@ -28,7 +29,7 @@ nlohmann::json counts(const nlohmann::json& models) {
     else ++failed;
     if (m.value("reused", false)) ++reused;
   }
-  return {{"models", models.size()}, {"ok", ok}, {"failed", failed}, {"reused", reused}, {"built", models.size() - reused}};
+  return {{"models", models.size()}, {"ok", ok}, {"failed", failed}, {"reused", reused}, {"built", ok - reused}};
 }
 
 }  // namespace

@@ -199,6 +199,11 @@ TEST(Manifest, DirectoryScanFindsMeshesRecursivelySkippingHiddenAndOutput) {
   std::filesystem::create_directories(dir / "empty");
   write_text(dir / "empty/readme.txt", "x");
   EXPECT_EQ(error_of([&] { scan_directory(dir / "empty"); }), "no meshes (.obj, .ply, .off, .stl) in " + (dir / "empty"));
+  // Every model of a directory takes the command line's values: a bad combination is blamed on it,
+  // not on the first model.
+  EXPECT_EQ(error_of([&] { scan_directory(dir.path().string(), dir / "out", {{"maps", 1000}}); })
+                .rfind("command line: 'maps': --maps 1000 is not a perfect square", 0),
+            0u);
 }
 
 // File names with characters an id may not hold (a space, an accent) get '_' there; before, one

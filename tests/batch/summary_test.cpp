@@ -42,6 +42,7 @@ TEST(BatchSummary, CountsAndNames) {
   EXPECT_EQ(s["counts"]["models"], 3);
   EXPECT_EQ(s["counts"]["ok"], 2);
   EXPECT_EQ(s["counts"]["failed"], 1);
+  EXPECT_EQ(s["counts"]["built"], 2);  // the ok ones that were not reused; the failed one is not "built"
   EXPECT_EQ(s["models"][0]["id"], "a");  // id order
   EXPECT_EQ(s["models"][1]["reason"], "cannot read mesh bad.obj");
   EXPECT_EQ(s["shard"]["indices"], nlohmann::json::array({1}));
