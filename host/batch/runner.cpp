@@ -442,6 +442,12 @@ void check_run_paths(const std::string& input, bool input_is_directory, const st
         throw Error("batch: the output " + name + " of model '" + m->id + "' lies in " + it->second.first + ", the output of model '" +
                     it->second.second->id + "'");
   }
+  // The run makes only the output directory: a summary elsewhere needs its folder now, before the
+  // output directory and its lock file are made (they were, and then the summary was refused).
+  const fs::path summary_dir = fs::path(summary).has_parent_path() ? fs::path(summary).parent_path() : fs::path(".");
+  std::error_code ec;
+  if (comparable_path(summary_dir.string()) != out && !fs::is_directory(summary_dir, ec))
+    throw Error("cannot write --summary " + summary + ": directory " + summary_dir.string() + " does not exist");
 }
 
 void prepare_output_directory(const std::string& output_dir) {

@@ -75,6 +75,11 @@ case $mode in
     "$expect_error" "batch: --summary $work/out/.splatcl-batch.lock is the output directory's lock file$" \
       "$splatcl" batch "$work/set.csv" -o "$work/out" --summary "$work/out/.splatcl-batch.lock" || fail "not refused"
     [ -e "$work/out/cube.splats.ply" ] && fail "the model was built although the run was refused" ;;
+  batch-summary-folder-missing)  # the output directory and its lock file were made before the summary was refused
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    "$expect_error" "cannot write --summary $work/nodir/s.json: directory $work/nodir does not exist$" \
+      "$splatcl" batch "$work/set.csv" -o "$work/out" --summary "$work/nodir/s.json" || fail "not refused"
+    [ -e "$work/out" ] && fail "the output directory was made although the run was refused" ;;
   batch-output-in-output)  # model 'a' writes the file a.csm; 'a.csm/b' would need it as a folder (it failed at run time, every run)
     printf '{"models": [{"path": "%s", "id": "a"}, {"path": "%s", "id": "a.csm/b"}]}' "$cube" "$cube" >"$work/set.json"
     "$expect_error" "batch: the output a.csm/b.batch.json of model 'a.csm/b' lies in a.csm, the output of model 'a'$" \
