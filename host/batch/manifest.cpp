@@ -196,18 +196,36 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
   nlohmann::json doc;
   // nlohmann keeps the last of two equal keys in an object: a key given twice, or a parameter under
   // two spellings (eps_diag, eps-diag), is refused instead of one value winning silently.
-  std::vector<std::vector<std::string>> open_objects;  // the keys so far of each object being read
+  // The containers being read, outermost first: an object's keys so far and its current key, an
+  // array's count of elements begun; they name where a repeated key lies ("models[2]").
+  struct Open {
+    bool array = false;
+    std::size_t elements = 0;
+    std::string key;
+    std::vector<std::string> keys;
+  };
+  std::vector<Open> open;
+  const auto where = [&] {
+    std::string path;
+    for (std::size_t i = 0; i + 1 < open.size(); ++i)
+      path += open[i].array ? fmt::format("[{}]", open[i].elements - 1) : (path.empty() ? "" : ".") + printable(open[i].key);
+    return path.empty() ? name : name + ": " + path;
+  };
   const auto no_duplicate_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    if (event == nlohmann::json::parse_event_t::object_start) open_objects.emplace_back();
-    if (event == nlohmann::json::parse_event_t::object_end && !open_objects.empty()) open_objects.pop_back();
-    if (event == nlohmann::json::parse_event_t::key && !open_objects.empty()) {
+    using Event = nlohmann::json::parse_event_t;
+    const bool element_starts = event == Event::object_start || event == Event::array_start || event == Event::value;
+    if (element_starts && !open.empty() && open.back().array) ++open.back().elements;
+    if (event == Event::object_start || event == Event::array_start) open.push_back({event == Event::array_start, 0, {}, {}});
+    if ((event == Event::object_end || event == Event::array_end) && !open.empty()) open.pop_back();
+    if (event == Event::key && !open.empty()) {
       const std::string key = parsed.get<std::string>();
-      for (const std::string& earlier : open_objects.back())
+      for (const std::string& earlier : open.back().keys)
         if (parameter_key(earlier) == parameter_key(key))
-          throw Error(earlier == key ? fmt::format("{}: key '{}' appears twice in one object", name, printable(key))
-                                     : fmt::format("{}: keys '{}' and '{}' in one object name the same parameter", name, printable(earlier),
+          throw Error(earlier == key ? fmt::format("{}: key '{}' appears twice in one object", where(), printable(key))
+                                     : fmt::format("{}: keys '{}' and '{}' in one object name the same parameter", where(), printable(earlier),
                                                    printable(key)));
-      open_objects.back().push_back(key);
+      open.back().keys.push_back(key);
+      open.back().key = key;
     }
     return true;
   };

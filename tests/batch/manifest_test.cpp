@@ -142,9 +142,13 @@ TEST(Manifest, CsvErrorsNameFileAndLine) {
   EXPECT_EQ(error_of([] { csv("path,path\na.obj,b.obj\n"); }), "m.csv:1: column 'path' appears twice");
   // Two spellings of one parameter (the later column won silently), and JSON keys given twice.
   EXPECT_EQ(error_of([] { csv("path,eps_diag,eps-diag\na.obj,0.001,0.002\n"); }), "m.csv:1: columns 'eps_diag' and 'eps-diag' name the same parameter");
+  // Where the object lies is named (the error said only "m.json").
   EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "eps-diag": 0.002, "eps_diag": 0.001}]})"); }),
-            "m.json: keys 'eps-diag' and 'eps_diag' in one object name the same parameter");
-  EXPECT_EQ(error_of([] { json(R"({"models": [{"path": "a.obj", "k": 8, "k": 12}]})"); }), "m.json: key 'k' appears twice in one object");
+            "m.json: models[0]: keys 'eps-diag' and 'eps_diag' in one object name the same parameter");
+  EXPECT_EQ(error_of([] { json(R"({"models": ["x.obj", [1, {}], {"path": "a.obj", "k": 8, "k": 12}]})"); }),
+            "m.json: models[2]: key 'k' appears twice in one object");
+  EXPECT_EQ(error_of([] { json(R"({"defaults": {"k": 8, "k": 12}, "models": ["a.obj"]})"); }),
+            "m.json: defaults: key 'k' appears twice in one object");
   EXPECT_EQ(error_of([] { json(R"({"models": ["a.obj"], "models": ["b.obj"]})"); }), "m.json: key 'models' appears twice in one object");
   // The same key in two objects is no duplicate.
   EXPECT_EQ(json(R"({"defaults": {"k": 8}, "models": [{"path": "a.obj", "k": 12}, {"path": "b.obj", "k": 9}]})").size(), 2u);
