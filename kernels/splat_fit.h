@@ -53,9 +53,12 @@ inline bool splat_same_side_of_crease(float ax, float ay, float az, float bx, fl
 
 // Whether two sample normals lie on opposed sheets of the surface: facing apart beyond 180° minus
 // the crease angle (the two sides of a thin plate or of a knife edge). Never at crease_cos <= -1 (the
-// thesis). The kNN graph (host/splats/neighbors.cpp) passes over such neighbours too.
+// thesis), nor for an undefined (zero) normal, which a crease angle over 90° would otherwise oppose
+// to everything. The kNN graph (host/splats/neighbors.cpp) passes over such neighbours too.
 inline bool splat_opposed_sheets(float ax, float ay, float az, float bx, float by, float bz, float crease_cos) {
-  return crease_cos > -1.0f && ax * bx + ay * by + az * bz < -crease_cos;
+  if (crease_cos <= -1.0f) return false;
+  if ((ax == 0.0f && ay == 0.0f && az == 0.0f) || (bx == 0.0f && by == 0.0f && bz == 0.0f)) return false;
+  return ax * bx + ay * by + az * bz < -crease_cos;
 }
 
 // Whether a candidate at height h above the splat's plane, with sample normal (bx, by, bz), lies on

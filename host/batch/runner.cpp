@@ -178,13 +178,13 @@ class Worker {
     const fs::path dir(options_.output_dir);
     try {
       fs::create_directories((dir / entry.id).parent_path());
-      // The model's outputs can be written (no folder in their place, a writable folder) before
-      // its work, not after a build that then fails to write them.
-      const std::vector<std::string> names = output_names(entry.id);
-      for (std::size_t k = 0; k < names.size(); ++k) {
-        const bool wanted = k == 0 || (k <= 2 ? entry.params.want_splats : entry.params.want_csm);
-        if (wanted) check_output_file((dir / names[k]).string(), "output");
-      }
+      // The record can be written (no folder in its place; a model's folder below the output
+      // directory writable, which prepare_output_directory probed) before any work; each output
+      // to build is checked in build_outputs. Without a folder listing: remove_stale_temporaries
+      // lists each folder once for the whole run.
+      check_output_path((dir / record_name(entry.id)).string(), "output");
+      if (const fs::path folder = (dir / entry.id).parent_path(); folder.lexically_normal() != dir.lexically_normal())
+        check_writable_directory(folder.string(), "output folder " + folder.string());
       r.input_checksum = checksum_of_file(entry.input, &r.input_bytes);
       build_outputs(entry, r, dir);
     } catch (const FatalError&) {
@@ -229,15 +229,22 @@ class Worker {
     // An output whose parameters cannot be checksummed (its texture unreadable) fails alone: the
     // other is still reused or built (a missing texture dropped a valid CSM from the record).
     auto consider = [&](const std::string& kind, const nlohmann::json& params) {
+      // An output to build has its files checked before the work (a folder at ID.csm failed after
+      // the build); like a bad texture, that fails it alone.
       std::string checksum;
       try {
         checksum = params_checksum(kind, params);
+        if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum)) {
+          r.outputs.push_back(std::move(*reused));
+          return;
+        }
+        const std::vector<std::string> names = output_names(entry.id);
+        for (std::size_t k = kind == "splats" ? 1 : 3, last = k + 2; k < last; ++k) check_output_path((dir / names[k]).string(), "output");
       } catch (const Error& e) {
         add_reason(r, kind + ": " + e.what());
         return;
       }
-      if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum)) r.outputs.push_back(std::move(*reused));
-      else pending.push_back({kind, params, checksum});
+      pending.push_back({kind, params, checksum});
     };
     if (entry.params.want_splats) consider("splats", splats::to_json(entry.params.splats));
     if (entry.params.want_csm) consider("csm", csm::to_json(entry.params.csm));
@@ -405,7 +412,7 @@ std::string record_name(const std::string& id) { return id + ".batch.json"; }
 std::string splats_name(const std::string& id) { return id + ".splats.ply"; }
 std::string csm_name(const std::string& id) { return id + ".csm"; }
 std::vector<std::string> output_names(const std::string& id) {
-  // Worker::process relies on the order: the record, the splats' two files, the CSM's two.
+  // build_outputs relies on the order: the record, the splats' two files, the CSM's two.
   return {record_name(id), splats_name(id), id + ".splats.json", csm_name(id), id + ".csm.json"};
 }
 

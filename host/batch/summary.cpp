@@ -25,9 +25,10 @@ constexpr int kVersion = 1;
 nlohmann::json counts(const nlohmann::json& models) {
   std::size_t ok = 0, failed = 0, reused = 0;
   for (const auto& m : models) {
-    if (m.value("status", "") == "ok") ++ok;
+    const bool model_ok = m.value("status", "") == "ok";
+    if (model_ok) ++ok;
     else ++failed;
-    if (m.value("reused", false)) ++reused;
+    if (model_ok && m.value("reused", false)) ++reused;  // a merged summary's failed model may say reused
   }
   return {{"models", models.size()}, {"ok", ok}, {"failed", failed}, {"reused", reused}, {"built", ok - reused}};
 }

@@ -264,7 +264,8 @@ void run_thesis_cases(Session& session, const BenchModel& model, const ScratchFi
 
   session.measure(host_case("sampling"), {}, [&] { samples = spl::sample_mesh(mesh, options.sampling, colors); });
   spl::Neighborhoods neighbors;
-  // The kNN graph is FLANN's exact single kd-tree (splats/neighbors.hpp): the peer library itself.
+  // The kNN graph is FLANN's exact single kd-tree (splats/neighbors.hpp), with the pipeline's
+  // opposed-sheet filter (since 2026-12-06: rows near a thin part's other side search wider).
   session.measure(Case{"knn", "flann", false, n, "samples", problem}, {},
                   [&] { neighbors = spl::find_neighbors(samples.positions, options.k, &samples.normals, spl::crease_cosine(options.fit.crease_degrees));
                   });

@@ -85,7 +85,8 @@ void remove_dead_temporaries(const std::string& path) {
     const std::size_t digits = std::min(rest.find_first_not_of("0123456789"), rest.size());
     if (digits == 0 || digits > 9) continue;
     const std::string_view after = rest.substr(digits);
-    if (!after.empty() && after != target.extension().string()) continue;
+    // Staged names keep the extension as given, which differs from the file's through a link.
+    if (!after.empty() && after != target.extension().string() && after != fs::path(path).extension().string()) continue;
     const pid_t pid = static_cast<pid_t>(std::stol(std::string(rest.substr(0, digits))));
     if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH) dead.push_back(it->path());
   }

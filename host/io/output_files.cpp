@@ -34,7 +34,7 @@ void check_writable_directory(const std::string& dir, const std::string& what) {
   ::unlink(probe.c_str());
 }
 
-void check_output_file(const std::string& path, const std::string& what) {
+void check_output_path(const std::string& path, const std::string& what) {
   if (path.empty()) return;
   const std::string name = "cannot write " + what + " " + path + ": ";
   std::error_code ec;
@@ -43,6 +43,14 @@ void check_output_file(const std::string& path, const std::string& what) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
     throw Error(name + (fs::exists(dir, ec) ? dir.string() + " is a file, not a directory" : "directory " + dir.string() + " does not exist"));
+}
+
+void check_output_file(const std::string& path, const std::string& what) {
+  if (path.empty()) return;
+  check_output_path(path, what);
+  const fs::path target(written_through(path));
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string name = "cannot write " + what + " " + path + ": ";
   check_writable_directory(dir.string(), what + " " + path);
   check_image_module(path, name);
   remove_dead_temporaries(path);
@@ -50,9 +58,15 @@ void check_output_file(const std::string& path, const std::string& what) {
 
 fs::path comparable_path(const std::string& path) {
   std::error_code ec;
-  fs::path p = fs::absolute(path, ec);
+  std::string through = path;
+  try {
+    through = written_through(path);  // weakly_canonical stops at a dangling link
+  } catch (const Error&) {
+    // A loop of links is compared as given; writing it fails, naming the loop.
+  }
+  fs::path p = fs::absolute(through, ec);
   if (!ec) p = fs::weakly_canonical(p, ec);  // absolute first: a relative name whose first part does not exist stays relative
-  if (ec) p = fs::path(path).lexically_normal();
+  if (ec) p = fs::path(through).lexically_normal();
   return p;
 }
 

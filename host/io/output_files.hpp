@@ -17,12 +17,18 @@ namespace splatcl {
 // of `path` left by a killed earlier run are removed (io/atomic_file.hpp).
 void check_output_file(const std::string& path, const std::string& what);
 
+// The part of check_output_file that reads no folder listing and writes nothing: `path` is not a
+// directory and its folder exists (through links). For callers that check many outputs of one
+// folder (batch: each model's files), probing and clearing temporaries once per folder themselves.
+void check_output_path(const std::string& path, const std::string& what);
+
 // Throws Error "cannot write WHAT DIR: directory DIR is not writable (CAUSE)" unless a file can be
 // created, written and removed in the existing directory `dir`.
 void check_writable_directory(const std::string& dir, const std::string& what);
 
 // The form two paths are compared in: absolute, with symbolic links and "." / ".." resolved as
-// far as the path exists.
+// far as the path exists (a dangling link to the file it would make: two such links to one file
+// are one output).
 std::filesystem::path comparable_path(const std::string& path);
 // Whether `inner` (a comparable_path) is `outer` or lies below it.
 bool path_within(const std::filesystem::path& inner, const std::filesystem::path& outer);

@@ -69,8 +69,10 @@ Neighborhoods find_neighbors(const std::vector<Vec4>& positions, unsigned k, con
       const auto others = std::stable_partition(found.begin(), found.end(), same_sheet);
       if (static_cast<std::size_t>(others - found.begin()) >= kk || want == n) break;
     }
-    for (std::size_t r = 0; r < kk; ++r) result.indices[i * kk + r] = found[r].second;
-    const float d = std::sqrt(found[kk - 1].first);
+    // A row filled from the other sheet is not in distance order: d is its farthest member's.
+    float farthest = 0;
+    for (std::size_t r = 0; r < kk; ++r) result.indices[i * kk + r] = found[r].second, farthest = std::max(farthest, found[r].first);
+    const float d = std::sqrt(farthest);
     result.kth_distance[i] = d;
     result.weight[i] = std::numbers::pi * static_cast<double>(d) * static_cast<double>(d);
   });

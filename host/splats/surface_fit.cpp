@@ -187,7 +187,8 @@ double grow_while_passing(double lo, double start, double largest, const Passes&
   double hi = start;
   while (hi < largest && passes(hi)) lo = hi, hi *= 2;
   if (hi >= largest && lo > 0 && passes(largest)) return largest;
-  return largest_passing(lo, hi, 5, 1.15, passes);
+  // Not beyond `largest`: the surface test is sampled, so not strictly monotonic.
+  return largest_passing(lo, std::min(hi, largest), 5, 1.15, passes);
 }
 
 }  // namespace

@@ -280,21 +280,40 @@ TEST(BatchRunner, InsideOutModelsGetOutwardSplatsUnlessTheWindingIsKept) {
   EXPECT_EQ(outward_share("turned"), 0.0);
 }
 
-// A model's outputs are checked before its work: a folder where one of its files goes fails the
-// model at once, naming the file, and nothing is built (before, the build ran and then failed to
-// write; a folder at the record's name gave a raw "basic_filebuf::underflow" message).
+// A model's outputs are checked before its work. A folder at the record's name fails the model at
+// once, naming the file, and nothing is built (it gave a raw "basic_filebuf::underflow" message).
+// A folder at one output's name fails that output alone, before its build (the build ran, then
+// failed to write); the other output is still built, or reused and kept in the record.
 TEST(BatchRunner, AModelsOutputsAreCheckedBeforeItsWork) {
   ScratchDir dir("runner-output-check");
   write_text(dir / "cube.obj", test::kCubeObj);
   const RunOptions options = reference_options(dir);
-  for (const char* name : {"cube.csm", "cube.batch.json"}) {
-    std::filesystem::remove_all(options.output_dir);
-    std::filesystem::create_directories(std::filesystem::path(options.output_dir) / name);
-    const ModelResult r = run_batch({model(dir, "cube", "cube.obj")}, options).at(0);
-    EXPECT_FALSE(r.ok);
-    EXPECT_EQ(r.reason.rfind("cannot write output " + options.output_dir + "/" + name + ": it is a directory", 0), 0u) << r.reason;
-    EXPECT_FALSE(std::filesystem::exists(options.output_dir + "/cube.splats.ply")) << name;
-  }
+  const std::filesystem::path out(options.output_dir);
+  std::filesystem::create_directories(out / "cube.batch.json");
+  ModelResult r = run_batch({model(dir, "cube", "cube.obj")}, options).at(0);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.reason.rfind("cannot write output " + (out / "cube.batch.json").string() + ": it is a directory", 0), 0u) << r.reason;
+  EXPECT_FALSE(std::filesystem::exists(out / "cube.splats.ply"));
+
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(out / "cube.csm");
+  r = run_batch({model(dir, "cube", "cube.obj")}, options).at(0);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.reason, "csm: cannot write output " + (out / "cube.csm").string() + ": it is a directory");
+  ASSERT_NE(output(r, "splats"), nullptr);
+  EXPECT_TRUE(std::filesystem::exists(out / "cube.splats.ply"));
+  EXPECT_EQ(output(r, "csm"), nullptr);
+
+  // Both built, then a folder where the CSM goes: the splats are reused and stay in the record.
+  std::filesystem::remove_all(out / "cube.csm");
+  ASSERT_TRUE(run_batch({model(dir, "cube", "cube.obj")}, options).at(0).ok);
+  std::filesystem::remove(out / "cube.csm");
+  std::filesystem::create_directories(out / "cube.csm");
+  r = run_batch({model(dir, "cube", "cube.obj")}, options).at(0);
+  EXPECT_FALSE(r.ok);
+  ASSERT_NE(output(r, "splats"), nullptr);
+  EXPECT_TRUE(output(r, "splats")->reused);
+  EXPECT_NE(read_text(out / "cube.batch.json").find("\"splats\""), std::string::npos);
 }
 
 TEST(BatchRunner, ParallelJobsGiveTheSameOutputs) {

@@ -65,6 +65,13 @@ TEST(BatchSummary, MergesCompleteShards) {
   EXPECT_EQ(merged["merged_from"], nlohmann::json::array({"s1", "s0", "s2"}));
   // A merged summary merges again like any other.
   EXPECT_EQ(merge_summaries({{"m", merged}}, false)["counts"]["models"], 5);
+  // A failed model that says reused (an edited summary) is not counted as reused: built = ok −
+  // reused wrapped round to 18446744073709551615.
+  auto edited = shard_summary(0, 1, {"bad", "a"}, "c0ffee", 2);
+  for (auto& m : edited["models"]) m["reused"] = true;
+  const auto counts = merge_summaries({{"e", edited}}, false)["counts"];
+  EXPECT_EQ(counts["reused"], 1);
+  EXPECT_EQ(counts["built"], 0);
 }
 
 TEST(BatchSummary, MergeRefusesInconsistentInput) {

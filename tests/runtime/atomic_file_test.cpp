@@ -157,6 +157,16 @@ TEST(AtomicFile, OutputsAreWrittenThroughSymbolicLinks) {
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir / "data")) ++entries;
   EXPECT_EQ(entries, 3u) << "no temporaries left";
 
+  // Two dangling links to one missing file are one output (the file got only the last write).
+  fs::create_symlink("data/same", dir / "a.ply");
+  fs::create_symlink("data/same", dir / "b.json");
+  EXPECT_THROW(check_distinct_outputs({{"-o", (dir / "a.ply").string()}, {"--stats", (dir / "b.json").string()}}), Error);
+  // A killed run's staged file beside a link's file keeps the link's extension: it is cleared too.
+  fs::create_symlink("data/real.bin", dir / "bin-link.ply");
+  std::ofstream(dir / "data" / "real.bin.partial999999999.ply") << "half";
+  remove_dead_temporaries((dir / "bin-link.ply").string());
+  EXPECT_FALSE(fs::exists(dir / "data" / "real.bin.partial999999999.ply"));
+
   fs::create_symlink("loop-b.txt", dir / "loop-a.txt");
   fs::create_symlink("loop-a.txt", dir / "loop-b.txt");
   try {

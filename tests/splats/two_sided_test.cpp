@@ -106,8 +106,8 @@ TEST(TwoSidedBound, NonSquareFacesNeedAboutTheSplatsOfSquareOnes) {
 // (splats/neighbors.hpp). Before, half of every neighbourhood lay on the other side, growth walked
 // a sparse tree of its own, each splat's covered set held half the samples it spans, and selection
 // stacked splats: 10 x 10 x 0.05 at eps 0.0141 (`splatcl splats` defaults), 886 splats with 11.7
-// times the surface's area (up to 37 deep), against 308 and 2.7 times for the plain square; now
-// 733 and 2.9 times. Judged by the splats' area, the check's coverage aside.
+// times the surface's area (up to 37 deep), against 289 and 2.4 times for the one-quad square
+// below; now 736 and 2.9 times. Judged by the splats' area, the check's coverage aside.
 TEST(TwoSidedBound, AThinPlateIsSplattedLikeItsFaces) {
   const std::vector<Vec3> v{{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}, {0, 0, 0.05f}, {10, 0, 0.05f}, {10, 10, 0.05f}, {0, 10, 0.05f}};
   const Mesh plate = make_mesh(v, {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}},
