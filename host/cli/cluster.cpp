@@ -230,7 +230,7 @@ Action register_cluster(CLI::App& app) {
   sub->add_option("--shape", o->shape, "Kernel shape: auto (by device type), cpu or gpu")->capture_default_str();
   sub->add_option("--lights", o->light_count, "Number of generated lights (replaces the scene's generated lights; listed lights stay)");
   sub->add_flag("--normal-bits", o->normal_bits, "Add the normal-cone bits to the key (Olsson et al. 2012 extension)");
-  sub->add_flag("--window-depth", o->window_depth, "Feed the kernels OpenGL window depth instead of view-space z");
+  sub->add_flag("--window-depth", o->window_depth, "Feed the kernels reversed window depth (1 at the near plane, 0 at the far one, as the presenter's depth buffer) instead of view-space z");
   return [o] { return run_cluster(*o); };
 }
 

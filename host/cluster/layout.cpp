@@ -115,12 +115,12 @@ std::uint32_t slice_of_distance(const ClusterLayout& layout, float distance) {
 std::uint32_t normal_cell(Vec3 normal) { return device::cluster_normal_cell(normal.x, normal.y, normal.z); }
 
 float view_z_from_window_depth(float depth, float near_plane, float far_plane) {
-  return -device::cluster_window_to_distance(depth, far_plane, near_plane * far_plane, far_plane - near_plane);
+  return -device::cluster_window_to_distance(depth, near_plane, near_plane * far_plane, far_plane - near_plane);
 }
 
 float window_depth_from_view_z(float view_z, float near_plane, float far_plane) {
   const float distance = -view_z;
-  return (far_plane - near_plane * far_plane / distance) / (far_plane - near_plane);
+  return near_plane * (far_plane - distance) / (distance * (far_plane - near_plane));
 }
 
 Vec3 pixel_view_position(const ClusterLayout& layout, std::uint32_t x, std::uint32_t y, float distance) {

@@ -37,7 +37,7 @@ inline constexpr unsigned kMaxBitmaskLowBits = 16;
 // What a depth buffer holds.
 enum class DepthFormat {
   ViewZ,   // view-space z: negative in front of the camera; outside [−far, −near] or NaN = background
-  Window,  // OpenGL window depth in [0, 1) with the perspective projection of (near, far); ≥ 1 = background
+  Window,  // reversed window depth in (0, 1] (near 1, far 0) with the perspective projection of (near, far); ≤ 0 = background
 };
 
 struct ClusterConfig {
@@ -96,9 +96,10 @@ std::uint32_t slice_of_distance(const ClusterLayout& layout, float distance);
 // two other components (in x, y, z order) divided by |major| fall into thirds of [−1, 1].
 std::uint32_t normal_cell(Vec3 normal);
 
-// View-space z of an OpenGL window depth in [0, 1] under the perspective projection of (near, far).
+// View-space z of a reversed window depth in [0, 1] (1 at the near plane, 0 at the far one: the
+// presenter's depth buffer) under the perspective projection of (near, far).
 float view_z_from_window_depth(float depth, float near_plane, float far_plane);
-// The inverse: window depth in [0, 1] of a view-space z in [−far, −near].
+// The inverse: reversed window depth in [0, 1] of a view-space z in [−far, −near].
 float window_depth_from_view_z(float view_z, float near_plane, float far_plane);
 
 // View-space position of the centre of pixel (x, y) (row 0 = bottom) at view distance `distance`.

@@ -12,7 +12,7 @@ std::vector<float> window_depth(const DepthFrame& frame, const Camera& camera) {
     const float z = frame.view_z[p];
     depth[p] = (-z >= camera.near_plane && -z <= camera.far_plane)
                    ? window_depth_from_view_z(z, camera.near_plane, camera.far_plane)
-                   : 1.0f;
+                   : 0.0f;
   }
   return depth;
 }

@@ -10,7 +10,8 @@
 
 namespace splatcl::cluster {
 
-// The frame's depth as OpenGL window depth under the camera's projection (1 for background).
+// The frame's depth as reversed window depth under the camera's projection (1 at the near plane, 0
+// at the far one and for background: the presenter's depth buffer).
 std::vector<float> window_depth(const DepthFrame& frame, const Camera& camera);
 
 // World-space lights as the cluster stage takes them: centres in the view space of `view`.

@@ -151,18 +151,30 @@ TEST(ClusterLayout, PixelDistanceHonoursBothDepthFormats) {
   EXPECT_FALSE(pixel_distance(layout, -0.4f, DepthFormat::ViewZ));  // in front of the near plane
   EXPECT_FALSE(pixel_distance(layout, -51.0f, DepthFormat::ViewZ));  // beyond the far plane
   EXPECT_FALSE(pixel_distance(layout, std::nanf(""), DepthFormat::ViewZ));
-  EXPECT_EQ(pixel_distance(layout, 0.0f, DepthFormat::Window), 0.5f);
-  EXPECT_FALSE(pixel_distance(layout, 1.0f, DepthFormat::Window));
-  EXPECT_FALSE(pixel_distance(layout, -0.1f, DepthFormat::Window));
+  EXPECT_EQ(pixel_distance(layout, 1.0f, DepthFormat::Window), 0.5f);  // reversed: 1 at the near plane
+  EXPECT_FALSE(pixel_distance(layout, 0.0f, DepthFormat::Window));      // the clear value
+  EXPECT_FALSE(pixel_distance(layout, 1.1f, DepthFormat::Window));
   for (float z : {-0.5f, -0.7f, -3.0f, -10.0f, -49.0f}) {
     const float window = window_depth_from_view_z(z, 0.5f, 50.0f);
-    EXPECT_GE(window, 0.0f);
-    EXPECT_LT(window, 1.0f);
+    EXPECT_GT(window, 0.0f);
+    EXPECT_LE(window, 1.0f);
     EXPECT_NEAR(view_z_from_window_depth(window, 0.5f, 50.0f), z, 1e-4f * -z);
     EXPECT_NEAR(*pixel_distance(layout, window, DepthFormat::Window), -z, 1e-4f * -z);
   }
-  EXPECT_FLOAT_EQ(view_z_from_window_depth(0.0f, 0.5f, 50.0f), -0.5f);
-  EXPECT_FLOAT_EQ(view_z_from_window_depth(1.0f, 0.5f, 50.0f), -50.0f);
+  EXPECT_FLOAT_EQ(view_z_from_window_depth(1.0f, 0.5f, 50.0f), -0.5f);
+  EXPECT_FLOAT_EQ(view_z_from_window_depth(0.0f, 0.5f, 50.0f), -50.0f);
+}
+
+// Reversed window depth keeps float precision at any near: at near 1e-7 and far 500 every depth
+// from the near plane to 499 converts back within 1e-5 relative (the conventional near-0 depth
+// read 1.0, background, for everything beyond about 0.6 units there).
+TEST(ClusterLayout, WindowDepthKeepsItsPrecisionAtATinyNear) {
+  const float n = 1e-7f, f = 500.0f;
+  for (float z : {-1e-7f, -1e-4f, -0.3f, -7.0f, -120.0f, -499.0f}) {
+    const float window = window_depth_from_view_z(z, n, f);
+    ASSERT_GT(window, 0.0f) << z;
+    EXPECT_NEAR(view_z_from_window_depth(window, n, f), z, 1e-5f * -z) << z;
+  }
 }
 
 TEST(ClusterLayout, NormalCellsCoverTheCubeMap) {

@@ -24,21 +24,21 @@ TEST(SceneInput, LightsAreTransformedToViewSpace) {
   EXPECT_NEAR(view[1].center.z, 0.0f, 1e-5f);
 }
 
-TEST(SceneInput, WindowDepthIsTheProjectionsAndOneForBackground) {
+TEST(SceneInput, WindowDepthIsTheReversedProjectionsAndZeroForBackground) {
   Camera camera;
   camera.near_plane = 0.5f;
   camera.far_plane = 50.0f;
   const std::vector<float> view_z = {kNoSurfaceViewZ, -0.5f, -5.0f, -20.0f, -50.0f, -60.0f};
   const auto depth = window_depth({6, 1, view_z, std::vector<Vec3>(6)}, camera);
-  // OpenGL's perspective projection in double: z_ndc = (f + n) / (f − n) + 2 f n / ((f − n) z),
-  // window depth (z_ndc + 1) / 2; background and beyond the far plane read 1.
+  // The presenter's reversed projection (reversed_depth_projection in present/presenter.cpp) in
+  // double: depth = n (f + z) / (−z (f − n)) for view z; background and beyond the far plane read 0.
   const double n = 0.5, f = 50.0;
-  EXPECT_EQ(depth[0], 1.0f);
+  EXPECT_EQ(depth[0], 0.0f);
   for (std::size_t i = 1; i + 1 < view_z.size(); ++i) {
-    const double ndc = (f + n) / (f - n) + 2 * f * n / ((f - n) * view_z[i]);
-    EXPECT_NEAR(depth[i], 0.5 * (ndc + 1), 1e-6) << "view z " << view_z[i];
+    const double expected = n * (f + view_z[i]) / (-view_z[i] * (f - n));
+    EXPECT_NEAR(depth[i], expected, 1e-6) << "view z " << view_z[i];
   }
-  EXPECT_EQ(depth[5], 1.0f);
+  EXPECT_EQ(depth[5], 0.0f);
 }
 
 TEST(SceneInput, RandomScenesAreDeterministicAndLitAroundTheirGeometry) {
