@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "cli/commands.hpp"
 #include "cli/model_input.hpp"
 #include "io/cpu_set.hpp"
@@ -22,6 +24,25 @@ void add_device_option(CLI::App& app, DeviceOptions& options) {
   app.add_option("--device", options.device,
                  "OpenCL device: index, type (cpu, gpu) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU")
       ->check(empty_device_value);
+}
+
+// CLI11's "Could not convert: --samples = -5" as what the option takes: "--samples -5: not a whole
+// number 0 or more". The option is looked up in the command tree by name for its type.
+std::string conversion_message(const CLI::App& app, const std::string& message) {
+  const std::string prefix = "Could not convert: ", separator = " = ";
+  const std::size_t at = message.find(separator);
+  if (message.rfind(prefix, 0) != 0 || at == std::string::npos) return message;
+  const std::string name = message.substr(prefix.size(), at - prefix.size()), value = message.substr(at + separator.size());
+  std::vector<const CLI::App*> apps{&app};
+  for (std::size_t i = 0; i < apps.size(); ++i)
+    for (const CLI::App* sub : apps[i]->get_subcommands({})) apps.push_back(sub);
+  for (const CLI::App* a : apps)
+    if (const CLI::Option* option = a->get_option_no_throw(name)) {
+      const std::string type = option->get_type_name();
+      const char* wanted = type == "UINT" ? "a whole number 0 or more" : type == "INT" ? "a whole number" : type == "FLOAT" ? "a number" : nullptr;
+      if (wanted) return fmt::format("{} {}: not {}", name, value, wanted);
+    }
+  return message;
 }
 
 }  // namespace splatcl::cli
@@ -73,7 +94,8 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; a bad command line is an error like any other: one line and
     // status 1 (runtime/error.hpp), not CLI11's two lines and its own codes (105-127).
     if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "splatcl: %s (see --help)\n", e.what());
+    const std::string message = dynamic_cast<const CLI::ConversionError*>(&e) ? splatcl::cli::conversion_message(app, e.what()) : e.what();
+    std::fprintf(stderr, "splatcl: %s (see --help)\n", message.c_str());
     return 1;
   }
   try {
