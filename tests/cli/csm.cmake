@@ -93,3 +93,10 @@ add_test(NAME cli.error_csm_build_coherence_not_an_image COMMAND ${EXPECT_ERROR}
 add_test(NAME cli.error_csm_quality_csm_with_build_options COMMAND ${EXPECT_ERROR} "--csm .*csm-cube.csm: the build options --maps do not apply to a CSM read from a file"
          $<TARGET_FILE:splatcl> csm quality ${SPLATS_CUBE} --csm ${CSM_OUT} --maps 16)
 set_tests_properties(cli.error_csm_quality_csm_with_build_options PROPERTIES FIXTURES_REQUIRED csm_cube)
+# Progress in a log (stderr not a terminal): plain lines at most every SPLATCL_PROGRESS_SECONDS
+# (default 30, the first once the work has run that long), so a long build shows movement in a
+# job's log; here at 0 s, every step is a line.
+add_test(NAME cli.progress_lines_in_a_log COMMAND ${EXPECT_OUTPUT} --match "^csm: .*maps"
+         -- env SPLATCL_PROGRESS_SECONDS=0 $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-progress.csm --maps 256 --res 16 --batch 64)
+add_test(NAME cli.no_progress_lines_in_a_short_log COMMAND ${EXPECT_OUTPUT} --no-match "^csm: "
+         -- $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o ${CMAKE_CURRENT_BINARY_DIR}/csm-progress-short.csm --maps 256 --res 16 --batch 64)
