@@ -341,6 +341,14 @@ TEST(Neighbors, PassOverTheOtherSheetOfAThinPlate) {
   EXPECT_EQ(filled.row(0)[1], 2u);
   for (unsigned r = 2; r < k; ++r) EXPECT_GE(filled.row(0)[r], 3u);
   EXPECT_THROW(find_neighbors(mixed, k, &normals, crease_cos), Error);  // one normal per position
+
+  // An undefined (zero) normal takes no side: at a crease angle over 90 degrees it was opposed to
+  // every sample, so its neighbours on the sheet left it out of their rows.
+  std::vector<Vec4> zero_normals = normals;
+  zero_normals[0] = {0, 0, 0, 0};
+  const Neighborhoods wide = find_neighbors(points, k, &zero_normals, crease_cosine(120.0f));
+  const std::uint32_t* next_row = wide.row(1);  // sample 1 lies 0.2 from sample 0 on the same sheet
+  EXPECT_NE(std::find(next_row, next_row + k, 0u), next_row + k);
 }
 
 TEST(Neighbors, FewerSamplesThanK) {
