@@ -41,13 +41,16 @@ inline float splat_size_rule(float e1, float e2, int stop, bool at_accepted) {
   return stop == STOP_COLOR ? e2 + (e2 - e1) : e2;
 }
 
+// An undefined normal (a sample whose mesh gave none).
+inline bool splat_zero_normal(float x, float y, float z) { return x == 0.0f && y == 0.0f && z == 0.0f; }
+
 // Whether neighbour normal (bx, by, bz) takes part in the PCA frame of a sample with normal
 // (ax, ay, az): within the crease angle (crease_cos = its cosine; -1 or less takes every neighbour,
 // as the thesis does). An undefined (zero) normal on either side is taken. An extension: the
 // thesis's frame averages across a sharp edge, which tilts the splats there (bevels) off both faces.
 inline bool splat_same_side_of_crease(float ax, float ay, float az, float bx, float by, float bz, float crease_cos) {
   if (crease_cos <= -1.0f) return true;
-  if ((ax == 0.0f && ay == 0.0f && az == 0.0f) || (bx == 0.0f && by == 0.0f && bz == 0.0f)) return true;
+  if (splat_zero_normal(ax, ay, az) || splat_zero_normal(bx, by, bz)) return true;
   return ax * bx + ay * by + az * bz >= crease_cos;
 }
 
@@ -57,7 +60,7 @@ inline bool splat_same_side_of_crease(float ax, float ay, float az, float bx, fl
 // to everything. The kNN graph (host/splats/neighbors.cpp) passes over such neighbours too.
 inline bool splat_opposed_sheets(float ax, float ay, float az, float bx, float by, float bz, float crease_cos) {
   if (crease_cos <= -1.0f) return false;
-  if ((ax == 0.0f && ay == 0.0f && az == 0.0f) || (bx == 0.0f && by == 0.0f && bz == 0.0f)) return false;
+  if (splat_zero_normal(ax, ay, az) || splat_zero_normal(bx, by, bz)) return false;
   return ax * bx + ay * by + az * bz < -crease_cos;
 }
 

@@ -34,8 +34,8 @@ void check_writable_directory(const std::string& dir, const std::string& what) {
   ::unlink(probe.c_str());
 }
 
-void check_output_path(const std::string& path, const std::string& what) {
-  if (path.empty()) return;
+fs::path check_output_path(const std::string& path, const std::string& what) {
+  if (path.empty()) return {};
   const std::string name = "cannot write " + what + " " + path + ": ";
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw Error(name + "it is a directory");
@@ -43,16 +43,14 @@ void check_output_path(const std::string& path, const std::string& what) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
     throw Error(name + (fs::exists(dir, ec) ? dir.string() + " is a file, not a directory" : "directory " + dir.string() + " does not exist"));
+  return dir;
 }
 
 void check_output_file(const std::string& path, const std::string& what) {
   if (path.empty()) return;
-  check_output_path(path, what);
-  const fs::path target(written_through(path));
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  const std::string name = "cannot write " + what + " " + path + ": ";
+  const fs::path dir = check_output_path(path, what);
   check_writable_directory(dir.string(), what + " " + path);
-  check_image_module(path, name);
+  check_image_module(path, "cannot write " + what + " " + path + ": ");
   remove_dead_temporaries(path);
 }
 

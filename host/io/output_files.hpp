@@ -20,7 +20,8 @@ void check_output_file(const std::string& path, const std::string& what);
 // The part of check_output_file that reads no folder listing and writes nothing: `path` is not a
 // directory and its folder exists (through links). For callers that check many outputs of one
 // folder (batch: each model's files), probing and clearing temporaries once per folder themselves.
-void check_output_path(const std::string& path, const std::string& what);
+// Returns the folder the file lies in (through links); empty for an empty path.
+std::filesystem::path check_output_path(const std::string& path, const std::string& what);
 
 // Throws Error "cannot write WHAT DIR: directory DIR is not writable (CAUSE)" unless a file can be
 // created, written and removed in the existing directory `dir`.
