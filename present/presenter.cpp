@@ -1258,12 +1258,15 @@ void Presenter::shade(Frame& f) {
   // Debug views show the G-buffer's values as they are, unfiltered.
   shading.resolved = q.antialias > 0 && debug_view == DebugView::Final;
   if (shading.resolved) {
+    // Only the tiles that may hold an outline are filtered, the rest copied. They are found while
+    // llvmpipe rasterises the shading pass (flushed), not before it starts.
+    glFlush();
+    const std::vector<std::array<std::int32_t, 4>> tiles = resolve_outline_tiles
+                                                               ? outline_rectangles(f.view_z, width_, height_, q.antialias)
+                                                               : std::vector<std::array<std::int32_t, 4>>{{0, 0, width_, height_}};
     g.timers.begin("gl: silhouette resolve");
-    // Only the tiles that may hold an outline are filtered, the rest copied.
     g.resolve_pass->run(shading.resolved_framebuffer(), shading.shaded_framebuffer(), shading.shaded_display(), g.targets->gbuffer,
-                        q.antialias,
-                        resolve_outline_tiles ? outline_rectangles(f.view_z, width_, height_, q.antialias)
-                                              : std::vector<std::array<std::int32_t, 4>>{{0, 0, width_, height_}});
+                        q.antialias, tiles);
     g.timers.end();
   }
 }
