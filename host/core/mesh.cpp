@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -114,10 +115,47 @@ void for_each_edge(const std::vector<std::uint32_t>& offsets, const std::vector<
 // An undirected edge as one key: low vertex << 32 | high vertex.
 std::uint64_t undirected_edge(std::uint32_t a, std::uint32_t b) { return std::uint64_t{std::min(a, b)} << 32 | std::max(a, b); }
 
+// Per vertex, the first vertex at the same position (+0 and -0 are one): the ids the surface's
+// connectivity is judged by. Files repeat a vertex where the faces meet without sharing it by index
+// (UV or normal splits, a UV sphere's poles, triangle soups); by index such a closed surface was
+// open, and the presenter drew it two-sided at twice the cost.
+std::vector<std::uint32_t> position_ids(const std::vector<Vec3>& positions) {
+  const auto key = [&](std::uint32_t v) {
+    const Vec3& p = positions[v];
+    return std::array{std::bit_cast<std::uint32_t>(p.x + 0.0f), std::bit_cast<std::uint32_t>(p.y + 0.0f),
+                      std::bit_cast<std::uint32_t>(p.z + 0.0f), v};
+  };
+  std::vector<std::uint32_t> order(positions.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  std::vector<std::uint32_t> ids(positions.size());
+  for (std::size_t i = 0, first = 0; i < order.size(); ++i) {
+    const auto k = key(order[i]), f = key(order[first]);
+    if (k[0] != f[0] || k[1] != f[1] || k[2] != f[2]) first = i;
+    ids[order[i]] = order[first];
+  }
+  return ids;
+}
+
 using D3 = std::array<double, 3>;
 D3 sub(const D3& a, const D3& b) { return D3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 D3 cross3(const D3& a, const D3& b) { return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
 D3 to_double(const Vec3& p) { return D3{p.x, p.y, p.z}; }
+
+// Whether face f has zero area, from its own coordinates in double (a difference of two floats is
+// exact in double unless their magnitudes are ~2^29 apart, so collinear corners give exactly zero).
+bool zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
+               const std::vector<std::uint32_t>& corners, std::size_t f) {
+  const std::uint32_t begin = offsets[f], end = offsets[f + 1];
+  const D3 q0 = to_double(positions[corners[begin]]);
+  D3 area{0, 0, 0};
+  for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
+    const D3 a = cross3(sub(to_double(positions[corners[c]]), q0), sub(to_double(positions[corners[c + 1]]), q0));
+    for (int i = 0; i < 3; ++i) area[i] += a[i];
+  }
+  return area[0] == 0 && area[1] == 0 && area[2] == 0;
+}
+
 
 // Per face, the signed volume of the cone from the bounding box's centre over it (a fan from its
 // first corner), in double about that centre, so any float coordinates give finite sums: their sum
@@ -145,6 +183,27 @@ std::vector<double> face_volumes(const std::vector<Vec3>& positions, const Faces
 }
 
 double dot3(const D3& a, const D3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Whether face f's area is within float rounding of zero: under 8 float steps of its coordinates'
+// magnitude times its longest edge (collinear corners moved by a float transform, the scene's fit).
+bool rounded_zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
+                       const std::vector<std::uint32_t>& corners, std::size_t f) {
+  const std::uint32_t begin = offsets[f], end = offsets[f + 1];
+  const D3 q0 = to_double(positions[corners[begin]]);
+  D3 area{0, 0, 0};
+  double magnitude = 0, longest = 0;
+  for (std::uint32_t c = begin; c < end; ++c) {
+    const D3 p = to_double(positions[corners[c]]), e = sub(to_double(positions[corners[c + 1 == end ? begin : c + 1]]), p);
+    magnitude = std::max({magnitude, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
+    longest = std::max(longest, std::sqrt(dot3(e, e)));
+    if (c > begin && c + 1 < end) {
+      const D3 a = cross3(sub(p, q0), sub(to_double(positions[corners[c + 1]]), q0));
+      for (int i = 0; i < 3; ++i) area[i] += a[i];
+    }
+  }
+  return std::sqrt(dot3(area, area)) <= 8 * std::ldexp(magnitude, -23) * longest;
+}
+
 D3 unit3(const D3& a) {
   const double length = std::sqrt(dot3(a, a));
   return {a[0] / length, a[1] / length, a[2] / length};
@@ -315,8 +374,10 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   };
   std::vector<Use> uses;
   uses.reserve(faces.corners.size());
-  for_each_edge(faces.offsets, faces.corners,
-                [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) { uses.push_back({undirected_edge(a, b), f, a < b}); });
+  const std::vector<std::uint32_t> at = position_ids(positions);
+  for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) {
+    uses.push_back({undirected_edge(at[a], at[b]), f, at[a] < at[b]});
+  });
   std::sort(uses.begin(), uses.end());
   // Edges of exactly two faces link them; `same` when the two run it the same way (one must turn).
   struct Link {
@@ -515,19 +576,11 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   const std::vector<double> volume = face_volumes(positions, faces);
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // directed edge, face
   edges.reserve(faces.corners.size());
-  for (std::size_t f = 0; f < n; ++f) {
-    const std::uint32_t begin = faces.offsets[f], end = faces.offsets[f + 1];
-    // The area from the face's own coordinates (a difference of two floats is exact in double
-    // unless their magnitudes are ~2^29 apart, so collinear corners give exactly zero).
-    const D3 q0 = to_double(positions[faces.corners[begin]]);
-    D3 area{0, 0, 0};
-    for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
-      const D3 a = cross3(sub(to_double(positions[faces.corners[c]]), q0), sub(to_double(positions[faces.corners[c + 1]]), q0));
-      for (int i = 0; i < 3; ++i) area[i] += a[i];
-    }
-    if (area[0] == 0 && area[1] == 0 && area[2] == 0) ++problems.zero_area_faces;
-  }
-  for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) { edges.emplace_back(key(a, b), f); });
+  for (std::size_t f = 0; f < n; ++f)
+    if (zero_area(positions, faces.offsets, faces.corners, f)) ++problems.zero_area_faces;
+  const std::vector<std::uint32_t> at = position_ids(positions);
+  for_each_edge(faces.offsets, faces.corners,
+                [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) { edges.emplace_back(key(at[a], at[b]), f); });
   std::sort(edges.begin(), edges.end());
   Components components(n);
   std::vector<std::uint8_t> open(n, 0);
@@ -724,14 +777,25 @@ Box Mesh::bounds() const {
   return box;
 }
 
+// Closed with every face, or without the (nearly) zero-area ones: they hold no surface, and one
+// laid along an edge of a closed mesh made that edge non-manifold; but where zero-area faces fill a
+// crack (an edge split on one side only) the mesh is closed only with them.
 bool Mesh::closed() const {
-  std::vector<std::uint64_t> edges;
-  edges.reserve(corners.size());
-  for_each_edge(face_offsets, corners, [&](std::uint32_t, std::uint32_t a, std::uint32_t b) { edges.push_back(undirected_edge(a, b)); });
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t i = 0; i < edges.size(); i += 2)
-    if (i + 1 >= edges.size() || edges[i + 1] != edges[i] || (i + 2 < edges.size() && edges[i + 2] == edges[i])) return false;
-  return !edges.empty();
+  const std::vector<std::uint32_t> at = position_ids(vertices);
+  const auto closed_with = [&](bool zero_area_faces) {
+    std::vector<std::uint64_t> edges;
+    edges.reserve(corners.size());
+    for (std::size_t f = 0; f < face_count(); ++f) {
+      if (!zero_area_faces && rounded_zero_area(vertices, face_offsets, corners, f)) continue;
+      for (std::uint32_t c = face_offsets[f]; c < face_offsets[f + 1]; ++c)
+        edges.push_back(undirected_edge(at[corners[c]], at[corners[c + 1 == face_offsets[f + 1] ? face_offsets[f] : c + 1]]));
+    }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size(); i += 2)
+      if (i + 1 >= edges.size() || edges[i + 1] != edges[i] || (i + 2 < edges.size() && edges[i + 2] == edges[i])) return false;
+    return !edges.empty();
+  };
+  return closed_with(true) || closed_with(false);
 }
 
 Mesh load_mesh(const std::string& path, Winding winding) {

@@ -78,7 +78,9 @@ struct Mesh {
   bool has_texcoords() const { return !corner_texcoords.empty(); }
   Box bounds() const;
   // Every edge is shared by exactly two faces (no border, no non-manifold edge, no face kept
-  // detached): a surface that encloses a solid.
+  // detached): a surface that encloses a solid. Edges are matched by their corners' positions, not
+  // indices (files repeat vertices at seams); also closed when it is without its (nearly) zero-area
+  // faces (docs/formats.md, "Closed and connected by position").
   bool closed() const;
 };
 

@@ -645,6 +645,63 @@ TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
   }
 }
 
+// Faces that meet at one position are neighbours whether or not the file gives them one vertex
+// index there (triangle soups, UV and normal splits): a soup sphere is closed (the presenter drew
+// it two-sided, twice the splats), and orienting a soup with turned faces turns them back. A
+// zero-area face laid along an edge of a closed mesh leaves it closed, also after a float
+// transform has moved its collinear corners off their line (the scene's fit); one filling a crack
+// is needed to close it.
+TEST(MeshHygiene, ClosedAndOrientedByPositionWhereFilesRepeatVertices) {
+  const Mesh sphere = sphere_mesh(12, 16);
+  ASSERT_TRUE(sphere.closed());
+  std::vector<Vec3> soup;
+  std::vector<std::vector<std::uint32_t>> soup_faces, turned_faces;
+  std::size_t reversed = 0;
+  for (std::size_t f = 0; f < sphere.face_count(); ++f) {
+    std::vector<std::uint32_t> face;
+    for (std::uint32_t c = sphere.face_offsets[f]; c < sphere.face_offsets[f + 1]; ++c) {
+      face.push_back(static_cast<std::uint32_t>(soup.size()));
+      soup.push_back(sphere.vertices[sphere.corners[c]]);
+    }
+    soup_faces.push_back(face);
+    if ((f * 2654435761u) % 3 == 0) std::reverse(face.begin(), face.end()), ++reversed;
+    turned_faces.push_back(face);
+  }
+  EXPECT_TRUE(make_mesh(soup, soup_faces, "soup").closed());
+  auto open_faces = soup_faces;
+  open_faces.pop_back();
+  EXPECT_FALSE(make_mesh(soup, open_faces, "soup with a hole").closed());
+  const Mesh oriented = load_mesh(temp_file("orient-soup.obj", obj_text(soup, turned_faces)), Winding::Orient);
+  EXPECT_EQ(oriented.problems.turned_faces, reversed);
+  EXPECT_EQ(oriented.problems.inconsistent_edges, 0u);
+  for (std::size_t f = 0; f < oriented.face_count(); ++f) {
+    Vec3 mid{};
+    for (const Vec3& p : face_positions(oriented, f)) mid = mid + p;
+    EXPECT_GT(dot(face_normal(oriented, f), mid), 0.0f) << f;
+  }
+
+  // The unit cube as triangles, then a zero-area triangle on its edge 0-1 through the midpoint 8.
+  std::vector<Vec3> cube{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0.5f, 0, 0}};
+  std::vector<std::vector<std::uint32_t>> triangles{{0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                                    {2, 3, 7}, {2, 7, 6}, {1, 2, 6}, {1, 6, 5}, {0, 4, 7}, {0, 7, 3}};
+  ASSERT_TRUE(make_mesh(cube, triangles, "cube").closed());
+  auto sliver = triangles;
+  sliver.push_back({0, 1, 8});
+  const Mesh with_sliver = make_mesh(cube, sliver, "cube and a sliver");
+  EXPECT_EQ(with_sliver.problems.zero_area_faces, 1u);
+  EXPECT_TRUE(with_sliver.closed());
+  Mesh moved = with_sliver;
+  for (Vec3& p : moved.vertices) p = p * 0.3719f + Vec3{1234.5678f, -0.1f, 7.77f};
+  EXPECT_TRUE(moved.closed()) << "collinear corners moved by float rounding";
+  // The bottom's edge 0-1 split at 8 (a T-junction): closed only with the zero-area face 0 8 1.
+  auto crack = triangles;
+  crack[1] = {0, 2, 8};
+  crack.push_back({8, 2, 1});
+  EXPECT_FALSE(make_mesh(cube, crack, "cube with a crack").closed());
+  crack.push_back({0, 8, 1});
+  EXPECT_TRUE(make_mesh(cube, crack, "cube with a filled crack").closed());
+}
+
 TEST(MeshHygiene, SharedModelsAreClean) {
   for (const char* name : {"stanford-bunny.obj", "spot.obj", "fandisk.obj"}) {
     const std::string path = model_path(name);
