@@ -34,8 +34,9 @@ namespace splatcl::splats {
 // splats also try major axes along their triangle's other edges (fewer of them along the borders
 // of non-square faces). 8: the kNN graph passes over samples on an opposed sheet (a thin plate's
 // other side; splats/neighbors.hpp), and the surface bound shrinks a long grown splat from 4:1
-// instead of whole (needles).
-inline constexpr int kSplatMethodVersion = 8;
+// instead of whole (needles). 9: the surface bound counts only triangles that face within 60° of
+// the splat (fins: a strip of a hole's wall laid along the rim over the plate's top).
+inline constexpr int kSplatMethodVersion = 9;
 
 struct PipelineOptions {
   SamplingOptions sampling;

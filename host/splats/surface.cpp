@@ -231,9 +231,10 @@ void Surface::Recent::remember(std::uint32_t t, std::uint32_t piece) {
   triangles[0] = t, pieces[0] = piece;
 }
 
-bool Surface::within(DVec3 p, double radius, Recent* recent) const {
+bool Surface::within(DVec3 p, double radius, Recent* recent, const Facing* facing) const {
   const auto near = [&](const SurfaceTriangle& tri) {
     if (std::fabs(dot(p - tri.a, tri.normal)) > radius || beyond_reach(tri, p, radius)) return false;
+    if (facing && std::fabs(dot(facing->normal, tri.normal)) < facing->min_cos) return false;
     const DVec3 d = closest_point(tri, p) - p;
     return dot(d, d) <= radius * radius;
   };

@@ -151,7 +151,13 @@ class Surface {
   };
   // Whether some triangle lies within `radius` of p (stops at the first one found). `recent`, when
   // given, is tried first (its triangles, then the tree outward from its region) and updated.
-  bool within(DVec3 p, double radius, Recent* recent = nullptr) const;
+  // `facing`, when given, counts only triangles whose plane is within its angle of its normal
+  // (either side).
+  struct Facing {
+    DVec3 normal;    // unit
+    double min_cos;  // |normal · triangle normal| at least this
+  };
+  bool within(DVec3 p, double radius, Recent* recent = nullptr, const Facing* facing = nullptr) const;
 
   struct Point {
     DVec3 position, normal;

@@ -17,6 +17,10 @@ namespace {
 // the rounding of the written values.
 constexpr double kFloatReserve = 1e-4;
 constexpr double kBetweenPointsReserve = 0.1;
+// A splat's test points must lie within ε of a triangle whose plane is within 60° (the default
+// crease angle) of the splat's: beyond a crease sharper than that, only a sliver of at most
+// ε / sin(angle) needs the other face.
+constexpr double kSurfaceFacingCos = 0.5;
 // Squares a certification may visit before the splat counts as failing (and is made smaller).
 constexpr std::size_t kCertifyBudget = 8192;
 // Coverage cells are refined down to this fraction of ε; below it, a cell that no one splat holds
@@ -144,8 +148,12 @@ bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::v
   const double limit = eps * (1 - kBetweenPointsReserve);
   Surface::Recent own;
   if (!recent) recent = &own;
+  // Near a surface that faces its way: a splat standing across a face within ε of it (a strip in a
+  // hole's wall laid along the rim over the plate's top) passed on distance alone, and showed as a
+  // line of the wall's normal across the face.
+  const Surface::Facing facing{e.normal, kSurfaceFacingCos};
   for (const DVec3& p : scratch)
-    if (!surface.within(p, limit, recent)) return false;
+    if (!surface.within(p, limit, recent, &facing)) return false;
   return true;
 }
 

@@ -4,7 +4,9 @@
 //  - growth within ±0.9 ε: the height band of the growth rule is the surface bound's test limit;
 //  - bound by the surface: before selection, a grown splat whose test points leave the mesh surface
 //    by more than 0.9 ε is scaled down (then its major axis extended back as far as it passes),
-//    and its covered and safe sets are recomputed from the samples still inside it;
+//    and its covered and safe sets are recomputed from the samples still inside it; a test point
+//    counts as on the surface only near a triangle that faces within 60° of the splat (no fins
+//    standing across a face within ε of it);
 //  - certification: after selection, every splat is certified by subdividing the ellipse (a
 //    rectangle passes when its centre's distance plus its radius is at most ε, the distance being
 //    1-Lipschitz, or when one triangle lies within ε of its four corners, the distance to one
@@ -47,8 +49,8 @@ Ellipse ellipse_of(const SplatShape& shape, const Vec4& clip, const Frame& frame
 // most 2ε apart, 24..128 points), the clip chord when clipped; points cut off by the clip are left out.
 void ellipse_test_points(const Ellipse& e, double eps, std::vector<DVec3>& out);
 
-// Whether every test point of `e` lies within `eps` of the surface. `recent`, kept across the tests
-// of one splat at several sizes, only speeds the queries up.
+// Whether every test point of `e` lies within `eps` of a surface triangle that faces within 60° of
+// it. `recent`, kept across the tests of one splat at several sizes, only speeds the queries up.
 bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::vector<DVec3>& scratch,
                     Surface::Recent* recent = nullptr);
 
