@@ -395,6 +395,25 @@ TEST_F(PresenterTest, InsideOfAnOpenMeshHasTheInsidesAmbientOcclusion) {
 // the sheet turns away, the splats beyond the fold face away and their back copies, in tangent
 // planes, stood in front of the front side's splats there: specks of the back side (lit from
 // below: dark) along the fold (13 pixels at 960 × 720 before the back copies were pushed back).
+// Renders `presenter`'s normals view at `time` and calls visit(drawn normal, eye ray, mesh hit) for
+// every pixel whose eye ray meets the meshes (Embree); the drawn normal is zero where nothing was drawn.
+template <typename Visit>
+void visit_drawn_normals(Presenter& presenter, int width, int height, Visit&& visit) {
+  presenter.debug_view = DebugView::Normals;
+  presenter.render(0.0f);
+  const std::vector<float> normals = presenter.read_normals();
+  const RayOcclusion rays(presenter, 0.0f);
+  const EyeRays camera(presenter.scene().camera, width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const glm::vec3 ray = camera.direction(x, y);
+      const std::optional<RayOcclusion::Hit> hit = rays.nearest(camera.eye, ray);
+      if (!hit) continue;
+      const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
+      visit(glm::vec3(normals[3 * p], normals[3 * p + 1], normals[3 * p + 2]), ray, *hit);
+    }
+}
+
 TEST_F(PresenterTest, ASheetShowsTheSideTheEyeSeesAtItsFolds) {
   const auto dir = std::filesystem::temp_directory_path() / "splatcl-present-saddle";
   std::filesystem::create_directories(dir);
@@ -415,24 +434,13 @@ TEST_F(PresenterTest, ASheetShowsTheSideTheEyeSeesAtItsFolds) {
   const int width = 960, height = 720;
   Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
   ASSERT_TRUE(presenter.two_sided(0));
-  presenter.debug_view = DebugView::Normals;
-  presenter.render(0.0f);
-  const std::vector<float> normals = presenter.read_normals();
-  const RayOcclusion rays(presenter, 0.0f);
-  const EyeRays camera(scene.camera, width, height);
   std::size_t compared = 0, other_side = 0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
-      const glm::vec3 drawn(normals[3 * p], normals[3 * p + 1], normals[3 * p + 2]);
-      if (drawn == glm::vec3(0.0f)) continue;
-      const glm::vec3 ray = camera.direction(x, y);
-      const std::optional<RayOcclusion::Hit> hit = rays.nearest(camera.eye, ray);
-      // The side is clear where the ray meets the mesh at more than ~6° from grazing.
-      if (!hit || glm::dot(hit->normal, ray) > -0.1f) continue;
-      ++compared;
-      other_side += glm::dot(drawn, hit->normal) < -0.1f;
-    }
+  visit_drawn_normals(presenter, width, height, [&](glm::vec3 drawn, glm::vec3 ray, const RayOcclusion::Hit& hit) {
+    // The side is clear where the ray meets the mesh at more than ~6° from grazing.
+    if (drawn == glm::vec3(0.0f) || glm::dot(hit.normal, ray) > -0.1f) return;
+    ++compared;
+    other_side += glm::dot(drawn, hit.normal) < -0.1f;
+  });
   ASSERT_GT(compared, 20'000u);
   std::printf("saddle: %zu of %zu pixels show the other side than the mesh\n", other_side, compared);
   EXPECT_LE(other_side, 3u);
@@ -504,24 +512,16 @@ TEST_F(PresenterTest, AFlatFaceShowsItsOwnNormalBesideAHolesWall) {
   const int width = 640, height = 480;
   Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
   ASSERT_FALSE(presenter.two_sided(0)) << "a closed plate";
-  presenter.debug_view = DebugView::Normals;
-  presenter.render(0.0f);
-  const std::vector<float> normals = presenter.read_normals();
-  const RayOcclusion rays(presenter, 0.0f);
-  const EyeRays camera(scene.camera, width, height);
   std::size_t compared = 0, off = 0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const std::optional<RayOcclusion::Hit> hit = rays.nearest(camera.eye, camera.direction(x, y));
-      // The top, farther than 0.02 (several pixels) from the hole's wall and the border.
-      if (!hit || hit->normal.y < 0.999f) continue;
-      const glm::vec3 q = hit->position;
-      if (std::hypot(q.x - hole_x, q.z - hole_z) < hole_r + 0.02 || q.x < 0.02 || q.x > 1.98 || q.z < 0.02 || q.z > 0.98) continue;
-      const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
-      const glm::vec3 drawn(normals[3 * p], normals[3 * p + 1], normals[3 * p + 2]);
-      ++compared;
-      off += !(glm::dot(glm::normalize(drawn), glm::vec3(0, 1, 0)) > std::cos(glm::radians(10.0f)));
-    }
+  visit_drawn_normals(presenter, width, height, [&](glm::vec3 drawn, glm::vec3, const RayOcclusion::Hit& hit) {
+    // The top, farther than 0.02 (several pixels) from the hole's wall and the border.
+    const glm::vec3 q = hit.position;
+    if (hit.normal.y < 0.999f || std::hypot(q.x - hole_x, q.z - hole_z) < hole_r + 0.02 || q.x < 0.02 || q.x > 1.98 || q.z < 0.02 ||
+        q.z > 0.98)
+      return;
+    ++compared;
+    off += !(glm::dot(glm::normalize(drawn), glm::vec3(0, 1, 0)) > std::cos(glm::radians(10.0f)));
+  });
   ASSERT_GT(compared, 50'000u);
   std::printf("CAD plate: %zu of %zu pixels of its flat top show a normal more than 10 degrees off\n", off, compared);
   EXPECT_LE(off, compared / 2000);
