@@ -115,10 +115,7 @@ void for_each_edge(const std::vector<std::uint32_t>& offsets, const std::vector<
 // An undirected edge as one key: low vertex << 32 | high vertex.
 std::uint64_t undirected_edge(std::uint32_t a, std::uint32_t b) { return std::uint64_t{std::min(a, b)} << 32 | std::max(a, b); }
 
-// Per vertex, the first vertex at the same position (+0 and -0 are one): the ids the surface's
-// connectivity is judged by. Files repeat a vertex where the faces meet without sharing it by index
-// (UV or normal splits, a UV sphere's poles, triangle soups); by index such a closed surface was
-// open, and the presenter drew it two-sided at twice the cost.
+// Per vertex, the first vertex at the same position (+0 and -0 are one).
 std::vector<std::uint32_t> position_ids(const std::vector<Vec3>& positions) {
   const auto key = [&](std::uint32_t v) {
     const Vec3& p = positions[v];
@@ -135,6 +132,34 @@ std::vector<std::uint32_t> position_ids(const std::vector<Vec3>& positions) {
     ids[order[i]] = order[first];
   }
   return ids;
+}
+
+// Per face corner c, the ends (from, to) of the edge from c to the next corner, as the surface's
+// connectivity matches it: by vertex index where exactly two uses share the edge by index, else by
+// position (ids offset by the vertex count, so the two kinds never meet). Files repeat a vertex
+// where faces meet without sharing it by index (triangle soups, UV or normal splits), and by index
+// such a closed surface was open (the presenter drew it two-sided at twice the cost); by position
+// alone, two parts that touch along an edge (stacked boxes, each with its own vertices) gave that
+// edge four uses and were open instead.
+std::vector<std::array<std::uint32_t, 2>> matched_edges(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
+                                                        const std::vector<std::uint32_t>& corners) {
+  if (positions.size() >= (std::size_t{1} << 31)) throw Error("a mesh of 2^31 vertices or more");
+  std::vector<std::uint64_t> by_index;
+  by_index.reserve(corners.size());
+  for_each_edge(offsets, corners, [&](std::uint32_t, std::uint32_t a, std::uint32_t b) { by_index.push_back(undirected_edge(a, b)); });
+  std::sort(by_index.begin(), by_index.end());
+  const std::vector<std::uint32_t> at = position_ids(positions);
+  const auto shift = static_cast<std::uint32_t>(positions.size());
+  std::vector<std::array<std::uint32_t, 2>> ends;
+  ends.reserve(corners.size());
+  for_each_edge(offsets, corners, [&](std::uint32_t, std::uint32_t a, std::uint32_t b) {
+    const auto [lo, hi] = std::equal_range(by_index.begin(), by_index.end(), undirected_edge(a, b));
+    if (hi - lo == 2)
+      ends.push_back({a, b});
+    else
+      ends.push_back({shift + at[a], shift + at[b]});
+  });
+  return ends;
 }
 
 using D3 = std::array<double, 3>;
@@ -367,16 +392,17 @@ std::vector<std::uint8_t> parts_to_turn(const std::vector<Vec3>& positions, cons
 std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   const std::size_t n = faces.count();
   struct Use {
-    std::uint64_t edge;  // low vertex << 32 | high vertex
+    std::uint64_t edge;  // low end << 32 | high end (matched_edges)
     std::uint32_t face;
     bool forward;        // the face runs low → high
     bool operator<(const Use& o) const { return edge < o.edge || (edge == o.edge && face < o.face); }
   };
   std::vector<Use> uses;
   uses.reserve(faces.corners.size());
-  const std::vector<std::uint32_t> at = position_ids(positions);
-  for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) {
-    uses.push_back({undirected_edge(at[a], at[b]), f, at[a] < at[b]});
+  const std::vector<std::array<std::uint32_t, 2>> ends = matched_edges(positions, faces.offsets, faces.corners);
+  for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t, std::uint32_t) {
+    const auto [a, b] = ends[uses.size()];
+    uses.push_back({undirected_edge(a, b), f, a < b});
   });
   std::sort(uses.begin(), uses.end());
   // Edges of exactly two faces link them; `same` when the two run it the same way (one must turn).
@@ -578,13 +604,15 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   edges.reserve(faces.corners.size());
   for (std::size_t f = 0; f < n; ++f)
     if (zero_area(positions, faces.offsets, faces.corners, f)) ++problems.zero_area_faces;
-  const std::vector<std::uint32_t> at = position_ids(positions);
-  for_each_edge(faces.offsets, faces.corners,
-                [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) { edges.emplace_back(key(at[a], at[b]), f); });
+  const std::vector<std::array<std::uint32_t, 2>> ends = matched_edges(positions, faces.offsets, faces.corners);
+  for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t, std::uint32_t) {
+    const auto [a, b] = ends[edges.size()];
+    edges.emplace_back(key(a, b), f);
+  });
   std::sort(edges.begin(), edges.end());
   Components components(n);
   std::vector<std::uint8_t> open(n, 0);
-  std::vector<std::uint64_t> twice;  // undirected edges (low index first) used twice in one direction
+  std::vector<std::uint64_t> twice;  // undirected edges (low end first, matched_edges) used twice in one direction
   const auto run_end = [&](std::size_t i) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].first == edges[i].first) ++j;
@@ -781,15 +809,16 @@ Box Mesh::bounds() const {
 // laid along an edge of a closed mesh made that edge non-manifold; but where zero-area faces fill a
 // crack (an edge split on one side only) the mesh is closed only with them.
 bool Mesh::closed() const {
-  const std::vector<std::uint32_t> at = position_ids(vertices);
   const auto closed_with = [&](bool zero_area_faces) {
-    std::vector<std::uint64_t> edges;
-    edges.reserve(corners.size());
+    std::vector<std::uint32_t> offsets{0}, kept;
     for (std::size_t f = 0; f < face_count(); ++f) {
       if (!zero_area_faces && rounded_zero_area(vertices, face_offsets, corners, f)) continue;
-      for (std::uint32_t c = face_offsets[f]; c < face_offsets[f + 1]; ++c)
-        edges.push_back(undirected_edge(at[corners[c]], at[corners[c + 1 == face_offsets[f + 1] ? face_offsets[f] : c + 1]]));
+      kept.insert(kept.end(), corners.begin() + face_offsets[f], corners.begin() + face_offsets[f + 1]);
+      offsets.push_back(static_cast<std::uint32_t>(kept.size()));
     }
+    std::vector<std::uint64_t> edges;
+    edges.reserve(kept.size());
+    for (const auto& [a, b] : matched_edges(vertices, offsets, kept)) edges.push_back(undirected_edge(a, b));
     std::sort(edges.begin(), edges.end());
     for (std::size_t i = 0; i < edges.size(); i += 2)
       if (i + 1 >= edges.size() || edges[i + 1] != edges[i] || (i + 2 < edges.size() && edges[i + 2] == edges[i])) return false;

@@ -77,10 +77,11 @@ struct Mesh {
   std::size_t face_count() const { return face_offsets.size() - 1; }
   bool has_texcoords() const { return !corner_texcoords.empty(); }
   Box bounds() const;
-  // Every edge is shared by exactly two faces (no border, no non-manifold edge, no face kept
-  // detached): a surface that encloses a solid. Edges are matched by their corners' positions, not
-  // indices (files repeat vertices at seams); also closed when it is without its (nearly) zero-area
-  // faces (docs/formats.md, "Closed and connected by position").
+  // Every edge is shared by exactly two faces (no border, no non-manifold edge): a surface that
+  // encloses a solid. Edges are matched by index where two faces share one, else by their corners'
+  // positions (files repeat vertices at seams; faces kept detached on copies are matched so too);
+  // also closed when it is without its (nearly) zero-area faces (docs/formats.md, "Closed and
+  // connected by position").
   bool closed() const;
 };
 

@@ -8,6 +8,7 @@
 
 #include "runtime/profiling.hpp"
 #include "core/parallel.hpp"
+#include "splats/pipeline_options.hpp"
 #include "splats/reference.hpp"
 
 namespace splatcl::splats {
@@ -17,10 +18,13 @@ namespace {
 // the rounding of the written values.
 constexpr double kFloatReserve = 1e-4;
 constexpr double kBetweenPointsReserve = 0.1;
-// A splat's test points must lie within ε of a triangle whose plane is within 60° (the default
-// crease angle) of the splat's: beyond a crease sharper than that, only a sliver of at most
-// ε / sin(angle) needs the other face.
+// A splat's test points must lie within ε of a triangle whose plane is within 60° of the splat's:
+// beyond a crease sharper than that, only a sliver of at most ε / sin(angle) needs the other face.
+// Fixed at the default crease angle, not the run's: at --crease-angle 180 (smooth frames across
+// every edge) a splat tilted more than 60° off both faces of a knife edge shrinks away, and gap
+// splats, in their triangles' planes, cover there instead.
 constexpr double kSurfaceFacingCos = 0.5;
+static_assert(kDefaultCreaseAngle == 60, "kSurfaceFacingCos is cos(kDefaultCreaseAngle)");
 // Squares a certification may visit before the splat counts as failing (and is made smaller).
 constexpr std::size_t kCertifyBudget = 8192;
 // Coverage cells are refined down to this fraction of ε; below it, a cell that no one splat holds

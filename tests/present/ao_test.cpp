@@ -391,11 +391,7 @@ TEST_F(PresenterTest, InsideOfAnOpenMeshHasTheInsidesAmbientOcclusion) {
   EXPECT_NEAR(bottom_sum / static_cast<double>(bottom), 0.5, 0.08);
 }
 
-// A two-sided sheet shows, at every pixel, the side the eye ray meets on the mesh. At a fold, where
-// the sheet turns away, the splats beyond the fold face away and their back copies, in tangent
-// planes, stood in front of the front side's splats there: specks of the back side (lit from
-// below: dark) along the fold (13 pixels at 960 × 720 before the back copies were pushed back).
-// Renders `presenter`'s normals view at `time` and calls visit(drawn normal, eye ray, mesh hit) for
+// Renders `presenter`'s normals view (at time 0) and calls visit(drawn normal, eye ray, mesh hit) for
 // every pixel whose eye ray meets the meshes (Embree); the drawn normal is zero where nothing was drawn.
 template <typename Visit>
 void visit_drawn_normals(Presenter& presenter, int width, int height, Visit&& visit) {
@@ -414,6 +410,10 @@ void visit_drawn_normals(Presenter& presenter, int width, int height, Visit&& vi
     }
 }
 
+// A two-sided sheet shows, at every pixel, the side the eye ray meets on the mesh. At a fold, where
+// the sheet turns away, the splats beyond the fold face away and their back copies, in tangent
+// planes, stood in front of the front side's splats there: specks of the back side (lit from
+// below: dark) along the fold (13 pixels at 960 × 720 before the back copies were pushed back).
 TEST_F(PresenterTest, ASheetShowsTheSideTheEyeSeesAtItsFolds) {
   const auto dir = std::filesystem::temp_directory_path() / "splatcl-present-saddle";
   std::filesystem::create_directories(dir);
@@ -485,9 +485,10 @@ TEST_F(PresenterTest, AFlatFaceShowsItsOwnNormalBesideAHolesWall) {
     const auto rim_bottom = [&](int i) { return 1 + n + (i % n); };
     const auto border_top = [&](int j) { return 1 + 2 * n + (j % m); };
     const auto border_bottom = [&](int j) { return 1 + 2 * n + m + (j % m); };
-    // Angles increase counter-clockwise seen from -y, so a top face (normal +y) lists them backwards.
+    // Angles increase counter-clockwise seen from +y: a top triangle (normal +y) lists its corners
+    // in the order of their angles, the bottom one backwards.
     const auto top_and_bottom = [&](int a, int b, int c, int a2, int b2, int c2) {
-      obj << fmt::format("f {} {} {}\nf {} {} {}\n", c, b, a, a2, b2, c2);
+      obj << fmt::format("f {} {} {}\nf {} {} {}\n", a, b, c, c2, b2, a2);
     };
     int i = 0, j = 0;
     const auto unwrapped = [](double angle, int laps) { return angle + 2 * std::numbers::pi * laps; };
@@ -502,9 +503,9 @@ TEST_F(PresenterTest, AFlatFaceShowsItsOwnNormalBesideAHolesWall) {
         ++j;
       }
     }
-    for (int k = 0; k < n; ++k) obj << fmt::format("f {} {} {} {}\n", rim_top(k), rim_top(k + 1), rim_bottom(k + 1), rim_bottom(k));
+    for (int k = 0; k < n; ++k) obj << fmt::format("f {} {} {} {}\n", rim_bottom(k), rim_bottom(k + 1), rim_top(k + 1), rim_top(k));
     for (int k = 0; k < m; ++k)
-      obj << fmt::format("f {} {} {} {}\n", border_top(k), border_bottom(k), border_bottom(k + 1), border_top(k + 1));
+      obj << fmt::format("f {} {} {} {}\n", border_top(k + 1), border_bottom(k + 1), border_bottom(k), border_top(k));
   }
   const Scene scene = parse_scene(R"({"objects": [{"name": "plate", "mesh": "plate.obj"}], "floor": false, "lights": {"count": 0},
       "camera": {"eye": [0.95, 0.75, 1.15], "target": [0.6, 0.0, 0.5]}})",
@@ -512,6 +513,7 @@ TEST_F(PresenterTest, AFlatFaceShowsItsOwnNormalBesideAHolesWall) {
   const int width = 640, height = 480;
   Presenter presenter(scene, *runtime_, width, height, SPLATCL_TEST_CACHE);
   ASSERT_FALSE(presenter.two_sided(0)) << "a closed plate";
+  ASSERT_FALSE(presenter.assets(0).mesh.problems.any()) << presenter.assets(0).mesh.problems.summary();
   std::size_t compared = 0, off = 0;
   visit_drawn_normals(presenter, width, height, [&](glm::vec3 drawn, glm::vec3, const RayOcclusion::Hit& hit) {
     // The top, farther than 0.02 (several pixels) from the hole's wall and the border.

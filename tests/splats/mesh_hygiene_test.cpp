@@ -650,7 +650,7 @@ TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
 // it two-sided, twice the splats), and orienting a soup with turned faces turns them back. A
 // zero-area face laid along an edge of a closed mesh leaves it closed, also after a float
 // transform has moved its collinear corners off their line (the scene's fit); one filling a crack
-// is needed to close it.
+// is needed to close it. Parts that touch, each with its own vertices, stay closed parts.
 TEST(MeshHygiene, ClosedAndOrientedByPositionWhereFilesRepeatVertices) {
   const Mesh sphere = sphere_mesh(12, 16);
   ASSERT_TRUE(sphere.closed());
@@ -700,6 +700,29 @@ TEST(MeshHygiene, ClosedAndOrientedByPositionWhereFilesRepeatVertices) {
   EXPECT_FALSE(make_mesh(cube, crack, "cube with a crack").closed());
   crack.push_back({0, 8, 1});
   EXPECT_TRUE(make_mesh(cube, crack, "cube with a filled crack").closed());
+
+  // Two cubes, each with its own vertices, stacked (touching along a face) or touching along an
+  // edge: matched by position alone, the touching edges had four uses, so the pair was open, warned
+  // of inconsistent edges, and an inside-out one was not turned. Edges two faces share by index stay
+  // matched by index.
+  for (const Vec3 offset : {Vec3{0, 0, 1}, Vec3{1, 0, 1}}) {
+    std::vector<Vec3> two(cube.begin(), cube.begin() + 8);
+    for (std::size_t k = 0; k < 8; ++k) two.push_back(cube[k] + offset);
+    auto both = triangles;
+    for (auto face : triangles) {
+      for (auto& i : face) i += 8;
+      both.push_back(face);
+    }
+    const Mesh touching = make_mesh(two, both, "touching cubes");
+    EXPECT_TRUE(touching.closed()) << offset.x;
+    EXPECT_EQ(touching.problems.inconsistent_edges, 0u) << offset.x;
+    EXPECT_FALSE(touching.problems.any()) << touching.problems.summary();
+    auto inside_out = both;
+    for (std::size_t f = 0; f < triangles.size(); ++f) std::reverse(inside_out[f].begin(), inside_out[f].end());
+    const Mesh turned = load_mesh(temp_file("orient-touching.obj", obj_text(two, inside_out)), Winding::Orient);
+    EXPECT_EQ(turned.problems.turned_faces, triangles.size()) << offset.x;
+    EXPECT_EQ(turned.problems.complex_faces, 0u) << offset.x;
+  }
 }
 
 TEST(MeshHygiene, SharedModelsAreClean) {
