@@ -5,10 +5,11 @@
 
 // Depth is linear, 0 at the camera plane and 1 at distance 2R (Talpe §4.2). Empty
 // pixels: z1 = 1, z2 = +inf. Single-surface pixels: z2 = the ray's exit from the bounding sphere
-// (SINGLE_HIT_EXACT = 0) or z2 = z1, a value that merges with nothing (SINGLE_HIT_EXACT = 1).
+// (single_hit_rule 0) or z2 = z1, a value that merges with nothing (1); with 2 (thin) every hit
+// pixel takes z2 = z1 (csm::single_hit_code).
 kernel void csm_capture(global const CsmNode* nodes, global const CsmTriangle* tris, global const CsmCamera* cameras,
                         uint resolution, uint rows_total, float radius, float half_pixel, float depth_scale, float eps,
-                        uint single_hit_exact, global float* z1_out, global float* z2_out) {
+                        uint single_hit_rule, global float* z1_out, global float* z2_out) {
   const size_t item = get_global_id(0);
   if (item >= rows_total) return;
   const size_t map = item / resolution;
@@ -30,15 +31,15 @@ kernel void csm_capture(global const CsmNode* nodes, global const CsmTriangle* t
     float z1 = 1.0f, z2 = INFINITY;
     if (hits.t1 != INFINITY) {
       z1 = hits.t1 * depth_scale;
-      if (hits.t2 != INFINITY) {
+      if (hits.t2 != INFINITY && single_hit_rule != 2u) {
         z2 = hits.t2 * depth_scale;
-      } else if (single_hit_exact) {
+      } else if (single_hit_rule != 0u) {
         z2 = z1;
       } else {
         z2 = (radius + sqrt(fmax(radius * radius - (x * x + y * y), 0.0f))) * depth_scale;
       }
       if (!(z2 >= z1)) z2 = z1;
-      if (!single_hit_exact && !(z2 > z1)) z2 = nextafter(z1, INFINITY);
+      if (single_hit_rule == 0u && !(z2 > z1)) z2 = nextafter(z1, INFINITY);
     }
     z1_out[base + i] = z1;
     z2_out[base + i] = z2;

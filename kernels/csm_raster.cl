@@ -10,14 +10,14 @@
 // (4 floats per vertex) for its projected vertices and writes map (map_first + k) of z1/z2.
 kernel void csm_raster_capture(global const float* vertices, uint vertex_count, global const uint* tris, uint tri_count,
                                global const CsmCamera* cameras, uint map_first, uint maps, uint resolution, float radius,
-                               float pixel_scale, float half_pixel, float depth_scale, float eps, uint single_hit_exact,
+                               float pixel_scale, float half_pixel, float depth_scale, float eps, uint single_hit_rule,
                                global float* scratch, global float* z1_out, global float* z2_out) {
   const size_t slot = get_global_id(0);
   if (slot >= maps) return;
   const size_t map = map_first + slot;
   global const CsmCamera* cam = cameras + map;
   const CsmRasterCamera c = {cam->d[0], cam->d[1], cam->d[2], cam->u[0], cam->u[1], cam->u[2], cam->v[0], cam->v[1], cam->v[2]};
-  const CsmRasterParams p = {resolution, radius, pixel_scale, half_pixel, depth_scale, eps, single_hit_exact};
+  const CsmRasterParams p = {resolution, radius, pixel_scale, half_pixel, depth_scale, eps, single_hit_rule};
   const size_t pixels = (size_t)resolution * resolution;
   global float* proj = scratch + slot * 4 * (size_t)vertex_count;
   global float* z1 = z1_out + map * pixels;

@@ -44,7 +44,7 @@ typedef struct {
   float half_pixel;   // R / M
   float depth_scale;  // 1 / 2R
   float eps;          // hit tolerance in depth units
-  uint single_hit_exact;
+  uint single_hit_rule;  // 0 sphere-exit, 1 exact, 2 thin (csm::single_hit_code)
 } CsmRasterParams;
 
 // Vertices (relative to the sphere centre, xyz) → pixel coordinates and depth (x, y, z, unused).
@@ -170,16 +170,16 @@ CSM_INLINE void csm_raster_finish(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, 
       float a = 1.0f, b = CSM_RINF;
       if (t1 != CSM_RINF) {
         a = t1;
-        if (t2 != CSM_RINF) {
+        if (t2 != CSM_RINF && p.single_hit_rule != 2u) {
           b = t2;
-        } else if (p.single_hit_exact) {
+        } else if (p.single_hit_rule != 0u) {
           b = a;
         } else {
           const float x = (float)(2u * i + 1u) * p.half_pixel - p.radius;
           b = (p.radius + csm_rsqrt(csm_rmax(p.radius * p.radius - (x * x + y * y), 0.0f))) * p.depth_scale;
         }
         if (!(b >= a)) b = a;
-        if (!p.single_hit_exact && !(b > a)) b = csm_rnext_up(a);
+        if (p.single_hit_rule == 0u && !(b > a)) b = csm_rnext_up(a);
       }
       z1[pixel] = a;
       z2[pixel] = b;

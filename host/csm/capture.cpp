@@ -41,7 +41,7 @@ void pixel_depths(const CaptureScene& scene, const Camera& cam, std::uint32_t ro
   const float eps = scene.trace_eps_distance();
   const float dir[3] = {-cam.d[0], -cam.d[1], -cam.d[2]};
   const float y = static_cast<float>(2 * row + 1) * half_pixel - radius;
-  const bool exact = scene.single_hit == SingleHit::Exact;
+  const bool thin = scene.single_hit == SingleHit::Thin, exact = scene.single_hit == SingleHit::Exact || thin;
   for (std::uint32_t i = 0; i < scene.resolution; ++i) {
     const float x = static_cast<float>(2 * i + 1) * half_pixel - radius;
     float o[3];
@@ -50,7 +50,7 @@ void pixel_depths(const CaptureScene& scene, const Camera& cam, std::uint32_t ro
     float a = 1.0f, b = INFINITY;
     if (hits.t1 != INFINITY) {
       a = hits.t1 * depth_scale;
-      if (hits.t2 != INFINITY) {
+      if (hits.t2 != INFINITY && !thin) {
         b = hits.t2 * depth_scale;
       } else if (exact) {
         b = a;
@@ -68,7 +68,12 @@ void pixel_depths(const CaptureScene& scene, const Camera& cam, std::uint32_t ro
 }  // namespace
 
 const char* to_string(SingleHit value) {
-  return value == SingleHit::Exact ? "exact" : value == SingleHit::Auto ? "auto" : "sphere-exit";
+  return value == SingleHit::Exact ? "exact" : value == SingleHit::Auto ? "auto" : value == SingleHit::Thin ? "thin" : "sphere-exit";
+}
+
+std::uint32_t single_hit_code(SingleHit rule) {
+  if (rule == SingleHit::Auto) throw Error("single_hit_code: the rule is not resolved (auto)");
+  return rule == SingleHit::SphereExit ? 0u : rule == SingleHit::Exact ? 1u : 2u;
 }
 
 SingleHit resolve_single_hit(SingleHit rule, const Mesh& mesh) {
@@ -80,7 +85,8 @@ SingleHit parse_single_hit(const std::string& text) {
   if (text == "sphere-exit") return SingleHit::SphereExit;
   if (text == "exact") return SingleHit::Exact;
   if (text == "auto") return SingleHit::Auto;
-  throw Error("unknown single-hit rule '" + text + "' (one of: auto, sphere-exit, exact)");
+  if (text == "thin") return SingleHit::Thin;
+  throw Error("unknown single-hit rule '" + text + "' (one of: auto, sphere-exit, exact, thin)");
 }
 
 Sphere bounding_sphere(const Mesh& mesh) {
@@ -178,7 +184,7 @@ cl::Event DepthCapture::capture(const SphereGrid& grid, std::uint32_t first, std
   const std::size_t rows = std::size_t{count} * scene_.resolution;
   set_args(kernel_, nodes_, triangles_, cameras_.buffer(), static_cast<cl_uint>(scene_.resolution), static_cast<cl_uint>(rows),
            scene_.trace_radius(), scene_.trace_half_pixel(), scene_.trace_depth_scale(), scene_.trace_eps_distance(),
-           static_cast<cl_uint>(scene_.single_hit == SingleHit::Exact ? 1 : 0), z1, z2);
+           static_cast<cl_uint>(single_hit_code(scene_.single_hit)), z1, z2);
   return enqueue_1d(runtime_.queue(), kernel_, rows, 0, profiler, "csm capture");
 }
 

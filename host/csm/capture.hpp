@@ -17,6 +17,9 @@
 //   nothing is solid, so a z2 at the sphere's exit lit every receiver in the first half of that
 //   span (a 4 × 4 sheet 1 above a ground plane gave AO 1.0 where ray casting gives 0.17). The
 //   capture scene holds, and the file records, the rule taken.
+// - SingleHit::Thin (never chosen by Auto): z2 = z1 on every pixel, also where the ray meets a
+//   second surface. An open mesh that encloses air (a bowl, a roof) has no solid between two hits,
+//   and a receiver in that air read as lit under the span; this costs the span's compression.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -30,8 +33,11 @@
 
 namespace splatcl::csm {
 
-enum class SingleHit : std::uint32_t { SphereExit = 0, Exact = 1, Auto = 2 };
+enum class SingleHit : std::uint32_t { SphereExit = 0, Exact = 1, Auto = 2, Thin = 3 };
 const char* to_string(SingleHit value);
+// The capture kernels' code for a resolved rule (their single_hit_rule argument): 0 sphere-exit,
+// 1 exact, 2 thin.
+std::uint32_t single_hit_code(SingleHit rule);
 SingleHit parse_single_hit(const std::string& text);
 // The rule a capture of `mesh` takes: `rule`, or for Auto Exact or SphereExit by Mesh::closed.
 SingleHit resolve_single_hit(SingleHit rule, const Mesh& mesh);

@@ -204,7 +204,8 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
   const std::uint32_t enums[4] = {get<std::uint32_t>(bytes, 32), get<std::uint32_t>(bytes, 36), get<std::uint32_t>(bytes, 40),
                                   get<std::uint32_t>(bytes, 44)};
   if (info.resolution == 0 || info.resolution > kMaxResolution) throw fail(fmt::format("bad resolution {}", info.resolution));
-  if (enums[0] > 2 || enums[1] > 5 || enums[2] > 5 || enums[3] > 1) throw fail("unknown distribution, order, pole axis or single-hit rule");
+  if (enums[0] > 2 || enums[1] > 5 || enums[2] > 5 || (enums[3] > 1 && enums[3] != static_cast<std::uint32_t>(SingleHit::Thin)))
+    throw fail("unknown distribution, order, pole axis or single-hit rule");
   info.distribution = static_cast<Distribution>(enums[0]);
   info.order = static_cast<Order>(enums[1]);
   info.pole = static_cast<PoleAxis>(enums[2]);

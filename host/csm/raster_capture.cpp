@@ -39,7 +39,7 @@ device_raster::CsmRasterCamera raster_camera(const Camera& c) {
 device_raster::CsmRasterParams raster_params(const CaptureScene& scene) {
   return {scene.resolution,  scene.sphere.radius, static_cast<float>(scene.resolution) / (2.0f * scene.sphere.radius),
           scene.half_pixel(), scene.depth_scale(), scene.hit_epsilon,
-          scene.single_hit == SingleHit::Exact ? 1u : 0u};
+          single_hit_code(scene.single_hit)};
 }
 
 // Projected-vertex scratch kept for at most this many bytes (the maps of one launch).
@@ -144,7 +144,7 @@ cl::Event RasterCapture::capture(const SphereGrid& grid, std::uint32_t first, st
     const std::uint32_t maps = std::min(slots_, count - done);
     set_args(kernel_, vertices_, static_cast<cl_uint>(vertex_count_), triangles_, static_cast<cl_uint>(triangle_count_), cameras_.buffer(),
              static_cast<cl_uint>(done), static_cast<cl_uint>(maps), static_cast<cl_uint>(p.resolution), p.radius, p.pixel_scale,
-             p.half_pixel, p.depth_scale, p.eps, static_cast<cl_uint>(p.single_hit_exact), scratch_, z1, z2);
+             p.half_pixel, p.depth_scale, p.eps, static_cast<cl_uint>(p.single_hit_rule), scratch_, z1, z2);
     last = enqueue_1d(runtime_.queue(), kernel_, maps, 1, profiler, "csm capture");
   }
   return last;

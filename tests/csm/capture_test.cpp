@@ -50,6 +50,7 @@ TEST(CsmCapture, KernelMatchesReferenceBitForBit) {
   expect_kernel_matches_reference(scene_mesh(), 33, SingleHit::SphereExit, Distribution::Regular, Order::Hilbert, 64, 5, 17);
   expect_kernel_matches_reference(sphere_mesh(12, 24), 24, SingleHit::Exact, Distribution::ThesisAo, Order::ZigzagV, 32, 0, 32);
   expect_kernel_matches_reference(square_mesh(), 7, SingleHit::SphereExit, Distribution::Uniform, Order::LinearV, 16, 3, 1);
+  expect_kernel_matches_reference(scene_mesh(), 12, SingleHit::Thin, Distribution::Uniform, Order::ZigzagH, 64, 0, 64);
 }
 
 TEST(CsmCapture, CubeDepthsAreAnalytic) {

@@ -87,6 +87,7 @@ TEST(CsmRasterCapture, KernelMatchesReferenceBitForBit) {
   expect_kernel_matches_reference(square_mesh(), 7, SingleHit::SphereExit, Distribution::Uniform, Order::LinearV, 16, 3, 1);
   expect_kernel_matches_reference(square_mesh(), 8, SingleHit::SphereExit, Distribution::Uniform, Order::LinearV, 16, 3, 0);
   expect_kernel_matches_reference(random_soup(2, 7), 4, SingleHit::Exact, Distribution::Uniform, Order::ZigzagH, 16, 0, 16);
+  expect_kernel_matches_reference(scene_mesh(), 12, SingleHit::Thin, Distribution::Uniform, Order::ZigzagH, 64, 0, 64);
 }
 
 TEST(CsmRasterCapture, KernelMatchesReferenceOnRandomMeshes) {
