@@ -260,9 +260,9 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   // The build's default rule for single-surface pixels (resolve_single_hit): named in the key where
   // it is exact (an open mesh or a splat file's discs), so that their maps cached with sphere-exit
   // are built again and a closed mesh's keep their keys.
-  const bool exact_single_hit = csm::resolve_single_hit(csm::SingleHit::Auto, assets.mesh) == csm::SingleHit::Exact;
-  const std::string csm_parameters =
-      fmt::format("csm v1 maps={} resolution={}{}", q.csm_maps, q.csm_resolution, exact_single_hit ? " single_hit=exact" : "");
+  const csm::SingleHit single_hit = csm::resolve_single_hit(csm::parse_single_hit(q.csm_single_hit), assets.mesh);
+  const std::string csm_parameters = fmt::format("csm v1 maps={} resolution={}{}", q.csm_maps, q.csm_resolution,
+                                                 single_hit == csm::SingleHit::SphereExit ? "" : fmt::format(" single_hit={}", csm::to_string(single_hit)));
   assets.key = asset_key(assets.mesh, splat_parameters + "|" + csm_parameters);
   std::error_code ec;
   std::filesystem::create_directories(cache_dir, ec);
@@ -377,6 +377,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     csm::BuildOptions options;
     options.maps = q.csm_maps;
     options.resolution = q.csm_resolution;
+    options.single_hit = single_hit;
     csm::BuildResult built = csm::build_csm(assets.mesh, options, &runtime, [&](std::uint32_t done, std::uint32_t total) {
       report(fmt::format("coherent shadow map {}/{}", done, total));
     });

@@ -168,6 +168,7 @@ void read_asset_quality(const Reader& r, const json& q, Quality& Q) {
   if (grid * grid != Q.csm_maps)
     r.fail("csm_maps", fmt::format("{} is not a perfect square (the maps lie on a uniform G x G grid, e.g. 1024 or 4096)", Q.csm_maps));
   Q.csm_resolution = r.count(q, "csm_resolution", Q.csm_resolution, 8, 1024);
+  Q.csm_single_hit = r.text(q, "csm_single_hit", Q.csm_single_hit, {"auto", "sphere-exit", "exact", "thin"});
   Q.surface_clip = r.number(q, "surface_clip", Q.surface_clip);
   if (!(Q.surface_clip >= 0 && Q.surface_clip <= 0.1f))
     r.fail("surface_clip", fmt::format("must be in [0, 0.1] (a share of the mesh's diagonal; 0 = drawn as built), got {}", Q.surface_clip));
@@ -202,7 +203,7 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
     // Only what shapes the object's own assets; the frame's settings stay the scene's.
     const json& q = r.object(j, "quality");
     r.known_keys(q, fmt::format("objects[{}].quality", index),
-                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "surface_clip"});
+                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "csm_single_hit", "surface_clip"});
     Quality read;
     read_asset_quality(r, q, read);
     AssetQualityOverrides& over = o.quality;
@@ -212,9 +213,10 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
     if (q.contains("crease_angle")) over.crease_angle = read.crease_angle;
     if (q.contains("csm_maps")) over.csm_maps = read.csm_maps;
     if (q.contains("csm_resolution")) over.csm_resolution = read.csm_resolution;
+    if (q.contains("csm_single_hit")) over.csm_single_hit = read.csm_single_hit;
     if (q.contains("surface_clip")) over.surface_clip = read.surface_clip;
     if (!o.mesh.splat_path.empty() && (over.sampling || over.splat_bound || over.eps_diagonal || over.crease_angle || over.surface_clip))
-      r.fail("quality", "of a splat file: its splats are used as they are (only csm_maps and csm_resolution apply)");
+      r.fail("quality", "of a splat file: its splats are used as they are (only csm_maps, csm_resolution and csm_single_hit apply)");
   }
   if (!o.mesh.splat_path.empty() && (j.contains("color_field") || j.contains("texture") || j.contains("color_tolerance")))
     r.fail("color_field", "of a splat file: it brings its own colours (\"color\": \"splats\" uses them)");
@@ -275,6 +277,7 @@ Quality object_quality(const Quality& scene_quality, const ObjectSpec& object) {
   q.crease_angle = over.crease_angle.value_or(q.crease_angle);
   q.csm_maps = over.csm_maps.value_or(q.csm_maps);
   q.csm_resolution = over.csm_resolution.value_or(q.csm_resolution);
+  q.csm_single_hit = over.csm_single_hit.value_or(q.csm_single_hit);
   q.surface_clip = over.surface_clip.value_or(q.surface_clip);
   return q;
 }
@@ -381,7 +384,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
   if (j.contains("quality")) {
     const json& q = r.object(j, "quality");
     r.known_keys(q, "quality",
-                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "ao_samples", "ao_bias", "shadow_lift", "splat_scale", "surface_clip", "antialias", "depth_offset",
+                 {"sampling", "splat_bound", "eps_diagonal", "crease_angle", "csm_maps", "csm_resolution", "csm_single_hit", "ao_samples", "ao_bias", "shadow_lift", "splat_scale", "surface_clip", "antialias", "depth_offset",
                   "gaussian", "mode", "shading", "tile", "shadows", "filter", "shadow_samples", "ambient_occlusion", "pixel_ao", "floor_pixels", "lod_error",
                   "lod_leaf", "specular", "shininess"});
     Quality& Q = scene.quality;

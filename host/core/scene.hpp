@@ -68,7 +68,7 @@ struct FitTransform {
 
 // Per-object overrides of the scene's quality settings that shape the cached assets.
 struct AssetQualityOverrides {
-  std::optional<std::string> sampling, splat_bound;
+  std::optional<std::string> sampling, splat_bound, csm_single_hit;
   std::optional<float> eps_diagonal, crease_angle, surface_clip;
   std::optional<std::uint32_t> csm_maps, csm_resolution;
 };
@@ -161,6 +161,9 @@ struct Quality {
   // Applies with either splat_bound.
   float crease_angle = 60.0f;
   std::uint32_t csm_maps = 1024, csm_resolution = 64;
+  // The CSM build's rule for single-surface pixels (csm build --single-hit): "auto", or "thin" for
+  // an open occluder that something stands inside (a bowl, a roof), or "exact" / "sphere-exit".
+  std::string csm_single_hit = "auto";
   std::uint32_t ao_samples = 16;
   // CSM depth bias of AO and shadow queries, in each CSM's depth units (1 = its bounding sphere's
   // diameter), so it scales with the occluder.

@@ -128,6 +128,7 @@ TEST(SceneObjects, FitAndObjectQualityAreCheckedLikeEveryOtherKey) {
   refused(R"({"splats": "a.ply", "texture": "t.png"})", "it brings its own colours");
   refused(R"({"splats": "a.ply", "quality": {"sampling": "auto"}})", "its splats are used as they are");
   refused(R"({"splats": ""})", "'splats' must be a file name");
+  refused(R"({"mesh": "a.obj", "quality": {"csm_single_hit": "hollow"}})", "csm_single_hit");
 }
 
 TEST(SceneObjects, ObjectQualityOverridesOnlyThatObjectsAssets) {
@@ -246,7 +247,8 @@ TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
   const Scene scene = parse_scene(R"({"objects": [
       {"name": "a", "mesh": {"procedural": "box", "rings": 4}},
       {"name": "b", "mesh": {"procedural": "box", "rings": 4}, "quality": {"csm_maps": 256, "csm_resolution": 32, "eps_diagonal": 0.004}},
-      {"name": "c", "mesh": {"procedural": "box", "rings": 4}, "quality": {"crease_angle": 180}}],
+      {"name": "c", "mesh": {"procedural": "box", "rings": 4}, "quality": {"crease_angle": 180}},
+      {"name": "d", "mesh": {"procedural": "box", "rings": 4}, "quality": {"csm_single_hit": "thin"}}],
       "quality": {"eps_diagonal": 0.002, "csm_resolution": 16}})",
                                   "s.json", ".");
   const ObjectAssets a = load_object_assets(scene.objects[0], scene, SPLATCL_TEST_CACHE, *runtime_);
@@ -259,6 +261,12 @@ TEST_F(SceneObjectsRender, ObjectQualityShapesTheBuiltAssets) {
   // The crease angle shapes the splats: without it the box's splats bevel its edges.
   const ObjectAssets c = load_object_assets(scene.objects[2], scene, SPLATCL_TEST_CACHE, *runtime_);
   EXPECT_NE(a.key, c.key);
+  // The CSM's single-hit rule: auto takes sphere-exit for the closed box; "thin" is built, recorded
+  // and keyed as such.
+  EXPECT_EQ(a.csm.info.single_hit, csm::SingleHit::SphereExit);
+  const ObjectAssets d = load_object_assets(scene.objects[3], scene, SPLATCL_TEST_CACHE, *runtime_);
+  EXPECT_EQ(d.csm.info.single_hit, csm::SingleHit::Thin);
+  EXPECT_NE(a.key, d.key);
   const auto bevelled = [](const ObjectAssets& assets) {
     std::size_t count = 0;
     for (const auto& s : assets.splats) {
