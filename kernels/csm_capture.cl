@@ -3,10 +3,8 @@
 // (map, pixel row), a serial loop over the row, no barriers. Native reference: host/csm/capture.cpp.
 #include "csm_trace.h"
 
-// Depth is linear, 0 at the camera plane and 1 at distance 2R (Talpe §4.2). Empty
-// pixels: z1 = 1, z2 = +inf. Single-surface pixels: z2 = the ray's exit from the bounding sphere
-// (single_hit_rule 0) or z2 = z1, a value that merges with nothing (1); with 2 (thin) every hit
-// pixel takes z2 = z1 (csm::single_hit_code).
+// Depth is linear, 0 at the camera plane and 1 at distance 2R (Talpe §4.2); empty and
+// single-surface pixels by single_hit_rule (csm_pixel_depths in csm_trace.h).
 kernel void csm_capture(global const CsmNode* nodes, global const CsmTriangle* tris, global const CsmCamera* cameras,
                         uint resolution, uint rows_total, float radius, float half_pixel, float depth_scale, float eps,
                         uint single_hit_rule, global float* z1_out, global float* z2_out) {
@@ -28,19 +26,8 @@ kernel void csm_capture(global const CsmNode* nodes, global const CsmTriangle* t
                               radius * d.z + x * u.z + y * v.z);
     const float o3[3] = {o.x, o.y, o.z}, dir3[3] = {dir.x, dir.y, dir.z}, inv3[3] = {inv.x, inv.y, inv.z};
     const CsmHits hits = csm_trace(nodes, tris, o3, dir3, inv3, eps, CSM_TRACE_FIRST_TWO, INFINITY);
-    float z1 = 1.0f, z2 = INFINITY;
-    if (hits.t1 != INFINITY) {
-      z1 = hits.t1 * depth_scale;
-      if (hits.t2 != INFINITY && single_hit_rule != 2u) {
-        z2 = hits.t2 * depth_scale;
-      } else if (single_hit_rule != 0u) {
-        z2 = z1;
-      } else {
-        z2 = (radius + sqrt(fmax(radius * radius - (x * x + y * y), 0.0f))) * depth_scale;
-      }
-      if (!(z2 >= z1)) z2 = z1;
-      if (single_hit_rule == 0u && !(z2 > z1)) z2 = nextafter(z1, INFINITY);
-    }
+    float z1, z2;
+    csm_pixel_depths(hits.t1 * depth_scale, hits.t2 * depth_scale, x, y, radius, depth_scale, single_hit_rule, &z1, &z2);
     z1_out[base + i] = z1;
     z2_out[base + i] = z2;
   }

@@ -20,17 +20,15 @@
 #ifdef __OPENCL_C_VERSION__
 #pragma OPENCL FP_CONTRACT OFF
 #define CSM_RGLOBAL global
-#define csm_rsqrt sqrt
 #define CSM_RINF INFINITY
-#define csm_rnext_up(v) nextafter(v, INFINITY)
 #else
 #define CSM_RGLOBAL
-#define csm_rsqrt std::sqrt
 #define CSM_RINF (std::numeric_limits<float>::infinity())
-#define csm_rnext_up(v) std::nextafter(v, CSM_RINF)
 #endif
 
 #include "csm_inline.h"
+// csm_pixel_depths comes from csm_trace.h: the kernel includes it first, a host includer brings it
+// into the namespace it includes this file in.
 
 // One map's camera as the raster needs it (the sphere-grid camera without the inverse direction).
 typedef struct {
@@ -160,27 +158,15 @@ CSM_INLINE void csm_raster_clear(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, u
   }
 }
 
-// The ray-cast capture's rules for empty and single-surface pixels (csm_capture.cl).
+// The ray-cast capture's rules for empty and single-surface pixels (csm_pixel_depths, csm_trace.h).
 CSM_INLINE void csm_raster_finish(CSM_RGLOBAL float* z1, CSM_RGLOBAL float* z2, CsmRasterParams p) {
   for (uint j = 0; j < p.resolution; ++j) {
     const float y = (float)(2u * j + 1u) * p.half_pixel - p.radius;
     for (uint i = 0; i < p.resolution; ++i) {
       const uint pixel = j * p.resolution + i;
-      const float t1 = z1[pixel], t2 = z2[pixel];
-      float a = 1.0f, b = CSM_RINF;
-      if (t1 != CSM_RINF) {
-        a = t1;
-        if (t2 != CSM_RINF && p.single_hit_rule != 2u) {
-          b = t2;
-        } else if (p.single_hit_rule != 0u) {
-          b = a;
-        } else {
-          const float x = (float)(2u * i + 1u) * p.half_pixel - p.radius;
-          b = (p.radius + csm_rsqrt(csm_rmax(p.radius * p.radius - (x * x + y * y), 0.0f))) * p.depth_scale;
-        }
-        if (!(b >= a)) b = a;
-        if (p.single_hit_rule == 0u && !(b > a)) b = csm_rnext_up(a);
-      }
+      const float x = (float)(2u * i + 1u) * p.half_pixel - p.radius;
+      float a, b;
+      csm_pixel_depths(z1[pixel], z2[pixel], x, y, p.radius, p.depth_scale, p.single_hit_rule, &a, &b);
       z1[pixel] = a;
       z2[pixel] = b;
     }

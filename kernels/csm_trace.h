@@ -10,12 +10,45 @@
 #pragma OPENCL FP_CONTRACT OFF
 #define CSM_TGLOBAL global
 #define csm_tfmin fmin
+#define csm_tfmax fmax
+#define csm_tsqrt sqrt
+#define CSM_TINF INFINITY
+#define csm_tnext_up(v) nextafter(v, INFINITY)
 #else
 #define CSM_TGLOBAL
 #define csm_tfmin std::fmin
+#define csm_tfmax std::fmax
+#define csm_tsqrt std::sqrt
+#define CSM_TINF INFINITY
+#define csm_tnext_up(v) std::nextafter(v, INFINITY)
 #endif
 
 #include "csm_inline.h"
+
+// A pixel's stored depths from its first two hits t1, t2 (depth units, +inf where there is none),
+// by the single-hit rule (csm::single_hit_code: 0 sphere-exit, 1 exact, 2 thin); written once for
+// both capture methods and their references. Empty: z1 = 1, z2 = +inf. A second hit is z2, except
+// under thin, where every hit pixel takes z2 = z1 (an open mesh that encloses air has nothing solid
+// between its hits). A single hit takes z2 = where the ray through (x, y) leaves the bounding
+// sphere (sphere-exit, then kept above z1) or z2 = z1, a value that merges with nothing.
+CSM_INLINE void csm_pixel_depths(float t1, float t2, float x, float y, float radius, float depth_scale, uint rule, float* z1,
+                                 float* z2) {
+  float a = 1.0f, b = CSM_TINF;
+  if (t1 != CSM_TINF) {
+    a = t1;
+    if (t2 != CSM_TINF && rule != 2u) {
+      b = t2;
+    } else if (rule != 0u) {
+      b = a;
+    } else {
+      b = (radius + csm_tsqrt(csm_tfmax(radius * radius - (x * x + y * y), 0.0f))) * depth_scale;
+    }
+    if (!(b >= a)) b = a;
+    if (rule == 0u && !(b > a)) b = csm_tnext_up(a);
+  }
+  *z1 = a;
+  *z2 = b;
+}
 
 // The deepest BVH the builder makes; the traversal stack has this many entries.
 #define CSM_MAX_DEPTH 64

@@ -257,9 +257,9 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   const LodOptions tree_options{q.lod_leaf, 32, 0.1f};
   const std::string tree_parameters = fmt::format("{}|tree v1 leaf={} grid={} overlap={:.9g}", gap_parameters,
                                                   tree_options.leaf_splats, tree_options.grid, tree_options.overlap);
-  // The build's default rule for single-surface pixels (resolve_single_hit): named in the key where
-  // it is exact (an open mesh or a splat file's discs), so that their maps cached with sphere-exit
-  // are built again and a closed mesh's keep their keys.
+  // The build's rule for single-surface pixels (quality.csm_single_hit, auto resolved by
+  // resolve_single_hit): named in the key unless it is sphere-exit, so that an open mesh's maps
+  // cached with sphere-exit were built again and a closed mesh's keep their keys.
   const csm::SingleHit single_hit = csm::resolve_single_hit(csm::parse_single_hit(q.csm_single_hit), assets.mesh);
   const std::string csm_parameters = fmt::format("csm v1 maps={} resolution={}{}", q.csm_maps, q.csm_resolution,
                                                  single_hit == csm::SingleHit::SphereExit ? "" : fmt::format(" single_hit={}", csm::to_string(single_hit)));

@@ -167,10 +167,11 @@ D3 sub(const D3& a, const D3& b) { return D3{a[0] - b[0], a[1] - b[1], a[2] - b[
 D3 cross3(const D3& a, const D3& b) { return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
 D3 to_double(const Vec3& p) { return D3{p.x, p.y, p.z}; }
 
-// Whether face f has zero area, from its own coordinates in double (a difference of two floats is
-// exact in double unless their magnitudes are ~2^29 apart, so collinear corners give exactly zero).
-bool zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
-               const std::vector<std::uint32_t>& corners, std::size_t f) {
+// Twice face f's vector area (a fan from its first corner), from its own coordinates in double (a
+// difference of two floats is exact in double unless their magnitudes are ~2^29 apart, so
+// collinear corners give exactly zero).
+D3 fan_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets, const std::vector<std::uint32_t>& corners,
+            std::size_t f) {
   const std::uint32_t begin = offsets[f], end = offsets[f + 1];
   const D3 q0 = to_double(positions[corners[begin]]);
   D3 area{0, 0, 0};
@@ -178,9 +179,14 @@ bool zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32
     const D3 a = cross3(sub(to_double(positions[corners[c]]), q0), sub(to_double(positions[corners[c + 1]]), q0));
     for (int i = 0; i < 3; ++i) area[i] += a[i];
   }
-  return area[0] == 0 && area[1] == 0 && area[2] == 0;
+  return area;
 }
 
+bool zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
+               const std::vector<std::uint32_t>& corners, std::size_t f) {
+  const D3 area = fan_area(positions, offsets, corners, f);
+  return area[0] == 0 && area[1] == 0 && area[2] == 0;
+}
 
 // Per face, the signed volume of the cone from the bounding box's centre over it (a fan from its
 // first corner), in double about that centre, so any float coordinates give finite sums: their sum
@@ -214,18 +220,13 @@ double dot3(const D3& a, const D3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] 
 bool rounded_zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
                        const std::vector<std::uint32_t>& corners, std::size_t f) {
   const std::uint32_t begin = offsets[f], end = offsets[f + 1];
-  const D3 q0 = to_double(positions[corners[begin]]);
-  D3 area{0, 0, 0};
   double magnitude = 0, longest = 0;
   for (std::uint32_t c = begin; c < end; ++c) {
     const D3 p = to_double(positions[corners[c]]), e = sub(to_double(positions[corners[c + 1 == end ? begin : c + 1]]), p);
     magnitude = std::max({magnitude, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
     longest = std::max(longest, std::sqrt(dot3(e, e)));
-    if (c > begin && c + 1 < end) {
-      const D3 a = cross3(sub(p, q0), sub(to_double(positions[corners[c + 1]]), q0));
-      for (int i = 0; i < 3; ++i) area[i] += a[i];
-    }
   }
+  const D3 area = fan_area(positions, offsets, corners, f);
   return std::sqrt(dot3(area, area)) <= 8 * std::ldexp(magnitude, -23) * longest;
 }
 
@@ -824,7 +825,9 @@ bool Mesh::closed() const {
       if (i + 1 >= edges.size() || edges[i + 1] != edges[i] || (i + 2 < edges.size() && edges[i + 2] == edges[i])) return false;
     return !edges.empty();
   };
-  return closed_with(true) || closed_with(false);
+  bool any_zero_area = false;
+  for (std::size_t f = 0; f < face_count() && !any_zero_area; ++f) any_zero_area = rounded_zero_area(vertices, face_offsets, corners, f);
+  return closed_with(true) || (any_zero_area && closed_with(false));
 }
 
 Mesh load_mesh(const std::string& path, Winding winding) {

@@ -41,27 +41,13 @@ void pixel_depths(const CaptureScene& scene, const Camera& cam, std::uint32_t ro
   const float eps = scene.trace_eps_distance();
   const float dir[3] = {-cam.d[0], -cam.d[1], -cam.d[2]};
   const float y = static_cast<float>(2 * row + 1) * half_pixel - radius;
-  const bool thin = scene.single_hit == SingleHit::Thin, exact = scene.single_hit == SingleHit::Exact || thin;
+  const std::uint32_t rule = single_hit_code(scene.single_hit);
   for (std::uint32_t i = 0; i < scene.resolution; ++i) {
     const float x = static_cast<float>(2 * i + 1) * half_pixel - radius;
     float o[3];
     for (int k = 0; k < 3; ++k) o[k] = radius * cam.d[k] + x * cam.u[k] + y * cam.v[k];
     const TwoHits hits = first_two_hits(scene.bvh, o, dir, cam.inv, eps);
-    float a = 1.0f, b = INFINITY;
-    if (hits.t1 != INFINITY) {
-      a = hits.t1 * depth_scale;
-      if (hits.t2 != INFINITY && !thin) {
-        b = hits.t2 * depth_scale;
-      } else if (exact) {
-        b = a;
-      } else {
-        b = (radius + std::sqrt(std::fmax(radius * radius - (x * x + y * y), 0.0f))) * depth_scale;
-      }
-      if (!(b >= a)) b = a;
-      if (!exact && !(b > a)) b = std::nextafter(a, INFINITY);
-    }
-    z1[i] = a;
-    z2[i] = b;
+    device_trace::csm_pixel_depths(hits.t1 * depth_scale, hits.t2 * depth_scale, x, y, radius, depth_scale, rule, &z1[i], &z2[i]);
   }
 }
 

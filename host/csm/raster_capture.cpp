@@ -12,6 +12,7 @@ namespace splatcl::csm {
 
 namespace device_raster {
 using uint = std::uint32_t;
+using splatcl::device_trace::csm_pixel_depths;  // the single-hit rule, written once in csm_trace.h
 #include "../../kernels/csm_raster.h"
 }  // namespace device_raster
 

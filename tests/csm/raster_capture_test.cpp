@@ -17,6 +17,7 @@
 namespace splatcl::csm {
 namespace raster_test {
 using uint = std::uint32_t;
+using splatcl::device_trace::csm_pixel_depths;
 #include "../../kernels/csm_raster.h"
 }  // namespace raster_test
 
