@@ -20,6 +20,7 @@ std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, c
     f.lod_entries = a.tree.size();
     f.csm_maps = a.csm.info.maps;
     f.csm_resolution = a.csm.info.resolution;
+  f.csm_single_hit = csm::to_string(a.csm.info.single_hit);
     f.csm_segments = a.csm.segments();
     const double pixels = static_cast<double>(f.csm_maps) * f.csm_resolution * f.csm_resolution;
     f.csm_segments_per_pixel = pixels > 0 ? static_cast<double>(f.csm_segments) / pixels : 0;
@@ -48,6 +49,7 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
                     {"lod_entries", f.lod_entries},
                     {"csm_maps", f.csm_maps},
                     {"csm_resolution", f.csm_resolution},
+                    {"csm_single_hit", f.csm_single_hit},
                     {"csm_segments", f.csm_segments},
                     {"csm_segments_per_pixel", f.csm_segments_per_pixel},
                     {"csm_bytes", f.csm_bytes},

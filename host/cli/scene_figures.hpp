@@ -22,6 +22,7 @@ struct ObjectFigures {
   std::size_t gap_splats = 0;   // of them, added where the splats as drawn left the surface uncovered
   std::size_t lod_entries = 0;  // splats and octree nodes of its LOD tree
   std::uint32_t csm_maps = 0, csm_resolution = 0;
+  std::string csm_single_hit;  // the rule its CSM was built with (auto resolved: csm/csm_file.hpp SingleHit)
   std::size_t csm_segments = 0;
   double csm_segments_per_pixel = 0;  // segments over maps × resolution² pixels
   std::size_t csm_bytes = 0;          // the CSM in memory: offsets, depths and end indices

@@ -235,10 +235,10 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
         v.selected = i;
       if (ImGui::IsItemHovered()) {
         tooltip_ = true;
-        ImGui::SetTooltip("%s; %s%s, %zu vertices; splats %s, %zu gap splats %s, fit to the surface %s, LOD tree %s, normal fields %s, CSM %s; assets %.0f ms; cache key %s",
+        ImGui::SetTooltip("%s; %s%s, %zu vertices; splats %s, %zu gap splats %s, fit to the surface %s, LOD tree %s, normal fields %s, CSM %s (single hit %s); assets %.0f ms; cache key %s",
                           f.source.c_str(), f.occluder ? "occluder" : "not an occluder", f.two_sided ? ", two-sided" : "", f.vertices, f.splats_cached ? "cached" : "built",
                           f.gap_splats, f.gaps_cached ? "cached" : "built", f.drawn_cached ? "cached" : "not cached", f.tree_cached ? "cached" : "built",
-                          f.fields_cached ? "cached" : "not cached", f.csm_cached ? "cached" : "built", f.build_ms, f.key.c_str());
+                          f.fields_cached ? "cached" : "not cached", f.csm_cached ? "cached" : "built", f.csm_single_hit.c_str(), f.build_ms, f.key.c_str());
       }
       ImGui::TableNextColumn();
       ImGui::Text("%zu", f.faces);

@@ -9,6 +9,7 @@ add_test(NAME cli.render_default_scene COMMAND ${EXPECT_OUTPUT} --match "^scene 
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"frames_measured\": 2,"
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"name\": \"torus\","
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"csm_maps\": 1024,"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"csm_single_hit\": \"sphere-exit\","
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"csm_segments\": [1-9][0-9]*,"
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"debug_view\": \"final\","
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"splat_scale\": 1\\.0499999[0-9]*,?$"
