@@ -788,7 +788,7 @@ std::string MeshProblems::summary() const {
   if (bad_vertex_faces > 0) parts.push_back(plural(bad_vertex_faces, "face", "faces") + " using such vertices dropped");
   if (bad_index_faces > 0) parts.push_back(plural(bad_index_faces, "face", "faces") + " with an index out of range dropped");
   if (degenerate_faces > 0) parts.push_back(plural(degenerate_faces, "degenerate face", "degenerate faces") + " (fewer than 3 distinct corners) dropped");
-  if (zero_area_faces > 0) parts.push_back(plural(zero_area_faces, "zero-area face", "zero-area faces"));
+  if (zero_area_faces > 0) parts.push_back(plural(zero_area_faces, "zero-area face", "zero-area faces") + " kept (no surface to sample)");
   if (complex_faces > 0) parts.push_back(plural(complex_faces, "non-manifold or oppositely wound face", "non-manifold or oppositely wound faces") + " kept detached");
   if (inconsistent_edges > 0)
     parts.push_back(plural(inconsistent_edges, "edge", "edges") + " with inconsistent orientation (two faces use it in the same direction)");
