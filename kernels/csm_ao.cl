@@ -10,7 +10,7 @@ kernel void csm_ambient_occlusion_receivers(global const float4* positions, glob
                                             global const CsmOccluder* occluders, global const CsmCell* cells,
                                             global const uint* offsets, global const uint* ends,
                                             global const float* depths, global const float* bounds, uint ground,
-                                            float bias, global float4* out) {
+                                            float bias, uint own_instance, global float4* out) {
   const size_t first = get_global_id(0) * CSM_AO_LANES;
   if (first >= count) return;
   const CsmScene scene = {instances, instance_count, occluders, cells, offsets, ends, depths, bounds};
@@ -22,7 +22,8 @@ kernel void csm_ambient_occlusion_receivers(global const float4* positions, glob
   csm_ambient_occlusion(&scene, (global const float*)patterns, CSM_VGATHER(csm_vuint, pattern_of, r, ) * (4u * samples), samples,
                         CSM_VGATHER(csm_vfloat, positions, r, .x), CSM_VGATHER(csm_vfloat, positions, r, .y),
                         CSM_VGATHER(csm_vfloat, positions, r, .z), CSM_VGATHER(csm_vfloat, normals, r, .x),
-                        CSM_VGATHER(csm_vfloat, normals, r, .y), CSM_VGATHER(csm_vfloat, normals, r, .z), valid, ground, bias, result);
+                        CSM_VGATHER(csm_vfloat, normals, r, .y), CSM_VGATHER(csm_vfloat, normals, r, .z), own_instance,
+                        CSM_VGATHER(csm_vfloat, positions, r, .w), valid, ground, bias, result);
   float x[CSM_AO_LANES], y[CSM_AO_LANES], z[CSM_AO_LANES], w[CSM_AO_LANES];
   CSM_VJOIN(vstore, CSM_AO_LANES)(result[0], 0, x);
   CSM_VJOIN(vstore, CSM_AO_LANES)(result[1], 0, y);

@@ -634,12 +634,15 @@ CSM_INLINE csm_vint csm_vinstance_lit(const CsmScene* scene, uint k, csm_vfloat 
 }
 
 // csm_visibility(scene, p, w, CSM_FILTER_NONE, bias) > 0 per lane, for the lanes of `run` (the
-// others: false): lit through every instance, stopping where every lane is occluded.
-CSM_INLINE csm_vint csm_vlit(const CsmScene* scene, csm_vfloat px, csm_vfloat py, csm_vfloat pz, csm_vfloat wx, csm_vfloat wy,
-                             csm_vfloat wz, float bias, csm_vint run) {
+// others: false): lit through every instance, stopping where every lane is occluded. Instance `own`
+// (none: any index past the instances) is queried from q instead of p: the receiver lifted off its
+// own surface, which only that instance's maps can shadow it on.
+CSM_INLINE csm_vint csm_vlit(const CsmScene* scene, csm_vfloat px, csm_vfloat py, csm_vfloat pz, uint own, csm_vfloat qx,
+                             csm_vfloat qy, csm_vfloat qz, csm_vfloat wx, csm_vfloat wy, csm_vfloat wz, float bias, csm_vint run) {
   csm_vint lit = run;
   for (uint k = 0; k < scene->instance_count && csm_vany(lit); ++k)
-    lit = lit & csm_vinstance_lit(scene, k, px, py, pz, wx, wy, wz, bias, lit);
+    lit = lit & (k == own ? csm_vinstance_lit(scene, k, qx, qy, qz, wx, wy, wz, bias, lit)
+                          : csm_vinstance_lit(scene, k, px, py, pz, wx, wy, wz, bias, lit));
   return lit;
 }
 
@@ -699,11 +702,13 @@ CSM_INLINE void csm_ao_finish(const csm_vfloat* sum, csm_vfloat nx, csm_vfloat n
 }
 
 // The AO of each lane's receiver (p, n; `valid` lanes only, the others compute garbage): its
-// pattern's directions start at patterns[first] (4 floats each). The C++ reference runs it per
-// receiver, the kernel per CSM_AO_LANES receivers.
+// pattern's directions start at patterns[first] (4 floats each). Instance `own` (none: an index
+// past the instances) sees the receiver lifted by `lift` along n (csm_vlit). The C++ reference runs
+// it per receiver, the kernel per CSM_AO_LANES receivers.
 CSM_INLINE void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const float* patterns, csm_vuint first, uint samples,
                                       csm_vfloat px, csm_vfloat py, csm_vfloat pz, csm_vfloat nx, csm_vfloat ny, csm_vfloat nz,
-                                      csm_vint valid, uint ground, float bias, csm_vfloat* out) {
+                                      uint own, csm_vfloat lift, csm_vint valid, uint ground, float bias, csm_vfloat* out) {
+  const csm_vfloat qx = px + nx * lift, qy = py + ny * lift, qz = pz + nz * lift;
   csm_vfloat h[3];
   csm_ao_rotation_axis(nx, ny, nz, h);
   csm_vfloat sum[4] = {csm_vf(0.0f), csm_vf(0.0f), csm_vf(0.0f), csm_vf(0.0f)};
@@ -715,7 +720,7 @@ CSM_INLINE void csm_ambient_occlusion(const CsmScene* scene, CSM_GLOBAL const fl
                   CSM_VGATHER(csm_vfloat, patterns, s + 2u, ), d);
     const csm_vint test = ground ? valid & !(d[1] < 0.0f) : valid;
     above = csm_vsel(test, above + 1u, above);
-    csm_ao_add_where(sum, d[0], d[1], d[2], csm_vlit(scene, px, py, pz, d[0], d[1], d[2], bias, test));
+    csm_ao_add_where(sum, d[0], d[1], d[2], csm_vlit(scene, px, py, pz, own, qx, qy, qz, d[0], d[1], d[2], bias, test));
   }
   csm_ao_finish(sum, nx, ny, nz, samples, above, ground, out);
 }

@@ -133,7 +133,7 @@ void ambient_occlusion_reference(const VisibilityScene& scene, const AoRequest& 
     const Vec4 p = request.positions[r], n = request.normals[r];
     float result[4];
     device::csm_ambient_occlusion(&view, &request.patterns[0].x, request.pattern_of[r] * 4 * request.samples, request.samples, p.x,
-                                  p.y, p.z, n.x, n.y, n.z, 1, request.ground ? 1 : 0, request.bias, result);
+                                  p.y, p.z, n.x, n.y, n.z, request.own_instance, p.w, 1, request.ground ? 1 : 0, request.bias, result);
     out[r] = {result[0], result[1], result[2], result[3]};
   });
 }
@@ -170,7 +170,8 @@ std::vector<Vec4> AmbientOcclusion::run(const AoRequest& request, Profiler* prof
   scene_.bind_scene(kernel_, 6);
   kernel_.setArg(14, static_cast<cl_uint>(request.ground ? 1 : 0));
   kernel_.setArg(15, request.bias);
-  kernel_.setArg(16, result_.buffer());
+  kernel_.setArg(16, static_cast<cl_uint>(request.own_instance));
+  kernel_.setArg(17, result_.buffer());
   enqueue_1d(runtime_.queue(), kernel_, (n + kAoLanes - 1) / kAoLanes, 0, profiler, "csm ambient occlusion");
   return result_.read();
 }

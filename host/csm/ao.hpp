@@ -40,8 +40,12 @@ std::vector<Vec4> make_patterns(PatternSet set, std::uint32_t patterns, std::uin
 // The pattern each receiver uses: floor(u · patterns) of a fixed per-receiver uniform u.
 std::vector<std::uint32_t> choose_patterns(std::size_t receivers, std::uint32_t patterns, std::uint32_t seed);
 
+inline constexpr std::uint32_t kNoInstance = UINT32_MAX;
 struct AoRequest {
-  std::vector<Vec4> positions, normals;  // world space; unit normals
+  // World space; unit normals. positions[r].w: how far receiver r is lifted along its normal, world
+  // units, where instance own_instance is queried (off its own surface); ignored without one.
+  std::vector<Vec4> positions, normals;
+  std::uint32_t own_instance = kNoInstance;
   std::vector<Vec4> patterns;            // from make_patterns
   std::uint32_t samples = kDefaultSamples;
   std::vector<std::uint32_t> pattern_of;  // per receiver

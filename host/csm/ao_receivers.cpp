@@ -9,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "csm/query_reach.hpp"
@@ -87,6 +88,7 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
   request.samples = options.samples;
   request.ground = options.ground;
   request.bias = options.bias;
+  request.own_instance = options.lift.own_instance;
   const std::vector<std::uint32_t> choice = choose_patterns(n, options.patterns, options.seed);
   std::unique_ptr<AmbientOcclusion> device;
   if (runtime) device = std::make_unique<AmbientOcclusion>(*runtime, scene);
@@ -99,9 +101,14 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
                               choice.begin() + static_cast<std::ptrdiff_t>(first + count));
     for (std::size_t k = 0; k < count; ++k) {
       const Vec3 nrm = receiver_normal(receiver, first + k);
-      const float lift = options.lifts.empty() ? 0.0f : options.lifts.at(first + k);
-      const Vec3 p = receiver.vertices[first + k] + nrm * lift;
-      request.positions[k] = {p.x, p.y, p.z, 1};
+      const float lift = options.lift.lifts.empty() ? 0.0f : options.lift.lifts.at(first + k);
+      if (options.lift.own_instance == kNoInstance) {
+        const Vec3 p = receiver.vertices[first + k] + nrm * lift;
+        request.positions[k] = {p.x, p.y, p.z, 0};
+      } else {
+        const Vec3 p = receiver.vertices[first + k];
+        request.positions[k] = {p.x, p.y, p.z, lift};
+      }
       request.normals[k] = {nrm.x, nrm.y, nrm.z, 0};
     }
     if (device) part = device->run(request);
@@ -137,11 +144,36 @@ std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const 
   return texels;
 }
 
-std::vector<float> receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
-                                  float texels) {
-  std::vector<float> lifts = coarsest_texel_around(receiver.vertices, csms, instances);
-  for (float& lift : lifts) lift *= texels;
-  return lifts;
+std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::vector<const Csm*>& csms,
+                                             const std::vector<Instance>& instances) {
+  const Sphere own = bounding_sphere(receiver);
+  const glm::vec3 own_centre(own.centre.x, own.centre.y, own.centre.z);
+  std::optional<std::size_t> triangles;  // counted once, and only when a sphere matches
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    if (instances[i].occluder >= csms.size()) continue;
+    const CsmInfo& info = csms[instances[i].occluder]->info;
+    const MovedReach placed = moved_reach(info, instances[i].placement, 0.0f);
+    // require_built_from's 1e-4 R, and the 1e-4 R that moved_reach widens the radius by, plus the
+    // float rounding of a placed centre far from the origin.
+    const float slack = 3e-4f * own.radius + 1e-6f * glm::length(own_centre);
+    if (glm::distance(placed.centre, own_centre) > slack || std::fabs(placed.radius - own.radius) > slack) continue;
+    if (!triangles) triangles = casting_triangles(receiver, own.centre).size() / 3;
+    if (*triangles == info.triangles) return i;
+  }
+  return std::nullopt;
+}
+
+ReceiverLifts receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
+                             float texels) {
+  ReceiverLifts out;
+  if (const std::optional<std::size_t> own = receiver_instance(receiver, csms, instances)) {
+    out.own_instance = static_cast<std::uint32_t>(*own);
+    out.lifts.assign(receiver.vertices.size(), texels * placed_texel(csms[instances[*own].occluder]->info, instances[*own].placement));
+    return out;
+  }
+  out.lifts = coarsest_texel_around(receiver.vertices, csms, instances);
+  for (float& lift : out.lifts) lift *= texels;
+  return out;
 }
 
 std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& occluder, const ReceiverAoOptions& options) {

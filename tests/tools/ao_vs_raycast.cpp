@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     const splatcl::Mesh mesh = splatcl::load_mesh(argv[1]);
     const Csm csm = read_csm(argv[2]);
     ReceiverAoOptions options;
-    options.lifts = receiver_lifts(mesh, {&csm}, {{0, kIdentity}}, argc == 4 ? std::stof(argv[3]) : kDefaultLiftTexels);
+    options.lift = receiver_lifts(mesh, {&csm}, {{0, kIdentity}}, argc == 4 ? std::stof(argv[3]) : kDefaultLiftTexels);
     const std::vector<splatcl::Vec4> with_csm = receiver_ambient_occlusion(mesh, VisibilityScene({&csm}, {{0, kIdentity}}), options, nullptr);
     const std::vector<float> by_rays = raycast_ambient_occlusion(mesh, mesh, options);
     double error = 0, mean_csm = 0, mean_rays = 0;
