@@ -33,7 +33,7 @@ std::size_t Comparison::regressions() const {
 }
 
 Comparison compare_results(const Results& current, const Results& baseline, double threshold_pct) {
-  if (!(threshold_pct >= 0)) throw Error("the regression threshold must not be negative");
+  if (!(threshold_pct >= 0)) throw Error(fmt::format("the regression threshold must be 0 or more, not {}", threshold_pct));
   Comparison comparison;
   comparison.threshold_pct = threshold_pct;
   std::map<std::string, const Record*> base;

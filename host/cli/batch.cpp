@@ -155,6 +155,10 @@ int run_batch_command(const BatchCommand& c) {
 
 int run_merge(const MergeCommand& c) {
   if (c.output.empty()) throw Error("batch merge: an output file is required (-o MERGED.json)");
+  check_output_file(c.output, "-o");
+  std::vector<std::pair<std::string, std::string>> inputs;
+  for (const auto& path : c.summaries) inputs.emplace_back("shard summary", path);
+  check_outputs_spare_inputs({{"-o", c.output}}, inputs);
   std::vector<std::pair<std::string, nlohmann::json>> named;
   for (const auto& path : c.summaries) named.emplace_back(path, read_summary(path));
   const nlohmann::json merged = merge_summaries(named, c.partial);

@@ -27,7 +27,22 @@
 #include "runtime/error.hpp"
 
 namespace splatcl::cli {
+
 namespace {
+
+// --threshold: a percentage 0 to 10^6. CLI::Range let nan through (every comparison with it is
+// false), and --compare then refused it only after the whole run, as "negative".
+std::string threshold_percent(const std::string& text) {
+  double value = 0;
+  try {
+    std::size_t used = 0;
+    value = std::stod(text, &used);
+    if (used != text.size()) return "not a number: " + text;
+  } catch (const std::exception&) {
+    return "not a number: " + text;
+  }
+  return value >= 0 && value <= 1e6 ? std::string() : "a percentage 0 to 1000000, not " + text;
+}
 
 struct BenchOptions {
   bench::RunOptions run;
@@ -106,7 +121,7 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
       ->type_name("BASELINE");
   app.add_option("--threshold", o.threshold_pct, "Regression threshold of --compare, in percent")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(threshold_percent);
   app.add_option("--plot", o.plot_dir, "Also draw PNG plots with gnuplot into DIR (see 'bench plot')")->type_name("DIR");
   if (splats_models)
     app.add_option("--models", bench::splats_models_dir(), "Directory holding the test models (splats and csm suites)")
@@ -172,7 +187,7 @@ Action register_bench(CLI::App& app) {
   compare->add_option("BASELINE", options->baseline_path, "Baseline results (.json or .csv)")->required()->type_name("BASELINE");
   compare->add_option("--threshold", options->threshold_pct, "Regression threshold, in percent of the baseline's median time")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(threshold_percent);
 
   auto* plot = bench->add_subcommand(
       "plot", "Draw PNG plots of a results file with gnuplot: throughput per case and device, size and thread scaling");

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -180,11 +181,13 @@ int run_verify(const VerifyOptions& o) {
   SurfaceCheckOptions check;
   if (!o.eps.empty()) {
     check.eps = parse_number(o.eps, "--eps");
-    if (!(check.eps > 0) || !std::isfinite(check.eps)) throw Error("--eps must be finite and positive, not " + o.eps);
+    if (!(check.eps > 0) || !(check.eps <= std::numeric_limits<float>::max()))
+      throw Error("--eps must be positive and within float range (< 3.4e38), not " + o.eps);
   }
   if (!o.points.empty()) {
     check.surface_points = parse_count(o.points, "--points");
-    if (check.surface_points < 1000) throw Error("--points must be at least 1000, not " + o.points);
+    if (check.surface_points < 1000 || check.surface_points > kMaxSurfacePoints)
+      throw Error(fmt::format("--points must be 1000 to {}, not {}", kMaxSurfacePoints, o.points));
   }
   if (!o.ellipse_points.empty()) {
     check.ellipse_points = parse_count(o.ellipse_points, "--ellipse-points");
@@ -193,6 +196,7 @@ int run_verify(const VerifyOptions& o) {
   }
   if (!o.seed.empty()) check.seed = parse_count(o.seed, "--seed");
   check_output_file(o.json, "--json");
+  check_outputs_spare_inputs({{"--json", o.json}}, {{"mesh", o.model}, {"splat file", o.splats}});
 
   ProgressLine progress("splats verify");
   progress.show("reading " + o.splats);
@@ -268,7 +272,7 @@ Action register_splats(CLI::App& app) {
   verify->add_option("splats", v->splats, "Splat PLY written by splatcl splats")->required();
   verify->add_option("--eps", v->eps, "Tolerance to check (default: the one recorded in the file)")->type_name("E");
   verify->add_option("--points", v->points,
-                     "Random surface points to check, at least 1000 (default: 5 A / (pi eps^2), enough to hit a hole of "
+                     "Random surface points to check, 1000 to 20000000 (default: 5 A / (pi eps^2), enough to hit a hole of "
                      "diameter 2 eps 5 times, within [10000, 20000000])")
       ->type_name("N");
   verify->add_option("--ellipse-points", v->ellipse_points, "Area-uniform points per splat, 1 to 100000, besides its rim and clip chord (default 64)")

@@ -84,9 +84,20 @@ void remove_dead_temporaries(const std::string& path) {
     else continue;
     const std::size_t digits = std::min(rest.find_first_not_of("0123456789"), rest.size());
     if (digits == 0 || digits > 9) continue;
-    const std::string_view after = rest.substr(digits);
+    std::string_view after = rest.substr(digits);
     // Staged names keep the extension as given, which differs from the file's through a link.
-    if (!after.empty() && after != target.extension().string() && after != fs::path(path).extension().string()) continue;
+    const std::string extensions[] = {target.extension().string(), fs::path(path).extension().string()};
+    for (const std::string& extension : extensions)
+      if (!extension.empty() && after.starts_with(extension)) {
+        after.remove_prefix(extension.size());
+        break;
+      }
+    // A staged output is itself written atomically (NAME.partialPID.EXT.tmpPID, one process): kill -9
+    // while it was being written left that temporary behind.
+    if (after.starts_with(".tmp") && after.size() > 4 &&
+        after.find_first_not_of("0123456789", 4) == std::string_view::npos)
+      after = {};
+    if (!after.empty()) continue;
     const pid_t pid = static_cast<pid_t>(std::stol(std::string(rest.substr(0, digits))));
     if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH) dead.push_back(it->path());
   }

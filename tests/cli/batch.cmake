@@ -26,6 +26,9 @@ add_test(NAME cli.error_batch_empty_outputs COMMAND ${EXPECT_ERROR} "'outputs' m
 add_test(NAME cli.error_batch_no_output COMMAND ${EXPECT_ERROR} "-o OUTDIR" $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv)
 add_test(NAME cli.error_batch_merge_not_summary COMMAND ${EXPECT_ERROR} "not-summary.json: not a splatcl batch summary"
          $<TARGET_FILE:splatcl> batch merge ${BATCH_DIR}/not-summary.json -o ${BATCH_DIR}/merged.json)
+# -o naming one of the summaries: refused before reading (it replaced shard 0's summary).
+add_test(NAME cli.error_batch_merge_over_input COMMAND ${EXPECT_ERROR} "-o .*summary-0-of-2.json would overwrite the shard summary"
+         $<TARGET_FILE:splatcl> batch merge ${BATCH_DIR}/summary-0-of-2.json ${BATCH_DIR}/summary-1-of-2.json -o ${BATCH_DIR}/summary-0-of-2.json)
 foreach(script resume shards failure parameters)
   add_test(NAME cli.batch_${script} COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/batch/cli_${script}_test.sh $<TARGET_FILE:splatcl>
            ${CMAKE_CURRENT_BINARY_DIR}/batch-${script})

@@ -74,3 +74,8 @@ if(NOT SPLATCL_SANITIZE)
            ${PROJECT_SOURCE_DIR}/scripts/gpu-check.sh ${PROJECT_BINARY_DIR} ${CMAKE_CURRENT_BINARY_DIR}/gpu-check)
   set_tests_properties(cli.gpu_check PROPERTIES SKIP_RETURN_CODE 77)
 endif()
+# --threshold nan: refused before any run (CLI::Range let it through; --compare refused it after the run).
+add_test(NAME cli.error_bench_threshold_nan COMMAND ${EXPECT_ERROR} "--threshold: a percentage 0 to 1000000, not nan"
+         $<TARGET_FILE:splatcl> bench --threshold nan --quick primitives)
+add_test(NAME cli.error_bench_compare_threshold_nan COMMAND ${EXPECT_ERROR} "--threshold: a percentage 0 to 1000000, not nan"
+         $<TARGET_FILE:splatcl> bench compare missing.json missing.json --threshold nan)

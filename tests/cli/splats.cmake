@@ -32,10 +32,19 @@ set_tests_properties(cli.error_splats_verify_lifted cli.error_splats_verify_hole
 add_test(NAME cli.error_splats_verify_small_eps COMMAND ${EXPECT_ERROR} "splats-cube.ply: fails the two-sided bound at eps 0.0005 .*leave the surface by more than eps"
          $<TARGET_FILE:splatcl> splats verify ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/splats-cube.ply --eps 0.0005 --points 100000)
 set_tests_properties(cli.error_splats_verify_small_eps PROPERTIES FIXTURES_REQUIRED splats_cube)
-add_test(NAME cli.error_splats_verify_bad_points COMMAND ${EXPECT_ERROR} "--points must be at least 1000"
+add_test(NAME cli.error_splats_verify_bad_points COMMAND ${EXPECT_ERROR} "--points must be 1000 to 20000000, not 10$"
          $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --points 10)
-add_test(NAME cli.error_splats_verify_bad_eps COMMAND ${EXPECT_ERROR} "--eps must be finite and positive"
+add_test(NAME cli.error_splats_verify_huge_points COMMAND ${EXPECT_ERROR} "--points must be 1000 to 20000000, not 99999999999"
+         $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --points 99999999999)
+add_test(NAME cli.error_splats_verify_bad_eps COMMAND ${EXPECT_ERROR} "--eps must be positive and within float range"
          $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --eps -1)
+add_test(NAME cli.error_splats_verify_huge_eps COMMAND ${EXPECT_ERROR} "--eps must be positive and within float range .*, not 1e39"
+         $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --eps 1e39)
+# --json naming an input: refused before anything is read (it replaced the mesh with the report).
+add_test(NAME cli.error_splats_verify_json_over_mesh COMMAND ${EXPECT_ERROR} "--json .*verify-plane.obj would overwrite the mesh"
+         $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --json ${VERIFY_PLANE})
+add_test(NAME cli.error_splats_verify_json_over_splats COMMAND ${EXPECT_ERROR} "--json .*verify-good.ply would overwrite the splat file"
+         $<TARGET_FILE:splatcl> splats verify ${VERIFY_PLANE} ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply --json ${CMAKE_CURRENT_BINARY_DIR}/verify-good.ply)
 add_test(NAME cli.splats_clip COMMAND ${EXPECT_OUTPUT} --match "${SPLATS_BOUND_HOLDS}" --ply ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-clip.ply 100
          -- $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:8 --eps 0.002 --color-field hard --color-tol 40 --clip
          -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-clip.ply)

@@ -225,12 +225,21 @@ TEST(AtomicFile, TemporariesOfDeadProcessesAreRemovedLiveOnesKept) {
   ::waitpid(child, nullptr, 0);  // its pid now belongs to no process
   const std::string dead = path + ".tmp" + std::to_string(child);
   const std::string dead_staged = path + ".partial" + std::to_string(child) + ".csm";
+  // A staged output's own temporary (commands with several outputs stage each, then write the
+  // staged file atomically): it survived every later run.
+  const std::string dead_staged_temporary = dead_staged + ".tmp" + std::to_string(child);
   const std::string live = path + ".tmp" + std::to_string(::getpid());
+  const std::string live_staged_temporary = path + ".partial" + std::to_string(::getpid()) + ".csm.tmp" + std::to_string(::getpid());
   const std::string other = (dir / "model.csm.json.tmp1").string();  // another file's: not ours to remove
-  for (const auto& p : {dead, dead_staged, live, other}) std::ofstream(p) << "partial";
+  const std::string not_a_temporary = path + ".partial" + std::to_string(child) + ".csm.tmp";
+  for (const auto& p : {dead, dead_staged, dead_staged_temporary, live, live_staged_temporary, other, not_a_temporary})
+    std::ofstream(p) << "partial";
   remove_dead_temporaries(path);
   EXPECT_FALSE(fs::exists(dead));
   EXPECT_FALSE(fs::exists(dead_staged));
+  EXPECT_FALSE(fs::exists(dead_staged_temporary));
+  EXPECT_TRUE(fs::exists(live_staged_temporary));
+  EXPECT_TRUE(fs::exists(not_a_temporary));
   EXPECT_TRUE(fs::exists(live));
   EXPECT_TRUE(fs::exists(other));
 }
