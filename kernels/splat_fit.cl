@@ -118,6 +118,11 @@ __kernel void splat_frames(__global const float4* positions, __global const floa
     m += normals[row[r]] * exp(-3.0f * d * scale);
   }
 #undef SPLAT_TAKEN
+  {
+    float fu[3] = {u.x, u.y, u.z}, fv[3] = {v.x, v.y, v.z}, fn[3] = {n.x, n.y, n.z};
+    splat_frame_facing(fu, fv, fn, n0.x, n0.y, n0.z, crease_cos);
+    u = (float4)(fu[0], fu[1], fu[2], 0.0f), v = (float4)(fv[0], fv[1], fv[2], 0.0f), n = (float4)(fn[0], fn[1], fn[2], 0.0f);
+  }
   if (dot3(m, n) < 0.0f) u = -u, v = -v, n = -n;
   frames[i].u = u;
   frames[i].v = v;

@@ -182,12 +182,6 @@ D3 fan_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>
   return area;
 }
 
-bool zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
-               const std::vector<std::uint32_t>& corners, std::size_t f) {
-  const D3 area = fan_area(positions, offsets, corners, f);
-  return area[0] == 0 && area[1] == 0 && area[2] == 0;
-}
-
 // Per face, the signed volume of the cone from the bounding box's centre over it (a fan from its
 // first corner), in double about that centre, so any float coordinates give finite sums: their sum
 // over a closed surface is the volume it encloses, negative when its faces point inward.
@@ -604,7 +598,7 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // directed edge, face
   edges.reserve(faces.corners.size());
   for (std::size_t f = 0; f < n; ++f)
-    if (zero_area(positions, faces.offsets, faces.corners, f)) ++problems.zero_area_faces;
+    if (rounded_zero_area(positions, faces.offsets, faces.corners, f)) ++problems.zero_area_faces;
   const std::vector<std::array<std::uint32_t, 2>> ends = matched_edges(positions, faces.offsets, faces.corners);
   for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t, std::uint32_t) {
     const auto [a, b] = ends[edges.size()];
@@ -659,9 +653,28 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   }
 }
 
+// The vertex normals of the vertices of faces whose area is within float rounding of zero
+// (`noise`), without those faces: OpenMesh averages unit face normals, and such a face's is
+// rounding noise as heavy as any real face's (a helper's audit: faces laid along a sphere's edges,
+// collinear only to float rounding, turned the splats at their corners 90–121° off the surface).
+// A vertex of such faces only keeps a zero normal, as one of exactly collinear faces does.
+void drop_noise_normals(OmMesh& om, const std::vector<std::uint8_t>& noise) {
+  for (const auto f : om.faces()) {
+    if (!noise[static_cast<std::size_t>(f.idx())]) continue;
+    for (const auto v : om.fv_range(f)) {
+      OmMesh::Normal sum(0, 0, 0);
+      for (const auto g : om.vf_range(v))
+        if (!noise[static_cast<std::size_t>(g.idx())]) sum += om.normal(g);
+      const float length = sum.norm();
+      om.set_normal(v, length > 0 ? sum / length : OmMesh::Normal(0, 0, 0));
+    }
+  }
+}
+
 // OpenMesh's face-normal average, on a copy scaled by a power of two (exact) when the coordinates
-// are so large or small that its float cross products would over- or underflow.
-void update_normals(OmMesh& om) {
+// are so large or small that its float cross products would over- or underflow; without the faces
+// that `noise` marks (drop_noise_normals).
+void update_normals(OmMesh& om, const std::vector<std::uint8_t>& noise) {
   om.request_face_normals();
   float largest = 0;
   for (const auto v : om.vertices())
@@ -678,9 +691,11 @@ void update_normals(OmMesh& om) {
       om.set_point(v, om.point(v) * scale);
     }
     om.update_normals();
+    drop_noise_normals(om, noise);
     for (const auto v : om.vertices()) om.set_point(v, points[static_cast<std::size_t>(v.idx())]);
   } else {
     om.update_normals();
+    drop_noise_normals(om, noise);
   }
   om.release_face_normals();
 }
@@ -731,7 +746,11 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
   const auto file_normal = [&](OmMesh::VertexHandle v) { return !raw.has_normal.empty() && raw.has_normal[origin[static_cast<std::size_t>(v.idx())]]; };
   bool all_file_normals = true;
   for (const auto v : om.vertices()) all_file_normals = all_file_normals && (om.is_isolated(v) || file_normal(v));
-  if (!all_file_normals) update_normals(om);
+  if (!all_file_normals) {
+    std::vector<std::uint8_t> noise(faces.count());  // OpenMesh's faces are `faces`, in order
+    for (std::size_t f = 0; f < faces.count(); ++f) noise[f] = rounded_zero_area(raw.positions, faces.offsets, faces.corners, f);
+    update_normals(om, noise);
+  }
 
   Mesh mesh;
   mesh.source = source;
@@ -809,6 +828,8 @@ Box Mesh::bounds() const {
 // Closed with every face, or without the (nearly) zero-area ones: they hold no surface, and one
 // laid along an edge of a closed mesh made that edge non-manifold; but where zero-area faces fill a
 // crack (an edge split on one side only) the mesh is closed only with them.
+bool Mesh::zero_area_face(std::size_t f) const { return rounded_zero_area(vertices, face_offsets, corners, f); }
+
 bool Mesh::closed() const {
   const auto closed_with = [&](bool zero_area_faces) {
     std::vector<std::uint32_t> offsets{0}, kept;

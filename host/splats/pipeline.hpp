@@ -36,7 +36,7 @@ namespace splatcl::splats {
 // other side; splats/neighbors.hpp), and the surface bound shrinks a long grown splat from 4:1
 // instead of whole (needles). 9: the surface bound counts only triangles that face within 60° of
 // the splat (fins: a strip of a hole's wall laid along the rim over the plate's top).
-inline constexpr int kSplatMethodVersion = 9;
+inline constexpr int kSplatMethodVersion = 10;
 
 struct PipelineOptions {
   SamplingOptions sampling;

@@ -52,7 +52,10 @@ void set_parameter(SplatParameters& p, const std::string& name, const nlohmann::
   const std::string key = parameter_key(name);
   if (key == "eps") {
     p.eps = number_parameter(name, value);
-    if (!(p.eps >= 0 && std::isfinite(p.eps))) throw Error(fmt::format("'{}' must be >= 0 (0: use eps_diag), got {}", name, shown_value(value)));
+    // Float range here, not only when a mesh resolves it: a batch manifest's "eps": 1e39 passed the
+    // manifest's check and then failed every model.
+    if (!(p.eps >= 0 && p.eps <= std::numeric_limits<float>::max()))
+      throw Error(fmt::format("'{}' must be >= 0 (0: use eps_diag) and within float range (< 3.4e38), got {}", name, shown_value(value)));
   } else if (key == "eps_diag") {
     p.eps_diag = number_parameter(name, value);
     if (!(p.eps_diag > 0 && std::isfinite(p.eps_diag))) throw Error(fmt::format("'{}' must be positive, got {}", name, shown_value(value)));

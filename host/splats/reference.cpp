@@ -107,6 +107,11 @@ Frame frame_of(const Samples& samples, const Neighborhoods& nb, std::size_t i, f
     const Vec3 nj = xyz(samples.normals[row[r]]);
     m = m + Vec3{nj.x * weight, nj.y * weight, nj.z * weight};
   }
+  {
+    float fu[3] = {u.x, u.y, u.z}, fv[3] = {v.x, v.y, v.z}, fn[3] = {n.x, n.y, n.z};
+    device::splat_frame_facing(fu, fv, fn, n0.x, n0.y, n0.z, crease_cos);
+    u = {fu[0], fu[1], fu[2]}, v = {fv[0], fv[1], fv[2]}, n = {fn[0], fn[1], fn[2]};
+  }
   if (dot(m, n) < 0.0f) u = scaled(u, -1.0f), v = scaled(v, -1.0f), n = scaled(n, -1.0f);
   return {to_vec4(u), to_vec4(v), to_vec4(n)};
 }

@@ -476,6 +476,7 @@ Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const Colo
                               ? 0.0f
                               : static_cast<float>(std::cos(static_cast<double>(options.crease_degrees) * std::numbers::pi / 180.0));
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      if (mesh.zero_area_face(f)) continue;  // no surface, and a normal of rounding noise
       const std::uint32_t corners = mesh.face_offsets[f + 1] - mesh.face_offsets[f];
       for_each_sampled_polygon(mesh, f, [&](const std::uint32_t* ids, std::uint32_t count) {
         const std::uint32_t first = options.mode == SampleMode::FaceGrid ? 0 : longest_edge_start(mesh, ids, count);

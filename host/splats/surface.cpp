@@ -100,6 +100,7 @@ DVec3 closest_point(const SurfaceTriangle& t, DVec3 p) {
 std::vector<SurfaceTriangle> surface_triangles(const Mesh& mesh) {
   std::vector<SurfaceTriangle> out;
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    if (mesh.zero_area_face(f)) continue;  // its normal is noise: gap splats laid on it stood across the surface
     const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
     for (std::uint32_t c = begin + 1; c + 1 < end; ++c) {
       SurfaceTriangle t;

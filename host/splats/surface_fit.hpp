@@ -22,6 +22,8 @@
 // at the samples. The extensions measure against the mesh itself (splats/surface.hpp).
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "math/dvec3.hpp"
@@ -98,8 +100,10 @@ struct GapColour {
   int tolerance = 255;
   double margin = 0;
 };
+// progress(text) at the start and every 1024 gaps of a round.
 std::vector<SplatRecord> fill_gaps(const Surface& surface, const Mesh& mesh, const ColorSource& colors, const GapColour& colour,
-                                   std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats);
+                                   std::vector<SplatRecord>& selected, float eps, SurfaceFitStats& stats,
+                                   const std::function<void(const std::string&)>& progress = {});
 
 // Fits every unclipped splat to where the surface is, for drawing the thesis's splats, whose size
 // corrections reach past the last accepted sample, as drawn with both axes times `scale` (the splat

@@ -232,5 +232,70 @@ TEST(SplatPipeline, BunnyAtTheThesisDefault) {
   EXPECT_LE(report.max_error, 3e-4 * (1 + 1e-4));
 }
 
+// Faces laid along an icosphere's edges, (a, midpoint, b) with the midpoint rounded to float: their
+// corners are collinear only to float rounding, so their unit normals are noise. OpenMesh averaged
+// them into the normals of the sphere's vertices and gave the midpoints (on those faces only) their
+// own, and their samples and surface triangles carried them: a helper's audit found 8 splats 90–121°
+// off the surface. Now they count as zero-area faces, add no normal, sample or surface triangle,
+// and every splat faces within 30° of the sphere's outward direction at its centre.
+TEST(SplatPipeline, FacesCollinearToFloatRoundingAddNoNormalsNorSplats) {
+  const Mesh sphere = icosphere_mesh(2);
+  std::vector<Vec3> vertices = sphere.vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (std::size_t f = 0; f < sphere.face_count(); ++f)
+    faces.emplace_back(sphere.corners.begin() + sphere.face_offsets[f], sphere.corners.begin() + sphere.face_offsets[f + 1]);
+  std::size_t inexact = 0;
+  for (std::size_t f = 40; f < 50; ++f) {
+    const Vec3 a = sphere.vertices[faces[f][0]], b = sphere.vertices[faces[f][1]];
+    const Vec3 m{(a.x + b.x) * 0.5f, (a.y + b.y) * 0.5f, (a.z + b.z) * 0.5f};
+    const Vec3 c = cross(m - a, b - a);
+    inexact += c.x != 0 || c.y != 0 || c.z != 0;
+    vertices.push_back(m);
+    faces.push_back({faces[f][0], static_cast<std::uint32_t>(vertices.size() - 1), faces[f][1]});
+  }
+  ASSERT_GE(inexact, 5u);  // most are collinear only to rounding
+  const Mesh noisy = make_mesh(vertices, faces, "icosphere with faces along its edges");
+  EXPECT_EQ(noisy.problems.zero_area_faces, 10u);
+  for (std::size_t v = 0; v < sphere.vertices.size(); ++v) EXPECT_GT(dot(noisy.normals[v], sphere.normals[v]), 1 - 1e-6f) << v;
+  for (std::size_t v = sphere.vertices.size(); v < noisy.vertices.size(); ++v) {
+    const Vec3 n = noisy.normals[v];
+    const bool midpoint = noisy.file_vertex[v] >= sphere.vertices.size();
+    if (midpoint) {
+      EXPECT_TRUE(n.x == 0 && n.y == 0 && n.z == 0) << "midpoint " << v;
+    }
+  }
+  PipelineOptions options = options_with(2e-3f * std::sqrt(3.0f) * 2);
+  options.sampling.crease_degrees = options.fit.crease_degrees = 60.0f;
+  options.surface_bound = true;
+  const SplatRun run = generate_splats(noisy, ColorSource{}, options, &runtime());
+  std::size_t off = 0;
+  for (const SplatRecord& s : run.records()) off += dot(s.normal, normalized(s.center)) < std::cos(std::numbers::pi_v<float> / 6);
+  EXPECT_EQ(off, 0u) << "of " << run.records().size() << " splats";
+}
+
+// A mesh far from the origin for its size is processed in units of its diagonal; its errors are
+// reported in its own units, as ε is. A sphere scaled by 1e4 and moved to 2e6 reported a mean error
+// of about 1e-5 ε (left in units of its diagonal) where the same sphere at the origin reports 0.4 ε.
+TEST(SplatPipeline, ErrorsAreInTheMeshUnitsWhenItIsProcessedInUnitsOfItsDiagonal) {
+  const Mesh unit = sphere_mesh(20, 30);
+  const auto moved = [&](float scale, float offset) {
+    std::vector<Vec3> vertices = unit.vertices;
+    for (Vec3& v : vertices) v = Vec3{scale * v.x + offset, scale * v.y, scale * v.z};
+    std::vector<std::vector<std::uint32_t>> faces;
+    for (std::size_t f = 0; f < unit.face_count(); ++f)
+      faces.emplace_back(unit.corners.begin() + unit.face_offsets[f], unit.corners.begin() + unit.face_offsets[f + 1]);
+    return make_mesh(vertices, faces, "sphere");
+  };
+  const PipelineOptions options = options_with(100.0f);
+  const SplatRun near = generate_splats(moved(1e4f, 0), ColorSource{}, options, &runtime());
+  const SplatRun far = generate_splats(moved(1e4f, 2e6f), ColorSource{}, options, &runtime());
+  ASSERT_EQ(near.scale, 1.0);
+  ASSERT_GT(far.scale, 1.0);  // processed in units of its diagonal
+  ASSERT_GT(near.after.mean, 0.0);
+  EXPECT_NEAR(far.after.mean / near.after.mean, 1.0, 0.2);
+  EXPECT_NEAR(far.before.mean / near.before.mean, 1.0, 0.2);
+  EXPECT_LE(far.after.max, 100.0 * (1 + 1e-3));
+}
+
 }  // namespace
 }  // namespace splatcl::splats

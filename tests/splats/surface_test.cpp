@@ -159,7 +159,9 @@ TEST(Surface, RecentWalksMatchBruteForceOnSliversAndMixedSizes) {
     faces.push_back({3 * f, 3 * f + 1, 3 * f + 2});
   }
   const Surface surface(make_mesh(vertices, faces, "soup"));
-  ASSERT_GT(surface.triangles().size(), 550u);
+  // The tiniest slivers (offsets of 1e-11 at coordinates near 1) are zero-area to float rounding:
+  // no surface triangle (Mesh::zero_area_face).
+  ASSERT_GT(surface.triangles().size(), 520u);
   Surface::Recent recent;
   DVec3 p{0.5, 0.5, 0.1};
   for (int step = 0; step < 3000; ++step) {
