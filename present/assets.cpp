@@ -11,6 +11,7 @@
 
 #include "csm/build.hpp"
 #include "io/checksum.hpp"
+#include "io/output_files.hpp"
 #include "io/text_file.hpp"
 #include "math/dvec3.hpp"
 #include "present/cache_blob.hpp"
@@ -274,8 +275,17 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   // Like "drawn gaps", raise "drawn fit" whenever splats::clip_to_surface changes.
   const std::string drawn_path = fmt::format("{}/{}.drawn", cache_dir, asset_key(assets.mesh, gap_parameters + "|drawn fit v1"));
 
+  // What is not cached is built and then written there: a cache the user cannot write failed only
+  // after the build (a helper's audit: 24 s into a bunny). Probed once, at the first miss, so a
+  // read-only cache that holds every asset still serves.
+  bool cache_probed = false;
+  const auto before_building = [&] {
+    if (!cache_probed) check_writable_directory(cache_dir, "the asset cache");
+    cache_probed = true;
+  };
   if (!splat_file) assets.splats_cached = read_cached(splat_path, [&] { assets.splats = splats::read_splat_file(splat_path).splats; });
   if (!assets.splats_cached) {
+    before_building();
     const Stopwatch step;
     report("splats");
     // The scene's quality settings and colour source as the splat stage's shared parameter list.
@@ -315,8 +325,12 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
       assets.drawn_cached = read_cached(drawn_path, [&] {
         read_drawn_fit(drawn_path, assets.splats.size() + gaps.size(), assets.drawn, assets.second_clips);
       });
-    if (!assets.drawn_cached) splats::clip_to_surface(mesh_surface(), assets.drawn, tolerance, q.splat_scale, assets.second_clips);
+    if (!assets.drawn_cached) {
+      before_building();
+      splats::clip_to_surface(mesh_surface(), assets.drawn, tolerance, q.splat_scale, assets.second_clips);
+    }
     if (!assets.gaps_cached) {
+      before_building();
       const Stopwatch step;
       report("gap splats of the splats as drawn");
       splats::SurfaceFitStats stats;
@@ -345,6 +359,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     assets.tree_cached =
         read_cached(tree_path, [&] { assets.tree = read_splat_tree(tree_path, static_cast<std::uint32_t>(assets.splats.size())); });
   if (!assets.tree_cached) {
+    before_building();
     const Stopwatch step;
     report("LOD tree");
     assets.tree = build_splat_tree(assets.splats, tree_options);
@@ -365,6 +380,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
         read_normal_fields(fields_path, assets.drawn.size(), assets.tree.nodes.size(), assets.normal_fields, assets.node_fields);
       });
     if (!assets.fields_cached) {
+      before_building();
       assets.normal_fields = splats::fit_normal_fields(assets.mesh, mesh_surface(), assets.drawn, assets.second_clips, q.crease_angle);
       assets.node_fields = splats::fit_normal_fields(assets.mesh, mesh_surface(), assets.tree.nodes, {}, q.crease_angle);
       write_normal_fields(fields_path, assets.normal_fields, assets.node_fields);
@@ -372,6 +388,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   }
   assets.csm_cached = read_cached(csm_path, [&] { assets.csm = csm::read_csm(csm_path); });
   if (!assets.csm_cached) {
+    before_building();
     const Stopwatch step;
     report("coherent shadow map");
     csm::BuildOptions options;

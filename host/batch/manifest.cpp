@@ -196,41 +196,8 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
   nlohmann::json doc;
   // nlohmann keeps the last of two equal keys in an object: a key given twice, or a parameter under
   // two spellings (eps_diag, eps-diag), is refused instead of one value winning silently.
-  // The containers being read, outermost first: an object's keys so far and its current key, an
-  // array's count of elements begun; they name where a repeated key lies ("models[2]").
-  struct Open {
-    bool array = false;
-    std::size_t elements = 0;
-    std::string key;
-    std::vector<std::string> keys;
-  };
-  std::vector<Open> open;
-  const auto where = [&] {
-    std::string path;
-    for (std::size_t i = 0; i + 1 < open.size(); ++i)
-      path += open[i].array ? fmt::format("[{}]", open[i].elements - 1) : (path.empty() ? "" : ".") + printable(open[i].key);
-    return path.empty() ? name : name + ": " + path;
-  };
-  const auto no_duplicate_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    using Event = nlohmann::json::parse_event_t;
-    const bool element_starts = event == Event::object_start || event == Event::array_start || event == Event::value;
-    if (element_starts && !open.empty() && open.back().array) ++open.back().elements;
-    if (event == Event::object_start || event == Event::array_start) open.push_back({event == Event::array_start, 0, {}, {}});
-    if ((event == Event::object_end || event == Event::array_end) && !open.empty()) open.pop_back();
-    if (event == Event::key && !open.empty()) {
-      const std::string key = parsed.get<std::string>();
-      for (const std::string& earlier : open.back().keys)
-        if (parameter_key(earlier) == parameter_key(key))
-          throw Error(earlier == key ? fmt::format("{}: key '{}' appears twice in one object", where(), printable(key))
-                                     : fmt::format("{}: keys '{}' and '{}' in one object name the same parameter", where(), printable(earlier),
-                                                   printable(key)));
-      open.back().keys.push_back(key);
-      open.back().key = key;
-    }
-    return true;
-  };
   try {
-    doc = nlohmann::json::parse(text, no_duplicate_keys);
+    doc = parse_json_once_per_key<nlohmann::json>(text, name, parameter_key);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number beyond double
     std::string what = e.what();
     if (const auto at = what.find("] "); what.rfind("[json.exception", 0) == 0 && at != std::string::npos) what = what.substr(at + 2);

@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/json_keys.hpp"
 #include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
@@ -74,7 +75,7 @@ nlohmann::json read_summary(const std::string& path) {
   const std::string text = read_text_file(path, "summary");
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(text);
+    doc = parse_json_once_per_key<nlohmann::json>(text, path);
   } catch (const nlohmann::json::exception&) {
     throw Error(path + ": not valid JSON (not a complete splatcl batch summary)");
   }

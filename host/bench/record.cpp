@@ -231,7 +231,7 @@ Results read_results(const std::string& path) { return parse_results(read_text_f
 Results parse_results(const std::string& text, const std::string& path) {
   Json json;
   try {
-    json = Json::parse(text);
+    json = parse_json_once_per_key<Json>(text, path);
   } catch (const nlohmann::json::exception& e) {
     throw Error(path + " is not valid JSON: " + e.what());
   }

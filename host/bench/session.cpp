@@ -56,7 +56,8 @@ Session::Session(std::string suite, SessionOptions options)
     : suite_(std::move(suite)),
       options_(std::move(options)),
       runtime_(Runtime::create(options_.device)),
-      progress_(::isatty(::fileno(stderr)) != 0) {
+      progress_(::isatty(::fileno(stderr)) != 0),
+      log_(progress_ ? nullptr : std::make_unique<cli::ProgressLine>("splatcl bench " + suite_)) {
   if (options_.measure.runs < 1) throw Error("--runs must be at least 1");
   if (options_.measure.warmup < 0) throw Error("--warmup must not be negative");
   // Fail before a long run, not after it, when the results could not be written.
@@ -162,7 +163,7 @@ void Session::withdraw_last_record(const std::string& why) {
 }
 
 void Session::show_progress(const std::string& text, bool final_line) {
-  if (!progress_) return;
+  if (log_) return log_->show(text);
   // \r and erase-line keep one updating line per case.
   std::fprintf(stderr, "\r\033[K[bench %s] %s%s", suite_.c_str(), text.c_str(), final_line ? "\n" : "");
   std::fflush(stderr);

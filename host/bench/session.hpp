@@ -9,6 +9,7 @@
 
 #include "bench/measure.hpp"
 #include "bench/record.hpp"
+#include "cli/progress.hpp"
 #include "runtime/error.hpp"
 #include "runtime/runtime.hpp"
 
@@ -97,6 +98,9 @@ class Session {
   std::vector<Record> records_;
   bool progress_;  // stderr is a terminal
   bool progress_line_open_ = false;
+  // Otherwise (a job log): a plain line at most every SPLATCL_PROGRESS_SECONDS (bench printed
+  // nothing at all there, not even which suites had finished).
+  std::unique_ptr<cli::ProgressLine> log_;
   Record unrecorded_;  // what measure() returns for a host row it does not record
 };
 

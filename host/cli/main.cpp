@@ -12,6 +12,7 @@
 #include "io/cpu_set.hpp"
 #include "io/in_flight.hpp"
 #include "runtime/error.hpp"
+#include "io/json_keys.hpp"
 #include "runtime/runtime.hpp"
 
 namespace splatcl::cli {
@@ -95,7 +96,7 @@ int main(int argc, char** argv) {
     // status 1 (runtime/error.hpp), not CLI11's two lines and its own codes (105-127).
     if (e.get_exit_code() == 0) return app.exit(e);
     const std::string message = dynamic_cast<const CLI::ConversionError*>(&e) ? splatcl::cli::conversion_message(app, e.what()) : e.what();
-    std::fprintf(stderr, "splatcl: %s (see --help)\n", message.c_str());
+    std::fprintf(stderr, "splatcl: %s (see --help)\n", splatcl::printable(message).c_str());
     return 1;
   }
   try {
@@ -106,13 +107,14 @@ int main(int argc, char** argv) {
         return status;
       }
   } catch (const splatcl::Error& e) {
-    std::fprintf(stderr, "splatcl: %s\n", e.what());
+    // One line, whatever a file or object name holds (a newline in a path split the message).
+    std::fprintf(stderr, "splatcl: %s\n", splatcl::printable(e.what()).c_str());
     return 1;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "splatcl: out of memory: the input or the options ask for more memory than this machine has\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "splatcl: %s\n", e.what());
+    std::fprintf(stderr, "splatcl: %s\n", splatcl::printable(e.what()).c_str());
     return 1;
   }
   return 0;

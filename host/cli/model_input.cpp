@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "io/json_keys.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cli {
@@ -39,7 +40,7 @@ Mesh load_model(const std::string& path, ProgressLine& progress, Winding winding
 
 void print_model_warnings() {
   std::fflush(stdout);
-  for (const auto& line : pending_warnings()) std::fprintf(stderr, "%s\n", line.c_str());
+  for (const auto& line : pending_warnings()) std::fprintf(stderr, "%s\n", printable(line).c_str());
   pending_warnings().clear();
 }
 

@@ -44,7 +44,8 @@ int run_render(const RenderOptions& o) {
   // Outputs writable before any work; staged and committed together at the end.
   check_output_file(o.output, "-o");
   check_output_file(o.json, "--json");
-  check_distinct_outputs({{"-o", o.output}, {"--json", o.json}});
+  // The asset cache too: --json P --cache P made the folder P, built every asset, then failed to write P.
+  check_distinct_outputs({{"-o", o.output}, {"--json", o.json}, {"--cache", o.scene.cache_dir()}});
   // Within float range: the frames' times are floats (--time 1e39 failed as "a placement is not invertible").
   if (!(std::isfinite(static_cast<float>(o.dt)) && o.dt >= 0))
     throw Error(fmt::format("--dt {} is not a time step in seconds (finite within float range, not negative)", o.dt));

@@ -314,7 +314,7 @@ std::vector<Light> generate_lights(const GeneratedLights& spec, const FloorSpec&
 Scene parse_scene(std::string_view text, const std::string& source, const std::string& directory) {
   json j;
   try {
-    j = json::parse(text);
+    j = parse_json_once_per_key<json>(text, source);
   } catch (const json::exception& e) {
     throw Error(fmt::format("{}: not valid JSON ({})", source, e.what()));
   }

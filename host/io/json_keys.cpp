@@ -1,8 +1,11 @@
 #include "io/json_keys.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string_view>
+#include <vector>
 
 #include "runtime/error.hpp"
 
@@ -29,6 +32,55 @@ std::string printable(std::string_view text) {
   }
   return out;
 }
+
+template <class Json>
+Json parse_json_once_per_key(std::string_view text, const std::string& name, std::string (*canonical)(const std::string&)) {
+  // The open containers: an object's keys so far (and its latest, which names the value being
+  // parsed), an array's count of elements begun; they name where a repeated key lies.
+  struct Open {
+    bool array = false;
+    std::size_t elements = 0;
+    std::string key;
+    std::vector<std::string> keys;
+  };
+  std::vector<Open> open;
+  const auto where = [&] {
+    std::string path;
+    for (std::size_t i = 0; i + 1 < open.size(); ++i) {
+      if (open[i].array) {
+        path += fmt::format("[{}]", open[i].elements - 1);
+      } else {
+        if (!path.empty()) path += '.';
+        path += printable(open[i].key);
+      }
+    }
+    return path.empty() ? name : fmt::format("{}: {}", name, path);
+  };
+  const auto same = [&](const std::string& a, const std::string& b) { return canonical ? canonical(a) == canonical(b) : a == b; };
+  const auto once_per_key = [&](int, typename Json::parse_event_t event, Json& parsed) {
+    using Event = typename Json::parse_event_t;
+    const bool element_starts = event == Event::object_start || event == Event::array_start || event == Event::value;
+    if (element_starts && !open.empty() && open.back().array) ++open.back().elements;
+    if (event == Event::object_start || event == Event::array_start) open.push_back({event == Event::array_start, 0, {}, {}});
+    if ((event == Event::object_end || event == Event::array_end) && !open.empty()) open.pop_back();
+    if (event == Event::key && !open.empty()) {
+      const std::string key = parsed.template get<std::string>();
+      for (const std::string& earlier : open.back().keys)
+        if (same(earlier, key))
+          throw Error(earlier == key ? fmt::format("{}: key '{}' appears twice in one object", where(), printable(key))
+                                     : fmt::format("{}: keys '{}' and '{}' in one object name the same parameter", where(), printable(earlier),
+                                                   printable(key)));
+      open.back().keys.push_back(key);
+      open.back().key = key;
+    }
+    return true;
+  };
+  return Json::parse(text, once_per_key);
+}
+
+template nlohmann::json parse_json_once_per_key<nlohmann::json>(std::string_view, const std::string&, std::string (*)(const std::string&));
+template nlohmann::ordered_json parse_json_once_per_key<nlohmann::ordered_json>(std::string_view, const std::string&,
+                                                                                std::string (*)(const std::string&));
 
 std::optional<std::string> unknown_key(const nlohmann::json& object, std::initializer_list<const char*> known) {
   if (!object.is_object()) return std::nullopt;

@@ -22,6 +22,14 @@ std::string json_text(const nlohmann::ordered_json& document, int indent = 2);  
 // written as escapes (\n, \t, \xNN), the rest as it is.
 std::string printable(std::string_view text);
 
+// JSON (nlohmann::json or ordered_json) parsed from `text`, refusing a key that appears twice in
+// one object: Error "NAME: PATH: key 'K' appears twice in one object" (PATH as "models[2].eps"),
+// where the library kept the later value silently. `canonical` maps a key to what it names (batch
+// manifests: a parameter's spellings); two keys naming the same give "keys 'A' and 'B' in one object
+// name the same parameter". The library's parse errors propagate as its exceptions.
+template <class Json>
+Json parse_json_once_per_key(std::string_view text, const std::string& name, std::string (*canonical)(const std::string&) = nullptr);
+
 // The first key of `object` that is not one of `known`, printable(); nullopt when every key is
 // known or `object` is not an object.
 std::optional<std::string> unknown_key(const nlohmann::json& object, std::initializer_list<const char*> known);

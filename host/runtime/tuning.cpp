@@ -1,5 +1,7 @@
 #include "runtime/tuning.hpp"
 
+#include <fmt/format.h>
+
 #include <cstdlib>
 #include <mutex>
 
@@ -83,7 +85,7 @@ int TuningRecord::specificity() const {
 TuningDatabase TuningDatabase::parse(const std::string& text, const std::string& source) {
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(text);
+    json = parse_json_once_per_key<nlohmann::json>(text, source);
   } catch (const nlohmann::json::exception& e) {
     throw Error(source + ": not valid JSON: " + e.what());
   }
@@ -94,8 +96,16 @@ TuningDatabase TuningDatabase::parse(const std::string& text, const std::string&
   TuningDatabase database;
   database.source_ = source;
   const auto& records = json["records"];
-  for (std::size_t i = 0; i < records.size(); ++i)
-    database.put(record_from_json(records[i], source + ": records[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const std::string where = source + ": records[" + std::to_string(i) + "]";
+    TuningRecord record = record_from_json(records[i], where);
+    // put() replaces a record for the same target (bench tune's update); in a file, the later of
+    // two such records won silently.
+    for (std::size_t j = 0; j < database.records_.size(); ++j)
+      if (same_target(database.records_[j], record))
+        throw Error(fmt::format("{}: the same kernel, shape and devices as an earlier record", where));
+    database.put(std::move(record));
+  }
   return database;
 }
 

@@ -38,3 +38,6 @@ add_test(NAME cli.error_cluster_splat_object COMMAND ${EXPECT_ERROR} "cluster-sp
 # script(1) gives it one.
 add_test(NAME cli.cluster_progress_on_a_terminal COMMAND ${EXPECT_OUTPUT} --match "checking against brute-force shading with 2000 lights: [0-9]+ of 48 rows"
          -- script -qefc "$<TARGET_FILE:splatcl> cluster --lights 2000 --size 64x48" /dev/null)
+# A newline in a file name is escaped: the error stays one line (it split the message in two).
+add_test(NAME cli.error_newline_in_path COMMAND ${EXPECT_ERROR} "cannot read mesh no\\\\nsuch\\.obj"
+         $<TARGET_FILE:splatcl> splats "no\nsuch.obj" -o ${CMAKE_CURRENT_BINARY_DIR}/newline-path.ply)

@@ -90,3 +90,7 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-not-splats.ply "ply\nformat ascii
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-not-splats.json "{\"objects\": [{\"splats\": \"present-not-splats.ply\"}]}")
 add_test(NAME cli.error_render_point_cloud_as_splats COMMAND ${EXPECT_ERROR} "cannot read 3D Gaussian Splatting file .*present-not-splats.ply: the vertex element has no 'scale_0' property"
          $<TARGET_FILE:splatcl> render ${CMAKE_CURRENT_BINARY_DIR}/present-not-splats.json)
+# --json and --cache naming one path: refused before the cache folder is made (it was, and the
+# assets built, before writing the JSON failed).
+add_test(NAME cli.error_render_json_is_cache COMMAND ${EXPECT_ERROR} "--json and --cache name the same file .*render-same-path"
+         $<TARGET_FILE:splatcl> render --size 64x48 --json ${CMAKE_CURRENT_BINARY_DIR}/render-same-path --cache ${CMAKE_CURRENT_BINARY_DIR}/render-same-path)

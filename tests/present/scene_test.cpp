@@ -65,6 +65,9 @@ TEST(PresenterScene, RefusesValuesThatRenderNonsense) {
       {R"({"objects": [], "quality": {"shadow_lift": -0.01}})", "'shadow_lift' must not be negative"},
       {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "two_sided": "yes"}]})", "objects[0] 'a': 'two_sided' must be true or false"},
       {R"({"objects": [], "quality": {"antialias": -1}})", "'antialias' must not be negative"},
+      // A key given twice: the later value won silently (a helper's audit: an object named twice).
+      {R"({"objects": [{"name": "a", "name": "b", "mesh": {"procedural": "box"}}]})", "bad.json: objects[0]: key 'name' appears twice in one object"},
+      {R"({"objects": [], "quality": {"specular": 1, "specular": 2}})", "bad.json: quality: key 'specular' appears twice in one object"},
       {R"({"objects": [], "quality": {"specular": 1000}})", "'specular' must be in [0, 100]"},
       {R"({"objects": [], "lights": {"count": 4, "extent": -3}})", "bad.json: lights: 'extent' must not be negative"},
       {R"({"objects": [], "lights": {"count": 4, "height": [-1, 2]}})", "bad.json: lights: 'height' must not be negative"},

@@ -85,6 +85,17 @@ TEST(Tuning, MalformedDatabasesAreErrorsNamingTheSource) {
               TuningDatabase::parse(R"({"records": [{"kernel": "scan", "shape": "simd", "parameters": {}}]})", "t.json");
             }),
             "t.json: records[0]: 'shape' must be \"cpu\" or \"gpu\"");
+  // A key or a record given twice: the later won silently.
+  EXPECT_EQ(expect_error([] {
+              TuningDatabase::parse(R"({"records": [{"kernel": "scan", "shape": "cpu", "shape": "gpu", "parameters": {}}]})", "t.json");
+            }),
+            "t.json: records[0]: key 'shape' appears twice in one object");
+  EXPECT_EQ(expect_error([] {
+              TuningDatabase::parse(R"({"records": [{"kernel": "scan", "shape": "cpu", "parameters": {"min_chunk_items": 64}},
+                                                    {"kernel": "scan", "shape": "cpu", "parameters": {"min_chunk_items": 32}}]})",
+                                    "t.json");
+            }),
+            "t.json: records[1]: the same kernel, shape and devices as an earlier record");
   TuningRecord record;
   record.kernel = "scan";
   record.shape = "cpu";
