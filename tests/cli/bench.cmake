@@ -79,3 +79,6 @@ add_test(NAME cli.error_bench_threshold_nan COMMAND ${EXPECT_ERROR} "--threshold
          $<TARGET_FILE:splatcl> bench --threshold nan --quick primitives)
 add_test(NAME cli.error_bench_compare_threshold_nan COMMAND ${EXPECT_ERROR} "--threshold: a percentage 0 to 1000000, not nan"
          $<TARGET_FILE:splatcl> bench compare missing.json missing.json --threshold nan)
+# Progress in a log (stderr not a terminal): plain lines, as every other command writes (bench wrote none).
+add_test(NAME cli.bench_progress_lines_in_a_log COMMAND ${EXPECT_OUTPUT} --match "^splatcl bench primitives: .* median$"
+         -- env SPLATCL_PROGRESS_SECONDS=0 $<TARGET_FILE:splatcl> bench primitives --quick --runs 1 --warmup 0)

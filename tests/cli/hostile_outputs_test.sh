@@ -59,6 +59,17 @@ case $mode in
     full_tmpfs_empty 8 "cannot write $work/full/frame.png: write failed \\(disk full\\?\\)$" \
       "$splatcl" render --size 160x120 --cache "$work/cache" -o "$work/full/frame.png" --json "$work/full/frame.json" ;;
 
+  render-cache-read-only)  # a read-only asset cache: refused before a missing asset is built; one that holds every asset serves
+    unshare -m true 2>/dev/null || { echo "no private mount namespace (needs root): skipped"; exit 77; }
+    printf '{"objects": [{"name": "b", "mesh": {"procedural": "box", "rings": 3}}]}\n' >"$work/scene.json"
+    mkdir -p "$work/empty" "$work/warm"
+    unshare -m sh -c 'mount --bind "$0" "$0" && mount -o remount,bind,ro "$0" && "$@"' "$work/empty" \
+      "$expect_error" "objects\\[0\\] 'b': cannot write the asset cache: directory $work/empty is not writable \\(Read-only file system\\)$" \
+      "$splatcl" render "$work/scene.json" --size 64x48 --cache "$work/empty" || fail "an empty read-only cache was not refused as such"
+    "$splatcl" render "$work/scene.json" --size 64x48 --cache "$work/warm" >/dev/null || fail "the warm-up render failed"
+    unshare -m sh -c 'mount --bind "$0" "$0" && mount -o remount,bind,ro "$0" && "$@" >/dev/null' "$work/warm" \
+      "$splatcl" render "$work/scene.json" --size 64x48 --cache "$work/warm" -o "$work/frame.png" || fail "a full read-only cache did not serve"
+    [ -s "$work/frame.png" ] || fail "no frame from the full read-only cache" ;;
   batch-summary-is-manifest)
     printf 'path\n%s\n' "$cube" >"$work/set.csv"
     cp "$work/set.csv" "$work/set.csv.orig"
