@@ -208,6 +208,11 @@ Json to_json(const Results& results) {
 Results results_from_json(const Json& json) {
   if (!json.is_object() || !json.contains("records") || !json["records"].is_array())
     throw Error("not a benchmark results file: expected {\"machine\": {...}, \"records\": [...]}");
+  // A record keeps the fields it does not know (record.extra: suites add their own); the file's top
+  // level has only these two.
+  for (const auto& [key, value] : json.items())
+    if (key != "machine" && key != "records")
+      throw Error(fmt::format("unknown top-level key '{}' (known: machine, records)", printable(key)));
   Results results;
   if (const auto it = json.find("machine"); it != json.end() && it->is_object()) results.machine = *it;
   std::size_t index = 0;

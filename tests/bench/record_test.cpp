@@ -157,6 +157,20 @@ TEST(BenchRecord, ReadingAMissingOrForeignFileIsAClearError) {
   }
   std::ofstream(path) << "{ not json";
   EXPECT_THROW(read_results(path.string()), Error);
+  // A top-level key it does not know, or a key twice (the later won silently).
+  const auto message_of = [&](const std::string& text) {
+    std::ofstream(path) << text;
+    try {
+      read_results(path.string());
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(message_of(R"({"machine": {}, "records": [], "note": 1})"),
+            path.string() + ": unknown top-level key 'note' (known: machine, records)");
+  EXPECT_EQ(message_of(R"({"machine": {"hostname": "a", "hostname": "b"}, "records": []})"),
+            path.string() + ": machine: key 'hostname' appears twice in one object");
   fs::remove(path);
 }
 
