@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/json_keys.hpp"
 #include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
@@ -144,6 +145,11 @@ Results results_from_csv(const std::string& text) {
   const std::size_t fixed = std::size(kColumns);
   if (header.size() < fixed || !std::equal(std::begin(kColumns), std::end(kColumns), header.begin()))
     throw Error("not a benchmark CSV: the header must start with suite,case,impl,device,...");
+  // A column named twice: the later cell won (it read as "times must be finite..." when a fixed
+  // column repeated).
+  for (std::size_t c = 0; c < header.size(); ++c)
+    for (std::size_t d = 0; d < c; ++d)
+      if (header[c] == header[d]) throw Error(fmt::format("column '{}' appears twice in the header", printable(header[c])));
   Results results;
   for (std::size_t r = 1; r < rows.size(); ++r) {
     const auto& row = rows[r];

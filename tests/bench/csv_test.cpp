@@ -116,6 +116,16 @@ TEST(BenchCsv, BadFilesAreErrorsNamingTheProblem) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'runs' is not a positive integer"), std::string::npos) << e.what();
   }
+  // A column named twice (a helper's audit: the later cell won, or a fixed column's repeat read as
+  // "times must be finite ...").
+  std::string twice = header;
+  twice.insert(twice.find('\n'), ",note,note");
+  try {
+    results_from_csv(twice);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "column 'note' appears twice in the header");
+  }
 }
 
 }  // namespace
