@@ -41,6 +41,9 @@ std::string conversion_message(const CLI::App& app, const std::string& message) 
     if (const CLI::Option* option = a->get_option_no_throw(name)) {
       const std::string type = option->get_type_name();
       const char* wanted = type == "UINT" ? "a whole number 0 or more" : type == "INT" ? "a whole number" : type == "FLOAT" ? "a number" : nullptr;
+      // A whole number too large for the option's type (--frames 99999999999) is one, just out of range.
+      const bool digits = !value.empty() && value.find_first_not_of("0123456789") == std::string::npos;
+      if (wanted && digits && (type == "UINT" || type == "INT")) return fmt::format("{} {}: too large", name, value);
       if (wanted) return fmt::format("{} {}: not {}", name, value, wanted);
     }
   return message;
