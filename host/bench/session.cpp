@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "io/json_keys.hpp"
 #include "bench/report.hpp"
 
 namespace splatcl::bench {
@@ -159,7 +160,7 @@ void Session::withdraw_last_record(const std::string& why) {
   if (!records_.empty()) records_.pop_back();
   if (progress_line_open_) std::fputc('\n', stderr);
   progress_line_open_ = false;
-  std::fprintf(stderr, "splatcl: warning: %s; that row is left out\n", why.c_str());
+  std::fprintf(stderr, "splatcl: warning: %s; that row is left out\n", printable(why).c_str());
 }
 
 void Session::show_progress(const std::string& text, bool final_line) {

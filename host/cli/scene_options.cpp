@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "io/json_keys.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cli {
@@ -34,7 +35,7 @@ present::AssetProgress asset_progress(ProgressLine& line, const std::string& com
 }
 
 void print_mesh_warnings(const present::Presenter& presenter) {
-  for (const std::string& line : presenter.mesh_warnings()) std::fprintf(stderr, "splatcl: warning: %s\n", line.c_str());
+  for (const std::string& line : presenter.mesh_warnings()) std::fprintf(stderr, "splatcl: warning: %s\n", printable(line).c_str());
 }
 
 void add_scene_options(CLI::App& app, SceneOptions& o) {

@@ -115,7 +115,7 @@ int run_splats(const SplatsOptions& o) {
   progress.clear();
   if (unclipped > 0)
     std::fprintf(stderr, "splatcl: warning: %zu of %zu splats are clipped; 3DGS has no clip lines, so %s has them unclipped\n",
-                 unclipped, records.size(), o.output.c_str());
+                 unclipped, records.size(), printable(o.output).c_str());
 
   const double n = static_cast<double>(run.samples.size()), m = static_cast<double>(run.selected.size());
   fmt::print("model      {} ({} vertices, {} faces, bbox diagonal {:.6g})\n", o.model, mesh.vertices.size(), mesh.face_count(), diagonal);

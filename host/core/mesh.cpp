@@ -209,10 +209,16 @@ std::vector<double> face_volumes(const std::vector<Vec3>& positions, const Faces
 
 double dot3(const D3& a, const D3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-// Whether face f's area is within float rounding of zero: under 8 float steps of its coordinates'
-// magnitude times its longest edge (collinear corners moved by a float transform, the scene's fit).
+// Whether face f's area is within float rounding of zero: at most `steps` float steps of its
+// coordinates' magnitude times its longest edge, so its height is at most twice that.
+// kCollinearSteps: corners collinear but for the rounding of their own coordinates (a midpoint
+// rounded to float lies within one step of its edge); the face's normal is noise. Not more: at 8
+// steps a radius-1 sphere moved to x = 3e5, whose faces are a few steps high there, lost every
+// normal. kTransformedSteps, for closedness only: collinear corners moved by a float transform (the
+// scene's fit), each rounded again.
+constexpr double kCollinearSteps = 1, kTransformedSteps = 8;
 bool rounded_zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
-                       const std::vector<std::uint32_t>& corners, std::size_t f) {
+                       const std::vector<std::uint32_t>& corners, std::size_t f, double steps) {
   const std::uint32_t begin = offsets[f], end = offsets[f + 1];
   double magnitude = 0, longest = 0;
   for (std::uint32_t c = begin; c < end; ++c) {
@@ -221,7 +227,7 @@ bool rounded_zero_area(const std::vector<Vec3>& positions, const std::vector<std
     longest = std::max(longest, std::sqrt(dot3(e, e)));
   }
   const D3 area = fan_area(positions, offsets, corners, f);
-  return std::sqrt(dot3(area, area)) <= 8 * std::ldexp(magnitude, -23) * longest;
+  return std::sqrt(dot3(area, area)) <= steps * std::ldexp(magnitude, -23) * longest;
 }
 
 D3 unit3(const D3& a) {
@@ -598,7 +604,7 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // directed edge, face
   edges.reserve(faces.corners.size());
   for (std::size_t f = 0; f < n; ++f)
-    if (rounded_zero_area(positions, faces.offsets, faces.corners, f)) ++problems.zero_area_faces;
+    if (rounded_zero_area(positions, faces.offsets, faces.corners, f, kCollinearSteps)) ++problems.zero_area_faces;
   const std::vector<std::array<std::uint32_t, 2>> ends = matched_edges(positions, faces.offsets, faces.corners);
   for_each_edge(faces.offsets, faces.corners, [&](std::uint32_t f, std::uint32_t, std::uint32_t) {
     const auto [a, b] = ends[edges.size()];
@@ -748,7 +754,7 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
   for (const auto v : om.vertices()) all_file_normals = all_file_normals && (om.is_isolated(v) || file_normal(v));
   if (!all_file_normals) {
     std::vector<std::uint8_t> noise(faces.count());  // OpenMesh's faces are `faces`, in order
-    for (std::size_t f = 0; f < faces.count(); ++f) noise[f] = rounded_zero_area(raw.positions, faces.offsets, faces.corners, f);
+    for (std::size_t f = 0; f < faces.count(); ++f) noise[f] = rounded_zero_area(raw.positions, faces.offsets, faces.corners, f, kCollinearSteps);
     update_normals(om, noise);
   }
 
@@ -828,13 +834,13 @@ Box Mesh::bounds() const {
 // Closed with every face, or without the (nearly) zero-area ones: they hold no surface, and one
 // laid along an edge of a closed mesh made that edge non-manifold; but where zero-area faces fill a
 // crack (an edge split on one side only) the mesh is closed only with them.
-bool Mesh::zero_area_face(std::size_t f) const { return rounded_zero_area(vertices, face_offsets, corners, f); }
+bool Mesh::zero_area_face(std::size_t f) const { return rounded_zero_area(vertices, face_offsets, corners, f, kCollinearSteps); }
 
 bool Mesh::closed() const {
   const auto closed_with = [&](bool zero_area_faces) {
     std::vector<std::uint32_t> offsets{0}, kept;
     for (std::size_t f = 0; f < face_count(); ++f) {
-      if (!zero_area_faces && rounded_zero_area(vertices, face_offsets, corners, f)) continue;
+      if (!zero_area_faces && rounded_zero_area(vertices, face_offsets, corners, f, kTransformedSteps)) continue;
       kept.insert(kept.end(), corners.begin() + face_offsets[f], corners.begin() + face_offsets[f + 1]);
       offsets.push_back(static_cast<std::uint32_t>(kept.size()));
     }
@@ -847,7 +853,7 @@ bool Mesh::closed() const {
     return !edges.empty();
   };
   bool any_zero_area = false;
-  for (std::size_t f = 0; f < face_count() && !any_zero_area; ++f) any_zero_area = rounded_zero_area(vertices, face_offsets, corners, f);
+  for (std::size_t f = 0; f < face_count() && !any_zero_area; ++f) any_zero_area = rounded_zero_area(vertices, face_offsets, corners, f, kTransformedSteps);
   return closed_with(true) || (any_zero_area && closed_with(false));
 }
 

@@ -42,7 +42,7 @@ struct MeshProblems {
   std::size_t bad_vertex_faces = 0;      // dropped: a corner is a non-finite or unreadable vertex
   std::size_t bad_index_faces = 0;       // dropped: a vertex (OBJ: or texture/normal) index out of range or unreadable
   std::size_t degenerate_faces = 0;      // dropped: fewer than 3 distinct corners (or a corner repeated apart)
-  std::size_t zero_area_faces = 0;       // kept: corners collinear (or coincident) within float rounding (Mesh::zero_area_face)
+  std::size_t zero_area_faces = 0;       // kept: corners collinear (or coincident) up to their float rounding (Mesh::zero_area_face)
   std::size_t complex_faces = 0;         // kept detached: OpenMesh refused the face (non-manifold, or wound against a neighbour)
   std::size_t inconsistent_edges = 0;    // undirected edges that two faces use in the same direction
   bool inward = false;                   // a closed part faces inward: one that encloses negative volume and lies in no other closed part
@@ -83,9 +83,9 @@ struct Mesh {
   // also closed when it is without its (nearly) zero-area faces (docs/formats.md, "Closed and
   // connected by position").
   bool closed() const;
-  // Whether face f's area is within float rounding of zero (8 float steps of its coordinates times
-  // its longest edge): its normal is rounding noise, so it adds no samples, no surface triangles and
-  // nothing to its vertices' normals.
+  // Whether face f's area is within the float rounding of its own corners of zero (one float step
+  // of its coordinates times its longest edge): its normal is noise, so it adds no samples, no
+  // surface triangles and nothing to its vertices' normals.
   bool zero_area_face(std::size_t f) const;
 };
 

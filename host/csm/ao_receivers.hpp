@@ -20,8 +20,8 @@ struct ReceiverLifts {
   std::vector<float> lifts;
   // The instance whose maps alone see the receivers lifted (the receiver's own: receiver_instance);
   // kNoInstance: every instance does. Lifted for all, receivers in contact with another occluder
-  // were lifted through its surface: a sphere resting on a plate read AO 0.6 under its bottom,
-  // where ray casting gives 0.006.
+  // were lifted through its surface: under a sphere resting on a thin plate a vertex read AO 1
+  // off ray casting.
   std::uint32_t own_instance = kNoInstance;
 };
 
@@ -40,12 +40,12 @@ struct ReceiverAoOptions {
 inline constexpr float kDefaultLiftTexels = 1, kMaxLiftTexels = 1000;
 // Each vertex's lift for `splatcl ao --lift`, in world units. A receiver that is one of the
 // occluder instances (receiver_instance) is lifted by `texels` texels (csm/query_reach.hpp
-// placed_texel) of that instance, for that instance's queries only, as the presenter lifts an
-// object's splats by its own CSM's texel. Any other receiver: by `texels` texels of the coarsest
+// placed_texel) of that instance, for that instance's queries only (the presenter lifts an object's
+// splats by its own CSM's texel too, but for every instance). Any other receiver: by `texels` texels of the coarsest
 // placed occluder whose bounding sphere holds the vertex (0 where none does: no occluder's own
 // surface is there), for every instance. The coarsest around a receiver that is an occluder itself
-// lifted a sphere resting on a large plate's CSM by the plate's texel, 17 of its own, which erased
-// its contact AO (mean |AO − ray-cast| 0.045; 0.0054 unlifted). One lift for all, from the
+// lifted a sphere resting on a large plate's CSM by the plate's texel, 11 of its own, which erased
+// its contact AO (mean |AO − ray-cast| 0.196; 0.0285 now, 0.0288 unlifted). One lift for all, from the
 // coarsest occluder anywhere, lifted receivers under a fine occluder above it by a far, coarse
 // one's texel (a sphere of radius 100 1000 units away: AO 1.000 instead of 0.403 under a plate).
 ReceiverLifts receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
@@ -56,7 +56,9 @@ ReceiverLifts receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>
 std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::vector<const Csm*>& csms,
                                              const std::vector<Instance>& instances);
 // For each point, the world size of a texel (csm/query_reach.hpp placed_texel) of the coarsest
-// placed occluder whose bounding sphere holds it, 0 where none does (receiver_lifts).
+// placed occluder whose bounding sphere holds it, 0 where none does: receiver_lifts for a receiver
+// that is no occluder, and the presenter's per-pixel receivers (which do not yet lift for the
+// pixel's own object only).
 std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const std::vector<const Csm*>& csms,
                                          const std::vector<Instance>& instances);
 

@@ -65,6 +65,9 @@ fs::path comparable_path(const std::string& path) {
   fs::path p = fs::absolute(through, ec);
   if (!ec) p = fs::weakly_canonical(p, ec);  // absolute first: a relative name whose first part does not exist stays relative
   if (ec) p = fs::path(through).lexically_normal();
+  // "P/" names what "P" names: a trailing separator of a path that does not exist yet stays
+  // (render --json P --cache P/ passed the distinct-outputs check).
+  while (!p.has_filename() && p.has_relative_path()) p = p.parent_path();
   return p;
 }
 

@@ -233,7 +233,8 @@ std::vector<Vec3> corner_normals(const Mesh& mesh, float crease_degrees) {
     const std::uint32_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
     std::vector<std::uint32_t> ids(end - begin);
     std::iota(ids.begin(), ids.end(), begin);
-    face_normal[f] = polygon_normal(mesh, ids.data(), end - begin);
+    // A zero-area face's normal is rounding noise: it neither takes part nor marks a crease.
+    if (!mesh.zero_area_face(f)) face_normal[f] = polygon_normal(mesh, ids.data(), end - begin);
     for (std::uint32_t c = begin; c < end; ++c) face_of_corner[c] = static_cast<std::uint32_t>(f);
   }
   // The corners at each vertex (compressed rows).
@@ -432,10 +433,14 @@ Samples sample_mesh(const Mesh& mesh, const SamplingOptions& options, const Colo
   std::vector<const float*> vertex_uv(mesh.vertices.size(), nullptr);
   if (mesh.has_texcoords())
     for (std::size_t c = mesh.corners.size(); c-- > 0;) vertex_uv[mesh.corners[c]] = mesh.corner_texcoords[c].data();
-  // A vertex sample on a crease takes the normal of its first face corner's side.
+  // A vertex sample on a crease takes the normal of its first face corner's side, of a face that
+  // has area: a zero-area face listed first gave its corner's vertex sample a noise normal.
   const std::vector<Vec3> normal_at_corner = corner_normals(mesh, options.crease_degrees);
   std::vector<Vec3> vertex_normal = mesh.normals;
-  for (std::size_t c = mesh.corners.size(); c-- > 0;) vertex_normal[mesh.corners[c]] = normal_at_corner[c];
+  for (std::size_t f = mesh.face_count(); f-- > 0;) {
+    if (mesh.zero_area_face(f)) continue;
+    for (std::uint32_t c = mesh.face_offsets[f + 1]; c-- > mesh.face_offsets[f];) vertex_normal[mesh.corners[c]] = normal_at_corner[c];
+  }
   builder.samples.positions.reserve(mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
     builder.add(mesh.vertices[v], vertex_normal[v], colors.at(mesh.vertices[v], vertex_uv[v]));

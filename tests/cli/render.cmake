@@ -94,3 +94,5 @@ add_test(NAME cli.error_render_point_cloud_as_splats COMMAND ${EXPECT_ERROR} "ca
 # assets built, before writing the JSON failed).
 add_test(NAME cli.error_render_json_is_cache COMMAND ${EXPECT_ERROR} "--json and --cache name the same file .*render-same-path"
          $<TARGET_FILE:splatcl> render --size 64x48 --json ${CMAKE_CURRENT_BINARY_DIR}/render-same-path --cache ${CMAKE_CURRENT_BINARY_DIR}/render-same-path)
+add_test(NAME cli.error_render_json_is_cache_with_slash COMMAND ${EXPECT_ERROR} "--json and --cache name the same file .*render-same-path-2/"
+         $<TARGET_FILE:splatcl> render --size 64x48 --json ${CMAKE_CURRENT_BINARY_DIR}/render-same-path-2 --cache ${CMAKE_CURRENT_BINARY_DIR}/render-same-path-2/)

@@ -226,15 +226,7 @@ TEST(CsmAoReceivers, EachReceiverIsLiftedByTheOccludersAroundIt) {
 // for a receiver that is no occluder), it lost its contact AO (mean error 0.196); lifted by its own
 // for every instance, its underside went through the plate (a vertex 1 off).
 TEST(CsmAoReceivers, AReceiverThatIsAnOccluderIsLiftedForItsOwnMapsOnly) {
-  const Mesh ball = [] {
-    const Mesh at_origin = sphere_mesh(16, 32);
-    std::vector<Vec3> vertices = at_origin.vertices;
-    for (Vec3& v : vertices) v.y += 1.01f;
-    std::vector<std::vector<std::uint32_t>> faces;
-    for (std::size_t f = 0; f < at_origin.face_count(); ++f)
-      faces.emplace_back(at_origin.corners.begin() + at_origin.face_offsets[f], at_origin.corners.begin() + at_origin.face_offsets[f + 1]);
-    return make_mesh(vertices, faces, "ball");
-  }();
+  const Mesh ball = splatcl::testing::moved_mesh(sphere_mesh(16, 32), [](Vec3 p) { return p + Vec3{0, 1.01f, 0}; }, "ball");
   const Mesh plate = boxes_mesh({{{-8, -0.005f, -8}, {8, 0, 8}}}, "plate");
   BuildOptions build;
   build.maps = 1024;
@@ -288,6 +280,14 @@ TEST(CsmAoReceivers, AReceiverThatIsAnOccluderIsLiftedForItsOwnMapsOnly) {
   // The plate, thinner than its texel, lets some grazing directions under the ball through at any
   // lift (the unlifted error); lifting the ball off its own surface adds nothing to it.
   EXPECT_LT(own_error, unlifted_error + 0.002);
+  // The kernel's own-instance branch agrees with the reference exactly.
+  options.lift = own;
+  const std::vector<Vec4> device = receiver_ambient_occlusion(ball, scene, options, &runtime());
+  const std::vector<Vec4> native = receiver_ambient_occlusion(ball, scene, options, nullptr);
+  ASSERT_EQ(device.size(), native.size());
+  for (std::size_t v = 0; v < device.size(); ++v)
+    ASSERT_TRUE(device[v].x == native[v].x && device[v].y == native[v].y && device[v].z == native[v].z && device[v].w == native[v].w)
+        << "vertex " << v;
   EXPECT_LT(worst_own, 0.35);
   EXPECT_GT(coarsest_error, 0.1);
   EXPECT_GT(worst_own_for_all, 0.9);
@@ -340,14 +340,7 @@ TEST(CsmAoReceivers, RaycastAoIsTheGroundTruthOfTheSameDirections) {
   EXPECT_LE(error / static_cast<double>(ray.size()), 0.03);
   // The same two boxes scaled by 1e15 (traced in units of trace_unit(R): in the model's units every
   // ray missed, AO 1 everywhere) give the same AO.
-  const auto scaled = [](const Mesh& mesh) {
-    std::vector<Vec3> vertices = mesh.vertices;
-    for (Vec3& v : vertices) v = 1e15f * v;
-    std::vector<std::vector<std::uint32_t>> faces;
-    for (std::size_t f = 0; f < mesh.face_count(); ++f)
-      faces.emplace_back(mesh.corners.begin() + mesh.face_offsets[f], mesh.corners.begin() + mesh.face_offsets[f + 1]);
-    return make_mesh(vertices, faces, mesh.source + " x 1e15");
-  };
+  const auto scaled = [](const Mesh& mesh) { return splatcl::testing::moved_mesh(mesh, [](Vec3 p) { return 1e15f * p; }, mesh.source + " x 1e15"); };
   const std::vector<float> huge = raycast_ambient_occlusion(scaled(above), scaled(slab_mesh), options);
   ASSERT_EQ(huge.size(), ray.size());
   std::size_t differ = 0;

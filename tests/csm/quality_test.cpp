@@ -66,12 +66,7 @@ TEST(CsmQuality, WrongPixelsOnSpotStayBounded) {
 // wrong at 1e6 against 0 % at the origin (4 views of 128², splatcl csm quality).
 TEST(CsmQuality, FarFromTheOriginAndHugeScoreAsAtTheOrigin) {
   const Mesh here = sphere_mesh(24, 48, 100.0f);
-  std::vector<Vec3> vertices = here.vertices;
-  for (Vec3& v : vertices) v = v + Vec3{1e6f, 1e6f, 1e6f};
-  std::vector<std::vector<std::uint32_t>> faces;
-  for (std::size_t f = 0; f < here.face_count(); ++f)
-    faces.emplace_back(here.corners.begin() + here.face_offsets[f], here.corners.begin() + here.face_offsets[f + 1]);
-  const Mesh far = make_mesh(vertices, faces, "far sphere");
+  const Mesh far = splatcl::testing::moved_mesh(here, [](Vec3 p) { return p + Vec3{1e6f, 1e6f, 1e6f}; }, "far sphere");
   BuildOptions build;
   build.maps = 4096;
   build.resolution = 128;
@@ -82,9 +77,7 @@ TEST(CsmQuality, FarFromTheOriginAndHugeScoreAsAtTheOrigin) {
   const double at_origin = percent(here), at_far = percent(far);
   // A huge model (R = 1e16) is measured too: its reference tracer works in units of 2^ilogb(R) (in
   // the model's units it overflowed and saw no pixel, "0 % wrong").
-  std::vector<Vec3> huge_vertices = here.vertices;
-  for (Vec3& v : huge_vertices) v = 1e14f * v;
-  const Mesh huge = make_mesh(huge_vertices, faces, "huge sphere");
+  const Mesh huge = splatcl::testing::moved_mesh(here, [](Vec3 p) { return 1e14f * p; }, "huge sphere");
   const QualityReport huge_report = measure_quality(build_csm(huge, build, &runtime()).csm, huge, options, &runtime());
   EXPECT_EQ(huge_report.object_pixels, huge_report.pixels);
   EXPECT_NEAR(huge_report.percent_of_image(), at_origin, 1.0);

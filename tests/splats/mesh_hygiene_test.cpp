@@ -431,12 +431,10 @@ TEST(MeshHygiene, OrientTurnsFacesToAgreeAndFaceOutward) {
   const Mesh sphere = sphere_mesh(12, 16);
   std::vector<Vec3> far;
   for (const Vec3& p : sphere.vertices) far.push_back(p + Vec3{1e4f, -2e4f, 3e4f});
-  std::vector<std::vector<std::uint32_t>> faces;
+  std::vector<std::vector<std::uint32_t>> faces = splatcl::testing::face_lists(sphere);
   std::size_t reversed = 0;
-  for (std::size_t f = 0; f < sphere.face_count(); ++f) {
-    faces.emplace_back(sphere.corners.begin() + sphere.face_offsets[f], sphere.corners.begin() + sphere.face_offsets[f + 1]);
-    if ((f * 2654435761u) % 3 == 0) std::reverse(faces.back().begin(), faces.back().end()), ++reversed;
-  }
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    if ((f * 2654435761u) % 3 == 0) std::reverse(faces[f].begin(), faces[f].end()), ++reversed;
   const Mesh mixed = load_mesh(temp_file("orient-mixed.obj", obj_text(far, faces)), Winding::Orient);
   EXPECT_EQ(mixed.problems.turned_faces, reversed);
   clean_after(mixed.problems);

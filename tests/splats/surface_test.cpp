@@ -188,12 +188,9 @@ TEST(Surface, NonPlanarQuadIsItsTwoTriangles) {
 TEST(Surface, UniformPointsAreOnTheSurfaceSpreadByArea) {
   // Two unit squares side by side, one split into 100 small quads and one into a single quad: by
   // area each gets half of the points whatever its triangle count.
-  std::vector<Vec3> vertices;
-  std::vector<std::vector<std::uint32_t>> faces;
   const Mesh fine = testing::plane_mesh(10);
-  vertices = fine.vertices;
-  for (std::size_t f = 0; f < fine.face_count(); ++f)
-    faces.emplace_back(fine.corners.begin() + fine.face_offsets[f], fine.corners.begin() + fine.face_offsets[f + 1]);
+  std::vector<Vec3> vertices = fine.vertices;
+  std::vector<std::vector<std::uint32_t>> faces = splatcl::testing::face_lists(fine);
   const std::uint32_t base = static_cast<std::uint32_t>(vertices.size());
   for (const Vec3 v : {Vec3{1.5f, 0, 0}, Vec3{2.5f, 0, 0}, Vec3{2.5f, 1, 0}, Vec3{1.5f, 1, 0}}) vertices.push_back(v);
   faces.push_back({base, base + 1, base + 2, base + 3});

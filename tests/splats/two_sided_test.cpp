@@ -197,12 +197,7 @@ TEST(TwoSidedBound, HugeAndTinyCoordinates) {
   const Outcome reference = build_and_check(unit, 0.01, &runtime(), 50'000);
   for (const float scale : {1e18f, 1e-18f, 1.1e38f}) {
     const Vec3 offset = scale > 1e30f ? Vec3{-0.5f, -0.5f, -0.5f} : Vec3{3, -2, 1};
-    std::vector<Vec3> vertices = unit.vertices;
-    for (Vec3& p : vertices) p = scale * (p + offset);
-    std::vector<std::vector<std::uint32_t>> faces;
-    for (std::size_t f = 0; f < unit.face_count(); ++f)
-      faces.emplace_back(unit.corners.begin() + unit.face_offsets[f], unit.corners.begin() + unit.face_offsets[f + 1]);
-    const Mesh scaled = make_mesh(vertices, faces, "scaled cube");
+    const Mesh scaled = splatcl::testing::moved_mesh(unit, [&](Vec3 p) { return scale * (p + offset); }, "scaled cube");
     const Outcome out = build_and_check(scaled, 0.01, &runtime(), 50'000);
     EXPECT_NE(out.run.scale, 1.0);
     EXPECT_TRUE(out.report.ok()) << scale << ": " << describe(out.report);
@@ -272,12 +267,7 @@ TEST(TwoSidedBound, GapSearchOnNeedlesChecksBoundedCells) {
 TEST(TwoSidedBound, FarFromTheOriginKeepsTheBoundAfterFloatRounding) {
   const Mesh unit = sphere_mesh(24, 48);
   const auto placed = [&](float offset) {
-    std::vector<Vec3> vertices = unit.vertices;
-    for (Vec3& p : vertices) p = 100.0f * p + Vec3{offset, offset, offset};
-    std::vector<std::vector<std::uint32_t>> faces;
-    for (std::size_t f = 0; f < unit.face_count(); ++f)
-      faces.emplace_back(unit.corners.begin() + unit.face_offsets[f], unit.corners.begin() + unit.face_offsets[f + 1]);
-    return make_mesh(vertices, faces, fmt::format("sphere at {:g}", offset));
+    return splatcl::testing::moved_mesh(unit, [&](Vec3 p) { return 100.0f * p + Vec3{offset, offset, offset}; }, fmt::format("sphere at {:g}", offset));
   };
   for (const float offset : {2e5f, 1e6f}) {
     const Outcome out = build_and_check(placed(offset), 0.001, &runtime(), 50'000);
