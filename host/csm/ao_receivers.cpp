@@ -14,6 +14,7 @@
 
 #include "csm/query_reach.hpp"
 #include "core/bvh.hpp"
+#include "csm/build.hpp"
 #include "csm/capture.hpp"
 #include "io/atomic_file.hpp"
 #include "runtime/error.hpp"
@@ -146,19 +147,32 @@ std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const 
 
 std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::vector<const Csm*>& csms,
                                              const std::vector<Instance>& instances) {
-  const Sphere own = bounding_sphere(receiver);
-  const glm::vec3 own_centre(own.centre.x, own.centre.y, own.centre.z);
-  std::optional<std::size_t> triangles;  // counted once, and only when a sphere matches
+  const Box box = receiver.bounds();
+  const glm::vec3 box_centre(0.5f * (box.lo.x + box.hi.x), 0.5f * (box.lo.y + box.hi.y), 0.5f * (box.lo.z + box.hi.z));
+  const double half_diagonal = 0.5 * box.exact_diagonal();
   for (std::size_t i = 0; i < instances.size(); ++i) {
     if (instances[i].occluder >= csms.size()) continue;
-    const CsmInfo& info = csms[instances[i].occluder]->info;
-    const MovedReach placed = moved_reach(info, instances[i].placement, 0.0f);
-    // require_built_from's 1e-4 R, and the 1e-4 R that moved_reach widens the radius by, plus the
-    // float rounding of a placed centre far from the origin.
-    const float slack = 3e-4f * own.radius + 1e-6f * glm::length(own_centre);
-    if (glm::distance(placed.centre, own_centre) > slack || std::fabs(placed.radius - own.radius) > slack) continue;
-    if (!triangles) triangles = casting_triangles(receiver, own.centre).size() / 3;
-    if (*triangles == info.triangles) return i;
+    const Csm& csm = *csms[instances[i].occluder];
+    // A quick look first: the placed bounding sphere about where the receiver's box is, and as large.
+    const MovedReach placed = moved_reach(csm.info, instances[i].placement, 0.0f);
+    if (!(glm::distance(placed.centre, box_centre) <= placed.radius && half_diagonal >= 0.5 * placed.radius &&
+          half_diagonal <= 2.0 * placed.radius))
+      continue;
+    // Then the receiver taken into the CSM's object space, where its bounding sphere and casting
+    // triangles are compared as csm verify compares a model (require_built_from): a world-space
+    // sphere does not turn with the mesh, so a receiver rotated into place did not match.
+    Mesh moved = receiver;
+    const Transform t = world_to_object(csm.info, instances[i].placement);
+    for (Vec3& v : moved.vertices) {
+      const double x = v.x, y = v.y, z = v.z;
+      v = {static_cast<float>(t[0] * x + t[1] * y + t[2] * z + t[3]), static_cast<float>(t[4] * x + t[5] * y + t[6] * z + t[7]),
+           static_cast<float>(t[8] * x + t[9] * y + t[10] * z + t[11])};
+    }
+    try {
+      require_built_from(csm, moved);
+      return i;
+    } catch (const Error&) {
+    }
   }
   return std::nullopt;
 }

@@ -50,9 +50,10 @@ inline constexpr float kDefaultLiftTexels = 1, kMaxLiftTexels = 1000;
 // one's texel (a sphere of radius 100 1000 units away: AO 1.000 instead of 0.403 under a plate).
 ReceiverLifts receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
                                   float texels);
-// The first instance whose CSM was built from `receiver` as it lies in the world: its placed
-// bounding sphere is the receiver's (to 3e-4 R) and its CSM has the
-// receiver's count of casting triangles. None for a receiver that no occluder is.
+// The first instance whose CSM was built from `receiver` as it lies in the world: the receiver
+// taken into the CSM's object space (placement and object transform undone) passes
+// require_built_from (bounding sphere to 1e-4 R, count of casting triangles). None for a receiver
+// that no occluder is.
 std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::vector<const Csm*>& csms,
                                              const std::vector<Instance>& instances);
 // For each point, the world size of a texel (csm/query_reach.hpp placed_texel) of the coarsest

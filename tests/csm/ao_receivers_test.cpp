@@ -293,6 +293,30 @@ TEST(CsmAoReceivers, AReceiverThatIsAnOccluderIsLiftedForItsOwnMapsOnly) {
   EXPECT_GT(worst_own_for_all, 0.9);
 }
 
+// A receiver file that is an occluder's model turned and moved into place is that occluder: it is
+// compared in the CSM's object space (a world-space bounding sphere does not turn with the mesh).
+TEST(CsmAoReceivers, AReceiverTurnedIntoPlaceIsItsOccluder) {
+  const Mesh model = boxes_mesh({{{0, 0, 0}, {2, 0.2f, 0.2f}}, {{0, 0, 0}, {0.2f, 1, 0.2f}}}, "L");  // not symmetric
+  BuildOptions build;
+  build.maps = 256;
+  build.resolution = 16;
+  const Csm csm = build_csm(model, build, &runtime()).csm;
+  const Transform placement = parse_placement("3,1,-2,20,35,50");
+  const Mesh turned = splatcl::testing::moved_mesh(
+      model,
+      [&](Vec3 p) {
+        const double x = p.x, y = p.y, z = p.z;
+        const auto& m = placement;
+        return Vec3{static_cast<float>(m[0] * x + m[1] * y + m[2] * z + m[3]), static_cast<float>(m[4] * x + m[5] * y + m[6] * z + m[7]),
+                    static_cast<float>(m[8] * x + m[9] * y + m[10] * z + m[11])};
+      },
+      "turned L");
+  const std::vector<Instance> instances{{0, kIdentity}, {0, placement}};
+  EXPECT_EQ(receiver_instance(turned, {&csm}, instances), std::optional<std::size_t>(1));
+  EXPECT_EQ(receiver_instance(model, {&csm}, instances), std::optional<std::size_t>(0));
+  EXPECT_EQ(receiver_instance(turned, {&csm}, {{0, parse_placement("3,1,-2,20,35,51")}}), std::nullopt);  // turned another way
+}
+
 // A closed part thinner than the hit epsilon (1e-5 of the sphere's diameter) reads as one surface:
 // its back face is lost, and receivers under a 2x2 plate 2e-6 thick read it as lit (a helper's
 // audit: AO 0.97 where ray casting gives 0.23). The hit_eps parameter (csm build --hit-eps) lowers it.
