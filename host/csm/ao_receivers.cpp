@@ -162,12 +162,8 @@ std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::ve
     // triangles are compared as csm verify compares a model (require_built_from): a world-space
     // sphere does not turn with the mesh, so a receiver rotated into place did not match.
     Mesh moved = receiver;
-    const Transform t = world_to_object(csm.info, instances[i].placement);
-    for (Vec3& v : moved.vertices) {
-      const double x = v.x, y = v.y, z = v.z;
-      v = {static_cast<float>(t[0] * x + t[1] * y + t[2] * z + t[3]), static_cast<float>(t[4] * x + t[5] * y + t[6] * z + t[7]),
-           static_cast<float>(t[8] * x + t[9] * y + t[10] * z + t[11])};
-    }
+    const Transform to_object = world_to_object(csm.info, instances[i].placement);
+    for (Vec3& v : moved.vertices) v = transform_point(to_object, v);
     try {
       require_built_from(csm, moved);
       return i;

@@ -129,12 +129,7 @@ LosslessReport check_lossless(const Csm& csm, const Mesh& model, Runtime* runtim
   std::optional<Mesh> moved;
   if (info.object_transform != CsmInfo{}.object_transform) {
     moved = model;
-    const auto& t = info.object_transform;
-    for (Vec3& v : moved->vertices) {
-      const double x = v.x, y = v.y, z = v.z;
-      v = {static_cast<float>(t[0] * x + t[1] * y + t[2] * z + t[3]), static_cast<float>(t[4] * x + t[5] * y + t[6] * z + t[7]),
-           static_cast<float>(t[8] * x + t[9] * y + t[10] * z + t[11])};
-    }
+    for (Vec3& v : moved->vertices) v = transform_point(info.object_transform, v);
   }
   const Mesh& mesh = moved ? *moved : model;
   require_built_from(csm, mesh);

@@ -72,6 +72,14 @@ device::CsmOccluder grid_occluder(const SphereGrid& grid, std::vector<float>& bo
 
 // The world → object transform of an instance of `csm` (object transform · placement⁻¹).
 Transform world_to_object(const CsmInfo& info, const Transform& placement);
+// Point p through the row-major affine t (a placement, or a CSM's float object transform), in
+// double, rounded to float once.
+template <class T>
+Vec3 transform_point(const std::array<T, 16>& t, Vec3 p) {
+  const double x = p.x, y = p.y, z = p.z;
+  const auto row = [&](int r) { return static_cast<float>(double{t[4 * r]} * x + double{t[4 * r + 1]} * y + double{t[4 * r + 2]} * z + double{t[4 * r + 3]}); };
+  return {row(0), row(1), row(2)};
+}
 // The inverse of an affine placement; throws Error "an occluder placement is not invertible" when
 // its 3 x 3 part's determinant is 0, below 1e-30 in magnitude or not finite.
 Transform invert_affine(const Transform& m);

@@ -302,15 +302,7 @@ TEST(CsmAoReceivers, AReceiverTurnedIntoPlaceIsItsOccluder) {
   build.resolution = 16;
   const Csm csm = build_csm(model, build, &runtime()).csm;
   const Transform placement = parse_placement("3,1,-2,20,35,50");
-  const Mesh turned = splatcl::testing::moved_mesh(
-      model,
-      [&](Vec3 p) {
-        const double x = p.x, y = p.y, z = p.z;
-        const auto& m = placement;
-        return Vec3{static_cast<float>(m[0] * x + m[1] * y + m[2] * z + m[3]), static_cast<float>(m[4] * x + m[5] * y + m[6] * z + m[7]),
-                    static_cast<float>(m[8] * x + m[9] * y + m[10] * z + m[11])};
-      },
-      "turned L");
+  const Mesh turned = splatcl::testing::moved_mesh(model, [&](Vec3 p) { return transform_point(placement, p); }, "turned L");
   const std::vector<Instance> instances{{0, kIdentity}, {0, placement}};
   EXPECT_EQ(receiver_instance(turned, {&csm}, instances), std::optional<std::size_t>(1));
   EXPECT_EQ(receiver_instance(model, {&csm}, instances), std::optional<std::size_t>(0));
