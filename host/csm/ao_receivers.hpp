@@ -40,8 +40,8 @@ struct ReceiverAoOptions {
 inline constexpr float kDefaultLiftTexels = 1, kMaxLiftTexels = 1000;
 // Each vertex's lift for `splatcl ao --lift`, in world units. A receiver that is one of the
 // occluder instances (receiver_instance) is lifted by `texels` texels (csm/query_reach.hpp
-// placed_texel) of that instance, for that instance's queries only (the presenter lifts an object's
-// splats by its own CSM's texel too, but for every instance). Any other receiver: by `texels` texels of the coarsest
+// placed_texel) of that instance, for that instance's queries only (as the presenter lifts an
+// object's splats: csm/splat_lighting.cpp). Any other receiver: by `texels` texels of the coarsest
 // placed occluder whose bounding sphere holds the vertex (0 where none does: no occluder's own
 // surface is there), for every instance. The coarsest around a receiver that is an occluder itself
 // lifted a sphere resting on a large plate's CSM by the plate's texel, 11 of its own, which erased

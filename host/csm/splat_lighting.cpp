@@ -9,14 +9,31 @@
 namespace splatcl::csm {
 namespace {
 
-// A batch of (receiver, light) visibility queries and, per query, where its answer goes.
+// A batch of (receiver, light) visibility queries and, per query, where its answer goes. The
+// receiver is an index: where it is queried depends on the instance (ReceiverPlaces).
 struct QueryBatch {
-  std::vector<Vec4> receivers, lights;
+  std::vector<std::size_t> receivers;
+  std::vector<Vec4> lights;
   std::vector<std::size_t> where;
-  void add(const Vec4& receiver, const Vec4& light, std::size_t at) {
+  void add(std::size_t receiver, const Vec4& light, std::size_t at) {
     receivers.push_back(receiver);
     lights.push_back(light);
     where.push_back(at);
+  }
+};
+
+inline constexpr std::uint32_t kNoOwner = UINT32_MAX;
+
+// Where each receiver is queried: through its own object's CSM lifted off that surface (`own`),
+// through every other CSM at `other`, as `splatcl ao` lifts a receiver that is an occluder
+// (csm/ao_receivers.hpp). Lifted through every instance, splats under a sphere resting on a thin
+// plate went through the plate and read AO 1 where ray casting gives about 0.
+struct ReceiverPlaces {
+  const std::vector<Vec4>& own;
+  const std::vector<Vec4>& other;
+  const std::vector<std::uint32_t>& owner;  // per receiver its object, kNoOwner for none (a floor)
+  const Vec4& at(std::size_t receiver, std::uint32_t occluder) const {
+    return owner[receiver] == occluder ? own[receiver] : other[receiver];
   }
 };
 
@@ -56,22 +73,25 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
     if (input.objects[i].occluder) instances.push_back({static_cast<std::uint32_t>(i), placements[i]});
   const Filter filter = settings.filter;
   // Receivers lifted off their own surface along the normal, so that a splat's own CSM does not
-  // shadow it: by kAoLiftTexels / kShadowLiftTexels texels of that CSM (query_reach.hpp), shadow
-  // receivers by the lift as well; splats of no object (a floor) by the lift for shadows only.
+  // shadow it: by kAoLiftTexels / kShadowLiftTexels texels of that CSM (query_reach.hpp), for that
+  // CSM's queries only (ReceiverPlaces); shadow receivers by the lift as well, for every CSM.
   std::vector<float> own_texel(n, 0.0f);
+  std::vector<std::uint32_t> owner(n, kNoOwner);
   for (std::size_t i = 0; i < input.objects.size(); ++i) {
-    const float texel = placed_texel(csms_[i]->info, placements[i]);
-    std::fill(own_texel.begin() + static_cast<std::ptrdiff_t>(input.objects[i].first),
-              own_texel.begin() + static_cast<std::ptrdiff_t>(input.objects[i].first + input.objects[i].count), texel);
+    const auto first = static_cast<std::ptrdiff_t>(input.objects[i].first), end = first + static_cast<std::ptrdiff_t>(input.objects[i].count);
+    std::fill(own_texel.begin() + first, own_texel.begin() + end, placed_texel(csms_[i]->info, placements[i]));
+    std::fill(owner.begin() + first, owner.begin() + end, static_cast<std::uint32_t>(i));
   }
   const auto lifted_by = [&](std::size_t s, float by, float w) {
     return Vec4{positions[s].x + by * normals[s].x, positions[s].y + by * normals[s].y, positions[s].z + by * normals[s].z, w};
   };
-  std::vector<Vec4> lifted(n), ao_at(n);
+  std::vector<Vec4> shadow_own(n), shadow_other(n), ao_own(n);
   for (std::size_t s = 0; s < n; ++s) {
-    lifted[s] = lifted_by(s, settings.lift + kShadowLiftTexels * own_texel[s], 1.0f);
-    ao_at[s] = lifted_by(s, kAoLiftTexels * own_texel[s], positions[s].w);
+    shadow_own[s] = lifted_by(s, settings.lift + kShadowLiftTexels * own_texel[s], 1.0f);
+    shadow_other[s] = lifted_by(s, settings.lift, 1.0f);
+    ao_own[s] = lifted_by(s, kAoLiftTexels * own_texel[s], positions[s].w);
   }
+  const ReceiverPlaces ao_at{ao_own, positions, owner}, shadow_at{shadow_own, shadow_other, owner};
   const bool do_ao = settings.ao, do_shadows = settings.shadows && !settings.key_lights.empty();
   std::vector<std::vector<glm::vec3>> light_points;  // per key light
   for (const KeyLightShape& light : settings.key_lights) light_points.push_back(key_light_points(light, settings.shadow_samples));
@@ -102,15 +122,58 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   for (std::size_t s = 0; s < n; ++s)
     if (kernel_receiver[s] && active(s)) ao_subset.push_back(static_cast<std::uint32_t>(s)), shadow_subset.push_back(static_cast<std::uint32_t>(s));
 
-  // Runs (receiver, light) queries through `through` (the CSM tables stay on the device, only the
-  // instances are placed); no instances: all lit. Batches of any size: the chunked kernel's
-  // work-group size is fixed on the CPU, so PoCL compiles it once, not once per batch size.
-  const auto run_queries = [&](const std::vector<Instance>& through, const std::vector<Vec4>& receivers,
-                               const std::vector<Vec4>& lights, Filter f) {
-    if (through.empty() || receivers.empty()) return std::vector<float>(receivers.size(), 1.0f);
-    VisibilityQueries& queries = device().queries();
-    queries.place(through);
-    return queries.run(receivers, lights, f, settings.bias);
+  // Runs the batch's queries through every instance of `through` (the CSM tables stay on the device,
+  // only the instances are placed): per query the product of the instances' answers (0 or 1 with
+  // Filter::None; PCF fractions are multiples of 1/16, so products are exact in any order); no
+  // instances: all lit. A receiver whose own object is among them is queried through the others at
+  // places.other and then, where still lit, through its own at places.own. Batches of any size: the
+  // chunked kernel's work-group size is fixed on the CPU, so PoCL compiles it once, not once per
+  // batch size.
+  const auto run_queries = [&](const std::vector<Instance>& through, const QueryBatch& batch, const ReceiverPlaces& places,
+                               Filter f) {
+    std::vector<float> answer(batch.receivers.size(), 1.0f);
+    if (through.empty()) return answer;
+    // Through `part` at `place(receiver)`, the queries still lit.
+    const auto run_part = [&](const std::vector<Instance>& part, const std::vector<std::size_t>& queries, auto&& place) {
+      std::vector<Vec4> receivers, lights;
+      std::vector<std::size_t> asked;
+      for (const std::size_t q : queries) {
+        if (answer[q] == 0.0f) continue;
+        receivers.push_back(place(batch.receivers[q]));
+        lights.push_back(batch.lights[q]);
+        asked.push_back(q);
+      }
+      if (part.empty() || receivers.empty()) return;
+      VisibilityQueries& queries_device = device().queries();
+      queries_device.place(part);
+      const std::vector<float> visible = queries_device.run(receivers, lights, f, settings.bias);
+      for (std::size_t k = 0; k < asked.size(); ++k) answer[asked[k]] *= visible[k];
+    };
+    const auto own = [&](std::size_t r) { return places.own[r]; };
+    const auto other = [&](std::size_t r) { return places.other[r]; };
+    if (through.size() == 1) {  // one launch, each receiver where it is queried through that instance
+      std::vector<std::size_t> all(batch.receivers.size());
+      for (std::size_t q = 0; q < all.size(); ++q) all[q] = q;
+      run_part(through, all, [&](std::size_t r) { return places.at(r, through[0].occluder); });
+      return answer;
+    }
+    // The queries by their receiver's own instance among `through` (the entry at through.size():
+    // none of them).
+    std::vector<std::vector<std::size_t>> by_own(through.size() + 1);
+    for (std::size_t q = 0; q < batch.receivers.size(); ++q) {
+      const std::uint32_t object = places.owner[batch.receivers[q]];
+      std::size_t k = 0;
+      while (k < through.size() && through[k].occluder != object) ++k;
+      by_own[k].push_back(q);
+    }
+    for (std::size_t k = 0; k <= through.size(); ++k) {
+      if (by_own[k].empty()) continue;
+      std::vector<Instance> others = through;
+      if (k < through.size()) others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
+      run_part(others, by_own[k], other);
+      if (k < through.size()) run_part({through[k]}, by_own[k], own);
+    }
+    return answer;
   };
   // Where the queries through an instance may answer "occluded" (Cone): with the map choice of
   // Filter::None or SameMap and a bias >= 0 (CrossMap taps 4 maps; an unbounded slack there).
@@ -181,9 +244,9 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
         Vec4* d = &static_directions_[s * samples];
         directions_of(s, d);
         for (std::uint32_t j = 0; j < samples; ++j)
-          if (d[j].w != 0) ao_batch.add(ao_at[s], {d[j].x, d[j].y, d[j].z, 0.0f}, s * words * 64 + j);
+          if (d[j].w != 0) ao_batch.add(s, {d[j].x, d[j].y, d[j].z, 0.0f}, s * words * 64 + j);
       }
-      const std::vector<float> lit = run_queries(static_instances, ao_batch.receivers, ao_batch.lights, Filter::None);
+      const std::vector<float> lit = run_queries(static_instances, ao_batch, ao_at, Filter::None);
       for (std::size_t k = 0; k < ao_batch.where.size(); ++k) {
         const std::size_t bit = ao_batch.where[k];
         if (lit[k] > 0.0f) static_lit_[bit / 64] |= std::uint64_t{1} << (bit % 64);
@@ -193,18 +256,21 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
         if (!stale[s]) continue;
         for (std::size_t k = 0; k < keys; ++k)
           for (std::size_t j = 0; j < light_points[k].size(); ++j)
-            shadow_batch.add(lifted[s], {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f},
-                             (s * keys + k) * points + j);
+            shadow_batch.add(s, {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f}, (s * keys + k) * points + j);
       }
-      const std::vector<float> visible = run_queries(static_instances, shadow_batch.receivers, shadow_batch.lights, filter);
+      const std::vector<float> visible = run_queries(static_instances, shadow_batch, shadow_at, filter);
       for (std::size_t k = 0; k < shadow_batch.where.size(); ++k) static_shadow_[shadow_batch.where[k]] = visible[k];
       cached_movers_ = moved;
     }
     // Queries through the moved occluders where they may answer "occluded".
     std::vector<std::uint64_t> mask = static_lit_;
-    const auto cones_from = [&](glm::vec3 p, std::vector<Cone>& cones) {
+    // Per moved instance the Cone from where receiver s is queried through it.
+    const auto cones_from = [&](std::size_t s, const ReceiverPlaces& places, std::vector<Cone>& cones) {
       cones.clear();
-      for (const MovedReach& reach : reaches) cones.push_back(reach.cone_from(p));
+      for (std::size_t k = 0; k < reaches.size(); ++k) {
+        const Vec4& p = places.at(s, moving_instances[k].occluder);
+        cones.push_back(reaches[k].cone_from({p.x, p.y, p.z}));
+      }
     };
     const auto reached = [](const std::vector<Cone>& cones, glm::vec3 w, float length) {
       return std::any_of(cones.begin(), cones.end(), [&](const Cone& c) { return c.may_reach(w, length); });
@@ -217,15 +283,15 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       if (std::all_of(mask.begin() + static_cast<std::ptrdiff_t>(s * words),
                       mask.begin() + static_cast<std::ptrdiff_t>((s + 1) * words), [](std::uint64_t w) { return w == 0; }))
         continue;
-      cones_from({ao_at[s].x, ao_at[s].y, ao_at[s].z}, cones);
+      cones_from(s, ao_at, cones);
       const Vec4* d = &static_directions_[s * samples];
       for (std::uint32_t j = 0; j < samples; ++j) {
         const std::size_t bit = s * words * 64 + j;
         if ((mask[bit / 64] >> (bit % 64) & 1) && reached(cones, {d[j].x, d[j].y, d[j].z}, d[j].w))
-          ao_batch.add(ao_at[s], {d[j].x, d[j].y, d[j].z, 0.0f}, bit);
+          ao_batch.add(s, {d[j].x, d[j].y, d[j].z, 0.0f}, bit);
       }
     }
-    const std::vector<float> lit = run_queries(moving_instances, ao_batch.receivers, ao_batch.lights, Filter::None);
+    const std::vector<float> lit = run_queries(moving_instances, ao_batch, ao_at, Filter::None);
     for (std::size_t k = 0; k < ao_batch.where.size(); ++k) {
       const std::size_t bit = ao_batch.where[k];
       if (!(lit[k] > 0.0f)) mask[bit / 64] &= ~(std::uint64_t{1} << (bit % 64));
@@ -261,17 +327,24 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
     QueryBatch shadow_batch;
     for (std::size_t s = 0; s < n && do_shadows && !reaches.empty(); ++s) {
       if (kernel_receiver[s] || !active(s)) continue;
-      const glm::vec3 lift(lifted[s].x, lifted[s].y, lifted[s].z);
-      cones_from(lift, cones);
+      cones_from(s, shadow_at, cones);
+      // Whether a moved instance's Cone may reach the light point from where s is queried through it.
+      const auto may_shade = [&](glm::vec3 light) {
+        for (std::size_t c = 0; c < cones.size(); ++c) {
+          const Vec4& p = shadow_at.at(s, moving_instances[c].occluder);
+          const glm::vec3 w = light - glm::vec3(p.x, p.y, p.z);
+          if (cones[c].may_reach(w, glm::length(w))) return true;
+        }
+        return false;
+      };
       for (std::size_t k = 0; k < keys; ++k)
         for (std::size_t j = 0; j < light_points[k].size(); ++j) {
           const std::size_t at = (s * keys + k) * points + j;
-          const glm::vec3 w = light_points[k][j] - lift;
-          if (shadow[at] != 0.0f && reached(cones, w, glm::length(w)))
-            shadow_batch.add(lifted[s], {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f}, at);
+          if (shadow[at] != 0.0f && may_shade(light_points[k][j]))
+            shadow_batch.add(s, {light_points[k][j].x, light_points[k][j].y, light_points[k][j].z, 1.0f}, at);
         }
     }
-    const std::vector<float> visible = run_queries(moving_instances, shadow_batch.receivers, shadow_batch.lights, filter);
+    const std::vector<float> visible = run_queries(moving_instances, shadow_batch, shadow_at, filter);
     for (std::size_t k = 0; k < shadow_batch.where.size(); ++k) shadow[shadow_batch.where[k]] *= visible[k];
     for (std::size_t s = 0; s < n && do_shadows; ++s) {
       if (kernel_receiver[s] || !active(s)) continue;
@@ -307,15 +380,15 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       for (std::size_t i = 0; i < instances.size(); ++i) {
         QueryBatch batch;
         for (std::size_t r = 0; r < m; ++r) {
-          const Vec4& p = ao_at[ao_subset[r]];
+          const Vec4& p = ao_at.at(ao_subset[r], instances[i].occluder);
           const Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : Cone{true};
           for (std::uint32_t j = 0; j < samples; ++j) {
             const std::size_t at = r * samples + j;
             const Vec4& d = receiver_directions[at];
-            if (unblocked[at] && cone.may_reach({d.x, d.y, d.z}, d.w)) batch.add(p, {d.x, d.y, d.z, 0.0f}, at);
+            if (unblocked[at] && cone.may_reach({d.x, d.y, d.z}, d.w)) batch.add(ao_subset[r], {d.x, d.y, d.z, 0.0f}, at);
           }
         }
-        const std::vector<float> visible = run_queries({instances[i]}, batch.receivers, batch.lights, Filter::None);
+        const std::vector<float> visible = run_queries({instances[i]}, batch, ao_at, Filter::None);
         for (std::size_t x = 0; x < batch.where.size(); ++x)
           if (!(visible[x] > 0.0f)) unblocked[batch.where[x]] = 0;
       }
@@ -344,11 +417,12 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
       for (const auto& p : light_points) light_base.push_back(light_base.back() + p.size() * m);
       std::vector<float> product(light_base.back(), 1.0f);
       std::vector<Cone> cones(m);
-      const auto lift = [&](std::size_t r) {
-        const Vec4& p = lifted[shadow_subset[r]];
-        return glm::vec3(p.x, p.y, p.z);
-      };
       for (std::size_t i = 0; i < instances.size(); ++i) {
+        // Where receiver r is queried through instance i.
+        const auto lift = [&](std::size_t r) {
+          const Vec4& p = shadow_at.at(shadow_subset[r], instances[i].occluder);
+          return glm::vec3(p.x, p.y, p.z);
+        };
         for (std::size_t r = 0; r < m; ++r) cones[r] = cull ? instance_reaches[i].cone_from(lift(r)) : Cone{true};
         QueryBatch batch;
         for (std::size_t k = 0; k < light_points.size(); ++k)
@@ -357,10 +431,10 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
             for (std::size_t r = 0; r < m; ++r) {
               const std::size_t at = light_base[k] + j * m + r;
               const glm::vec3 w = light_points[k][j] - lift(r);
-              if (product[at] != 0.0f && cones[r].may_reach(w, glm::length(w))) batch.add(lifted[shadow_subset[r]], point, at);
+              if (product[at] != 0.0f && cones[r].may_reach(w, glm::length(w))) batch.add(shadow_subset[r], point, at);
             }
           }
-        const std::vector<float> visible = run_queries({instances[i]}, batch.receivers, batch.lights, filter);
+        const std::vector<float> visible = run_queries({instances[i]}, batch, shadow_at, filter);
         for (std::size_t x = 0; x < batch.where.size(); ++x) product[batch.where[x]] *= visible[x];
       }
       for (std::size_t r = 0; r < m; ++r)

@@ -13,6 +13,8 @@
 // the static occluders again, on its own. Both give the same rows bit for bit,
 // and the same as the AO kernel and one visibility batch through all instances
 // (key_light_visibility). Cross-map PCF and a negative bias always take the full update.
+// An object's splats are lifted off its surface (query_reach.hpp) for its own CSM's queries only:
+// their AO rows are the AO kernel's with the object as own_instance, `splatcl ao`'s rule.
 #include <cstdint>
 #include <map>
 #include <memory>

@@ -226,12 +226,9 @@ TEST(CsmAoReceivers, EachReceiverIsLiftedByTheOccludersAroundIt) {
 // for a receiver that is no occluder), it lost its contact AO (mean error 0.196); lifted by its own
 // for every instance, its underside went through the plate (a vertex 1 off).
 TEST(CsmAoReceivers, AReceiverThatIsAnOccluderIsLiftedForItsOwnMapsOnly) {
-  const Mesh ball = splatcl::testing::moved_mesh(sphere_mesh(16, 32), [](Vec3 p) { return p + Vec3{0, 1.01f, 0}; }, "ball");
-  const Mesh plate = boxes_mesh({{{-8, -0.005f, -8}, {8, 0, 8}}}, "plate");
-  BuildOptions build;
-  build.maps = 1024;
-  build.resolution = 64;
-  const Csm ball_csm = build_csm(ball, build, &runtime()).csm, plate_csm = build_csm(plate, build, &runtime()).csm;
+  const BallOnPlate& setup = ball_on_plate();
+  const Mesh &ball = setup.ball, &plate = setup.plate;
+  const Csm &ball_csm = setup.ball_csm, &plate_csm = setup.plate_csm;
   const std::vector<const Csm*> csms{&plate_csm, &ball_csm};
   const std::vector<Instance> instances{{0, kIdentity}, {1, kIdentity}};
   const VisibilityScene scene(csms, instances);
@@ -239,19 +236,8 @@ TEST(CsmAoReceivers, AReceiverThatIsAnOccluderIsLiftedForItsOwnMapsOnly) {
   EXPECT_EQ(receiver_instance(plate, csms, instances), std::optional<std::size_t>(0));
   EXPECT_EQ(receiver_instance(sphere_mesh(16, 32), csms, instances), std::nullopt);  // the ball elsewhere
 
-  // Ray-cast truth on both meshes together.
-  std::vector<Vec3> vertices = ball.vertices;
-  vertices.insert(vertices.end(), plate.vertices.begin(), plate.vertices.end());
-  std::vector<std::vector<std::uint32_t>> faces;
-  for (const Mesh* mesh : {&ball, &plate}) {
-    const auto base = static_cast<std::uint32_t>(mesh == &ball ? 0 : ball.vertices.size());
-    for (std::size_t f = 0; f < mesh->face_count(); ++f) {
-      faces.emplace_back();
-      for (std::uint32_t k = mesh->face_offsets[f]; k < mesh->face_offsets[f + 1]; ++k) faces.back().push_back(base + mesh->corners[k]);
-    }
-  }
   ReceiverAoOptions options;
-  const std::vector<float> truth = raycast_ambient_occlusion(ball, make_mesh(vertices, faces, "ball on plate"), options);
+  const std::vector<float> truth = raycast_ambient_occlusion(ball, setup.both, options);  // ray-cast on both meshes
   const auto error_with = [&](const ReceiverLifts& lift, float& worst) {
     options.lift = lift;
     const std::vector<Vec4> ao = receiver_ambient_occlusion(ball, scene, options, &runtime());

@@ -13,6 +13,7 @@
 #include "runtime/test_runtime.hpp"
 #include "runtime/runtime.hpp"
 #include "core/mesh.hpp"
+#include "csm/build.hpp"
 #include "csm/visibility.hpp"
 
 namespace splatcl::csm::testing {
@@ -91,6 +92,35 @@ inline Mesh sphere_mesh(unsigned rings, unsigned segments, float r = 1.0f) {
 inline Mesh scene_mesh() {
   return boxes_mesh({{{-1, -0.2f, -0.3f}, {-0.2f, 0.9f, 0.4f}}, {{0.1f, -1, -0.6f}, {0.8f, -0.1f, 0.7f}}, {{-0.5f, -0.9f, 0.5f}, {0.3f, -0.4f, 0.9f}}},
                     "three boxes");
+}
+
+// A unit sphere resting 0.01 above a thin 16-wide plate, each with its CSM (1024 maps of 64²), and
+// both meshes as one (the ray casters' occluder): a receiver that is one of the occluders.
+struct BallOnPlate {
+  Mesh ball, plate, both;
+  Csm ball_csm, plate_csm;
+};
+inline const BallOnPlate& ball_on_plate() {
+  static const BallOnPlate built = [] {
+    BallOnPlate b;
+    b.ball = splatcl::testing::moved_mesh(sphere_mesh(16, 32), [](Vec3 p) { return p + Vec3{0, 1.01f, 0}; }, "ball");
+    b.plate = boxes_mesh({{{-8, -0.005f, -8}, {8, 0, 8}}}, "plate");
+    BuildOptions build;
+    build.maps = 1024;
+    build.resolution = 64;
+    b.ball_csm = build_csm(b.ball, build, &runtime()).csm;
+    b.plate_csm = build_csm(b.plate, build, &runtime()).csm;
+    std::vector<Vec3> vertices = b.ball.vertices;
+    vertices.insert(vertices.end(), b.plate.vertices.begin(), b.plate.vertices.end());
+    std::vector<std::vector<std::uint32_t>> faces = splatcl::testing::face_lists(b.ball);
+    for (std::vector<std::uint32_t> face : splatcl::testing::face_lists(b.plate)) {
+      for (std::uint32_t& v : face) v += static_cast<std::uint32_t>(b.ball.vertices.size());
+      faces.push_back(face);
+    }
+    b.both = make_mesh(vertices, faces, "ball on plate");
+    return b;
+  }();
+  return built;
 }
 
 }  // namespace splatcl::csm::testing

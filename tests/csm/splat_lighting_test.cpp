@@ -4,6 +4,7 @@
 #include <cstring>
 #include <iterator>
 
+#include "csm/ao_receivers.hpp"
 #include "csm/build.hpp"
 #include "csm/splat_lighting.hpp"
 #include "csm_test_support.hpp"
@@ -35,7 +36,23 @@ const Fixture& fixture() {
         f.receivers.positions.push_back({-3.0f + 0.25f * static_cast<float>(i), 0.0f, -3.0f + 0.25f * static_cast<float>(k), 0});
         f.receivers.normals.push_back({0, 1, 0, 0});
       }
-    f.receivers.objects = {{0, 0, true}, {0, 0, true}};
+    // Splats of the slab (its underside and top) and of the block (two sides): lifted off their own
+    // surface for their own object's queries only.
+    const std::size_t floor_count = f.receivers.positions.size();
+    for (int i = 0; i < 8; ++i)
+      for (int k = 0; k < 8; ++k)
+        for (const float y : {0.8f, 0.9f}) {
+          f.receivers.positions.push_back({-0.875f + 0.25f * static_cast<float>(i), y, -0.875f + 0.25f * static_cast<float>(k), 0});
+          f.receivers.normals.push_back({0, y < 0.85f ? -1.0f : 1.0f, 0, 0});
+        }
+    const std::size_t slab_count = f.receivers.positions.size() - floor_count;
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < 4; ++k)
+        for (const float x : {-0.3f, 0.3f}) {
+          f.receivers.positions.push_back({x, 0.05f + 0.125f * static_cast<float>(i), -0.225f + 0.15f * static_cast<float>(k), 0});
+          f.receivers.normals.push_back({x < 0 ? -1.0f : 1.0f, 0, 0, 0});
+        }
+    f.receivers.objects = {{floor_count, slab_count, true}, {floor_count + slab_count, f.receivers.positions.size() - floor_count - slab_count, true}};
     f.settings.ao_samples = 16;
     f.settings.lift = 0.035f;  // not the bias: the two are separate settings
     f.settings.key_lights = {{{0.5f, 4.0f, 0.2f}, 0.3f}, {{-2.0f, 3.0f, 1.0f}, 0.0f}};
@@ -68,7 +85,23 @@ TEST(CsmSplatLighting, FullUpdateEqualsTheAoKernelAndOneVisibilityBatch) {
   request.bias = f.settings.bias;
   AmbientOcclusion& device = lighting.device();
   device.place({{0, placements[0]}, {1, placements[1]}});
-  const std::vector<Vec4> ao = device.run(request);
+  std::vector<Vec4> ao = device.run(request);
+  // An object's splats: the AO kernel with the object as own instance, lifted by its own texel.
+  const Csm* csms[] = {&f.slab, &f.block};
+  for (std::uint32_t object = 0; object < 2; ++object) {
+    const SplatLighting::Object& o = f.receivers.objects[object];
+    AoRequest own = request;
+    own.own_instance = object;
+    own.positions.assign(f.receivers.positions.begin() + static_cast<std::ptrdiff_t>(o.first),
+                         f.receivers.positions.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
+    for (Vec4& p : own.positions) p.w = kAoLiftTexels * placed_texel(csms[object]->info, placements[object]);
+    own.normals.assign(f.receivers.normals.begin() + static_cast<std::ptrdiff_t>(o.first),
+                       f.receivers.normals.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
+    own.pattern_of.assign(f.pattern_of.begin() + static_cast<std::ptrdiff_t>(o.first),
+                          f.pattern_of.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
+    const std::vector<Vec4> part = device.run(own);
+    std::copy(part.begin(), part.end(), ao.begin() + static_cast<std::ptrdiff_t>(o.first));
+  }
   std::size_t occluded = 0;
   for (std::size_t s = 0; s < n; ++s) {
     EXPECT_EQ(std::memcmp(&rows[SplatLighting::kRowFloats * s], &ao[s], sizeof(Vec4)), 0) << "splat " << s;
@@ -85,12 +118,20 @@ TEST(CsmSplatLighting, FullUpdateEqualsTheAoKernelAndOneVisibilityBatch) {
   for (std::size_t k = 0; k < f.settings.key_lights.size(); ++k) {
     const std::vector<float> visible = key_light_visibility(device.queries(), lifted, f.settings.key_lights[k],
                                                             f.settings.shadow_samples, f.settings.filter, f.settings.bias);
-    for (std::size_t s = 0; s < n; ++s) {
+    for (std::size_t s = 0; s < f.receivers.objects[0].first; ++s) {  // the floor's splats, of no object
       EXPECT_EQ(rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt + k], visible[s]) << "splat " << s;
       shadowed += visible[s] < 1.0f;
     }
   }
   EXPECT_GT(shadowed, 0u);
+  // The slab's top sees the key light above it (no acne through its own maps), its underside does
+  // not (PCF lets up to 3 of 32 taps through near the slab's rim).
+  const SplatLighting::Object& slab = f.receivers.objects[0];
+  for (std::size_t s = slab.first; s < slab.first + slab.count; ++s) {
+    const float visible = rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt];
+    if (f.receivers.normals[s].y > 0) EXPECT_EQ(visible, 1.0f) << "slab splat " << s;
+    else EXPECT_LE(visible, 0.1f) << "slab splat " << s;
+  }
   for (std::size_t s = 0; s < n; ++s)  // no third or fourth key light: visible
     for (std::size_t k = f.settings.key_lights.size(); k < SplatLighting::kMaxKeyLights; ++k)
       EXPECT_EQ(rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt + k], 1.0f);
@@ -167,6 +208,51 @@ TEST(CsmSplatLighting, IncrementalUpdateWithChangingReceiversEqualsTheFullUpdate
   const std::vector<float> rows = incremental.rows();
   EXPECT_EQ(incremental.update(receivers, still, f.settings, true).receivers, 0u);
   EXPECT_EQ(incremental.rows(), rows);
+}
+
+// A splat's own object lifts it off its own surface for its own CSM's queries only, as `splatcl ao`
+// lifts a receiver that is an occluder (csm/ao_receivers.hpp): a unit sphere's splats resting on a
+// thin plate, both occluders. Lifted by the sphere's texel through every instance, the splats under
+// the sphere went through the plate and read AO up to 1 off ray casting. Now the rows' AO is the
+// `ao` command's on the same receivers and patterns (the AO kernel with the sphere as own instance).
+TEST(CsmSplatLighting, SplatsAreLiftedForTheirOwnObjectsMapsOnly) {
+  const BallOnPlate& setup = ball_on_plate();
+  const Mesh& ball = setup.ball;
+  const Csm &ball_csm = setup.ball_csm, &plate_csm = setup.plate_csm;
+  ReceiverAoOptions options;
+  const std::size_t n = ball.vertices.size();
+  SplatLighting::Receivers receivers;
+  for (std::size_t v = 0; v < n; ++v) {
+    receivers.positions.push_back({ball.vertices[v].x, ball.vertices[v].y, ball.vertices[v].z, 0});
+    receivers.normals.push_back({ball.normals[v].x, ball.normals[v].y, ball.normals[v].z, 0});
+  }
+  receivers.objects = {{0, n, true}, {n, 0, true}};
+  SplatLighting lighting(runtime(), {&ball_csm, &plate_csm}, make_patterns(options.pattern_set, options.patterns, options.samples, options.seed),
+                         choose_patterns(n, options.patterns, options.seed));
+  SplatLighting::Settings settings;
+  settings.ao_samples = options.samples;
+  settings.bias = options.bias;
+  settings.ground = options.ground;
+  settings.shadows = false;
+  lighting.update(receivers, {kIdentity, kIdentity}, settings, false);
+
+  const std::vector<const Csm*> csms{&ball_csm, &plate_csm};
+  const std::vector<Instance> instances{{0, kIdentity}, {1, kIdentity}};
+  options.lift = receiver_lifts(ball, csms, instances, kAoLiftTexels);
+  ASSERT_EQ(options.lift.own_instance, 0u);
+  const std::vector<Vec4> ao = receiver_ambient_occlusion(ball, VisibilityScene(csms, instances), options, &runtime());
+  const std::vector<float> truth = raycast_ambient_occlusion(ball, setup.both, options);
+  double error = 0, worst = 0, from_ao = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    const float row_ao = lighting.rows()[SplatLighting::kRowFloats * v + 3];
+    error += std::abs(row_ao - truth[v]);
+    worst = std::max(worst, static_cast<double>(std::abs(row_ao - truth[v])));
+    from_ao = std::max(from_ao, static_cast<double>(std::abs(row_ao - ao[v].w)));
+  }
+  std::printf("ball on a plate, splat rows: mean |AO - ray-cast| %.4f (largest %.3f); largest |AO - splatcl ao| %.2g\n",
+              error / static_cast<double>(n), worst, from_ao);
+  EXPECT_LT(worst, 0.35);
+  EXPECT_LE(from_ao, 1e-6);
 }
 
 }  // namespace
