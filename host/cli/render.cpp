@@ -133,7 +133,7 @@ int run_render(const RenderOptions& o) {
                                     {"renderer", context->renderer()},
                                     {"clusters", last.clusters},     {"light_indices", last.light_indices},
                                     // The figures of splatcl view's panel: its modes and toggles, and each object's.
-                                    {"settings", settings_json(scene, presenter.debug_view, presenter.ambient_occlusion, presenter.pixel_ao)},
+                                    {"settings", settings_json(presenter.scene(), presenter.debug_view, presenter.ambient_occlusion, presenter.pixel_ao)},
                                     {"objects", to_json(object_figures(presenter, scene))}};
     outputs.write(o.json, [&](const std::string& path) { write_file_atomically(path, json_text(summary) + "\n"); });
   }

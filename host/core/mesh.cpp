@@ -862,6 +862,24 @@ Mesh load_mesh(const std::string& path, Winding winding) {
   return assemble(mesh_io::read_mesh_file(path), path, winding);
 }
 
+Mesh load_mesh_recentred(const std::string& path, Winding winding) {
+  silence_openmesh();
+  mesh_io::RawMesh raw = mesh_io::read_mesh_file(path);
+  DVec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (std::size_t v = 0; v < raw.exact_positions.size(); ++v) {
+    if (raw.bad_vertex[v]) continue;
+    const DVec3& p = raw.exact_positions[v];
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  if (lo.x <= hi.x) {
+    const DVec3 centre = 0.5 * lo + 0.5 * hi;  // halves first: no overflow near the double range
+    for (std::size_t v = 0; v < raw.exact_positions.size(); ++v)
+      if (!raw.bad_vertex[v]) raw.positions[v] = to_float(raw.exact_positions[v] - centre);
+  }
+  return assemble(raw, path, winding);
+}
+
 Mesh parse_mesh(const std::string& path, std::string_view bytes) {
   silence_openmesh();
   return assemble(mesh_io::parse_mesh_file(path, bytes), path, Winding::AsGiven);

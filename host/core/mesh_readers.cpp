@@ -114,7 +114,7 @@ void add_vertex_tokens(RawMesh& raw, const std::vector<std::string_view>& tokens
     raw.add_vertex({}, true);
     return;
   }
-  raw.add_vertex(p, false);
+  raw.add_vertex({c[0], c[1], c[2]}, p, false);
 }
 
 Vec3 vec_tokens(const std::vector<std::string_view>& tokens, std::size_t first) {
@@ -274,7 +274,7 @@ void add_off_vertex(RawMesh& raw, const double* c, const OffLayout& layout) {
     ++raw.problems.non_finite_vertices;
     raw.add_vertex({}, true);
   } else {
-    raw.add_vertex(q, false);
+    raw.add_vertex({p[0], p[1], p[2]}, q, false);
   }
 }
 
@@ -572,7 +572,8 @@ RawMesh read_ply(const std::string& path, std::string_view text) {
           ++raw.problems.non_finite_vertices;
           raw.add_vertex({}, true);
         } else {
-          raw.add_vertex(p, false);
+          raw.add_vertex({values[static_cast<std::size_t>(x)], values[static_cast<std::size_t>(y)], values[static_cast<std::size_t>(z)]}, p,
+                         false);
         }
         if (!raw.has_normal.empty())
           raw.normals.push_back({static_cast<float>(values[static_cast<std::size_t>(nx)]), static_cast<float>(values[static_cast<std::size_t>(ny)]),
@@ -635,7 +636,7 @@ class StlVertices {
       // +0 and -0 are one position.
       const Key key{std::bit_cast<std::uint32_t>(p.x + 0.0f), std::bit_cast<std::uint32_t>(p.y + 0.0f), std::bit_cast<std::uint32_t>(p.z + 0.0f)};
       const auto [it, added] = index_.try_emplace(key, raw_.positions.size());
-      if (added) raw_.add_vertex(p, false);
+      if (added) raw_.add_vertex({c[0], c[1], c[2]}, p, false);
       raw_.corners.push_back(static_cast<std::int64_t>(it->second));
       return;
     }

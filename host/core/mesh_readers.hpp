@@ -10,11 +10,13 @@
 #include <vector>
 
 #include "core/mesh.hpp"
+#include "math/dvec3.hpp"
 
 namespace splatcl::mesh_io {
 
 struct RawMesh {
   std::vector<Vec3> positions;
+  std::vector<DVec3> exact_positions;        // per vertex as the file has it, in double (positions: rounded)
   std::vector<std::uint8_t> bad_vertex;      // per vertex: 1 where its coordinates are not three finite floats
   std::vector<Vec3> normals;                 // per vertex from the file; empty when it has none
   std::vector<std::uint8_t> has_normal;      // per vertex, beside normals
@@ -24,8 +26,11 @@ struct RawMesh {
   MeshProblems problems;                     // what the reader counted (the vertex kinds)
 
   std::size_t face_count() const { return face_offsets.size() - 1; }
-  void add_vertex(Vec3 p, bool bad) {
+  void add_vertex(Vec3 p, bool bad) { add_vertex(bad ? DVec3{} : DVec3(p), p, bad); }
+  // `exact`: the file's coordinates before they were rounded to `p`.
+  void add_vertex(DVec3 exact, Vec3 p, bool bad) {
     positions.push_back(bad ? Vec3{} : p);
+    exact_positions.push_back(bad ? DVec3{} : exact);
     bad_vertex.push_back(bad ? 1 : 0);
   }
   void end_face() { face_offsets.push_back(corners.size()); }

@@ -196,6 +196,7 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   if (j.contains("fit")) {
     const json& f = r.object(j, "fit");
     r.known_keys(f, "fit", {"size", "on_floor"});
+    if (f.empty()) r.fail("fit", "is empty: give \"size\" (the largest extent it scales to), \"on_floor\": true, or both");
     if (f.contains("size")) o.fit.size = r.extent(f, "size", 1.0f);
     o.fit.on_floor = r.flag(f, "on_floor", o.fit.on_floor);
   }
@@ -471,7 +472,10 @@ FitTransform fit_transform(const std::vector<Vec3>& points, const MeshFit& fit, 
 }
 
 Mesh make_fitted_mesh(const ObjectSpec& object, const std::string& directory) {
-  Mesh mesh = make_object_mesh(object.mesh, directory);
+  // Fitted, a mesh is placed by its bounds alone: read it about their centre, in double.
+  Mesh mesh = object.fit.enabled() && !object.mesh.path.empty()
+                  ? load_mesh_recentred(scene_path(object.mesh.path, directory), Winding::Orient)
+                  : make_object_mesh(object.mesh, directory);
   const FitTransform t = fit_transform(mesh.vertices, object.fit, object.rotation_degrees, mesh.source);
   if (object.fit.enabled()) t.apply_to(mesh.vertices);
   return mesh;

@@ -131,9 +131,11 @@ std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const 
     if (instance.occluder >= csms.size()) continue;
     const CsmInfo& info = csms[instance.occluder]->info;
     const MovedReach reach = moved_reach(info, instance.placement, 0.0f);
-    // A little beyond the sphere: its world centre is rounded to float, which far from the origin
-    // for the object's size moves it by more than the radius's 1e-4 slack.
-    const float radius = reach.radius * 1.001f + 1e-6f * glm::length(reach.centre);
+    // A little beyond the sphere: its world centre and the points are rounded to float, which far
+    // from the origin for the object's size moves them by more than the radius's 1e-4 slack; by
+    // two float steps there, not more: 1e-6 |centre| (up to 17 times that) lifted a floor under an
+    // open bowl at 5000 through the bowl's bottom (AO 0.51 where it is 0.02 at the origin).
+    const float radius = reach.radius * 1.001f + static_cast<float>(std::ldexp(glm::length(reach.centre) + reach.radius, -22));
     placed.push_back({reach.centre, radius, placed_texel(info, instance.placement)});
   }
   std::vector<float> texels(points.size(), 0.0f);

@@ -115,7 +115,8 @@ SplatRun generate_splats(const Mesh& input_mesh, const ColorSource& input_colors
   const double rounding = float_rounding(input_box);
   if (input_options.surface_bound && !(rounding <= 0.5 * input_options.fit.eps))
     throw Error(fmt::format("{}: coordinates reach {:.7g}, where the float splat file's steps move a splat by up to {:.3g}, more than "
-                            "half of eps {:.3g}: translate the mesh nearer the origin or raise --eps",
+                            "half of eps {:.3g}: translate the mesh nearer the origin (a scene object: give it a fit) or raise eps (--eps, "
+                            "--eps-diag; a scene's quality.eps_diagonal)",
                             input_mesh.source, input_box.reach(), rounding, input_options.fit.eps));
   const auto bound_eps = static_cast<float>((input_options.fit.eps - rounding) / (normalise ? run.scale : 1.0));
   const Mesh& mesh = normalise ? normalised_mesh : input_mesh;

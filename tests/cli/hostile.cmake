@@ -191,7 +191,7 @@ add_test(NAME hostile.option_bench_quick_keeps_given_runs COMMAND ${EXPECT_OUTPU
 file(WRITE ${HOSTILE_DIR}/tetra-1e7.obj "v 10000000 0 0\nv 10000001 0 0\nv 10000000 1 0\nv 10000000 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
 file(WRITE ${HOSTILE_DIR}/tetra-near.obj "v 1000 0 0\nv 1001 0 0\nv 1000 1 0\nv 1000 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
 add_test(NAME hostile.mesh_far_from_origin_warns COMMAND ${EXPECT_OUTPUT}
-         --match "tetra-1e7.obj: coordinates reach 1e\\+07, where floats step by 0.596 \\(34 % of the mesh's 1.732 diagonal\\): detail finer than that was lost on reading"
+         --match "tetra-1e7.obj: coordinates reach 1e\\+07, where floats step by 1 \\(58 % of the mesh's 1.732 diagonal\\): detail finer than that was lost on reading"
          -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/tetra-1e7.obj -o ${HOSTILE_DIR}/tetra-1e7.csm --maps 16 --res 8)
 add_test(NAME hostile.mesh_near_origin_does_not_warn COMMAND ${EXPECT_OUTPUT} --no-match "warning"
          -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/tetra-near.obj -o ${HOSTILE_DIR}/tetra-near.csm --maps 16 --res 8)

@@ -21,7 +21,16 @@ add_test(NAME cli.render_tiled_points_exr COMMAND ${EXPECT_OUTPUT} --match "\\(t
 add_test(NAME cli.render_no_display COMMAND ${EXPECT_OUTPUT} --match " 64 lights \\(brute shading, splats mode\\), 64x48$" --match "${RENDER_FRAME}"
          -- env -u DISPLAY -u WAYLAND_DISPLAY $<TARGET_FILE:splatcl> render --size 64x48 --shading brute --lights 64 --view clusters
          --cache ${PRESENT_CACHE})
-set_tests_properties(cli.render_default_scene cli.render_tiled_points_exr cli.render_no_display PROPERTIES FIXTURES_REQUIRED present_cache)
+# --json reports the lengths the frame used: a scene without depth_offset and shadow_lift scales them
+# to its smallest object (0.02 would be half a 1e-3 sphere; the JSON said 0.02 before).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-small-scene.json "{\"objects\": [{\"name\": \"small\", \"mesh\": {\"procedural\": \"sphere\"}, \"scale\": 0.001}]}")
+add_test(NAME cli.render_json_reports_the_scaled_lengths COMMAND ${EXPECT_OUTPUT} --match "${RENDER_FRAME}"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-small.json "\"depth_offset\": 3\\.464[0-9]*e-05,"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-small.json "\"shadow_lift\": 3\\.464[0-9]*e-05,"
+         -- $<TARGET_FILE:splatcl> render ${CMAKE_CURRENT_BINARY_DIR}/present-small-scene.json --size 64x48 --frames 2
+         --cache ${PRESENT_CACHE} --json ${CMAKE_CURRENT_BINARY_DIR}/render-small.json)
+set_tests_properties(cli.render_default_scene cli.render_tiled_points_exr cli.render_no_display cli.render_json_reports_the_scaled_lengths
+                     PROPERTIES FIXTURES_REQUIRED present_cache)
 add_test(NAME cli.render_wall_passes COMMAND ${EXPECT_OUTPUT} --match "gl: splat accumulation +[0-9.]+" -- $<TARGET_FILE:splatcl> render --size 64x48 --frames 2
          --wall-passes --cache ${PRESENT_CACHE})
 add_test(NAME cli.render_lod COMMAND ${EXPECT_OUTPUT} --match "splats drawn \\(LOD 2 px\\)" -- $<TARGET_FILE:splatcl> render --size 96x72 --lod 2 --mode points

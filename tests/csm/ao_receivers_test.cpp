@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <numbers>
 #include <sstream>
 
 #include "csm/ao_receivers.hpp"
@@ -219,6 +220,55 @@ TEST(CsmAoReceivers, EachReceiverIsLiftedByTheOccludersAroundIt) {
   double difference = 0;
   for (std::size_t v = 0; v < alone.size(); ++v) difference += std::abs(with_far[v].w - alone[v].w);
   EXPECT_LE(difference / static_cast<double>(alone.size()), 0.02);
+}
+
+// The lift does not depend on where the scene is: a floor under an open bowl (radius 1, resting on
+// it), the same at the origin and moved by 5000 (every coordinate exact in float). The sphere that
+// holds a receiver had a slack of 1e-6 |centre|, 0.0087 at 5000: floor vertices 0.125 from the
+// contact were lifted by the bowl's texel through its bottom and read AO 0.51 instead of 0.02.
+TEST(CsmAoReceivers, TheLiftIsTheSameAwayFromTheOrigin) {
+  std::vector<Vec3> bowl_vertices{{0, 0, 0}};
+  std::vector<std::vector<std::uint32_t>> bowl_faces;
+  const std::uint32_t rings = 12, segments = 32;
+  for (std::uint32_t i = 1; i <= rings; ++i)
+    for (std::uint32_t j = 0; j < segments; ++j) {
+      const double theta = std::numbers::pi / 2 * i / rings, phi = 2 * std::numbers::pi * j / segments;
+      bowl_vertices.push_back({static_cast<float>(std::sin(theta) * std::cos(phi)), static_cast<float>(1 - std::cos(theta)),
+                               static_cast<float>(std::sin(theta) * std::sin(phi))});
+    }
+  const auto ring = [&](std::uint32_t i, std::uint32_t j) { return 1 + (i - 1) * segments + j % segments; };
+  for (std::uint32_t j = 0; j < segments; ++j) {
+    bowl_faces.push_back({0, ring(1, j + 1), ring(1, j)});
+    for (std::uint32_t i = 1; i < rings; ++i) bowl_faces.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i + 1, j)});
+  }
+  BuildOptions build;
+  build.maps = 256;
+  build.resolution = 128;
+  const Csm bowl = build_csm(make_mesh(bowl_vertices, bowl_faces, "bowl"), build, &runtime()).csm;
+  const auto floor_at = [](float shift) {
+    std::vector<Vec3> vertices;
+    std::vector<std::vector<std::uint32_t>> faces;
+    for (int i = 0; i < 25; ++i)
+      for (int k = 0; k < 25; ++k) vertices.push_back({shift - 1.5f + 0.125f * static_cast<float>(k), shift, shift - 1.5f + 0.125f * static_cast<float>(i)});
+    for (std::uint32_t i = 0; i < 24; ++i)
+      for (std::uint32_t k = 0; k < 24; ++k) faces.push_back({i * 25 + k, (i + 1) * 25 + k, (i + 1) * 25 + k + 1, i * 25 + k + 1});
+    return make_mesh(vertices, faces, "floor");
+  };
+  const Mesh near = floor_at(0), far = floor_at(5000);
+  const std::vector<Instance> at_origin{{0, kIdentity}}, moved{{0, translation(5000, 5000, 5000)}};
+  ReceiverAoOptions options;
+  options.samples = 64;
+  const ReceiverLifts near_lifts = receiver_lifts(near, {&bowl}, at_origin, kDefaultLiftTexels);
+  options.lift = near_lifts;
+  const std::vector<Vec4> ao_near = receiver_ambient_occlusion(near, VisibilityScene({&bowl}, at_origin), options, &runtime());
+  const ReceiverLifts far_lifts = receiver_lifts(far, {&bowl}, moved, kDefaultLiftTexels);
+  options.lift = far_lifts;
+  const std::vector<Vec4> ao_far = receiver_ambient_occlusion(far, VisibilityScene({&bowl}, moved), options, &runtime());
+  ASSERT_EQ(ao_near.size(), ao_far.size());
+  for (std::size_t v = 0; v < ao_near.size(); ++v) {
+    EXPECT_EQ(far_lifts.lifts[v] > 0, near_lifts.lifts[v] > 0) << "vertex " << v;
+    EXPECT_NEAR(ao_far[v].w, ao_near[v].w, 0.05f) << "vertex " << v;
+  }
 }
 
 // A receiver that is one of the occluders is lifted by its own texel, for its own maps only. A unit

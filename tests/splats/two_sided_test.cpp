@@ -277,7 +277,7 @@ TEST(TwoSidedBound, FarFromTheOriginKeepsTheBoundAfterFloatRounding) {
     build_and_check(placed(1e7f), 0.001, &runtime(), 50'000);
     ADD_FAILURE() << "a sphere at 1e7 was not refused";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("translate the mesh nearer the origin or raise --eps"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("translate the mesh nearer the origin (a scene object: give it a fit) or raise eps (--eps"), std::string::npos) << e.what();
   }
 }
 
