@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -31,7 +32,7 @@ Mesh load_model(const std::string& path, ProgressLine& progress, Winding winding
   const Box box = mesh.bounds();
   // The spacing of floats where the mesh reaches (|x| 2^-24, half of it at most, was printed as the step).
   const double reach = box.reach(), diagonal = box.exact_diagonal();
-  const double step = reach > 0 && std::isfinite(reach) ? std::ldexp(1.0, std::ilogb(reach) - 23) : 0.0;
+  const double step = reach > 0 && std::isfinite(reach) ? std::ldexp(1.0, std::max(std::ilogb(reach), -126) - 23) : 0.0;
   if (diagonal > 0 && step > kFloatStepWarning * diagonal)
     pending_warnings().push_back(fmt::format("splatcl: warning: {}: coordinates reach {:.7g}, where floats step by {:.3g} ({:.2g} % of the "
                                              "mesh's {:.4g} diagonal): detail finer than that was lost on reading; translate the mesh "

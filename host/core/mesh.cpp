@@ -798,6 +798,102 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
   return mesh;
 }
 
+// Whether every border edge (used by one face; vertex indices) is covered by other border edges
+// lying along it: T-junctions, where a closed surface's edge is split on one side only (a vertex of
+// one face lies on another face's edge, as in CAD parts meshed face by face), leave the long edge and
+// the short ones each used once. Such a surface is closed up to cracks of float rounding. A border
+// of a hole or a sheet's rim is covered by nothing, so open meshes stay open.
+bool border_is_cracks(const std::vector<Vec3>& positions, const std::vector<std::array<std::uint32_t, 2>>& border) {
+  const auto at = [&](std::uint32_t v) { return to_double(positions[v]); };
+  Box box;
+  double total = 0;
+  for (const auto& [a, b] : border) {
+    box.add(positions[a]), box.add(positions[b]);
+    const D3 d = sub(at(b), at(a));
+    total += std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  }
+  if (!(total > 0) || !std::isfinite(total)) return false;
+  // A point lies on an edge within a few float steps of the coordinates and 1e-6 of the edge.
+  const double rounding = std::ldexp(box.reach(), -20);
+  // The border's endpoints in a grid of cells of the mean edge length (at most 128 per axis).
+  const double extent = std::max({double{box.hi.x} - box.lo.x, double{box.hi.y} - box.lo.y, double{box.hi.z} - box.lo.z});
+  const double cell = std::max(total / static_cast<double>(border.size()), extent / 128.0);
+  const auto cell_of = [&](const D3& p) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor((p[0] - box.lo.x) / cell)),
+                                       static_cast<std::int64_t>(std::floor((p[1] - box.lo.y) / cell)),
+                                       static_cast<std::int64_t>(std::floor((p[2] - box.lo.z) / cell))};
+  };
+  const auto key = [](const std::array<std::int64_t, 3>& c) { return (c[0] * 1024 + c[1]) * 1024 + c[2]; };
+  std::vector<std::pair<std::int64_t, std::uint32_t>> points;  // (cell key, border edge) per endpoint
+  for (std::uint32_t e = 0; e < border.size(); ++e)
+    for (const std::uint32_t v : border[e]) points.push_back({key(cell_of(at(v))), e});
+  std::sort(points.begin(), points.end());
+  // Per border edge e, the other edges along it: those with an endpoint on e, and those e's endpoints
+  // lie on (found from the other side).
+  std::vector<std::vector<std::uint32_t>> along(border.size());
+  for (std::uint32_t q = 0; q < border.size(); ++q) {
+    const D3 a = at(border[q][0]), d = sub(at(border[q][1]), a);
+    const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const double tolerance = rounding + 1e-6 * length;
+    const auto steps = static_cast<std::int64_t>(std::ceil(2.0 * length / cell));
+    std::vector<std::int64_t> visited;
+    for (std::int64_t k = 0; k <= steps; ++k) {
+      const double t = steps == 0 ? 0.0 : static_cast<double>(k) / static_cast<double>(steps);
+      const auto c = cell_of({a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]});
+      for (std::int64_t x = -1; x <= 1; ++x)
+        for (std::int64_t y = -1; y <= 1; ++y)
+          for (std::int64_t z = -1; z <= 1; ++z) visited.push_back(key({c[0] + x, c[1] + y, c[2] + z}));
+    }
+    std::sort(visited.begin(), visited.end());
+    visited.erase(std::unique(visited.begin(), visited.end()), visited.end());
+    for (const std::int64_t k : visited) {
+      auto it = std::lower_bound(points.begin(), points.end(), std::pair<std::int64_t, std::uint32_t>{k, 0});
+      for (; it != points.end() && it->first == k; ++it) {
+        const std::uint32_t e = it->second;
+        if (e == q) continue;
+        // Does either endpoint of e lie on q? (distance from the segment)
+        for (const std::uint32_t v : border[e]) {
+          const D3 w = sub(at(v), a), c = cross3(d, w);
+          const double t = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / (length * length);
+          if (t >= -1e-9 && t <= 1 + 1e-9 && std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= tolerance * length) {
+            along[q].push_back(e), along[e].push_back(q);
+            break;
+          }
+        }
+      }
+    }
+  }
+  // Each edge is covered by the parameter intervals of the edges along it whose ends both lie on
+  // its line.
+  for (std::uint32_t e = 0; e < border.size(); ++e) {
+    const D3 a = at(border[e][0]), d = sub(at(border[e][1]), a);
+    const double length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], length = std::sqrt(length2);
+    const double tolerance = rounding + 1e-6 * length;
+    std::vector<std::pair<double, double>> spans;
+    std::sort(along[e].begin(), along[e].end());
+    along[e].erase(std::unique(along[e].begin(), along[e].end()), along[e].end());
+    for (const std::uint32_t o : along[e]) {
+      double t[2];
+      bool on_line = true;
+      for (int i = 0; i < 2; ++i) {
+        const D3 w = sub(at(border[o][i]), a), c = cross3(d, w);
+        on_line = on_line && std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= tolerance * length;
+        t[i] = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / length2;
+      }
+      if (on_line) spans.push_back({std::min(t[0], t[1]), std::max(t[0], t[1])});
+    }
+    std::sort(spans.begin(), spans.end());
+    const double gap = tolerance / length;
+    double covered = 0;
+    for (const auto& [from, to] : spans) {
+      if (from > covered + gap) break;
+      covered = std::max(covered, to);
+    }
+    if (covered < 1 - gap) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool MeshProblems::any() const {
@@ -848,9 +944,17 @@ bool Mesh::closed() const {
     edges.reserve(kept.size());
     for (const auto& [a, b] : matched_edges(vertices, offsets, kept)) edges.push_back(undirected_edge(a, b));
     std::sort(edges.begin(), edges.end());
-    for (std::size_t i = 0; i < edges.size(); i += 2)
-      if (i + 1 >= edges.size() || edges[i + 1] != edges[i] || (i + 2 < edges.size() && edges[i + 2] == edges[i])) return false;
-    return !edges.empty();
+    if (edges.empty()) return false;
+    // Every edge used by two faces; or by one face, where other such edges along it close the crack.
+    const auto shift = static_cast<std::uint32_t>(vertices.size());
+    std::vector<std::array<std::uint32_t, 2>> border;
+    for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
+      while (j < edges.size() && edges[j] == edges[i]) ++j;
+      if (j - i > 2) return false;
+      const auto vertex = [&](std::uint64_t id) { return static_cast<std::uint32_t>(id >= shift ? id - shift : id); };
+      if (j - i == 1) border.push_back({vertex(edges[i] >> 32), vertex(edges[i] & 0xffffffffu)});
+    }
+    return border.empty() || border_is_cracks(vertices, border);
   };
   bool any_zero_area = false;
   for (std::size_t f = 0; f < face_count() && !any_zero_area; ++f) any_zero_area = rounded_zero_area(vertices, face_offsets, corners, f, kTransformedSteps);
@@ -865,9 +969,12 @@ Mesh load_mesh(const std::string& path, Winding winding) {
 Mesh load_mesh_recentred(const std::string& path, Winding winding) {
   silence_openmesh();
   mesh_io::RawMesh raw = mesh_io::read_mesh_file(path);
+  // The box of the vertices the kept faces use: a stray unused vertex far out moved the centre, and
+  // the used ones were rounded at its magnitude.
+  MeshProblems ignored;
+  const Faces faces = usable_faces(raw, ignored);
   DVec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (std::size_t v = 0; v < raw.exact_positions.size(); ++v) {
-    if (raw.bad_vertex[v]) continue;
+  for (const std::uint32_t v : faces.corners) {
     const DVec3& p = raw.exact_positions[v];
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};

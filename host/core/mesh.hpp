@@ -102,7 +102,9 @@ Mesh load_mesh(const std::string& path, Winding winding = Winding::AsGiven);
 // load_mesh with the file's coordinates less the centre of their bounding box, subtracted in double
 // before they are rounded to float: for callers that place a mesh by its bounds (a scene object's
 // `fit`), so that a mesh far from the origin keeps its detail (a unit sphere at 1e5, read to float
-// first, had its vertices moved by up to 0.0039, and its splats' outline was lumpy).
+// first, had its vertices moved by up to 0.0039, and its splats' outline was lumpy). The box is that
+// of the vertices the kept faces use. An ASCII STL's corners are merged by their float positions
+// first, so there corners closer than a float step far out are still one vertex.
 Mesh load_mesh_recentred(const std::string& path, Winding winding);
 // The same for a file's bytes already in memory (the format by the extension of `path`, which
 // errors name): load_mesh is the file checks and one read, then this (the fuzz harnesses' entry).

@@ -196,9 +196,10 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   if (j.contains("fit")) {
     const json& f = r.object(j, "fit");
     r.known_keys(f, "fit", {"size", "on_floor"});
-    if (f.empty()) r.fail("fit", "is empty: give \"size\" (the largest extent it scales to), \"on_floor\": true, or both");
     if (f.contains("size")) o.fit.size = r.extent(f, "size", 1.0f);
     o.fit.on_floor = r.flag(f, "on_floor", o.fit.on_floor);
+    if (!o.fit.enabled())  // {} or {"on_floor": false}
+      r.fail("fit", "does nothing: give \"size\" (the largest extent it scales to), \"on_floor\": true, or both");
   }
   if (j.contains("quality")) {
     // Only what shapes the object's own assets; the frame's settings stay the scene's.

@@ -132,7 +132,12 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   const auto run_queries = [&](const std::vector<Instance>& through, const QueryBatch& batch, const ReceiverPlaces& places,
                                Filter f) {
     std::vector<float> answer(batch.receivers.size(), 1.0f);
-    if (through.empty()) return answer;
+    if (through.empty() || batch.receivers.empty()) return answer;
+    const auto run_through = [&](const std::vector<Instance>& part, const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights) {
+      VisibilityQueries& queries_device = device().queries();
+      queries_device.place(part);
+      return queries_device.run(receivers, lights, f, settings.bias);
+    };
     // Through `part` at `place(receiver)`, the queries still lit.
     const auto run_part = [&](const std::vector<Instance>& part, const std::vector<std::size_t>& queries, auto&& place) {
       std::vector<Vec4> receivers, lights;
@@ -144,18 +149,21 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
         asked.push_back(q);
       }
       if (part.empty() || receivers.empty()) return;
-      VisibilityQueries& queries_device = device().queries();
-      queries_device.place(part);
-      const std::vector<float> visible = queries_device.run(receivers, lights, f, settings.bias);
+      const std::vector<float> visible = run_through(part, receivers, lights);
       for (std::size_t k = 0; k < asked.size(); ++k) answer[asked[k]] *= visible[k];
     };
     const auto own = [&](std::size_t r) { return places.own[r]; };
     const auto other = [&](std::size_t r) { return places.other[r]; };
-    if (through.size() == 1) {  // one launch, each receiver where it is queried through that instance
-      std::vector<std::size_t> all(batch.receivers.size());
-      for (std::size_t q = 0; q < all.size(); ++q) all[q] = q;
-      run_part(through, all, [&](std::size_t r) { return places.at(r, through[0].occluder); });
-      return answer;
+    // One instance, or no receiver owned by any of them (a floor): one launch of the whole batch,
+    // each receiver where it is queried through them.
+    const bool owned = std::any_of(batch.receivers.begin(), batch.receivers.end(), [&](std::size_t r) {
+      return std::any_of(through.begin(), through.end(), [&](const Instance& i) { return i.occluder == places.owner[r]; });
+    });
+    if (through.size() == 1 || !owned) {
+      std::vector<Vec4> receivers;
+      receivers.reserve(batch.receivers.size());
+      for (const std::size_t r : batch.receivers) receivers.push_back(through.size() == 1 ? places.at(r, through[0].occluder) : places.other[r]);
+      return run_through(through, receivers, batch.lights);
     }
     // The queries by their receiver's own instance among `through` (the entry at through.size():
     // none of them).

@@ -375,7 +375,7 @@ TEST(GaussianFile, ClippedSplatsAreCountedAndWrittenWhole) {
                                      rotated_splat(unit({0, 1, 0}), 2.0, false)};
   splats[1].clip_x = 1, splats[1].clip_y = 0, splats[1].clip_offset = 0.1f;
   splats[2].clip_x = 0, splats[2].clip_y = -1, splats[2].clip_offset = 0.0f;
-  const std::string path = temp_path("clipped.ply");
+  const std::string path = temp_path("gaussian-clipped.ply");
   EXPECT_EQ(write_gaussian_file(path, splats), 2u);
   const Ply ply = read_ply(path);
   ASSERT_EQ(ply.count, 3u);
