@@ -210,6 +210,53 @@ TEST(CsmSplatLighting, IncrementalUpdateWithChangingReceiversEqualsTheFullUpdate
   EXPECT_EQ(incremental.rows(), rows);
 }
 
+// Several objects with splats: two static occluders, one or two moving, and an object that casts
+// nothing (occluder false), so that the queries through several static instances at once group
+// the receivers by their own instance. Every step's incremental rows are the full update's.
+TEST(CsmSplatLighting, IncrementalUpdateWithSeveralOwnersEqualsTheFullUpdate) {
+  const Fixture& f = fixture();
+  BuildOptions options;
+  options.maps = 256;
+  options.resolution = 32;
+  static const Csm post = build_csm(boxes_mesh({{{1.5f, 0.0f, -0.2f}, {1.8f, 1.2f, 0.1f}}}, "post"), options, &runtime()).csm;
+  SplatLighting::Receivers receivers = f.receivers;
+  const auto add_object = [&](float x, bool occluder) {
+    const std::size_t first = receivers.positions.size();
+    for (int i = 0; i < 6; ++i)
+      for (const float side : {-1.0f, 1.0f}) {
+        receivers.positions.push_back({x + 0.15f * side, 0.1f + 0.2f * static_cast<float>(i), -0.05f, 0});
+        receivers.normals.push_back({side, 0, 0, 0});
+      }
+    receivers.objects.push_back({first, receivers.positions.size() - first, occluder});
+  };
+  add_object(1.65f, true);    // the post's sides
+  add_object(-2.0f, false);   // an object that casts nothing
+  const std::size_t n = receivers.positions.size();
+  const std::vector<Vec4> patterns = f.patterns;
+  const std::vector<std::uint32_t> pattern_of = choose_patterns(n, 64, 1);
+  const auto lighting = [&] { return SplatLighting(runtime(), {&f.slab, &f.block, &post, &f.block}, patterns, pattern_of); };
+  SplatLighting incremental = lighting();
+  const std::vector<std::vector<Transform>> steps = {
+      {kIdentity, translation(1.2, 0, 0), kIdentity, kIdentity},
+      {kIdentity, translation(0.9, 0, 0.4), kIdentity, kIdentity},           // the block moves
+      {kIdentity, translation(0.6, 0, 0.5), translation(-0.3, 0, 0), kIdentity},  // the block and the post
+      {kIdentity, translation(0.6, 0, 0.5), translation(-0.5, 0, 0.1), kIdentity},  // the post
+      {kIdentity, translation(0.6, 0, 0.5), translation(-0.5, 0, 0.1), translation(0.1, 0, 0)},  // the non-occluder
+      {kIdentity, translation(0.6, 0, 0.5), translation(-0.5, 0, 0.1), translation(0.1, 0, 0)},  // nothing
+  };
+  for (std::size_t step = 0; step < steps.size(); ++step) {
+    incremental.update(receivers, steps[step], f.settings, true);
+    SplatLighting full = lighting();
+    full.update(receivers, steps[step], f.settings, false);
+    ASSERT_EQ(incremental.rows().size(), n * SplatLighting::kRowFloats);
+    std::size_t differ = 0;
+    for (std::size_t s = 0; s < n; ++s)
+      differ += std::memcmp(&incremental.rows()[SplatLighting::kRowFloats * s], &full.rows()[SplatLighting::kRowFloats * s],
+                            SplatLighting::kRowFloats * sizeof(float)) != 0;
+    EXPECT_EQ(differ, 0u) << "step " << step;
+  }
+}
+
 // A splat's own object lifts it off its own surface for its own CSM's queries only, as `splatcl ao`
 // lifts a receiver that is an occluder (csm/ao_receivers.hpp): a unit sphere's splats resting on a
 // thin plate, both occluders. Lifted by the sphere's texel through every instance, the splats under
