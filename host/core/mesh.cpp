@@ -802,88 +802,102 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
 // lying along it: T-junctions, where a closed surface's edge is split on one side only (a vertex of
 // one face lies on another face's edge, as in CAD parts meshed face by face), leave the long edge and
 // the short ones each used once. Such a surface is closed up to cracks of float rounding. A border
-// of a hole or a sheet's rim is covered by nothing, so open meshes stay open.
+// of a hole or a sheet's rim is covered by nothing, so open meshes stay open (the first edge found
+// uncovered ends the search).
 bool border_is_cracks(const std::vector<Vec3>& positions, const std::vector<std::array<std::uint32_t, 2>>& border) {
-  const auto at = [&](std::uint32_t v) { return to_double(positions[v]); };
-  Box box;
-  double total = 0;
-  for (const auto& [a, b] : border) {
-    box.add(positions[a]), box.add(positions[b]);
-    const D3 d = sub(at(b), at(a));
-    total += std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  }
-  if (!(total > 0) || !std::isfinite(total)) return false;
-  // A point lies on an edge within a few float steps of the coordinates and 1e-6 of the edge.
-  const double rounding = std::ldexp(box.reach(), -20);
-  // The border's endpoints in a grid of cells of the mean edge length (at most 128 per axis).
-  const double extent = std::max({double{box.hi.x} - box.lo.x, double{box.hi.y} - box.lo.y, double{box.hi.z} - box.lo.z});
-  const double cell = std::max(total / static_cast<double>(border.size()), extent / 128.0);
-  const auto cell_of = [&](const D3& p) {
-    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor((p[0] - box.lo.x) / cell)),
-                                       static_cast<std::int64_t>(std::floor((p[1] - box.lo.y) / cell)),
-                                       static_cast<std::int64_t>(std::floor((p[2] - box.lo.z) / cell))};
+  struct Edge {
+    D3 a, b, d;  // ends, b - a
+    double length, tolerance;  // how far off its line a point may lie and still be on it
   };
-  const auto key = [](const std::array<std::int64_t, 3>& c) { return (c[0] * 1024 + c[1]) * 1024 + c[2]; };
-  std::vector<std::pair<std::int64_t, std::uint32_t>> points;  // (cell key, border edge) per endpoint
-  for (std::uint32_t e = 0; e < border.size(); ++e)
-    for (const std::uint32_t v : border[e]) points.push_back({key(cell_of(at(v))), e});
-  std::sort(points.begin(), points.end());
-  // Per border edge e, the other edges along it: those with an endpoint on e, and those e's endpoints
-  // lie on (found from the other side).
-  std::vector<std::vector<std::uint32_t>> along(border.size());
-  for (std::uint32_t q = 0; q < border.size(); ++q) {
-    const D3 a = at(border[q][0]), d = sub(at(border[q][1]), a);
+  std::vector<Edge> edges;
+  edges.reserve(border.size());
+  std::vector<double> lengths;
+  for (const auto& [from, to] : border) {
+    const D3 a = to_double(positions[from]), b = to_double(positions[to]), d = sub(b, a);
     const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    const double tolerance = rounding + 1e-6 * length;
-    const auto steps = static_cast<std::int64_t>(std::ceil(2.0 * length / cell));
-    std::vector<std::int64_t> visited;
+    if (!std::isfinite(length)) return false;
+    // 4 float steps of the edge's own coordinates (a T-junction's vertex is rounded off the line by
+    // half a step, the line's ends by as much) and 1e-6 of its length.
+    const double magnitude = std::max({std::fabs(a[0]), std::fabs(a[1]), std::fabs(a[2]), std::fabs(b[0]), std::fabs(b[1]), std::fabs(b[2])});
+    edges.push_back({a, b, d, length, std::ldexp(magnitude, -21) + 1e-6 * length});
+    if (length > 0) lengths.push_back(length);
+  }
+  if (lengths.empty()) return false;
+  // Cells of the median edge length (one long edge among many short ones does not make them coarse).
+  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+  const double cell = lengths[lengths.size() / 2];
+  const auto cell_of = [&](const D3& p) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p[0] / cell)), static_cast<std::int64_t>(std::floor(p[1] / cell)),
+                                       static_cast<std::int64_t>(std::floor(p[2] / cell))};
+  };
+  // A hash of a cell (collisions only add candidates, which the exact test below rejects).
+  const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
+           static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
+  };
+  // The cells each edge passes (steps of half a cell) and the cells of its endpoints.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> passes, ends;
+  const auto walk = [&](const Edge& e, auto&& visit) {
+    const auto steps = static_cast<std::int64_t>(std::ceil(2.0 * e.length / cell));
     for (std::int64_t k = 0; k <= steps; ++k) {
       const double t = steps == 0 ? 0.0 : static_cast<double>(k) / static_cast<double>(steps);
-      const auto c = cell_of({a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]});
-      for (std::int64_t x = -1; x <= 1; ++x)
-        for (std::int64_t y = -1; y <= 1; ++y)
-          for (std::int64_t z = -1; z <= 1; ++z) visited.push_back(key({c[0] + x, c[1] + y, c[2] + z}));
+      visit(cell_of({e.a[0] + t * e.d[0], e.a[1] + t * e.d[1], e.a[2] + t * e.d[2]}));
     }
-    std::sort(visited.begin(), visited.end());
-    visited.erase(std::unique(visited.begin(), visited.end()), visited.end());
-    for (const std::int64_t k : visited) {
-      auto it = std::lower_bound(points.begin(), points.end(), std::pair<std::int64_t, std::uint32_t>{k, 0});
-      for (; it != points.end() && it->first == k; ++it) {
-        const std::uint32_t e = it->second;
-        if (e == q) continue;
-        // Does either endpoint of e lie on q? (distance from the segment)
-        for (const std::uint32_t v : border[e]) {
-          const D3 w = sub(at(v), a), c = cross3(d, w);
-          const double t = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / (length * length);
-          if (t >= -1e-9 && t <= 1 + 1e-9 && std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= tolerance * length) {
-            along[q].push_back(e), along[e].push_back(q);
-            break;
-          }
-        }
-      }
+  };
+  constexpr std::size_t kMaxPasses = std::size_t{1} << 26;  // beyond: give up, open (a pathological border)
+  for (std::uint32_t i = 0; i < edges.size(); ++i) {
+    if (static_cast<double>(passes.size()) + 2.0 * edges[i].length / cell > static_cast<double>(kMaxPasses)) return false;
+    walk(edges[i], [&](const std::array<std::int64_t, 3>& c) { passes.push_back({key(c[0], c[1], c[2]), i}); });
+    for (const D3& p : {edges[i].a, edges[i].b}) {
+      const auto c = cell_of(p);
+      ends.push_back({key(c[0], c[1], c[2]), i});
     }
   }
-  // Each edge is covered by the parameter intervals of the edges along it whose ends both lie on
-  // its line.
-  for (std::uint32_t e = 0; e < border.size(); ++e) {
-    const D3 a = at(border[e][0]), d = sub(at(border[e][1]), a);
-    const double length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], length = std::sqrt(length2);
-    const double tolerance = rounding + 1e-6 * length;
-    std::vector<std::pair<double, double>> spans;
-    std::sort(along[e].begin(), along[e].end());
-    along[e].erase(std::unique(along[e].begin(), along[e].end()), along[e].end());
-    for (const std::uint32_t o : along[e]) {
-      double t[2];
-      bool on_line = true;
-      for (int i = 0; i < 2; ++i) {
-        const D3 w = sub(at(border[o][i]), a), c = cross3(d, w);
-        on_line = on_line && std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= tolerance * length;
-        t[i] = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / length2;
-      }
-      if (on_line) spans.push_back({std::min(t[0], t[1]), std::max(t[0], t[1])});
+  std::sort(passes.begin(), passes.end());
+  passes.erase(std::unique(passes.begin(), passes.end()), passes.end());
+  std::sort(ends.begin(), ends.end());
+  const auto gather = [](const std::vector<std::pair<std::uint64_t, std::uint32_t>>& index, std::uint64_t k, std::vector<std::uint32_t>& out) {
+    for (auto it = std::lower_bound(index.begin(), index.end(), std::pair<std::uint64_t, std::uint32_t>{k, 0}); it != index.end() && it->first == k; ++it)
+      out.push_back(it->second);
+  };
+  const auto around = [&](const std::array<std::int64_t, 3>& c, auto&& visit) {
+    for (std::int64_t x = -1; x <= 1; ++x)
+      for (std::int64_t y = -1; y <= 1; ++y)
+        for (std::int64_t z = -1; z <= 1; ++z) visit(key(c[0] + x, c[1] + y, c[2] + z));
+  };
+  // Whether point p lies on the line of edge l, within l's tolerance.
+  const auto on_line = [](const Edge& l, const D3& p) {
+    const D3 c = cross3(l.d, sub(p, l.a));
+    return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= l.tolerance * l.length;
+  };
+  std::vector<std::uint32_t> candidates;
+  std::vector<std::pair<double, double>> spans;
+  for (std::uint32_t i = 0; i < edges.size(); ++i) {
+    const Edge& e = edges[i];
+    if (e.length == 0) continue;  // two corners at one position: no crack
+    // The edges with an endpoint near e, and those that pass near e's endpoints.
+    candidates.clear();
+    walk(e, [&](const std::array<std::int64_t, 3>& c) { around(c, [&](std::uint64_t k) { gather(ends, k, candidates); }); });
+    for (const D3& p : {e.a, e.b}) around(cell_of(p), [&](std::uint64_t k) { gather(passes, k, candidates); });
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    // Their parameter intervals along e, where they lie on one line: the shorter's ends on the
+    // longer's line (a short piece's own direction is off by its rounding over its short length).
+    spans.clear();
+    const double length2 = e.length * e.length;
+    for (const std::uint32_t o : candidates) {
+      if (o == i || edges[o].length == 0) continue;
+      const Edge& other = edges[o];
+      const bool collinear =
+          other.length > e.length ? on_line(other, e.a) && on_line(other, e.b) : on_line(e, other.a) && on_line(e, other.b);
+      if (!collinear) continue;
+      const D3 wa = sub(other.a, e.a), wb = sub(other.b, e.a);
+      const double ta = (wa[0] * e.d[0] + wa[1] * e.d[1] + wa[2] * e.d[2]) / length2, tb = (wb[0] * e.d[0] + wb[1] * e.d[1] + wb[2] * e.d[2]) / length2;
+      spans.push_back({std::min(ta, tb), std::max(ta, tb)});
     }
+    // Covered from 0 to 1 but for gaps of the tolerance (never a quarter of the edge or more).
+    const double gap = std::min(e.tolerance / e.length, 0.25);
     std::sort(spans.begin(), spans.end());
-    const double gap = tolerance / length;
     double covered = 0;
     for (const auto& [from, to] : spans) {
       if (from > covered + gap) break;

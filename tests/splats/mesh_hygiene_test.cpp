@@ -682,6 +682,27 @@ TEST(MeshHygiene, FacesMeshedOnTheirOwnCloseAlongTJunctions) {
   EXPECT_FALSE(box(3, 1.0f).closed()) << "a face missing";
   EXPECT_FALSE(box(-1, 0.99f).closed()) << "a face short of its edge by 1 %";
   EXPECT_FALSE(box(-1, 0.99999f).closed()) << "a face short of its edge by 1e-5";
+  // A part 1000 large, closed along its T-junctions, and a separate small open triangle: open (a
+  // tolerance from the largest coordinate anywhere let the triangle's short edges pass; an audit).
+  {
+    std::vector<Vec3> vertices = moved.vertices;
+    for (Vec3& p : vertices) p = p * 1000.0f;
+    std::vector<std::vector<std::uint32_t>> faces = splatcl::testing::face_lists(moved);
+    const auto first = static_cast<std::uint32_t>(vertices.size());
+    vertices.insert(vertices.end(), {{1, 1, 1}, {1.0009f, 1, 1}, {1, 1.0009f, 1}});
+    faces.push_back({first, first + 1, first + 2});
+    EXPECT_FALSE(make_mesh(vertices, faces, "part and a stray triangle").closed());
+  }
+  // A slanted edge of a tetrahedron split into 48 pieces on one side only: closed (a piece's own
+  // direction, off by its rounding over its short length, missed the long edge's far end; an audit).
+  const Vec3 a{0, 0, 0}, b{3, 1, 0.7f}, c{0.2f, 3, 0.1f}, d{0.1f, 0.3f, 3};
+  std::vector<Vec3> tetra{a, b, c, d};
+  std::vector<std::vector<std::uint32_t>> fan{{0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (int k = 1; k < 48; ++k) tetra.push_back(a + (b - a) * (static_cast<float>(k) / 48.0f));
+  for (std::uint32_t k = 0; k < 48; ++k) fan.push_back({2, k == 0 ? 0u : 3 + k, k == 47 ? 1u : 4 + k});
+  EXPECT_TRUE(make_mesh(tetra, fan, "tetrahedron with a split edge").closed());
+  fan.pop_back();
+  EXPECT_FALSE(make_mesh(tetra, fan, "tetrahedron with a split edge and a piece missing").closed());
 }
 
 // Faces that meet at one position are neighbours whether or not the file gives them one vertex
