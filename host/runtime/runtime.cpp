@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "runtime/embedded.hpp"
 #include "runtime/error.hpp"
@@ -28,6 +32,35 @@ std::string device_type_name(cl_device_type type) {
   if (type & CL_DEVICE_TYPE_CPU) return "cpu";
   if (type & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
   return "other";
+}
+
+// The one line of a failed kernel build: the file, the device, the options and the log's first
+// error (its "file:line"), and where the whole log was written (the error was the whole log with
+// its newlines, printed as one line of "\n"s).
+std::string build_failure(const std::string& file, const std::string& device, const std::string& options, const std::string& log) {
+  std::string first, line;
+  std::istringstream lines(log);
+  while (std::getline(lines, line)) {
+    if (first.empty() && line.find_first_not_of(" \t\r") != std::string::npos) first = line;
+    if (line.find("error") != std::string::npos) {
+      first = line;
+      break;
+    }
+  }
+  std::string saved;
+  try {
+    std::string name = "splatcl-kernel-build-" + std::to_string(::getpid()) + "-" + file + ".log";
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+    const std::filesystem::path path = std::filesystem::temp_directory_path() / name;
+    std::ofstream out(path, std::ios::binary);
+    out << log << "\n";
+    saved = out.good() ? "; the whole log: " + path.string() : "; the log could not be written to " + path.string();
+  } catch (const std::exception& e) {
+    saved = std::string("; the log could not be written: ") + e.what();
+  }
+  return "kernel build of " + file + " failed on '" + device + "'" + (options.empty() ? "" : " with options '" + options + "'") + ": " +
+         (first.empty() ? "(the device gave no log)" : first) + saved;
 }
 
 std::string trim(std::string text) {
@@ -256,8 +289,7 @@ cl::Program Runtime::program(const std::string& file, const std::string& options
   } catch (const cl::BuildError& e) {
     std::string log;
     for (const auto& entry : e.getBuildLog()) log += entry.second;
-    throw Error("kernel build of " + file + " failed on '" + info_.name + "'" +
-                (options.empty() ? "" : " with options '" + options + "'") + ":\n" + trim(log));
+    throw Error(build_failure(file, info_.name, options, trim(log)));
   } catch (...) {
     rethrow_as_error("building " + file);
   }

@@ -77,7 +77,8 @@ class Runtime {
   std::size_t cpu_chunks() const;
 
   // Builds (once) the embedded kernel file `file` with `options` and returns a fresh kernel object.
-  // Build failures throw Error carrying the device's build log, with file names and lines.
+  // Build failures throw Error: one line with the build log's first error (file name and line) and
+  // the path of the whole log, written to the temporary directory.
   cl::Kernel kernel(const std::string& file, const std::string& name, const std::string& options = "");
   cl::Program program(const std::string& file, const std::string& options = "");
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "runtime/error.hpp"
@@ -118,6 +121,16 @@ TEST(Runtime, BuildFailureNamesFileAndLine) {
     EXPECT_NE(message.find("kernel build of common.h failed on '" + runtime->info().name + "'"), std::string::npos)
         << message;
     EXPECT_TRUE(names_source_line(message)) << message;
+    // One line (the CLI's error contract: the whole log with its newlines printed as one line of
+    // "\n"s); the whole log is in the file it names.
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    const std::size_t at = message.find("; the whole log: ");
+    ASSERT_NE(at, std::string::npos) << message;
+    const std::string path = message.substr(at + std::char_traits<char>::length("; the whole log: "));
+    std::ifstream log(path);
+    const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(names_source_line(text)) << path;
+    std::filesystem::remove(path);
   }
 }
 
