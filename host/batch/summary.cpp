@@ -81,6 +81,10 @@ nlohmann::json read_summary(const std::string& path) {
   }
   if (!doc.is_object() || doc.value("format", "") != kFormat) throw Error(path + ": not a splatcl batch summary");
   if (doc.value("version", 0) != kVersion) throw Error(fmt::format("{}: summary version {} (this splatcl reads {})", path, doc.value("version", 0), kVersion));
+  // What make_summary and merge_summaries write; merge copied any other key of the first summary.
+  JsonFields{path + ": "}.known_keys(doc, "the summary",
+                                     {"format", "version", "generator", "input", "output_dir", "manifest_checksum", "manifest_models", "shard",
+                                      "jobs", "device", "started", "wall_s", "counts", "models", "merged_from"});
   try {
     (void)doc.at("manifest_checksum").get<std::string>();
     (void)doc.at("manifest_models").get<std::size_t>();

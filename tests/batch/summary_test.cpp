@@ -1,6 +1,9 @@
 // Summaries: counts, shard indices, and merging shard summaries with every inconsistency refused.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "batch/summary.hpp"
 #include "runtime/error.hpp"
 
@@ -92,6 +95,28 @@ TEST(BatchSummary, MergeRefusesInconsistentInput) {
   EXPECT_EQ(merge_error({}), "batch merge: no summaries given");
   EXPECT_EQ(failed_models(merge_summaries({{"s0", s0}, {"s1", shard_summary(1, 2, {"bad", "d"})}}, false)), 1u);
   EXPECT_NO_THROW(merge_summaries({{"s0", s0}, {"s1", s1}}, false));
+}
+
+// A summary file with a key splatcl does not write is refused on reading (merge copied the first
+// summary's unknown keys into its output); its own summaries, plain and merged, are read.
+TEST(BatchSummary, ReadingRefusesUnknownKeys) {
+  const std::string path = (std::filesystem::temp_directory_path() / "splatcl-summary-keys.json").string();
+  const auto write = [&](const nlohmann::json& doc) { std::ofstream(path) << doc.dump(); };
+  const auto s0 = shard_summary(0, 2, {"a", "c", "e"});
+  write(s0);
+  EXPECT_NO_THROW(read_summary(path));
+  write(merge_summaries({{"s0", s0}, {"s1", shard_summary(1, 2, {"b", "d"})}}, false));
+  EXPECT_NO_THROW(read_summary(path));
+  auto typo = s0;
+  typo["wall_seconds"] = 3;
+  write(typo);
+  try {
+    read_summary(path);
+    ADD_FAILURE() << "accepted an unknown key";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": unknown key 'wall_seconds' in the summary (known: format, version"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
 }
 
 }  // namespace
