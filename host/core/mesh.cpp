@@ -807,96 +807,112 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
 bool border_is_cracks(const std::vector<Vec3>& positions, const std::vector<std::array<std::uint32_t, 2>>& border) {
   struct Edge {
     D3 a, b, d;  // ends, b - a
-    double length, tolerance;  // how far off its line a point may lie and still be on it
+    double length, rounding;  // rounding: 4 float steps of its own coordinates
+    int level;                // of the grid it is walked in: cells of at least half its length
   };
   std::vector<Edge> edges;
   edges.reserve(border.size());
   std::vector<double> lengths;
+  D3 lo{INFINITY, INFINITY, INFINITY};
   for (const auto& [from, to] : border) {
     const D3 a = to_double(positions[from]), b = to_double(positions[to]), d = sub(b, a);
     const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!std::isfinite(length)) return false;
-    // 4 float steps of the edge's own coordinates (a T-junction's vertex is rounded off the line by
-    // half a step, the line's ends by as much) and 1e-6 of its length.
+    // A T-junction's vertex is rounded off the line by half a float step, the line's ends by as much.
     const double magnitude = std::max({std::fabs(a[0]), std::fabs(a[1]), std::fabs(a[2]), std::fabs(b[0]), std::fabs(b[1]), std::fabs(b[2])});
-    edges.push_back({a, b, d, length, std::ldexp(magnitude, -21) + 1e-6 * length});
+    edges.push_back({a, b, d, length, std::ldexp(magnitude, -21), 0});
     if (length > 0) lengths.push_back(length);
+    for (int k = 0; k < 3; ++k) lo[k] = std::min({lo[k], a[k], b[k]});
   }
-  if (lengths.empty()) return false;
-  // Cells of the median edge length (one long edge among many short ones does not make them coarse).
+  if (lengths.empty()) return true;  // only edges between two corners at one position: no crack
+  // Grids of cells of the median length times 2^level; an edge is walked in the grid whose cells
+  // are at least half its length (a few cells), so one long edge among many short ones costs no
+  // more than they do.
   std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
-  const double cell = lengths[lengths.size() / 2];
-  const auto cell_of = [&](const D3& p) {
-    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p[0] / cell)), static_cast<std::int64_t>(std::floor(p[1] / cell)),
-                                       static_cast<std::int64_t>(std::floor(p[2] / cell))};
+  const double cell0 = lengths[lengths.size() / 2];
+  std::vector<int> levels;
+  for (Edge& e : edges) {
+    e.level = e.length > cell0 ? std::min(60, static_cast<int>(std::ceil(std::log2(e.length / cell0)))) : 0;
+    levels.push_back(e.level);
+  }
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  // Cell coordinates from the border's lowest corner, clamped (no overflow far out: the hash only
+  // gathers candidates, and the exact test below decides).
+  const auto cell_of = [&](const D3& p, int level) {
+    const double size = std::ldexp(cell0, level);
+    std::array<std::int64_t, 3> c{};
+    for (int k = 0; k < 3; ++k) c[k] = static_cast<std::int64_t>(std::clamp(std::floor((p[k] - lo[k]) / size), -1e15, 1e15));
+    return c;
   };
-  // A hash of a cell (collisions only add candidates, which the exact test below rejects).
-  const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-    return static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
-           static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
+  const auto key = [](int level, const std::array<std::int64_t, 3>& c, std::int64_t x, std::int64_t y, std::int64_t z) {
+    return static_cast<std::uint64_t>(c[0] + x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(c[1] + y) * 0xC2B2AE3D27D4EB4Full ^
+           static_cast<std::uint64_t>(c[2] + z) * 0x165667B19E3779F9ull ^ static_cast<std::uint64_t>(level) * 0x27D4EB2F165667C5ull;
   };
-  // The cells each edge passes (steps of half a cell) and the cells of its endpoints.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> passes, ends;
   const auto walk = [&](const Edge& e, auto&& visit) {
-    const auto steps = static_cast<std::int64_t>(std::ceil(2.0 * e.length / cell));
+    const auto steps = static_cast<std::int64_t>(std::ceil(2.0 * e.length / std::ldexp(cell0, e.level)));
     for (std::int64_t k = 0; k <= steps; ++k) {
       const double t = steps == 0 ? 0.0 : static_cast<double>(k) / static_cast<double>(steps);
-      visit(cell_of({e.a[0] + t * e.d[0], e.a[1] + t * e.d[1], e.a[2] + t * e.d[2]}));
+      visit(cell_of({e.a[0] + t * e.d[0], e.a[1] + t * e.d[1], e.a[2] + t * e.d[2]}, e.level));
     }
   };
-  constexpr std::size_t kMaxPasses = std::size_t{1} << 26;  // beyond: give up, open (a pathological border)
+  // Per grid level the cells of every edge's endpoints, and the cells each edge passes in its own.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> ends, passes;
   for (std::uint32_t i = 0; i < edges.size(); ++i) {
-    if (static_cast<double>(passes.size()) + 2.0 * edges[i].length / cell > static_cast<double>(kMaxPasses)) return false;
-    walk(edges[i], [&](const std::array<std::int64_t, 3>& c) { passes.push_back({key(c[0], c[1], c[2]), i}); });
-    for (const D3& p : {edges[i].a, edges[i].b}) {
-      const auto c = cell_of(p);
-      ends.push_back({key(c[0], c[1], c[2]), i});
-    }
+    walk(edges[i], [&](const std::array<std::int64_t, 3>& c) { passes.push_back({key(edges[i].level, c, 0, 0, 0), i}); });
+    for (const int level : levels)
+      for (const D3& p : {edges[i].a, edges[i].b}) ends.push_back({key(level, cell_of(p, level), 0, 0, 0), i});
   }
   std::sort(passes.begin(), passes.end());
   passes.erase(std::unique(passes.begin(), passes.end()), passes.end());
   std::sort(ends.begin(), ends.end());
-  const auto gather = [](const std::vector<std::pair<std::uint64_t, std::uint32_t>>& index, std::uint64_t k, std::vector<std::uint32_t>& out) {
-    for (auto it = std::lower_bound(index.begin(), index.end(), std::pair<std::uint64_t, std::uint32_t>{k, 0}); it != index.end() && it->first == k; ++it)
-      out.push_back(it->second);
-  };
-  const auto around = [&](const std::array<std::int64_t, 3>& c, auto&& visit) {
+  const auto gather_around = [&](const std::vector<std::pair<std::uint64_t, std::uint32_t>>& index, int level,
+                                 const std::array<std::int64_t, 3>& c, std::vector<std::uint32_t>& out) {
     for (std::int64_t x = -1; x <= 1; ++x)
       for (std::int64_t y = -1; y <= 1; ++y)
-        for (std::int64_t z = -1; z <= 1; ++z) visit(key(c[0] + x, c[1] + y, c[2] + z));
+        for (std::int64_t z = -1; z <= 1; ++z) {
+          const std::uint64_t k = key(level, c, x, y, z);
+          for (auto it = std::lower_bound(index.begin(), index.end(), std::pair<std::uint64_t, std::uint32_t>{k, 0});
+               it != index.end() && it->first == k; ++it)
+            out.push_back(it->second);
+        }
   };
-  // Whether point p lies on the line of edge l, within l's tolerance.
-  const auto on_line = [](const Edge& l, const D3& p) {
+  // Whether point p lies on the line of edge l within `tolerance`.
+  const auto on_line = [](const Edge& l, const D3& p, double tolerance) {
     const D3 c = cross3(l.d, sub(p, l.a));
-    return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= l.tolerance * l.length;
+    return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= tolerance * l.length;
   };
   std::vector<std::uint32_t> candidates;
   std::vector<std::pair<double, double>> spans;
   for (std::uint32_t i = 0; i < edges.size(); ++i) {
     const Edge& e = edges[i];
     if (e.length == 0) continue;  // two corners at one position: no crack
-    // The edges with an endpoint near e, and those that pass near e's endpoints.
+    // The edges with an endpoint near e (in e's grid), and those that pass near e's endpoints (in
+    // theirs).
     candidates.clear();
-    walk(e, [&](const std::array<std::int64_t, 3>& c) { around(c, [&](std::uint64_t k) { gather(ends, k, candidates); }); });
-    for (const D3& p : {e.a, e.b}) around(cell_of(p), [&](std::uint64_t k) { gather(passes, k, candidates); });
+    walk(e, [&](const std::array<std::int64_t, 3>& c) { gather_around(ends, e.level, c, candidates); });
+    for (const int level : levels)
+      for (const D3& p : {e.a, e.b}) gather_around(passes, level, cell_of(p, level), candidates);
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     // Their parameter intervals along e, where they lie on one line: the shorter's ends on the
-    // longer's line (a short piece's own direction is off by its rounding over its short length).
+    // longer's line (a short piece's own direction is off by its rounding over its short length),
+    // within the longer's rounding and 1e-6 of the shorter's length (of the longer's, a small open
+    // triangle beside a long edge passed).
     spans.clear();
     const double length2 = e.length * e.length;
     for (const std::uint32_t o : candidates) {
       if (o == i || edges[o].length == 0) continue;
       const Edge& other = edges[o];
-      const bool collinear =
-          other.length > e.length ? on_line(other, e.a) && on_line(other, e.b) : on_line(e, other.a) && on_line(e, other.b);
-      if (!collinear) continue;
+      const Edge &longer = other.length > e.length ? other : e, &shorter = other.length > e.length ? e : other;
+      const double tolerance = longer.rounding + 1e-6 * shorter.length;
+      if (!on_line(longer, shorter.a, tolerance) || !on_line(longer, shorter.b, tolerance)) continue;
       const D3 wa = sub(other.a, e.a), wb = sub(other.b, e.a);
       const double ta = (wa[0] * e.d[0] + wa[1] * e.d[1] + wa[2] * e.d[2]) / length2, tb = (wb[0] * e.d[0] + wb[1] * e.d[1] + wb[2] * e.d[2]) / length2;
       spans.push_back({std::min(ta, tb), std::max(ta, tb)});
     }
     // Covered from 0 to 1 but for gaps of the tolerance (never a quarter of the edge or more).
-    const double gap = std::min(e.tolerance / e.length, 0.25);
+    const double gap = std::min((e.rounding + 1e-6 * e.length) / e.length, 0.25);
     std::sort(spans.begin(), spans.end());
     double covered = 0;
     for (const auto& [from, to] : spans) {

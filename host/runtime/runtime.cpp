@@ -1,10 +1,13 @@
 #include "runtime/runtime.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <unistd.h>
@@ -42,20 +45,22 @@ std::string build_failure(const std::string& file, const std::string& device, co
   std::istringstream lines(log);
   while (std::getline(lines, line)) {
     if (first.empty() && line.find_first_not_of(" \t\r") != std::string::npos) first = line;
-    if (line.find("error") != std::string::npos) {
+    if (lower(line).find("error") != std::string::npos) {
       first = line;
       break;
     }
   }
   std::string saved;
   try {
-    std::string name = "splatcl-kernel-build-" + std::to_string(::getpid()) + "-" + file + ".log";
+    // Per process, file and options (the variants of one file are built with other options).
+    std::string name = fmt::format("splatcl-kernel-build-{}-{}-{:016x}.log", ::getpid(), file, std::hash<std::string>{}(options));
     for (char& c : name)
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
     const std::filesystem::path path = std::filesystem::temp_directory_path() / name;
     std::ofstream out(path, std::ios::binary);
     out << log << "\n";
-    saved = out.good() ? "; the whole log: " + path.string() : "; the log could not be written to " + path.string();
+    out.close();  // a short log is still buffered: a full disk shows only here
+    saved = !out.fail() ? "; the whole log: " + path.string() : "; the log could not be written to " + path.string();
   } catch (const std::exception& e) {
     saved = std::string("; the log could not be written: ") + e.what();
   }

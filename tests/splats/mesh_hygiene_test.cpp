@@ -701,8 +701,29 @@ TEST(MeshHygiene, FacesMeshedOnTheirOwnCloseAlongTJunctions) {
   for (int k = 1; k < 48; ++k) tetra.push_back(a + (b - a) * (static_cast<float>(k) / 48.0f));
   for (std::uint32_t k = 0; k < 48; ++k) fan.push_back({2, k == 0 ? 0u : 3 + k, k == 47 ? 1u : 4 + k});
   EXPECT_TRUE(make_mesh(tetra, fan, "tetrahedron with a split edge").closed());
+  // The same scaled by 1000 beside a small open triangle (0.01 long, 0.004 high, not zero-area) lying
+  // 2e-3 from its split edge's line: open (1e-6 of the long edge's length, 3.2e-3, let the
+  // triangle's edges lie "along" it; a review).
+  {
+    std::vector<Vec3> vertices = tetra;
+    for (Vec3& p : vertices) p = p * 1000.0f;
+    const Vec3 along = (b - a) * (1.0f / length(b - a)), across = Vec3{1, -3, 0} * (1.0f / std::sqrt(10.0f));
+    const Vec3 on_line = (a + (b - a) * 0.4f) * 1000.0f;
+    const auto first = static_cast<std::uint32_t>(vertices.size());
+    vertices.insert(vertices.end(), {on_line - across * 2e-3f, on_line + along * 0.01f - across * 2e-3f, on_line + along * 0.005f + across * 2e-3f});
+    auto faces = fan;
+    faces.push_back({first, first + 1, first + 2});
+    EXPECT_TRUE(make_mesh(std::vector<Vec3>(vertices.begin(), vertices.begin() + first), fan, "large split tetrahedron").closed());
+    const Mesh beside = make_mesh(vertices, faces, "large split tetrahedron and a small triangle by its edge");
+    EXPECT_EQ(beside.problems.zero_area_faces, 0u);
+    EXPECT_FALSE(beside.closed());
+  }
   fan.pop_back();
   EXPECT_FALSE(make_mesh(tetra, fan, "tetrahedron with a split edge and a piece missing").closed());
+  // A face listing one position twice (A, B, C, C' with C' at C) leaves only a zero-length border
+  // edge: no crack, closed (it was open unless a T-junction elsewhere came with it).
+  std::vector<Vec3> quad_tetra{a, b, c, d, c};
+  EXPECT_TRUE(make_mesh(quad_tetra, {{0, 1, 2, 4}, {0, 3, 1}, {1, 3, 2}, {0, 2, 3}}, "tetrahedron with a doubled corner").closed());
 }
 
 // Faces that meet at one position are neighbours whether or not the file gives them one vertex
