@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "core/parallel.hpp"
@@ -47,9 +49,13 @@ TEST(ParallelFor, AThrowingBodyStopsTheLoopAndReachesTheCaller) {
   for (const std::size_t block : {1u, 64u}) {
     std::atomic<std::size_t> ran{0};
     try {
+      // Each other item takes 20 us, so that the rest of the loop (2 s on one thread) outlasts the
+      // throw's unwinding, which under ASan on a loaded machine took long enough for the other
+      // thread to finish all 100,000 trivial items (a flaky failure in a CI run).
       parallel_for(100000, block, [&](std::size_t i, std::size_t) {
         ran.fetch_add(1);
         if (i == 500) throw std::runtime_error("index 500 failed");
+        std::this_thread::sleep_for(std::chrono::microseconds(20));
       });
       ADD_FAILURE() << "no exception";
     } catch (const std::runtime_error& e) {
