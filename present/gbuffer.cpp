@@ -20,22 +20,49 @@ std::vector<float> drop_alpha(const std::vector<float>& rgba) {
 }  // namespace
 
 GBuffer::GBuffer(int width, int height)
-    : width_(width), height_(height), depth_(gl::make_texture(GL_DEPTH_COMPONENT32F, width, height)) {
+    : width_(width),
+      height_(height),
+      depth_(gl::make_texture(GL_DEPTH_COMPONENT32F, width, height)),
+      object_(gl::make_texture(GL_R32UI, width, height)) {
+  static_assert(kObjectAttachment == kTargets, "the object target follows the accumulation targets");
   for (gl::Texture& t : accum_) t = gl::make_texture(GL_RGBA32F, width, height);
-  visibility_fbo_ = gl::make_framebuffer({}, depth_.get(), "splat visibility");
-  accum_fbo_ = gl::make_framebuffer({accum_[0].get(), accum_[1].get(), accum_[2].get(), accum_[3].get()}, depth_.get(),
-                                    "splat accumulation");
+  visibility_fbo_ = gl::make_framebuffer({object_.get()}, depth_.get(), "splat visibility");
+  write_object_ids(false);
+  accum_fbo_ = gl::make_framebuffer({accum_[0].get(), accum_[1].get(), accum_[2].get(), accum_[3].get(), object_.get()},
+                                    depth_.get(), "splat accumulation");
 }
 
-void GBuffer::bind_and_clear(int targets) const {
-  const GLenum buffers[kTargets] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
-  glNamedFramebufferDrawBuffers(accum_fbo_.get(), targets, buffers);
+void GBuffer::bind_and_clear(int targets, bool object_ids) const {
+  GLenum buffers[kTargets + 1] = {GL_NONE, GL_NONE, GL_NONE, GL_NONE, GL_NONE};
+  for (int b = 0; b < targets; ++b) buffers[b] = static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + b);
+  if (object_ids) buffers[kObjectAttachment] = GL_COLOR_ATTACHMENT0 + kObjectAttachment;
+  glNamedFramebufferDrawBuffers(accum_fbo_.get(), object_ids ? kTargets + 1 : targets, buffers);
   glBindFramebuffer(GL_FRAMEBUFFER, accum_fbo_.get());
   const float zero[4] = {0, 0, 0, 0};
   const float farthest = 0.0f;  // reversed depth: far is 0
   for (GLint b = 0; b < targets; ++b) glClearBufferfv(GL_COLOR, b, zero);
+  if (object_ids) {
+    const GLuint none[4] = {kNoObject, 0, 0, 0};
+    glClearBufferuiv(GL_COLOR, kObjectAttachment, none);
+  }
   glDepthMask(GL_TRUE);
   glClearBufferfv(GL_DEPTH, 0, &farthest);
+}
+
+void GBuffer::write_object_ids(bool on) const {
+  glNamedFramebufferDrawBuffer(visibility_fbo_.get(), on ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  if (!on) return;
+  const GLuint none[4] = {kNoObject, 0, 0, 0};
+  glClearNamedFramebufferuiv(visibility_fbo_.get(), GL_COLOR, 0, none);
+}
+
+std::vector<std::uint32_t> GBuffer::read_object_ids() const {
+  std::vector<std::uint32_t> ids(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+  glNamedFramebufferReadBuffer(visibility_fbo_.get(), GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, visibility_fbo_.get());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
+  return ids;
 }
 
 std::vector<float> GBuffer::read_channel(int target) const {

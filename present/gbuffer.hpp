@@ -1,6 +1,6 @@
 #pragma once
 // The presenter's render targets, each a class that owns its textures and framebuffers.
-//   GBuffer: the splat passes' depth and the four accumulation targets, which are the G-buffer the
+//   GBuffer: the splat passes' depth, the four accumulation targets, which are the G-buffer the
 //     shading reads (Σw-weighted sums; the shading divides by Σw itself, so no normalisation pass
 //     writes a second set of full-screen targets). Σw and Σw·z lead their targets, so the light-list
 //     stage reads them back as single channels.
@@ -26,6 +26,12 @@ class GBuffer {
     Shadows = 3,        // Σw·visibility of key lights 1-3 (drawn with 2+ key lights)
     kTargets = 4
   };
+  // The object target's value where no scene object is drawn (background, the floor).
+  static constexpr std::uint32_t kNoObject = 0xFFFFFFFFu;
+  // The object target: per pixel the scene object of the nearest splat (R32UI), written by the
+  // visibility pass, or by the point pass as colour attachment kObjectAttachment of the
+  // accumulation framebuffer, only when a frame asks for it.
+  static constexpr int kObjectAttachment = 4;
   GBuffer(int width, int height);
   int width() const { return width_; }
   int height() const { return height_; }
@@ -35,17 +41,22 @@ class GBuffer {
   GLuint texture(int target) const { return accum_[target].get(); }
   // Binds the accumulation framebuffer drawing `targets` (3, or 4 with 2+ key lights), clears
   // them to 0 and the depth to 0 (reversed depth: far).
-  void bind_and_clear(int targets) const;
+  // With `object_ids` (the point pass) the object target too, cleared to kNoObject.
+  void bind_and_clear(int targets, bool object_ids = false) const;
+  // Whether the visibility pass writes the object target, which it clears to kNoObject; off, the
+  // pass writes depth alone.
+  void write_object_ids(bool on) const;
 
   // Readbacks, row 0 = bottom.
   std::vector<float> read_channel(int target) const;  // red channel of a target
   std::vector<std::uint8_t> read_coverage() const;    // 1 where Σw > 0
   std::vector<float> read_view_z() const;             // Σw·z / Σw, 0 where uncovered
   std::vector<float> read_normals() const;            // normalised Σw·n, 0 where uncovered
+  std::vector<std::uint32_t> read_object_ids() const;  // the object target
 
  private:
   int width_, height_;
-  gl::Texture depth_, accum_[kTargets];
+  gl::Texture depth_, accum_[kTargets], object_;
   gl::Framebuffer visibility_fbo_, accum_fbo_;
 };
 

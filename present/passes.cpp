@@ -19,7 +19,8 @@ SplatPass::SplatPass(gl::Program program)
       mirror_(program_.uniform("u_mirror")),
       back_offset_(program_.uniform("u_back_offset")),
       ambient_(program_.uniform("u_ambient")),
-      sh_(program_.uniform("u_sh")) {}
+      sh_(program_.uniform("u_sh")),
+      object_(program_.uniform("u_object")) {}
 
 void SplatPass::begin(const SplatFrame& frame) const {
   program_.use();
@@ -37,6 +38,7 @@ void SplatPass::draw(const std::vector<SplatDraw>& draws, bool points) const {
     glUniformMatrix4fv(model_, 1, GL_FALSE, glm::value_ptr(d.model));
     glUniform1f(lod_, d.lod);
     glUniform1ui(mirror_, static_cast<GLuint>(d.mirror));
+    if (object_ >= 0) glUniform1ui(object_, d.object);
     if (points)
       glDrawArrays(GL_POINTS, static_cast<GLint>(d.first), static_cast<GLsizei>(d.count));
     else
@@ -50,9 +52,10 @@ VisibilityPass::VisibilityPass()
       depth_offset_(program().uniform("u_depth_offset")) {}
 
 void VisibilityPass::run(const GBuffer& gbuffer, const SplatFrame& frame, const std::vector<SplatDraw>& draws,
-                         float depth_offset) const {
+                         float depth_offset, bool object_ids) const {
+  gbuffer.write_object_ids(object_ids);
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.visibility_framebuffer());
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  if (!object_ids) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glEnable(GL_CLIP_DISTANCE0);  // the un-pushed near plane (splat.vert.glsl)
   begin(frame);
   glUniform1f(depth_offset_, depth_offset);

@@ -44,6 +44,8 @@ struct SplatDraw {
   // copy's rows where the front faces away: one primitive per splat instead of two, one of them
   // culled (llvmpipe pays per primitive). 0 = one-sided.
   std::size_t mirror = 0;
+  // The scene object drawn, for the object target (GBuffer): GBuffer::kNoObject for the floor.
+  std::uint32_t object = GBuffer::kNoObject;
 };
 
 class SplatPass {
@@ -57,13 +59,15 @@ class SplatPass {
 
  private:
   gl::Program program_;
-  GLint model_, view_, proj_, eye_, scale_, lod_, mirror_, back_offset_, ambient_, sh_;
+  GLint model_, view_, proj_, eye_, scale_, lod_, mirror_, back_offset_, ambient_, sh_, object_;
 };
 
 class VisibilityPass : SplatPass {
  public:
   VisibilityPass();
-  void run(const GBuffer& gbuffer, const SplatFrame& frame, const std::vector<SplatDraw>& draws, float depth_offset) const;
+  // `object_ids`: also the object target (GBuffer::write_object_ids).
+  void run(const GBuffer& gbuffer, const SplatFrame& frame, const std::vector<SplatDraw>& draws, float depth_offset,
+           bool object_ids) const;
 
  private:
   GLint depth_offset_;

@@ -160,6 +160,7 @@ class Presenter {
   void draw_splats(Frame& frame);
   void build_light_lists(Frame& frame);
   void light_pixels(Frame& frame);
+  void light_covered_pixels(Frame& frame);
   void light_floor_lattice(Frame& frame);
   void upload_frame_inputs(Frame& frame);
   void shade(Frame& frame);

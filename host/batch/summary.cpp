@@ -85,6 +85,16 @@ nlohmann::json read_summary(const std::string& path) {
   JsonFields{path + ": "}.known_keys(doc, "the summary",
                                      {"format", "version", "generator", "input", "output_dir", "manifest_checksum", "manifest_models", "shard",
                                       "jobs", "device", "started", "wall_s", "counts", "models", "merged_from"});
+  // Each model's entry as to_json (runner.cpp) writes it: merge copies the entries as they are.
+  if (const auto models = doc.find("models"); models != doc.end() && models->is_array())
+    for (std::size_t i = 0; i < models->size(); ++i) {
+      const nlohmann::json& m = (*models)[i];
+      const std::string at = fmt::format("models[{}]", i);
+      JsonFields{path + ": "}.known_keys(m, at, {"id", "input", "status", "reused", "input_checksum", "input_bytes", "outputs", "total_ms", "reason", "warning"});
+      if (const auto outputs = m.find("outputs"); outputs != m.end() && outputs->is_object())
+        for (const auto& [kind, output] : outputs->items())
+          JsonFields{path + ": "}.known_keys(output, at + ".outputs." + kind, {"reused", "params", "params_checksum", "files", "build_ms"});
+    }
   try {
     (void)doc.at("manifest_checksum").get<std::string>();
     (void)doc.at("manifest_models").get<std::size_t>();

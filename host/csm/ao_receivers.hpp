@@ -58,8 +58,7 @@ std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::ve
                                              const std::vector<Instance>& instances);
 // For each point, the world size of a texel (csm/query_reach.hpp placed_texel) of the coarsest
 // placed occluder whose bounding sphere holds it, 0 where none does: receiver_lifts for a receiver
-// that is no occluder, and the presenter's per-pixel receivers (which do not yet lift for the
-// pixel's own object only).
+// that is no occluder.
 std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const std::vector<const Csm*>& csms,
                                          const std::vector<Instance>& instances);
 

@@ -116,6 +116,29 @@ TEST(BatchSummary, ReadingRefusesUnknownKeys) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(path + ": unknown key 'wall_seconds' in the summary (known: format, version"), std::string::npos) << e.what();
   }
+  // Inside a model's entry and its outputs too (merge copies the entries as they are).
+  auto with_outputs = s0;
+  ModelResult built;
+  built.id = "f";
+  built.ok = false, built.reason = "out of memory", built.warning = "far from the origin";
+  built.outputs.push_back({});
+  built.outputs.back().kind = "splats";
+  with_outputs["models"].push_back(to_json(built));
+  write(with_outputs);
+  EXPECT_NO_THROW(read_summary(path));  // every key to_json writes
+  for (const auto& [pointer, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"/models/1/input_sha", "unknown key 'input_sha' in models[1] (known: id, input"},
+           {"/models/3/outputs/splats/build_seconds", "unknown key 'build_seconds' in models[3].outputs.splats (known: reused"}}) {
+    auto doc = with_outputs;
+    doc[nlohmann::json::json_pointer(pointer)] = 1;
+    write(doc);
+    try {
+      read_summary(path);
+      ADD_FAILURE() << "accepted " << pointer;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": " + expected), std::string::npos) << e.what();
+    }
+  }
   std::filesystem::remove(path);
 }
 
