@@ -261,9 +261,16 @@ class Worker {
     const Mesh mesh = load_mesh(entry.input);
     // The recorded one is of these bytes and says what the (reused) splats got; splats built now
     // say it again (as given here, or oriented below): a rerun with keep_winding kept the earlier
-    // run's "faces turned ... face outward" for splats that face inward.
+    // run's "faces turned ..." for splats that face inward.
     const bool splats_built = std::any_of(pending.begin(), pending.end(), [](const Pending& p) { return p.kind == "splats"; });
-    if (!warning_recorded || splats_built) r.warning = mesh.problems.any() ? mesh.problems.summary() : std::string();
+    // What splatcl splats and csm build warn of too: the problems, and coordinates whose float
+    // steps are coarse for the mesh's size (a box at 1e6 was reported "ok" without a word).
+    const std::string far = float_step_warning(mesh);
+    const auto warning_of = [&](const Mesh& loaded) {
+      const std::string problems = loaded.problems.any() ? loaded.problems.summary() : std::string();
+      return problems.empty() || far.empty() ? problems + far : problems + "; " + far;
+    };
+    if (!warning_recorded || splats_built) r.warning = warning_of(mesh);
     // The splats take the faces oriented (unless keep_winding), as splatcl splats does; the CSM
     // capture takes them as given. A second load only when orienting would turn a face.
     std::optional<Mesh> oriented;
@@ -271,9 +278,9 @@ class Worker {
       if (splats::winding(entry.params.splats) == Winding::AsGiven || !mesh.problems.winding_disagrees()) return mesh;
       if (!oriented) {
         oriented = load_mesh(entry.input, Winding::Orient);
-        // What splatcl splats reports ("N faces turned ... face outward"): the as-given "faces point
+        // What splatcl splats reports ("N faces turned ..."): the as-given "faces point
         // inward" read as if the splats faced in.
-        r.warning = oriented->problems.summary();
+        r.warning = warning_of(*oriented);
       }
       return *oriented;
     };

@@ -161,6 +161,21 @@ int run_merge(const MergeCommand& c) {
   check_outputs_spare_inputs({{"-o", c.output}}, inputs);
   std::vector<std::pair<std::string, nlohmann::json>> named;
   for (const auto& path : c.summaries) named.emplace_back(path, read_summary(path));
+  // Nor the files of the run, as its summaries name them (paths as the run was given them): -o
+  // naming a model's mesh or one of its outputs overwrote it without a word, where batch refuses
+  // such a --summary.
+  for (const auto& [name, summary] : named) {
+    const std::string output_dir = summary.value("output_dir", "");
+    if (!output_dir.empty()) inputs.emplace_back("lock file of the run", (std::filesystem::path(output_dir) / kLockFileName).string());
+    for (const auto& model : summary.at("models")) {
+      const std::string id = model.at("id");
+      if (model.contains("input") && model["input"].is_string()) inputs.emplace_back(fmt::format("input of model '{}'", id), model["input"]);
+      if (output_dir.empty()) continue;
+      for (const std::string& file : output_names(id))
+        inputs.emplace_back(fmt::format("output of model '{}'", id), (std::filesystem::path(output_dir) / file).string());
+    }
+  }
+  check_outputs_spare_inputs({{"-o", c.output}}, inputs);
   const nlohmann::json merged = merge_summaries(named, c.partial);
   write_file_atomically(c.output, json_text(merged) + "\n");
   const auto& counts = merged["counts"];

@@ -3,16 +3,14 @@
 // faces dropped for an index out of range or a NaN vertex) is never silent: one warning line on
 // stderr naming the model when the command succeeds (a failing command prints its one error line
 // only), or with `strict` an error instead. So is a mesh whose float coordinates step by more
-// than kFloatStepWarning of its diagonal where it lies (a warning only: the commands' own checks
-// decide whether their results can keep their bounds there).
+// than kFloatStepWarning of its diagonal where it lies (float_step_warning; a warning only: the
+// commands' own checks decide whether their results can keep their bounds there).
 #include <string>
 
 #include "cli/progress.hpp"
 #include "core/mesh.hpp"
 
 namespace splatcl::cli {
-
-inline constexpr double kFloatStepWarning = 1e-4;
 
 // `winding`: Orient for the commands whose results face a way (splats, splats verify, ao: an
 // inside-out mesh gave splats facing into it and AO near 0), AsGiven where only the surface's place

@@ -945,10 +945,22 @@ std::string MeshProblems::summary() const {
     parts.push_back(plural(inconsistent_edges, "edge", "edges") + " with inconsistent orientation (two faces use it in the same direction)");
   if (inward) parts.push_back("faces point inward (a closed surface encloses negative volume)");
   if (turned_faces > 0)
-    parts.push_back(plural(turned_faces, "face", "faces") + " turned to agree with their neighbours' winding and face outward");
+    parts.push_back(plural(turned_faces, "face", "faces") +
+                    " turned to agree with their neighbours' winding (closed parts outward)");
   std::string line;
   for (const std::string& part : parts) line += (line.empty() ? "" : ", ") + part;
   return line;
+}
+
+std::string float_step_warning(const Mesh& mesh) {
+  const Box box = mesh.bounds();
+  // The spacing of floats where the mesh reaches (|x| 2^-24, half of it at most, was printed as the step).
+  const double reach = box.reach(), diagonal = box.exact_diagonal();
+  const double step = reach > 0 && std::isfinite(reach) ? std::ldexp(1.0, std::max(std::ilogb(reach), -126) - 23) : 0.0;
+  if (!(diagonal > 0 && step > kFloatStepWarning * diagonal)) return {};
+  return fmt::format("coordinates reach {:.7g}, where floats step by {:.3g} ({:.2g} % of the mesh's {:.4g} diagonal): detail finer "
+                     "than that was lost on reading; translate the mesh nearer the origin",
+                     reach, step, 100 * step / diagonal, diagonal);
 }
 
 Box Mesh::bounds() const {

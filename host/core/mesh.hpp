@@ -62,6 +62,14 @@ struct MeshProblems {
   std::string summary() const;
 };
 
+struct Mesh;
+// Vertices are floats: far from the origin for its size a mesh loses its detail on reading (a unit
+// sphere at 1e7 became a handful of points 1 apart). Where the float spacing at the mesh's reach
+// exceeds kFloatStepWarning of its diagonal, the warning that every command reading a model gives
+// (no file name: "coordinates reach ..., where floats step by ..."); empty otherwise.
+inline constexpr double kFloatStepWarning = 1e-4;
+std::string float_step_warning(const Mesh& mesh);
+
 struct Mesh {
   std::string source;                 // file name or a description of a generated mesh
   std::vector<Vec3> vertices;

@@ -43,6 +43,14 @@ fs::path check_output_path(const std::string& path, const std::string& what) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
     throw Error(name + (fs::exists(dir, ec) ? dir.string() + " is a file, not a directory" : "directory " + dir.string() + " does not exist"));
+  // The longest name written for it: a staged output's NAME.partialPID.EXT.tmpPID (io/atomic_file.hpp).
+  // Too long, it failed with "File name too long" only when written, after the work (a batch
+  // model with a 248-byte id).
+  const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+  const std::size_t bytes = target.filename().string().size(), more = kTemporaryNameBytes + fs::path(path).extension().string().size();
+  if (name_max > 0 && bytes + more > static_cast<std::size_t>(name_max))
+    throw Error(name + fmt::format("the file name is {} bytes long; this file system allows {}, and splatcl's temporary names add {}",
+                                   bytes, name_max, more));
   return dir;
 }
 

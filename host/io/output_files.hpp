@@ -20,7 +20,10 @@ void check_output_file(const std::string& path, const std::string& what);
 // The part of check_output_file that reads no folder listing and writes nothing: `path` is not a
 // directory and its folder exists (through links). For callers that check many outputs of one
 // folder (batch: each model's files), probing and clearing temporaries once per folder themselves.
-// Returns the folder the file lies in (through links); empty for an empty path.
+// Also that its file name leaves room for the temporary names splatcl writes beside it
+// (kTemporaryNameBytes and its extension more, within the file system's name limit). Returns the
+// folder the file lies in (through links); empty for an empty path.
+inline constexpr std::size_t kTemporaryNameBytes = 32;  // ".partial" + pid + ".tmp" + pid, pids of up to 10 digits
 std::filesystem::path check_output_path(const std::string& path, const std::string& what);
 
 // Throws Error "cannot write WHAT DIR: directory DIR is not writable (CAUSE)" unless a file can be

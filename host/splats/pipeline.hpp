@@ -35,8 +35,9 @@ namespace splatcl::splats {
 // of non-square faces). 8: the kNN graph passes over samples on an opposed sheet (a thin plate's
 // other side; splats/neighbors.hpp), and the surface bound shrinks a long grown splat from 4:1
 // instead of whole (needles). 9: the surface bound counts only triangles that face within 60° of
-// the splat (fins: a strip of a hole's wall laid along the rim over the plate's top).
-inline constexpr int kSplatMethodVersion = 10;
+// the splat (fins: a strip of a hole's wall laid along the rim over the plate's top). 11: a texture
+// coordinate of exactly 1 takes the last texel, not the first (colours along u = 1 / v = 1 seams).
+inline constexpr int kSplatMethodVersion = 11;
 
 struct PipelineOptions {
   SamplingOptions sampling;

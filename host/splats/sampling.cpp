@@ -325,9 +325,11 @@ ColorField parse_color_field(const std::string& text) {
 
 Rgba8 ColorSource::at(Vec3 position, const float* texcoord) const {
   if (texture && texcoord) {
-    // Nearest texel, repeating outside [0, 1]; texture v runs upwards, image rows downwards.
+    // Nearest texel, repeating outside [0, 1]; texture v runs upwards, image rows downwards. 1 is
+    // the last texel's edge, not the first's: a sample on a UV shell's u = 1 or v = 1 border took
+    // the opposite edge's colour (wrong-coloured splats along every such seam).
     const auto texel = [](float t, int size) {
-      const float wrapped = t - std::floor(t);
+      const float wrapped = t >= 0.0f && t <= 1.0f ? t : t - std::floor(t);
       return std::min(static_cast<int>(wrapped * static_cast<float>(size)), size - 1);
     };
     const int x = texel(texcoord[0], texture->width), y = texture->height - 1 - texel(texcoord[1], texture->height);

@@ -22,6 +22,15 @@ done
 [ "$(sort -u "$work/ran.txt" | wc -l)" -eq 5 ] || fail "the shards ran $(sort -u "$work/ran.txt" | wc -l) of 5 models"
 "$splatcl" batch merge "$work"/out/summary-*-of-3.json -o "$work/merged.json" > "$work/merge.log" || fail "merge failed: $(cat "$work/merge.log")"
 [ "$(grep -c '"status": "ok"' "$work/merged.json")" -eq 5 ] || fail "merged summary does not hold 5 ok models"
+# -o naming a model's mesh or one of its outputs is refused and leaves the file as it was (merge
+# wrote its summary over it without a word).
+splat_file=$(ls "$work"/out/*/*.splats.ply | head -1)
+for target in "$work/meshes/set1/model1.obj" "$splat_file"; do
+  before=$(cksum < "$target")
+  if "$splatcl" batch merge "$work"/out/summary-*-of-3.json -o "$target" > "$work/merge-over.log" 2>&1; then fail "merge -o $target was accepted"; fi
+  grep -q "would overwrite the \(input\|output\) of model" "$work/merge-over.log" || fail "merge -o $target: $(cat "$work/merge-over.log")"
+  [ "$(cksum < "$target")" = "$before" ] || fail "merge -o $target changed it"
+done
 # The whole run in one go finds every shard's outputs and reuses them.
 "$splatcl" batch "$work/meshes" -o "$work/out" "${args[@]}" > "$work/whole.log" || fail "whole run failed"
 [ "$(grep -c '^reused' "$work/whole.log")" -eq 5 ] || fail "the whole run did not reuse the shards' outputs: $(cat "$work/whole.log")"
@@ -38,4 +47,4 @@ expect_error=$(dirname "$0")/../cli/expect_error.sh
   "$splatcl" batch merge "$work/mixed/summary-0-of-2.json" "$work/mixed/summary-1-of-2.json" -o "$work/mixed.json" >/dev/null ||
   fail "shards of two devices merged"
 [ -e "$work/mixed.json" ] && fail "a refused merge wrote its output"
-echo "ok: 3 shards cover 5 models exactly once; shards of other parameters or devices are not merged"
+echo "ok: 3 shards cover 5 models exactly once; shards of other parameters or devices are not merged; merge -o spares the run's files"

@@ -227,6 +227,8 @@ TEST(BatchRunner, FarFromTheOriginIsBuiltOrRefusedWithTheCause) {
   const auto results = run_batch(entries, reference_options(dir));
   ASSERT_EQ(results.size(), 2u);
   EXPECT_TRUE(results[0].ok) << results[0].reason;
+  // The warning splatcl splats and csm build give (batch reported the model "ok" without a word).
+  EXPECT_NE(results[0].warning.find("where floats step by 0.0625"), std::string::npos) << results[0].warning;
   const auto written = std::filesystem::path(dir / "out") / "far.splats.ply";
   ASSERT_TRUE(std::filesystem::exists(written));
   splats::SurfaceCheckOptions check;
@@ -261,7 +263,7 @@ TEST(BatchRunner, InsideOutModelsGetOutwardSplatsUnlessTheWindingIsKept) {
   };
   for (const auto& r : results) ASSERT_TRUE(r.ok) << r.id << ": " << r.reason;
   // Each says what its splats got, as splatcl splats does (both said "faces point inward").
-  EXPECT_NE(results[0].warning.find("6 faces turned to agree with their neighbours' winding and face outward"), std::string::npos)
+  EXPECT_NE(results[0].warning.find("6 faces turned to agree with their neighbours' winding (closed parts outward)"), std::string::npos)
       << results[0].warning;
   EXPECT_NE(results[1].warning.find("faces point inward"), std::string::npos) << results[1].warning;
   EXPECT_EQ(outward_share("turned"), 1.0);

@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+
+#include <fmt/format.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -256,6 +258,28 @@ TEST(OutputFiles, AFullFileSystemFailsTheCheckBeforeAnyWork) {
   }
   EXPECT_EQ(message, "cannot write -o " + path + ": directory " + dir.string() + " is not writable (File too large)");
   EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// A file name the file system cannot hold with the temporary names' suffix is refused before any
+// work (it failed with "File name too long" when written, after it).
+TEST(OutputFiles, AFileNameTooLongForTheTemporaryNamesIsRefused) {
+  const auto dir = fresh_dir("splatcl_io_long_name");
+  const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+  if (name_max <= 0) GTEST_SKIP() << "the file system states no name limit";
+  // NAME.partialPID.ply.tmpPID: the extension twice.
+  const std::string fits = std::string(static_cast<std::size_t>(name_max) - kTemporaryNameBytes - 8, 'a') + ".ply";
+  EXPECT_NO_THROW(check_output_file((dir / fits).string(), "-o"));
+  const std::string longer = "a" + fits;
+  const std::string message = error_of([&] { check_output_file((dir / longer).string(), "-o"); });
+  EXPECT_EQ(message, fmt::format("cannot write -o {}: the file name is {} bytes long; this file system allows {}, and splatcl's temporary "
+                                 "names add {}",
+                                 (dir / longer).string(), longer.size(), name_max, kTemporaryNameBytes + 4));
+  // The longest name that passes can be written atomically through a staged name.
+  StagedOutputs outputs;
+  outputs.stage((dir / fits).string());
+  outputs.write((dir / fits).string(), [](const std::string& name) { std::ofstream(name) << "ply"; });
+  outputs.commit();
+  EXPECT_EQ(read_all(dir / fits), "ply");
 }
 
 TEST(OutputFiles, PathsWithinADirectory) {

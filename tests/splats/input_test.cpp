@@ -361,6 +361,24 @@ TEST(Neighbors, FewerSamplesThanK) {
   EXPECT_THROW(find_neighbors(three, 0), Error);
 }
 
+// The nearest texel of texture coordinates on and beyond the unit square's edges: 1 is the last
+// texel's edge (it gave the first texel's colour), outside [0, 1] the texture repeats.
+TEST(Sampling, TextureCoordinatesOfOneTakeTheLastTexel) {
+  ColorSource colors;
+  colors.texture = Texture{2, 2, {10, 0, 0, 20, 0, 0, 30, 0, 0, 40, 0, 0}};  // rows top down: 10 20 / 30 40
+  const auto red_at = [&](float u, float v) {
+    const float uv[2] = {u, v};
+    return colors.at({}, uv).r;
+  };
+  EXPECT_EQ(red_at(0.0f, 0.0f), 30);  // v runs upwards: the bottom row
+  EXPECT_EQ(red_at(1.0f, 0.0f), 40);
+  EXPECT_EQ(red_at(0.0f, 1.0f), 10);
+  EXPECT_EQ(red_at(1.0f, 1.0f), 20);
+  EXPECT_EQ(red_at(0.999f, 0.5001f), 20);
+  EXPECT_EQ(red_at(1.25f, 0.25f), 30);   // repeated
+  EXPECT_EQ(red_at(-0.25f, -0.25f), 20);
+}
+
 // The textured colour variant end to end: an OBJ with texture coordinates and a PNG read through
 // OpenImageIO. A 2x2 texture (v upwards: red, green below; blue, white above) is mapped affinely
 // onto the unit square with a 0.1 margin, so every sample's colour is the texel of its quadrant.
