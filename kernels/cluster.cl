@@ -71,11 +71,11 @@ __kernel void cluster_keys_view(__global const float* view_z, __global const flo
 __kernel void cluster_keys_window(__global const float* depth, __global const float* normals,
                                   __global const float* boundaries, __global uint* keys, uint width, uint height,
                                   uint tiles_x, uint low_bits, int slices, float near_plane, float far_plane,
-                                  float ln_near, float inv_ln_q, float near_times_far, float far_minus_near) {
+                                  float ln_near, float inv_ln_q, float near_over_far, float far_share) {
   const uint x = get_global_id(0), y = get_global_id(1);
   if (x >= width || y >= height) return;
   const size_t p = (size_t)y * width + x;
-  const float distance = cluster_window_distance(depth[p], near_plane, far_plane, near_times_far, far_minus_near);
+  const float distance = cluster_window_distance(depth[p], near_plane, far_plane, near_over_far, far_share);
   keys[p] = pixel_key(distance, x, y, p, normals, boundaries, tiles_x, low_bits, slices, near_plane, ln_near, inv_ln_q);
 }
 

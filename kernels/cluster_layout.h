@@ -32,18 +32,20 @@ inline float cluster_view_distance(float view_z, float near_plane, float far_pla
 }
 
 // View distance of a reversed window depth (near 1, far 0: the presenter's depth buffer, glClipControl
-// ZERO_TO_ONE) under the perspective projection of (near, far): near·far / (near + depth·(far − near)).
+// ZERO_TO_ONE) under the perspective projection of (near, far): near·far / (near + depth·(far − near)),
+// computed as near / (near/far + depth·(1 − near/far)): near·far overflowed for far planes beyond
+// 3.4e38 / near, which put every pixel on the far plane.
 // Reversed, the float depth keeps its precision out to the far plane: the conventional depth (near 0,
 // far 1) read 1.0 for every pixel at near 1e-7 and far 500, and 0.62 off brute-force shading at 1e-6.
-inline float cluster_window_to_distance(float depth, float near_plane, float near_times_far, float far_minus_near) {
-  return near_times_far / (near_plane + depth * far_minus_near);
+inline float cluster_window_to_distance(float depth, float near_plane, float near_over_far, float far_share) {
+  return near_plane / (near_over_far + depth * far_share);
 }
 
 // The same clamped into [near, far], or −1 for a depth outside (0, 1] (background: the clear value 0).
-inline float cluster_window_distance(float depth, float near_plane, float far_plane, float near_times_far,
-                                     float far_minus_near) {
+inline float cluster_window_distance(float depth, float near_plane, float far_plane, float near_over_far,
+                                     float far_share) {
   const float distance = cluster_fmin(
-      cluster_fmax(cluster_window_to_distance(depth, near_plane, near_times_far, far_minus_near), near_plane),
+      cluster_fmax(cluster_window_to_distance(depth, near_plane, near_over_far, far_share), near_plane),
       far_plane);
   return (depth > 0.0f && depth <= 1.0f) ? distance : -1.0f;
 }

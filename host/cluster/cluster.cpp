@@ -269,8 +269,8 @@ void ClusterPipeline::compute_keys(Profiler* profiler) {
            layout_.tiles_x, cl_uint{layout_.low_bits()}, static_cast<cl_int>(layout_.slice_count), c.near_plane,
            c.far_plane, layout_.ln_near, layout_.inv_ln_q);
   if (window_depth_) {
-    kernel.setArg(13, layout_.near_times_far);
-    kernel.setArg(14, layout_.far_minus_near);
+    kernel.setArg(13, layout_.near_over_far);
+    kernel.setArg(14, layout_.far_share);
   }
   enqueue_2d(runtime_.queue(), kernel, c.width, c.height, kPixelGroupWidth, kPixelGroupHeight, profiler, "cluster-keys");
   stage_ = Stage::Keys;

@@ -78,8 +78,8 @@ ClusterLayout ClusterLayout::make(const ClusterConfig& config) {
   layout.inv_ln_q = static_cast<float>(1.0 / ln_q);
   layout.two_over_width = 2.0f / static_cast<float>(config.width);
   layout.two_over_height = 2.0f / static_cast<float>(config.height);
-  layout.near_times_far = config.near_plane * config.far_plane;
-  layout.far_minus_near = config.far_plane - config.near_plane;
+  layout.near_over_far = config.near_plane / config.far_plane;
+  layout.far_share = 1.0f - layout.near_over_far;
   layout.padding_scale = kBoundsPadding * std::max({1.0f, layout.tan_half_x, layout.tan_half_y});
 
   layout.slice_boundaries.resize(layout.slice_count + 1);
@@ -100,7 +100,7 @@ std::optional<float> pixel_distance(const ClusterLayout& layout, float depth, De
   const ClusterConfig& c = layout.config;
   const float distance = format == DepthFormat::Window
                              ? device::cluster_window_distance(depth, c.near_plane, c.far_plane,
-                                                               layout.near_times_far, layout.far_minus_near)
+                                                               layout.near_over_far, layout.far_share)
                              : device::cluster_view_distance(depth, c.near_plane, c.far_plane);
   if (distance < 0.0f) return std::nullopt;  // a valid distance is at least near > 0
   return distance;
@@ -115,12 +115,15 @@ std::uint32_t slice_of_distance(const ClusterLayout& layout, float distance) {
 std::uint32_t normal_cell(Vec3 normal) { return device::cluster_normal_cell(normal.x, normal.y, normal.z); }
 
 float view_z_from_window_depth(float depth, float near_plane, float far_plane) {
-  return -device::cluster_window_to_distance(depth, near_plane, near_plane * far_plane, far_plane - near_plane);
+  const float near_over_far = near_plane / far_plane;
+  return -device::cluster_window_to_distance(depth, near_plane, near_over_far, 1.0f - near_over_far);
 }
 
 float window_depth_from_view_z(float view_z, float near_plane, float far_plane) {
+  // near·(far − d) / (d·(far − near)) as two factors of at most 1: d·(far − near) overflowed for
+  // far planes beyond 3.4e38 / d, which made every such pixel background.
   const float distance = -view_z;
-  return near_plane * (far_plane - distance) / (distance * (far_plane - near_plane));
+  return (near_plane / distance) * ((far_plane - distance) / (far_plane - near_plane));
 }
 
 Vec3 pixel_view_position(const ClusterLayout& layout, std::uint32_t x, std::uint32_t y, float distance) {

@@ -63,7 +63,7 @@ struct ClusterLayout {
   float tan_half_x = 0, tan_half_y = 0;
   float ln_near = 0, inv_ln_q = 0;          // for the first guess of the slice formula
   float two_over_width = 0, two_over_height = 0;
-  float near_times_far = 0, far_minus_near = 0;  // window-depth conversion
+  float near_over_far = 0, far_share = 0;  // window-depth conversion: near/far, 1 − near/far
   float padding_scale = 0;                 // cluster-box padding per unit of far distance
   std::vector<float> slice_boundaries;     // d_k = near·q^k for k = 0..S_z (last one ≥ far)
 

@@ -1,5 +1,8 @@
 #include "cluster/scene_input.hpp"
 
+#include <algorithm>
+#include <cfloat>
+
 #include "cluster/layout.hpp"
 
 namespace splatcl::cluster {
@@ -10,8 +13,10 @@ std::vector<float> window_depth(const DepthFrame& frame, const Camera& camera) {
   std::vector<float> depth(frame.view_z.size());
   for (std::size_t p = 0; p < depth.size(); ++p) {
     const float z = frame.view_z[p];
+    // A surface on the far plane keeps a depth above the clear value 0 (background): FLT_MIN, which
+    // reads back as the far plane (it was background with --window-depth, covered with view z).
     depth[p] = (-z >= camera.near_plane && -z <= camera.far_plane)
-                   ? window_depth_from_view_z(z, camera.near_plane, camera.far_plane)
+                   ? std::max(window_depth_from_view_z(z, camera.near_plane, camera.far_plane), FLT_MIN)
                    : 0.0f;
   }
   return depth;

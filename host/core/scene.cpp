@@ -563,7 +563,12 @@ Mesh make_object_mesh(const MeshSpec& spec, const std::string& directory) {
 }
 
 void set_generated_light_count(Scene& scene, std::uint32_t count) {
-  scene.lights.resize(scene.lights.size() - scene.generated.count);
+  const std::size_t listed = scene.lights.size() - scene.generated.count;
+  // The limit holds for the lights together: 2 listed and 2^20 generated were taken.
+  if (listed + count > kMaxSceneLights)
+    throw Error(fmt::format("{} generated lights and the scene's {} listed ones make {}, more than the limit of {} lights", count, listed,
+                            listed + count, kMaxSceneLights));
+  scene.lights.resize(listed);
   scene.generated.count = count;
   const auto generated = generate_lights(scene.generated, scene.floor);
   scene.lights.insert(scene.lights.end(), generated.begin(), generated.end());

@@ -88,14 +88,16 @@ DepthFrame ray_cast(const Scene& scene, std::uint32_t width, std::uint32_t heigh
       const float ndc_x = (static_cast<float>(x) + 0.5f) * 2.0f / static_cast<float>(width) - 1.0f;
       const float ndc_y = (static_cast<float>(y) + 0.5f) * 2.0f / static_cast<float>(height) - 1.0f;
       // A direction with unit forward component: t along it is the view distance. The ray starts
-      // on the near plane, so that nothing nearer is hit.
+      // a few float steps before the near plane, so that nothing nearer is hit but a surface on it
+      // is (the traversal takes hits at t > 0: a floor exactly on the near plane covered no pixel,
+      // one on the far plane all of them); a hit within those steps lies on the near plane.
       const Vec3 d = frame.direction_to_world({ndc_x * tan_x, ndc_y * tan_y, -1.0f});
       const float dir[3] = {d.x, d.y, d.z};
-      const float start = camera.near_plane / unit;
+      const float start = camera.near_plane * (1.0f - 0x1p-20f) / unit;
       const float origin[3] = {start * d.x, start * d.y, start * d.z};
       const float inv[3] = {inverse_direction(dir[0]), inverse_direction(dir[1]), inverse_direction(dir[2])};
       const ClosestHit hit = closest_hit(bvh, origin, dir, inv, kEdgeTolerance);
-      const float distance = camera.near_plane + hit.t * unit;
+      const float distance = std::max((start + hit.t) * unit, camera.near_plane);
       if (hit.t == INFINITY || distance > camera.far_plane) continue;
       const BvhTriangle& tri = bvh.triangles[hit.triangle];
       Vec3 normal = normalized(cross(Vec3{tri.e1[0], tri.e1[1], tri.e1[2]}, Vec3{tri.e2[0], tri.e2[1], tri.e2[2]}));

@@ -30,6 +30,10 @@ file(WRITE ${HOSTILE_DIR}/billion-lights.json "{\"objects\": [], \"lights\": {\"
 hostile_error(limit_scene_lights "billion-lights.json: lights: 'count' must be an integer in \\[0, 1048576\\]$"
               cluster ${HOSTILE_DIR}/billion-lights.json)
 hostile_error(limit_render_lights "--lights -5 is not a light count in \\[0, 1048576\\]$" render --lights -5)
+# The limit holds for listed and generated lights together (2 listed and 2^20 generated were taken).
+file(WRITE ${HOSTILE_DIR}/two-lights.json "{\"objects\": [], \"lights\": [{\"position\": [0, 1, 0], \"radius\": 1}, {\"position\": [1, 1, 0], \"radius\": 1}]}")
+hostile_error(limit_listed_and_generated_lights "1048576 generated lights and the scene's 2 listed ones make 1048578, more than the limit of 1048576 lights$"
+              cluster ${HOSTILE_DIR}/two-lights.json --lights 1048576)
 hostile_error(limit_ao_samples "ao: --samples 100000000 is not a direction count in 1..4096$"
               ao ${SPLATS_CUBE} --occluder missing.csm -o ${HOSTILE_DIR}/ao.ply --samples 100000000)
 hostile_error(limit_quality_image "--image 100000 is not an image side in 1..4096$" csm quality ${SPLATS_CUBE} --image 100000)

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "cluster/layout.hpp"
+#include "cluster/scene_input.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cluster {
@@ -175,6 +176,36 @@ TEST(ClusterLayout, WindowDepthKeepsItsPrecisionAtATinyNear) {
     ASSERT_GT(window, 0.0f) << z;
     EXPECT_NEAR(view_z_from_window_depth(window, n, f), z, 1e-5f * -z) << z;
   }
+}
+
+// And at the largest far planes (up to 3.4e38): near·far and d·(far − near) overflowed, which made
+// every pixel beyond 3.4e38 / far background (window depth 0) and read every depth back as far.
+TEST(ClusterLayout, WindowDepthHoldsAtTheLargestFarPlanes) {
+  for (const auto& [n, f] : std::vector<std::pair<float, float>>{{0.1f, 3e38f}, {10.0f, 1e38f}, {1.0f, 1e37f}}) {
+    for (float z : {-n, -2.0f * n, -100.0f, -1e6f, -1e30f}) {
+      const float window = window_depth_from_view_z(z, n, f);
+      ASSERT_GT(window, 0.0f) << n << " " << f << " " << z;
+      ASSERT_LE(window, 1.0f) << n << " " << f << " " << z;
+      EXPECT_NEAR(view_z_from_window_depth(window, n, f), z, 1e-5f * -z) << n << " " << f << " " << z;
+    }
+  }
+}
+
+// The ray-cast frame as window depth: a surface exactly on the far plane stays a surface (its
+// depth was 0, the background's), one on the near plane reads 1, a miss the background.
+TEST(ClusterLayout, WindowDepthOfASurfaceOnTheFarPlaneIsNotBackground) {
+  Camera camera;
+  camera.near_plane = 0.5f, camera.far_plane = 50.0f;
+  DepthFrame frame;
+  frame.width = 3, frame.height = 1;
+  frame.view_z = {-50.0f, -0.5f, kNoSurfaceViewZ};
+  const std::vector<float> depth = window_depth(frame, camera);
+  const ClusterLayout layout = ClusterLayout::make(config_of(3, 1, 60, 0.5f, 50));
+  EXPECT_GT(depth[0], 0.0f);
+  EXPECT_EQ(pixel_distance(layout, depth[0], DepthFormat::Window), 50.0f);
+  EXPECT_EQ(depth[1], 1.0f);
+  EXPECT_EQ(depth[2], 0.0f);
+  EXPECT_FALSE(pixel_distance(layout, depth[2], DepthFormat::Window));
 }
 
 TEST(ClusterLayout, NormalCellsCoverTheCubeMap) {

@@ -144,6 +144,13 @@ TEST(SceneRayCast, HonoursTheNearAndFarPlanes) {
   EXPECT_NEAR(ray_cast(scene, 9, 9).view_z[4 * 9 + 4], -2.5f, 1e-5f);
   scene.camera.eye = {0, 0, -7.6f};  // the near face 0.4 away, nearer than the near plane (0.5)
   EXPECT_NEAR(ray_cast(scene, 9, 9).view_z[4 * 9 + 4], -4.4f, 1e-5f);
+  // A face exactly on the near plane is seen, as one exactly on the far plane is (it was missed).
+  scene.camera.eye = {0, 0, -7.5f};
+  EXPECT_EQ(ray_cast(scene, 9, 9).view_z[4 * 9 + 4], -0.5f);
+  scene.camera.eye = {0, 0, -5.0f};
+  scene.camera.far_plane = 3.0f;
+  EXPECT_EQ(ray_cast(scene, 9, 9).view_z[4 * 9 + 4], -3.0f);
+  scene.camera.far_plane = 50.0f;
   scene.camera.eye = {0, 0, 0};
   scene.camera.target = {0, 0, -1};
   scene.camera.far_plane = 7.0f;  // the box beyond the far plane: nothing visible
