@@ -46,9 +46,10 @@ void set_outputs(ModelParams& params, const nlohmann::json& value) {
   }
   bool splats = false, csm = false;
   for (const auto& name : names) {
-    if (name == "splats") splats = true;
-    else if (name == "csm") csm = true;
-    else throw Error(fmt::format("'outputs' has unknown output '{}' (one of: splats, csm)", name));
+    bool& wanted = name == "splats" ? splats : csm;
+    if (name != "splats" && name != "csm") throw Error(fmt::format("'outputs' has unknown output '{}' (one of: splats, csm)", name));
+    if (wanted) throw Error(fmt::format("'outputs' names '{}' twice", name));
+    wanted = true;
   }
   if (!splats && !csm) throw Error("'outputs' must name at least one of splats, csm");
   params.want_splats = splats;
@@ -213,6 +214,9 @@ std::vector<ModelEntry> parse_json_manifest(const std::string& text, const std::
     const auto& d = doc["defaults"];
     if (!d.is_object()) throw Error(name + ": \"defaults\" must be an object");
     for (const auto& [key, value] : d.items()) {
+      // A model's own keys: the unknown-parameter message lists them as known, so say why here.
+      if (key == "id" || key == "path")
+        throw Error(fmt::format("{}: defaults: '{}' names one model; give it in each model's entry, not in the defaults", name, key));
       try {
         apply_json_parameter(defaults, key, value, folder);
       } catch (const Error& e) {
@@ -324,6 +328,8 @@ std::vector<ModelEntry> parse_csv_manifest(const std::string& text, const std::s
 
 std::vector<ModelEntry> load_manifest(const std::string& path, const nlohmann::json& overrides, const ModelParams& base) {
   const std::string extension = lower(fs::path(path).extension().string());
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error(fmt::format("cannot read manifest {}: No such file or directory", path));
   if (extension != ".json" && extension != ".csv")
     throw Error(fmt::format("cannot tell the manifest format of {}: name it .json or .csv (or pass a directory of meshes)", path));
   const std::string text = read_text_file(path, "manifest");

@@ -61,14 +61,16 @@ nlohmann::json overrides_of(const BatchCommand& c) {
   if (c.outputs) {
     nlohmann::json names = nlohmann::json::array();
     std::string name;
+    // Every name between the commas, empty ones too: set_outputs refuses them (",," passed).
     for (const char ch : *c.outputs + ",") {
       if (ch != ',') {
         name += ch;
-      } else if (!name.empty()) {
+      } else {
         names.push_back(name);
         name.clear();
       }
     }
+    if (c.outputs->empty()) names = nlohmann::json::array();
     overrides["outputs"] = names;
   }
   return overrides;
@@ -84,7 +86,7 @@ std::string describe_outputs(const ModelResult& r) {
 int run_batch_command(const BatchCommand& c) {
   if (c.input.empty()) throw Error("batch: an INPUT manifest (.json, .csv) or directory of meshes is required (see splatcl batch --help)");
   const Shard shard = parse_shard(c.shard);
-  if (c.jobs == 0) throw Error("--jobs must be at least 1");
+  if (c.jobs == 0) throw Error("--jobs 0: not a whole number 1 or more");
   if (c.output.empty() && !c.list) throw Error("batch: an output directory is required (-o OUTDIR)");
   const nlohmann::json overrides = overrides_of(c);
   std::error_code ec;
@@ -202,7 +204,7 @@ Action register_batch(CLI::App& app) {
   sub->add_option("input", c->input, "Manifest (.json or .csv) or a directory of meshes (OBJ, PLY, OFF, STL; searched recursively)");
   sub->add_option("-o,--output", c->output, "Output directory: ID.splats.ply/.json, ID.csm/.csm.json, ID.batch.json per model, and the summary");
   sub->add_option("--shard", c->shard, "Process shard i of N (0 <= i < N): the models whose rank in id order is i modulo N")->capture_default_str();
-  sub->add_option("--jobs", c->jobs, "Models processed at once (each with its own OpenCL context)")->capture_default_str();
+  sub->add_option("--jobs", c->jobs, "Models processed at once (each with its own OpenCL context)")->capture_default_str()->type_name("COUNT");
   sub->add_option("--summary", c->summary, "Summary file (default OUTDIR/summary.json, or OUTDIR/summary-I-of-N.json for a shard)");
   sub->add_flag("--force", c->force, "Rebuild every output even when a matching one exists");
   sub->add_flag("--list", c->list, "Print the models of this shard (id and input, tab-separated) and exit");

@@ -40,10 +40,14 @@ std::string conversion_message(const CLI::App& app, const std::string& message) 
   for (const CLI::App* a : apps)
     if (const CLI::Option* option = a->get_option_no_throw(name)) {
       const std::string type = option->get_type_name();
-      const char* wanted = type == "UINT" ? "a whole number 0 or more" : type == "INT" ? "a whole number" : type == "FLOAT" ? "a number" : nullptr;
+      const char* wanted = type == "UINT" ? "a whole number 0 or more"
+                           : type == "COUNT" ? "a whole number 1 or more"
+                           : type == "INT"   ? "a whole number"
+                           : type == "FLOAT" ? "a number"
+                                             : nullptr;
       // A whole number too large for the option's type (--frames 99999999999) is one, just out of range.
       const bool digits = !value.empty() && value.find_first_not_of("0123456789") == std::string::npos;
-      if (wanted && digits && (type == "UINT" || type == "INT")) return fmt::format("{} {}: too large", name, value);
+      if (wanted && digits && (type == "UINT" || type == "COUNT" || type == "INT")) return fmt::format("{} {}: too large", name, value);
       if (wanted) return fmt::format("{} {}: not {}", name, value, wanted);
     }
   return message;
@@ -98,9 +102,27 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; a bad command line is an error like any other: one line and
     // status 1 (runtime/error.hpp), not CLI11's two lines and its own codes (105-127).
     if (e.get_exit_code() == 0) return app.exit(e);
-    const std::string message = dynamic_cast<const CLI::ConversionError*>(&e) ? splatcl::cli::conversion_message(app, e.what()) : e.what();
+    std::string message = dynamic_cast<const CLI::ConversionError*>(&e) ? splatcl::cli::conversion_message(app, e.what()) : e.what();
+    // An option given twice: CLI11 says "--res: At Most 1 required but received 2".
+    if (const std::size_t at = message.find(": At Most 1 required but received "); at != std::string::npos)
+      message = fmt::format("{} given {} times: give it once", message.substr(0, at), message.substr(at + 34));
     std::fprintf(stderr, "splatcl: %s (see --help)\n", splatcl::printable(message).c_str());
     return 1;
+  }
+  // --reference runs the native references on no OpenCL device: a --device beside it was ignored
+  // without a word (the summary said "reference").
+  for (const CLI::App* a : app.get_subcommands({})) {
+    std::vector<const CLI::App*> chosen{a};
+    for (std::size_t i = 0; i < chosen.size(); ++i)
+      for (const CLI::App* sub : chosen[i]->get_subcommands({})) chosen.push_back(sub);
+    for (const CLI::App* c : chosen) {
+      const CLI::Option* device = c->get_option_no_throw("--device");
+      const CLI::Option* reference = c->get_option_no_throw("--reference");
+      if (c->parsed() && device && reference && device->count() > 0 && reference->count() > 0) {
+        std::fprintf(stderr, "splatcl: --device and --reference contradict: --reference uses no OpenCL device (see --help)\n");
+        return 1;
+      }
+    }
   }
   try {
     for (auto& [sub, action] : actions)

@@ -29,6 +29,24 @@ add_test(NAME cli.error_batch_merge_not_summary COMMAND ${EXPECT_ERROR} "not-sum
 # -o naming one of the summaries: refused before reading (it replaced shard 0's summary).
 add_test(NAME cli.error_batch_merge_over_input COMMAND ${EXPECT_ERROR} "-o .*summary-0-of-2.json would overwrite the shard summary"
          $<TARGET_FILE:splatcl> batch merge ${BATCH_DIR}/summary-0-of-2.json ${BATCH_DIR}/summary-1-of-2.json -o ${BATCH_DIR}/summary-0-of-2.json)
+# Small contract slips a helper's audit found (2026-12-07): each one line naming the cause.
+file(WRITE ${BATCH_DIR}/defaults-id.json "{\"defaults\": {\"id\": \"x\"}, \"models\": [\"a.obj\"]}")
+add_test(NAME cli.error_batch_defaults_id COMMAND ${EXPECT_ERROR} "defaults-id.json: defaults: 'id' names one model; give it in each model's entry"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/defaults-id.json -o ${BATCH_DIR}/out)
+add_test(NAME cli.error_batch_jobs_zero COMMAND ${EXPECT_ERROR} "--jobs 0: not a whole number 1 or more$"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --jobs 0)
+add_test(NAME cli.error_batch_jobs_negative COMMAND ${EXPECT_ERROR} "--jobs -1: not a whole number 1 or more"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --jobs -1)
+add_test(NAME cli.error_option_given_twice COMMAND ${EXPECT_ERROR} "--res given 2 times: give it once"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --res 8 --res 16)
+add_test(NAME cli.error_batch_missing_directory COMMAND ${EXPECT_ERROR} "cannot read manifest .*no-such-folder: No such file or directory$"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/no-such-folder -o ${BATCH_DIR}/out)
+add_test(NAME cli.error_device_and_reference COMMAND ${EXPECT_ERROR} "--device and --reference contradict"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --device nosuch --reference)
+add_test(NAME cli.error_batch_outputs_twice COMMAND ${EXPECT_ERROR} "'outputs' names 'splats' twice$"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --outputs splats,splats)
+add_test(NAME cli.error_batch_outputs_empty_name COMMAND ${EXPECT_ERROR} "'outputs' has unknown output ''"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --outputs splats,,csm)
 foreach(script resume shards failure parameters)
   add_test(NAME cli.batch_${script} COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/batch/cli_${script}_test.sh $<TARGET_FILE:splatcl>
            ${CMAKE_CURRENT_BINARY_DIR}/batch-${script})
