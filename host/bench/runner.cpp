@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,12 +10,17 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <thread>
 
+#include "bench/compare.hpp"
+#include "io/in_flight.hpp"
 #include "runtime/error.hpp"
 
 extern char** environ;
@@ -30,6 +36,7 @@ int run_child(const std::string& program, const std::vector<std::string>& argume
   for (char** e = environ; *e; ++e)
     if (std::strncmp(*e, "POCL_MAX_PTHREAD_COUNT=", 23) != 0) env_strings.emplace_back(*e);
   env_strings.push_back(fmt::format("POCL_MAX_PTHREAD_COUNT={}", threads));
+  env_strings.push_back(fmt::format("{}={}", kBenchParentVariable, ::getpid()));
   std::vector<char*> env;
   for (auto& s : env_strings) env.push_back(s.data());
   env.push_back(nullptr);
@@ -61,7 +68,10 @@ Results run_thread_scaling(const RunOptions& options) {
     std::vector<std::string> arguments = options.arguments;
     arguments.push_back("--json");
     arguments.push_back(json.string());
+    // Removed by a terminating signal while the child may write it (the child ends with us: end_with_parent).
+    const int slot = register_in_flight(json.string());
     const int status = run_child(options.program, arguments, static_cast<int>(threads));
+    unregister_in_flight(slot);
     if (status != 0) {
       std::error_code ignored;
       std::filesystem::remove(json, ignored);
@@ -84,6 +94,14 @@ Results run_thread_scaling(const RunOptions& options) {
 }
 
 }  // namespace
+
+void end_with_parent() {
+  const char* parent = std::getenv(kBenchParentVariable);
+  if (!parent) return;
+  // SIGTERM when the parent dies; and now if it already has (it is no longer our parent).
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (std::to_string(::getppid()) != parent) ::raise(SIGTERM);
+}
 
 Scaling parse_scaling(const std::string& text) {
   if (text == "none") return Scaling::None;
@@ -145,6 +163,12 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
 
   const std::vector<DeviceInfo> devices = bench_devices(options.devices);
   Results results;
+  // A case at its smallest size already is not made smaller by a further step: the step's rows
+  // repeat the earlier step's (same case, impl, device and size), and report, compare and plot
+  // could not tell them apart (three "1024 rays" rows with speedups 1.00x, 1.49x and 0.20x; compare
+  // of a file with itself found regressions). The first of them is kept; rows that differ in shape
+  // or variant are different rows.
+  std::set<std::string> recorded;
   for (std::size_t d = 0; d < devices.size(); ++d) {
     for (const Suite* suite : suites) {
       const int steps = options.scaling == Scaling::Size ? options.size_steps : 1;
@@ -159,7 +183,12 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
         suite->run(session);
         Results part = session.results();
         if (results.machine.empty()) results.machine = part.machine;
-        results.records.insert(results.records.end(), part.records.begin(), part.records.end());
+        for (Record& record : part.records) {
+          std::string key = comparison_key(record);
+          for (const char* field : {"shape", "variant", "threads", "pocl_threads"})  // rows of one case that comparison_key joins
+            if (record.extra.contains(field)) key += fmt::format("/{}={}", field, record.extra[field].dump());
+          if (recorded.insert(key).second) results.records.push_back(std::move(record));
+        }
       }
     }
   }

@@ -31,6 +31,12 @@ std::vector<DeviceInfo> bench_devices(const std::vector<std::string>& selectors)
 
 // This process's command-line arguments (after the program name), from /proc/self/cmdline.
 std::vector<std::string> own_arguments();
+
+// A thread-scaling child run (run_child sets kBenchParentVariable to the parent's pid) ends when
+// its parent does: a SIGTERM to the parent left the child running and writing its results into
+// the temporary directory. Called first by the bench command; does nothing in other runs.
+inline constexpr const char* kBenchParentVariable = "SPLATCL_BENCH_PARENT_PID";
+void end_with_parent();
 // `arguments` without the options a thread-scaling parent handles itself (--scaling, --json,
 // --csv, --compare, --threshold, --plot, each with its value, as "--x V" or "--x=V").
 std::vector<std::string> child_arguments(const std::vector<std::string>& arguments);

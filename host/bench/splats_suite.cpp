@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "bench/suites.hpp"
+#include "io/in_flight.hpp"
 #include "splats/pipeline.hpp"
 #include "splats/pipeline_options.hpp"
 #include "splats/reference.hpp"
@@ -70,12 +71,15 @@ void expect_same_fit(const std::string& what, const spl::FitResult& actual, cons
     throw Error("bench " + what + ": clip lines differ from the reference");
 }
 
-// A scratch PLY for the output phase, removed when the suite ends.
+// A scratch PLY for the output phase, removed when the suite ends, or by a terminating signal
+// (io/in_flight.hpp: SIGTERM left it in the temporary directory).
 class ScratchFile {
  public:
   ScratchFile()
-      : path_((std::filesystem::temp_directory_path() / fmt::format("splatcl-bench-splats-{}.ply", ::getpid())).string()) {}
+      : path_((std::filesystem::temp_directory_path() / fmt::format("splatcl-bench-splats-{}.ply", ::getpid())).string()),
+        slot_(register_in_flight(path_)) {}
   ~ScratchFile() {
+    unregister_in_flight(slot_);
     std::error_code ignored;
     std::filesystem::remove(path_, ignored);
   }
@@ -85,6 +89,7 @@ class ScratchFile {
 
  private:
   std::string path_;
+  int slot_;
 };
 
 // Size scaling: every stride-th vertex of the model (stride = 1 / scale), as a point set. The bunny's

@@ -222,6 +222,7 @@ Action register_bench(CLI::App& app) {
   for (const auto& [sub, suite] : suite_commands) run_apps.push_back(sub);
 
   return [options, suite_commands, run_apps, report, compare, plot, tune] {
+    bench::end_with_parent();
     BenchOptions& o = *options;
     if (tune->parsed()) {
       if (o.tune.quick) {
@@ -242,6 +243,21 @@ Action register_bench(CLI::App& app) {
       print_plots(bench::write_plots(read_any_results(o.results_path), o.output_dir));
       return 0;
     }
+
+    // The run options are on `bench` and on every suite: given on both, the suite's silently won
+    // (`bench --json a.json primitives --json b.json` wrote b.json alone).
+    for (const CLI::Option* option : run_apps.front()->get_options()) {
+      const std::string name = option->get_name(false, true);
+      if (name.rfind("--", 0) != 0 || name == "--help") continue;
+      std::size_t levels = 0;
+      for (CLI::App* a : run_apps)
+        if (const CLI::Option* given = a->get_option_no_throw(name); given && given->count() > 0) ++levels;
+      if (levels > 1) throw Error(name + " is given both before and after the suite's name: give it once");
+    }
+    if (times_given(run_apps, "--threshold") > 0 && o.compare_path.empty())
+      throw Error("--threshold is the regression threshold of --compare: give --compare BASELINE too");
+    if (times_given(run_apps, "--steps") > 0 && bench::parse_scaling(o.scaling) != bench::Scaling::Size)
+      throw Error("--steps counts the sizes of --scaling size: give --scaling size too");
 
     std::vector<const bench::Suite*> chosen;
     for (const auto& [sub, suite] : suite_commands)

@@ -82,3 +82,20 @@ add_test(NAME cli.error_bench_compare_threshold_nan COMMAND ${EXPECT_ERROR} "--t
 # Progress in a log (stderr not a terminal): plain lines, as every other command writes (bench wrote none).
 add_test(NAME cli.bench_progress_lines_in_a_log COMMAND ${EXPECT_OUTPUT} --match "^splatcl bench primitives: .* median$"
          -- env SPLATCL_PROGRESS_SECONDS=0 $<TARGET_FILE:splatcl> bench primitives --quick --runs 1 --warmup 0)
+# --scaling size with more steps than a case has sizes: the repeated smallest size is one row, so
+# a results file compared with itself shows no change (6 duplicate rows of the cluster suite did).
+set(BENCH_STEPS ${CMAKE_CURRENT_BINARY_DIR}/bench-cluster-steps.json)
+add_test(NAME cli.bench_size_steps_write_each_row_once COMMAND $<TARGET_FILE:splatcl> bench cluster --quick --runs 1 --warmup 0
+         --scaling size --steps 8 --device cpu --json ${BENCH_STEPS})
+set_tests_properties(cli.bench_size_steps_write_each_row_once PROPERTIES FIXTURES_SETUP bench_steps)
+add_test(NAME cli.bench_size_steps_compare_identical COMMAND ${EXPECT_OUTPUT} --match "^0 of [1-9][0-9]* matched records regressed by more than 0 %"
+         -- $<TARGET_FILE:splatcl> bench compare ${BENCH_STEPS} ${BENCH_STEPS} --threshold 0)
+set_tests_properties(cli.bench_size_steps_compare_identical PROPERTIES FIXTURES_REQUIRED bench_steps)
+# Options given before and after the suite's name (the suite's won silently), and options that
+# only mean something beside another.
+add_test(NAME cli.error_bench_option_on_both_levels COMMAND ${EXPECT_ERROR} "--runs is given both before and after the suite's name: give it once"
+         $<TARGET_FILE:splatcl> bench --runs 1 primitives --runs 2)
+add_test(NAME cli.error_bench_threshold_without_compare COMMAND ${EXPECT_ERROR} "--threshold is the regression threshold of --compare"
+         $<TARGET_FILE:splatcl> bench primitives --threshold 5)
+add_test(NAME cli.error_bench_steps_without_scaling COMMAND ${EXPECT_ERROR} "--steps counts the sizes of --scaling size"
+         $<TARGET_FILE:splatcl> bench primitives --steps 3)
