@@ -28,6 +28,15 @@ std::string comparison_key(const Record& record) {
   return key;
 }
 
+void require_distinct_records(const Results& results, const std::string& path) {
+  std::map<std::string, std::size_t> first;
+  for (std::size_t i = 0; i < results.records.size(); ++i) {
+    const std::string key = comparison_key(results.records[i]);
+    if (const auto [at, fresh] = first.emplace(key, i); !fresh)
+      throw Error(fmt::format("{}: records {} and {} are the same row ({})", path, at->second, i, key));
+  }
+}
+
 std::size_t Comparison::regressions() const {
   return static_cast<std::size_t>(std::count_if(matched.begin(), matched.end(), [](const ComparedRecord& r) { return r.regression; }));
 }

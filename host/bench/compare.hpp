@@ -12,6 +12,9 @@ namespace splatcl::bench {
 
 // The identity of a record across runs: "cluster/compact/opencl/<device>/2073600 keys/shape=cpu ...".
 std::string comparison_key(const Record& record);
+// Throws Error "PATH: records I and J are the same row (KEY)" when two records of `results` share
+// a comparison_key: report, compare and plot took one of them silently.
+void require_distinct_records(const Results& results, const std::string& path);
 
 struct ComparedRecord {
   std::string key;

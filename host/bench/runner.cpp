@@ -166,8 +166,7 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
   // A case at its smallest size already is not made smaller by a further step: the step's rows
   // repeat the earlier step's (same case, impl, device and size), and report, compare and plot
   // could not tell them apart (three "1024 rays" rows with speedups 1.00x, 1.49x and 0.20x; compare
-  // of a file with itself found regressions). The first of them is kept; rows that differ in shape
-  // or variant are different rows.
+  // of a file with itself found regressions). The first of them is kept.
   std::set<std::string> recorded;
   for (std::size_t d = 0; d < devices.size(); ++d) {
     for (const Suite* suite : suites) {
@@ -184,10 +183,7 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
         Results part = session.results();
         if (results.machine.empty()) results.machine = part.machine;
         for (Record& record : part.records) {
-          std::string key = comparison_key(record);
-          for (const char* field : {"shape", "variant", "threads", "pocl_threads"})  // rows of one case that comparison_key joins
-            if (record.extra.contains(field)) key += fmt::format("/{}={}", field, record.extra[field].dump());
-          if (recorded.insert(key).second) results.records.push_back(std::move(record));
+          if (recorded.insert(comparison_key(record)).second) results.records.push_back(std::move(record));
         }
       }
     }

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
+
 #include "io/json_keys.hpp"
 #include "bench/report.hpp"
 
@@ -110,6 +112,11 @@ const Record& Session::measure(const Case& c, const std::function<void()>& setup
 Results Session::results() const {
   Results results;
   results.machine = machine_info(&runtime_->info());
+  // How the run measured, for compare: a --warmup 0 run (it times the kernel build) or another
+  // tuning database read as plain regressions beside a default run.
+  results.machine["warmup"] = options_.measure.warmup;
+  const char* tuning = std::getenv(kTuningEnvVar);
+  results.machine["tuning"] = tuning && *tuning ? tuning : "embedded data/tuning.json";
   results.records = records_;
   return results;
 }

@@ -82,7 +82,9 @@ int run_tune(const BenchOptions& o) {
 // Results from a .json file, or a .csv file written by --csv.
 bench::Results read_any_results(const std::string& path) {
   const std::string extension = std::filesystem::path(path).extension().string();
-  return extension == ".csv" ? bench::read_csv(path) : bench::read_results(path);
+  bench::Results results = extension == ".csv" ? bench::read_csv(path) : bench::read_results(path);
+  bench::require_distinct_records(results, path);
+  return results;
 }
 
 // The run options, on `bench` itself and on every suite, so they may come before or after the suite.
@@ -130,8 +132,16 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
 
 // Regressions against the baseline: the table on stdout, the verdict as the exit status.
 int report_comparison(const bench::Results& current, const std::string& baseline_path, double threshold_pct) {
-  const bench::Comparison comparison = bench::compare_results(current, read_any_results(baseline_path), threshold_pct);
+  const bench::Results baseline = read_any_results(baseline_path);
+  const bench::Comparison comparison = bench::compare_results(current, baseline, threshold_pct);
   std::fputs(("\n### comparison with " + baseline_path + "\n\n" + bench::comparison_report(comparison)).c_str(), stdout);
+  // Runs measured differently or elsewhere compare, but say so: such changes read as regressions.
+  for (const char* field : {"cpu_model", "logical_cores", "memory_gib", "build", "compiler", "opencl_device", "opencl_driver_version",
+                            "pocl_max_pthread_count", "warmup", "tuning"}) {
+    const auto a = baseline.machine.find(field), b = current.machine.find(field);
+    if (a != baseline.machine.end() && b != current.machine.end() && *a != *b)
+      std::printf("note: the runs differ in %s: %s in the baseline, %s here\n", field, a->dump().c_str(), b->dump().c_str());
+  }
   std::fflush(stdout);
   if (comparison.matched.empty()) throw Error("no record matches one in " + baseline_path);
   if (comparison.regressions() > 0) {

@@ -99,3 +99,13 @@ add_test(NAME cli.error_bench_threshold_without_compare COMMAND ${EXPECT_ERROR} 
          $<TARGET_FILE:splatcl> bench primitives --threshold 5)
 add_test(NAME cli.error_bench_steps_without_scaling COMMAND ${EXPECT_ERROR} "--steps counts the sizes of --scaling size"
          $<TARGET_FILE:splatcl> bench primitives --steps 3)
+# A results file holding one row twice is refused (report and compare took the first silently).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-twice.json "{\"machine\": {}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 10, \"min_ms\": 9, \"max_ms\": 11}, {${BENCH_RECORD}, \"median_ms\": 1, \"min_ms\": 1, \"max_ms\": 1}]}\n")
+add_test(NAME cli.error_bench_record_twice COMMAND ${EXPECT_ERROR} "bench-twice.json: records 0 and 1 are the same row \\(csm/capture/opencl/dev/1000 rays\\)$"
+         $<TARGET_FILE:splatcl> bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-twice.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json)
+# Runs measured differently are compared, with a note for each difference (a --warmup 0 run read
+# as plain regressions).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup0.json "{\"machine\": {\"warmup\": 0}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 10, \"min_ms\": 9, \"max_ms\": 11}]}\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup1.json "{\"machine\": {\"warmup\": 1}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 10, \"min_ms\": 9, \"max_ms\": 11}]}\n")
+add_test(NAME cli.bench_compare_notes_other_settings COMMAND ${EXPECT_OUTPUT} --match "^note: the runs differ in warmup: 1 in the baseline, 0 here$"
+         -- $<TARGET_FILE:splatcl> bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup0.json ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup1.json)
