@@ -295,6 +295,7 @@ void check_csm_model() {
   if (!std::filesystem::is_directory(splats_models_dir()))
     throw Error("models directory " + splats_models_dir() + " does not exist (set it with --models)");
   if (!std::filesystem::is_regular_file(path)) throw Error("bench csm: missing model " + path.string() + " (--models DIR)");
+  (void)load_mesh(path.string());  // read too, as check_splats_models does
 }
 
 void run_csm_suite(Session& session) {

@@ -250,7 +250,8 @@ std::vector<std::string> write_plots(const Results& results, const std::string& 
 
   const std::string gnuplot = find_gnuplot();
   if (gnuplot.empty())
-    throw Error("gnuplot not found on PATH: install gnuplot-nox (scripts/setup.sh does), then run gnuplot " + script_path.string());
+    // The kept script, which names the PNGs (the .part one is removed on the way out).
+    throw Error("gnuplot not found on PATH: install gnuplot-nox (scripts/setup.sh does), then run gnuplot " + (dir / "plots.gp").string());
   const pid_t child = ::fork();
   if (child < 0) throw Error("cannot start gnuplot: fork failed");
   if (child == 0) {
@@ -266,7 +267,7 @@ std::vector<std::string> write_plots(const Results& results, const std::string& 
     const std::string part = plot.png + ".part";
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(part)) {
       for (const auto& p : plots) fs::remove(p.png + ".part", error);
-      throw Error("gnuplot failed on " + script_path.string() + " (exit status " +
+      throw Error("gnuplot failed on " + (dir / "plots.gp").string() + " (exit status " +
                   std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
     }
   }

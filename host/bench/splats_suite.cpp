@@ -52,9 +52,12 @@ std::filesystem::path model_path(const BenchModel& model) { return std::filesyst
 void check_splats_models() {
   const std::string& dir = splats_models_dir();
   if (!std::filesystem::is_directory(dir)) throw Error("bench splats: models directory " + dir + " does not exist (--models DIR)");
-  for (const BenchModel& model : kModels)
+  for (const BenchModel& model : kModels) {
     if (!std::filesystem::is_regular_file(model_path(model)))
       throw Error("bench splats: missing model " + model_path(model).string() + " (--models DIR)");
+    // Read too: an empty or broken file passed and failed the suite after the other suites ran.
+    (void)load_mesh(model_path(model).string());
+  }
 }
 
 namespace {

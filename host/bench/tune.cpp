@@ -11,6 +11,7 @@
 
 #include "bench/record.hpp"
 #include "bench/runner.hpp"
+#include "cli/progress.hpp"
 #include "primitives/primitives.hpp"
 #include "primitives/reference.hpp"
 #include "runtime/error.hpp"
@@ -201,9 +202,8 @@ class Tuner {
     std::vector<double> runs;
     append_runs(shape, parameters, runs);
     ++result.candidates;
-    if (::isatty(::fileno(stderr)))
-      std::fprintf(stderr, "\r\033[K[bench tune] %s: %s %.3f ms", label_.c_str(), prim::describe(parameters, primitive, shape).c_str(),
-                   summarize(runs).median_ms);
+    // On a terminal one updating line; in a log a line every SPLATCL_PROGRESS_SECONDS (there was none).
+    progress_.show(fmt::format("{}: {} {:.3f} ms", label_, prim::describe(parameters, primitive, shape), summarize(runs).median_ms));
     return summarize(runs).median_ms;
   }
 
@@ -218,6 +218,7 @@ class Tuner {
   const TuneOptions& options_;
   std::unique_ptr<Workload> workload_;
   std::string label_;
+  cli::ProgressLine progress_{"splatcl bench tune"};
 };
 
 }  // namespace
@@ -239,7 +240,6 @@ std::vector<TuneResult> run_tuning(const TuneOptions& options) {
     for (const Primitive primitive : chosen)
       for (const Shape shape : options.shapes) results.push_back(tuner.tune(primitive, shape, n));
   }
-  if (::isatty(::fileno(stderr))) std::fputs("\r\033[K", stderr);
   return results;
 }
 

@@ -50,7 +50,14 @@ TuningRecord record_from_json(const nlohmann::json& plain, const std::string& wh
     if (!value.is_number_integer()) throw Error(where + ": parameter '" + name + "' must be an integer");
     record.parameters[name] = value.get<std::int64_t>();
   }
-  if (const auto measured = json.find("measured"); measured != json.end()) record.measured = *measured;
+  if (const auto measured = json.find("measured"); measured != json.end()) {
+    // What bench tune writes there (informative only): closed like the record's other objects.
+    static constexpr std::initializer_list<const char*> measured_keys = {"size", "size_unit", "default_ms", "tuned_ms", "gain", "candidates", "date"};
+    if (!measured->is_object()) throw Error(where + ": 'measured' must be an object");
+    if (const auto key = unknown_key(*measured, measured_keys))
+      throw Error(where + ": unknown measured key '" + *key + "' (known: " + key_list(measured_keys) + ")");
+    record.measured = *measured;
+  }
   return record;
 }
 

@@ -48,7 +48,7 @@ add_test(NAME cli.error_bench_missing_model_first COMMAND ${EXPECT_ERROR} "bench
          $<TARGET_FILE:splatcl> bench --quick --models no-such-dir)
 add_test(NAME cli.error_bench_run_plot_without_gnuplot COMMAND ${EXPECT_ERROR} "--plot: gnuplot not found on PATH" env PATH=/nonexistent
          $<TARGET_FILE:splatcl> bench primitives --quick --plot ${CMAKE_CURRENT_BINARY_DIR}/bench-plots-run-nognuplot)
-add_test(NAME cli.error_bench_plot_without_gnuplot COMMAND ${EXPECT_ERROR} "gnuplot not found on PATH" env PATH=/nonexistent
+add_test(NAME cli.error_bench_plot_without_gnuplot COMMAND ${EXPECT_ERROR} "gnuplot not found on PATH: .*, then run gnuplot .*bench-plots-nognuplot/plots.gp$" env PATH=/nonexistent
          $<TARGET_FILE:splatcl> bench plot ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json -o ${CMAKE_CURRENT_BINARY_DIR}/bench-plots-nognuplot)
 # splatcl bench tune and the tuning database: a typo in --kernel fails before any run; a database
 # ($SPLATCL_TUNING) that cannot be read, or whose record the device cannot run, is one line naming it.
@@ -66,6 +66,9 @@ add_test(NAME cli.error_tuning_unknown_kernel COMMAND ${EXPECT_ERROR} "tuning-ot
          env SPLATCL_TUNING=${CMAKE_CURRENT_BINARY_DIR}/tuning-other-device.json $<TARGET_FILE:splatcl> cluster --size 64x48 --device cpu)
 add_test(NAME cli.error_bench_tune_merges_bad_database COMMAND ${EXPECT_ERROR} "tuning-other-device.json: records\\[0\\] \\(fft, cpu\\): unknown kernel"
          $<TARGET_FILE:splatcl> bench tune --quick --kernel scan --shape cpu -o ${CMAKE_CURRENT_BINARY_DIR}/tuning-other-device.json)
+# Progress in a log too (only a terminal got it): a line per candidate at SPLATCL_PROGRESS_SECONDS=0.
+add_test(NAME cli.bench_tune_progress_in_a_log COMMAND ${EXPECT_OUTPUT} --match "^splatcl bench tune: scan \\(cpu shape\\) on .*: chunks_per_compute_unit="
+         -- env SPLATCL_PROGRESS_SECONDS=0 $<TARGET_FILE:splatcl> bench tune --quick --kernel scan --shape cpu -o ${CMAKE_CURRENT_BINARY_DIR}/tune-progress.json)
 
 # scripts/gpu-check.sh without a GPU: refusals without an NVIDIA ICD, and a dry run on PoCL
 # (tests/cli/gpu_check_test.sh). Not in the sanitizer pass: a shell script drives the Release binary's steps.
@@ -109,3 +112,8 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup0.json "{\"machine\": {\"warm
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup1.json "{\"machine\": {\"warmup\": 1}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 10, \"min_ms\": 9, \"max_ms\": 11}]}\n")
 add_test(NAME cli.bench_compare_notes_other_settings COMMAND ${EXPECT_OUTPUT} --match "^note: the runs differ in warmup: 1 in the baseline, 0 here$"
          -- $<TARGET_FILE:splatcl> bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup0.json ${CMAKE_CURRENT_BINARY_DIR}/bench-warmup1.json)
+# A model that is there but cannot be read fails before any suite runs (it failed the splats suite
+# after the others had run, their results lost).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-empty-models/stanford-bunny.obj "")
+add_test(NAME cli.error_bench_unreadable_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*bench-empty-models/stanford-bunny.obj: no vertex or face lines"
+         $<TARGET_FILE:splatcl> bench --quick --models ${CMAKE_CURRENT_BINARY_DIR}/bench-empty-models)

@@ -96,6 +96,11 @@ TEST(Tuning, MalformedDatabasesAreErrorsNamingTheSource) {
                                     "t.json");
             }),
             "t.json: records[1]: the same kernel, shape and devices as an earlier record");
+  // Inside 'measured' too (the record's other objects were closed already).
+  EXPECT_EQ(expect_error([] {
+              TuningDatabase::parse(R"({"records": [{"kernel": "scan", "shape": "cpu", "parameters": {}, "measured": {"gian": 2}}]})", "t.json");
+            }),
+            "t.json: records[0]: unknown measured key 'gian' (known: size, size_unit, default_ms, tuned_ms, gain, candidates, date)");
   TuningRecord record;
   record.kernel = "scan";
   record.shape = "cpu";
