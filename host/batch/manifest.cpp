@@ -39,8 +39,14 @@ void set_outputs(ModelParams& params, const nlohmann::json& value) {
       names.push_back(item.get<std::string>());
     }
   } else if (value.is_string()) {
-    std::stringstream list(value.get<std::string>());
-    for (std::string name; std::getline(list, name, '+');) names.push_back(name);
+    // Every name between the '+'s, a trailing empty one too (getline dropped it: "splats+" passed).
+    const std::string list = value.get<std::string>();
+    for (std::size_t from = 0;;) {
+      const std::size_t plus = list.find('+', from);
+      names.push_back(list.substr(from, plus == std::string::npos ? std::string::npos : plus - from));
+      if (plus == std::string::npos) break;
+      from = plus + 1;
+    }
   } else {
     throw Error(fmt::format("'outputs' must be a list of \"splats\" and \"csm\" (CSV: splats+csm), got {}", value.dump()));
   }

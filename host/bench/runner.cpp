@@ -34,7 +34,8 @@ namespace {
 int run_child(const std::string& program, const std::vector<std::string>& arguments, int threads) {
   std::vector<std::string> env_strings;
   for (char** e = environ; *e; ++e)
-    if (std::strncmp(*e, "POCL_MAX_PTHREAD_COUNT=", 23) != 0) env_strings.emplace_back(*e);
+    if (std::strncmp(*e, "POCL_MAX_PTHREAD_COUNT=", 23) != 0 && std::strncmp(*e, kBenchParentVariable, std::strlen(kBenchParentVariable)) != 0)
+      env_strings.emplace_back(*e);
   env_strings.push_back(fmt::format("POCL_MAX_PTHREAD_COUNT={}", threads));
   env_strings.push_back(fmt::format("{}={}", kBenchParentVariable, ::getpid()));
   std::vector<char*> env;
@@ -167,8 +168,11 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
   // repeat the earlier step's (same case, impl, device and size), and report, compare and plot
   // could not tell them apart (three "1024 rays" rows with speedups 1.00x, 1.49x and 0.20x; compare
   // of a file with itself found regressions). The first of them is kept.
-  std::set<std::string> recorded;
   for (std::size_t d = 0; d < devices.size(); ++d) {
+    std::set<std::string> recorded;  // per device: two devices of one model are two sets of rows
+    // Two devices of one name (two GPUs of one model) are told apart by their index in the rows,
+    // which compare and report match by device name.
+    const bool name_shared = std::count_if(devices.begin(), devices.end(), [&](const DeviceInfo& other) { return other.name == devices[d].name; }) > 1;
     for (const Suite* suite : suites) {
       const int steps = options.scaling == Scaling::Size ? options.size_steps : 1;
       for (int step = steps - 1; step >= 0; --step) {
@@ -183,6 +187,7 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
         Results part = session.results();
         if (results.machine.empty()) results.machine = part.machine;
         for (Record& record : part.records) {
+          if (name_shared && record.device == devices[d].name) record.device += fmt::format(" [{}]", devices[d].index);
           if (recorded.insert(comparison_key(record)).second) results.records.push_back(std::move(record));
         }
       }

@@ -73,7 +73,14 @@ int run_tune(const BenchOptions& o) {
   for (const auto& name : options.kernels) bench::parse_tuned_kernel(name);  // a typo fails before the run
   const auto results = bench::run_tuning(options);
   std::fputs(bench::tuning_report(results).c_str(), stdout);
-  for (const auto& result : results) database.put(result.record);
+  for (const auto& result : results) {
+    // A smoke test's record over a full-size one: said, not refused (the user may mean it).
+    const auto replaced = database.put(result.record);
+    const auto size_of = [](const splatcl::TuningRecord& r) { return r.measured.is_object() ? r.measured.value("size", 0.0) : 0.0; };
+    if (replaced && size_of(*replaced) > size_of(result.record))
+      std::printf("note: %s (%s shape) replaces a record measured at %g elements with one measured at %g\n", result.record.kernel.c_str(),
+                  result.record.shape.c_str(), size_of(*replaced), size_of(result.record));
+  }
   database.write(o.tuning_path);
   std::printf("wrote %zu record(s) to %s\n", results.size(), o.tuning_path.c_str());
   return 0;

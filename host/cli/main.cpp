@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
     for (const CLI::App* c : chosen) {
       const CLI::Option* device = c->get_option_no_throw("--device");
       const CLI::Option* reference = c->get_option_no_throw("--reference");
-      if (c->parsed() && device && reference && device->count() > 0 && reference->count() > 0) {
+      if (c->parsed() && device && reference && device->count() > 0 && reference->count() > 0 && reference->as<bool>()) {
         std::fprintf(stderr, "splatcl: --device and --reference contradict: --reference uses no OpenCL device (see --help)\n");
         return 1;
       }

@@ -14,7 +14,8 @@ std::vector<float> window_depth(const DepthFrame& frame, const Camera& camera) {
   for (std::size_t p = 0; p < depth.size(); ++p) {
     const float z = frame.view_z[p];
     // A surface on the far plane keeps a depth above the clear value 0 (background): FLT_MIN, which
-    // reads back as the far plane (it was background with --window-depth, covered with view z).
+    // reads back as the far plane while near/far is far above FLT_MIN (far/near below about 1e30;
+    // beyond, as a nearer distance), and it was background with --window-depth, covered with view z.
     depth[p] = (-z >= camera.near_plane && -z <= camera.far_plane)
                    ? std::max(window_depth_from_view_z(z, camera.near_plane, camera.far_plane), FLT_MIN)
                    : 0.0f;

@@ -139,13 +139,15 @@ const TuningRecord* TuningDatabase::find(const std::string& kernel, const std::s
   return best;
 }
 
-void TuningDatabase::put(TuningRecord record) {
+std::optional<TuningRecord> TuningDatabase::put(TuningRecord record) {
   for (auto& existing : records_)
     if (same_target(existing, record)) {
+      std::optional<TuningRecord> replaced = std::move(existing);
       existing = std::move(record);
-      return;
+      return replaced;
     }
   records_.push_back(std::move(record));
+  return std::nullopt;
 }
 
 std::string TuningDatabase::to_json_text() const {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,8 +46,8 @@ class TuningDatabase {
 
   // The most specific record of `kernel` in `shape` that matches `device`; nullptr when none does.
   const TuningRecord* find(const std::string& kernel, const std::string& shape, const DeviceInfo& device) const;
-  // Adds `record`, replacing one of the same kernel, shape and device fields.
-  void put(TuningRecord record);
+  // Adds `record`, replacing one of the same kernel, shape and device fields; returns the replaced one.
+  std::optional<TuningRecord> put(TuningRecord record);
 
   const std::vector<TuningRecord>& records() const { return records_; }
   const std::string& source() const { return source_; }

@@ -47,6 +47,9 @@ add_test(NAME cli.error_batch_outputs_twice COMMAND ${EXPECT_ERROR} "'outputs' n
          $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --outputs splats,splats)
 add_test(NAME cli.error_batch_outputs_empty_name COMMAND ${EXPECT_ERROR} "'outputs' has unknown output ''"
          $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/ok.csv -o ${BATCH_DIR}/out --outputs splats,,csm)
+file(WRITE ${BATCH_DIR}/outputs-trailing-plus.csv "path,outputs\na.obj,splats+\n")
+add_test(NAME cli.error_batch_outputs_trailing_plus COMMAND ${EXPECT_ERROR} "'outputs' has unknown output ''"
+         $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/outputs-trailing-plus.csv -o ${BATCH_DIR}/out)
 foreach(script resume shards failure parameters)
   add_test(NAME cli.batch_${script} COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/batch/cli_${script}_test.sh $<TARGET_FILE:splatcl>
            ${CMAKE_CURRENT_BINARY_DIR}/batch-${script})
