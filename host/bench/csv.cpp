@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include "io/atomic_file.hpp"
 #include "io/json_keys.hpp"
@@ -139,7 +140,9 @@ std::string to_csv(const Results& results) {
 Results results_from_csv(const std::string& text) {
   // As JSON results must be (and --json could not write it otherwise).
   if (!is_utf8(text)) throw Error("not UTF-8 text");
-  const auto rows = parse_rows(text);
+  // A spreadsheet's UTF-8 byte-order mark before the header read as "not a benchmark CSV".
+  const std::string_view body = std::string_view(text).starts_with("\xEF\xBB\xBF") ? std::string_view(text).substr(3) : std::string_view(text);
+  const auto rows = parse_rows(std::string(body));
   if (rows.empty()) throw Error("empty CSV: expected a header row");
   const auto& header = rows.front();
   const std::size_t fixed = std::size(kColumns);

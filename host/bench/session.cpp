@@ -86,7 +86,13 @@ const Record& Session::measure(const Case& c, const std::function<void()>& setup
 
   const bool exact_peak = reset_peak_rss();
   const Timing timing = measure_runs(options_.measure, setup, run, profiler,
-                                     [&](int i, int total) { show_progress(fmt::format("{}: run {}/{}", label, i + 1, total), false); });
+                                     [&](int i, int total) {
+                                       // Warm-ups apart from the timed runs ("run 2/2" for --runs 1 before).
+                                       const int warmups = total - options_.measure.runs;
+                                       show_progress(i < warmups ? fmt::format("{}: warm-up {}/{}", label, i + 1, warmups)
+                                                                 : fmt::format("{}: run {}/{}", label, i - warmups + 1, options_.measure.runs),
+                                                     false);
+                                     });
   const Summary summary = summarize(timing.wall_ms);
   record.runs = static_cast<int>(timing.wall_ms.size());
   record.median_ms = summary.median_ms;

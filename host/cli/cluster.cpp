@@ -84,8 +84,21 @@ int run_cluster(const ClusterOptions& o) {
   }
   // The four outputs writable before any work; staged and committed together at the end.
   const std::vector<std::string> output_names = {"lights-per-cluster.png", "clusters.png", "shaded.png", "summary.json"};
+  // The folders -o makes, removed again (where still empty) when the run fails: a refused run
+  // (a frame whose keys need more than 32 bits, a full disk) left the empty folder behind.
+  struct MadeFolders {
+    std::vector<std::filesystem::path> paths;  // outermost first
+    bool keep = false;
+    ~MadeFolders() {
+      std::error_code ignored;
+      for (auto it = paths.rbegin(); !keep && it != paths.rend(); ++it) std::filesystem::remove(*it, ignored);
+    }
+  } made;
   if (!o.output_dir.empty()) {
     std::error_code ec;
+    for (std::filesystem::path p = std::filesystem::absolute(o.output_dir, ec); !ec && p.has_relative_path() && !std::filesystem::exists(p, ec);
+         p = p.parent_path())
+      made.paths.insert(made.paths.begin(), p);
     std::filesystem::create_directories(o.output_dir, ec);
     if (ec) throw Error("cannot create -o directory " + o.output_dir + ": " + ec.message());
     std::vector<std::pair<std::string, std::string>> outputs;
@@ -208,6 +221,7 @@ int run_cluster(const ClusterOptions& o) {
     for (const auto& [name, ms] : stage_ms) summary["stage_ms"][name] = ms;
     outputs.write((dir / "summary.json").string(), [&](const std::string& path) { write_file_atomically(path, json_text(summary) + "\n"); });
     outputs.commit();
+    made.keep = true;
     fmt::print("wrote      {}/{{lights-per-cluster.png, clusters.png, shaded.png, summary.json}}\n", o.output_dir);
   }
   return 0;

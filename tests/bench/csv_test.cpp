@@ -83,6 +83,13 @@ TEST(BenchCsv, CsvFileRoundTrip) {
   expect_same_records(back, results);
 }
 
+// A spreadsheet saves CSV with a UTF-8 byte-order mark: read as without it (it was refused as
+// "not a benchmark CSV").
+TEST(BenchCsv, AByteOrderMarkIsSkipped) {
+  const Results results = sample_results();
+  expect_same_records(results_from_csv("\xEF\xBB\xBF" + to_csv(results)), results);
+}
+
 TEST(BenchCsv, EmptyResultsHaveOnlyTheHeader) {
   const Results back = results_from_csv(to_csv(Results{}));
   EXPECT_TRUE(back.records.empty());

@@ -226,3 +226,7 @@ hostile_error(cluster_output_over_scene "-o .*summary.json would overwrite the s
 # blamed on that object.
 file(WRITE ${HOSTILE_DIR}/cache-is-a-file "not a folder")
 hostile_error(render_cache_is_a_file "--cache .*cache-is-a-file: cannot be the asset cache: Not a directory$" render --cache ${HOSTILE_DIR}/cache-is-a-file --size 16x16)
+# A refused cluster run removes the -o folders it made (it left them, empty, behind).
+add_test(NAME hostile.cluster_refused_run_leaves_no_folder COMMAND sh -c
+         "rm -rf \"$1\" && ! \"$0\" cluster --size 4096x4096 --tile 1x1 -o \"$1/made/here\" 2>/dev/null && test ! -e \"$1\""
+         $<TARGET_FILE:splatcl> ${HOSTILE_DIR}/cluster-made-folders)
