@@ -1,7 +1,5 @@
 #include "bench/tune.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <memory>
