@@ -39,6 +39,7 @@ typedef struct {
   float centre[3], radius;
   float pixel_scale;  // M / 2R: object units → pixels
   float depth_scale;  // 1 / 2R: object units → depth
+  float texel_depth;  // 1 / M: one texel's width in depth units (a query's bias is in texels)
   uint resolution, rows, cols;
   uint centred;    // 1: cell-centred samples (uniform, regular); 0: corner samples (ao grid)
   uint uniform;    // 1: s = (1 − cosθ)/2; 0: s = θ/π
@@ -209,7 +210,7 @@ CSM_INLINE float csm_fetch(const CsmScene* scene, uint pixel_entry, uint sequenc
 
 // Projection of the receiver (rx, ry, rz relative to the sphere centre) into one map for a
 // width × width window of taps: the window's first texel (*i0, *j0) and the depth limit (receiver
-// depth − bias) below which a stored depth occludes. width 1: the texel containing the receiver;
+// depth − bias texels) below which a stored depth occludes. width 1: the texel containing the receiver;
 // width 2 or 4: the texels whose centres surround it.
 CSM_INLINE float csm_window(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell, float rx, float ry, float rz, int width,
                         float bias, int* i0, int* j0) {
@@ -225,7 +226,7 @@ CSM_INLINE float csm_window(CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const C
   if (!(fy <= m + 8.0f)) fy = m + 8.0f;
   *i0 = width == 1 ? csm_floor(fx) : csm_floor(fx - 0.5f) - (width / 2 - 1);
   *j0 = width == 1 ? csm_floor(fy) : csm_floor(fy - 0.5f) - (width / 2 - 1);
-  return depth - bias;
+  return depth - bias * oc->texel_depth;
 }
 
 // Lit taps among the width × width window of one map around the receiver. Texels outside the map
@@ -630,7 +631,7 @@ CSM_INLINE csm_vint csm_vinstance_lit(const CsmScene* scene, uint k, csm_vfloat 
   const csm_vint inside = test & (i >= 0) & (i < res) & (j >= 0) & (j < res);
   const csm_vuint pixel = csm_vsel(inside, csm_vto_uint(j) * oc->resolution + csm_vto_uint(i), csm_vu(0u));
   const csm_vfloat g = csm_vfetch(scene, oc->pixel_base + pixel, CSM_VGATHER(csm_vuint, cells, entry, .sequence), inside);
-  return !inside | !(g < depth - bias);
+  return !inside | !(g < depth - bias * oc->texel_depth);
 }
 
 // csm_visibility(scene, p, w, CSM_FILTER_NONE, bias) > 0 per lane, for the lanes of `run` (the

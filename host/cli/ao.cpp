@@ -132,7 +132,7 @@ Action register_ao(CLI::App& app) {
   sub->add_option("--patterns", c->options.patterns, "Precomputed patterns each vertex picks one of")->capture_default_str();
   sub->add_option("--seed", c->options.seed, "Seed of the patterns and of each vertex's pattern choice")->capture_default_str();
   sub->add_flag("--ground-plane", c->options.ground, "Directions below the horizon (world y < 0) count as occluded (the thesis's floor test); the AO is then the lit share of the others times (1 + n.y) / 2");
-  sub->add_option("--bias", c->options.bias, "Shadow offset in depth units (occluded when g < depth - bias)")->capture_default_str();
+  sub->add_option("--bias", c->options.bias, "Shadow offset in texels of each occluder's CSM (occluded when the stored depth g < depth - bias/M, depth in units of the bounding diameter)")->capture_default_str();
   sub->add_option("--lift", c->lift_texels,
                   "Receivers lifted along their normal off their own surface by this many texels, 0..1000. A receiver that is one of "
                   "the occluders (its CSM built from this mesh, placed where it lies) is lifted by texels of that occluder, for its "

@@ -165,9 +165,10 @@ struct Quality {
   // an open occluder that something stands inside (a bowl, a roof), or "exact" / "sphere-exit".
   std::string csm_single_hit = "auto";
   std::uint32_t ao_samples = 16;
-  // CSM depth bias of AO and shadow queries, in each CSM's depth units (1 = its bounding sphere's
-  // diameter), so it scales with the occluder.
-  float ao_bias = 0.02f;
+  // CSM depth bias of AO and shadow queries, in texels of each occluder's CSM (1 texel = its
+  // bounding sphere's diameter / csm_resolution), so it scales with the occluder and shrinks as its
+  // maps get finer.
+  float ao_bias = 0.5f;
   // How far shadow receivers are lifted along their normal, world units (on top of the texels of
   // their own CSM that keep it from shadowing them, csm/query_reach.hpp).
   float shadow_lift = 0.02f;

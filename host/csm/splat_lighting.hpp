@@ -39,7 +39,7 @@ class SplatLighting {
     bool shadows = true;  // off: every key light visible
     Filter filter = Filter::SameMap;  // of the shadow queries (AO queries use Filter::None)
     std::uint32_t ao_samples = 16, shadow_samples = 4;
-    float bias = 0.02f;   // CSM depth bias (depth units: 1 = the occluder's bounding-sphere diameter)
+    float bias = 0.5f;    // CSM depth bias in texels of each occluder's CSM
     float lift = 0.02f;   // shadow receivers are lifted by it (world units) along their normal
     bool ground = true;   // AO directions below y = 0 count as occluded (a floor)
     std::vector<KeyLightShape> key_lights;  // at most kMaxKeyLights

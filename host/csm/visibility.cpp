@@ -17,7 +17,7 @@ using primitives::detail::set_args;
 // stored depths, and still thousands of work-items per million queries.
 constexpr std::size_t kQueryChunk = 256;
 
-static_assert(sizeof(device::CsmCell) == 40 && sizeof(device::CsmOccluder) == 64 && sizeof(device::CsmInstance) == 88,
+static_assert(sizeof(device::CsmCell) == 40 && sizeof(device::CsmOccluder) == 68 && sizeof(device::CsmInstance) == 88,
               "the query tables must match kernels/csm_query.h byte for byte");
 
 namespace {
@@ -108,6 +108,7 @@ VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std:
     oc.radius = info.sphere.radius;
     oc.pixel_scale = static_cast<float>(info.resolution) / (2.0f * info.sphere.radius);
     oc.depth_scale = 1.0f / (2.0f * info.sphere.radius);
+    oc.texel_depth = static_cast<float>(1.0 / info.resolution);
     oc.resolution = info.resolution;
     oc.cell_base = static_cast<std::uint32_t>(cells.size());
     oc.pixel_base = static_cast<std::uint32_t>(offsets.size());
