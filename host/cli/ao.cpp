@@ -75,7 +75,6 @@ int run_ao(const AoCommand& c) {
   for (const auto& csm : csms) views.push_back(csm.get());
   const VisibilityScene scene(views, instances);
   options.lift = receiver_lifts(receiver, views, instances, c.lift_texels);
-  const auto [least_lift, most_lift] = std::minmax_element(options.lift.lifts.begin(), options.lift.lifts.end());
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   Stopwatch clock;
@@ -98,10 +97,11 @@ int run_ao(const AoCommand& c) {
              csms.size(), options.ground ? "; ground plane on" : "");
   const std::string lifted =
       options.lift.own_instance == kNoInstance
-          ? fmt::format("of the coarsest occluder around each ({:g} to {:g})", *least_lift, *most_lift)
-          : fmt::format("of their own occluder, --occluder {} ({:g}), for its maps only", options.lift.own_instance + 1, *least_lift);
-  fmt::print("sampling   {} directions per vertex, pattern set {} ({} patterns, seed {}), bias {:g}, receivers lifted {:g} texels {}\n",
-             options.samples, to_string(options.pattern_set), options.patterns, options.seed, options.bias, c.lift_texels, lifted);
+          ? std::string("receivers not lifted (none of the occluders: only an occluder's own surface is lifted off its maps)")
+          : fmt::format("receivers lifted {:g} texels of their own occluder, --occluder {} ({:g}), for its maps only", c.lift_texels,
+                        options.lift.own_instance + 1, options.lift.lifts.front());
+  fmt::print("sampling   {} directions per vertex, pattern set {} ({} patterns, seed {}), bias {:g}, {}\n", options.samples,
+             to_string(options.pattern_set), options.patterns, options.seed, options.bias, lifted);
   fmt::print("ao         mean {:.4f}, min {:.4f}, max {:.4f} (1 = unoccluded)\n", sum / static_cast<double>(ao.size()), lo, hi);
   fmt::print("time       {:.1f} ms wall on {}, kernel build and uploads included ({:.2f} M direction tests/s at most: "
              "instances after a blocking one are skipped)\n",
@@ -136,9 +136,9 @@ Action register_ao(CLI::App& app) {
   sub->add_option("--lift", c->lift_texels,
                   "Receivers lifted along their normal off their own surface by this many texels, 0..1000. A receiver that is one of "
                   "the occluders (its CSM built from this mesh, placed where it lies) is lifted by texels of that occluder, for its "
-                  "maps only; any other by texels of the coarsest placed occluder around each vertex (whose bounding sphere holds "
-                  "it; none: not lifted), for all. 0: on the surface, as the thesis; an open mesh's own surface then shadowed "
-                  "itself: a flat sheet got AO 0.74 instead of 1")
+                  "maps only; any other receiver is not lifted (no CSM holds its surface: lifted, a floor under a box resting on it "
+                  "went into the box). 0: on the surface, as the thesis; an open mesh's own surface then shadowed itself: a flat "
+                  "sheet got AO 0.74 instead of 1")
       ->capture_default_str();
   sub->add_flag("--reference", c->reference, "Use the native C++ reference instead of the OpenCL kernel");
   sub->add_flag("--keep-winding", c->keep_winding,

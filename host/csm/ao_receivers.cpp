@@ -120,33 +120,6 @@ std::vector<Vec4> receiver_ambient_occlusion(const Mesh& receiver, const Visibil
   return out;
 }
 
-std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const std::vector<const Csm*>& csms,
-                                         const std::vector<Instance>& instances) {
-  struct Placed {
-    glm::vec3 centre;
-    float radius, texel;
-  };
-  std::vector<Placed> placed;
-  for (const Instance& instance : instances) {
-    if (instance.occluder >= csms.size()) continue;
-    const CsmInfo& info = csms[instance.occluder]->info;
-    const MovedReach reach = moved_reach(info, instance.placement, 0.0f);
-    // A little beyond the sphere: its world centre and the points are rounded to float, which far
-    // from the origin for the object's size moves them by more than the radius's 1e-4 slack; by
-    // two float steps there, not more: 1e-6 |centre| (up to 17 times that) lifted a floor under an
-    // open bowl at 5000 through the bowl's bottom (AO 0.51 where it is 0.02 at the origin).
-    const float radius = reach.radius * 1.001f + static_cast<float>(std::ldexp(glm::length(reach.centre) + reach.radius, -22));
-    placed.push_back({reach.centre, radius, placed_texel(info, instance.placement)});
-  }
-  std::vector<float> texels(points.size(), 0.0f);
-  parallel_for(texels.size(), 1024, [&](std::size_t v, std::size_t) {
-    const glm::vec3 p(points[v].x, points[v].y, points[v].z);
-    for (const Placed& o : placed)
-      if (glm::distance(p, o.centre) <= o.radius) texels[v] = std::max(texels[v], o.texel);
-  });
-  return texels;
-}
-
 std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::vector<const Csm*>& csms,
                                              const std::vector<Instance>& instances) {
   const Box box = receiver.bounds();
@@ -183,9 +156,7 @@ ReceiverLifts receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>
     out.lifts.assign(receiver.vertices.size(), texels * placed_texel(csms[instances[*own].occluder]->info, instances[*own].placement));
     return out;
   }
-  out.lifts = coarsest_texel_around(receiver.vertices, csms, instances);
-  for (float& lift : out.lifts) lift *= texels;
-  return out;
+  return out;  // no occluder's own surface: not lifted
 }
 
 std::vector<float> raycast_ambient_occlusion(const Mesh& receiver, const Mesh& occluder, const ReceiverAoOptions& options) {

@@ -41,26 +41,20 @@ inline constexpr float kDefaultLiftTexels = 1, kMaxLiftTexels = 1000;
 // Each vertex's lift for `splatcl ao --lift`, in world units. A receiver that is one of the
 // occluder instances (receiver_instance) is lifted by `texels` texels (csm/query_reach.hpp
 // placed_texel) of that instance, for that instance's queries only (as the presenter lifts an
-// object's splats: csm/splat_lighting.cpp). Any other receiver: by `texels` texels of the coarsest
-// placed occluder whose bounding sphere holds the vertex (0 where none does: no occluder's own
-// surface is there), for every instance. The coarsest around a receiver that is an occluder itself
-// lifted a sphere resting on a large plate's CSM by the plate's texel, 11 of its own, which erased
-// its contact AO (mean |AO − ray-cast| 0.196; 0.0285 now, 0.0288 unlifted). One lift for all, from the
-// coarsest occluder anywhere, lifted receivers under a fine occluder above it by a far, coarse
-// one's texel (a sphere of radius 100 1000 units away: AO 1.000 instead of 0.403 under a plate).
+// object's splats: csm/splat_lighting.cpp). Lifted by the coarsest occluder around it, a sphere
+// resting on a large plate's CSM was lifted by the plate's texel, 11 of its own, which erased its
+// contact AO (mean |AO − ray-cast| 0.196; 0.0285 now, 0.0288 unlifted). Any other receiver is
+// not lifted: none of the CSMs holds its surface. Lifted by the coarsest occluder around it (until
+// 2026-12-07), a floor under a box resting on it went into the box: AO up to 0.137 where it is 0.
 ReceiverLifts receiver_lifts(const Mesh& receiver, const std::vector<const Csm*>& csms, const std::vector<Instance>& instances,
                                   float texels);
+
 // The first instance whose CSM was built from `receiver` as it lies in the world: the receiver
 // taken into the CSM's object space (placement and object transform undone) passes
 // require_built_from (bounding sphere to 1e-4 R, count of casting triangles). None for a receiver
 // that no occluder is.
 std::optional<std::size_t> receiver_instance(const Mesh& receiver, const std::vector<const Csm*>& csms,
                                              const std::vector<Instance>& instances);
-// For each point, the world size of a texel (csm/query_reach.hpp placed_texel) of the coarsest
-// placed occluder whose bounding sphere holds it, 0 where none does: receiver_lifts for a receiver
-// that is no occluder.
-std::vector<float> coarsest_texel_around(const std::vector<Vec3>& points, const std::vector<const Csm*>& csms,
-                                         const std::vector<Instance>& instances);
 
 // Parses a placement: "tx,ty,tz" (translation), "tx,ty,tz,rx,ry,rz" (then rotations in degrees,
 // applied about x, then y, then z, before the translation) or 16 numbers (row-major 4 × 4 affine).
