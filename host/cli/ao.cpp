@@ -12,6 +12,7 @@
 #include "cli/progress.hpp"
 #include "csm/ao.hpp"
 #include "csm/ao_receivers.hpp"
+#include "csm/query_reach.hpp"
 #include "io/output_files.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
@@ -71,6 +72,18 @@ int run_ao(const AoCommand& c) {
     instances[k].occluder = it->second;
   }
   const Mesh receiver = load_model(c.receiver, progress, c.keep_winding ? Winding::AsGiven : Winding::Orient);
+  // The placements are applied in float, as the receiver's vertices are read: far from the origin
+  // for an occluder's size they move it (1e6 + 0.6 became 1000000.625), so say so as for a mesh.
+  for (std::size_t k = 0; k < instances.size(); ++k) {
+    const MovedReach placed = moved_reach(csms[instances[k].occluder]->info, instances[k].placement, 0.0f);
+    const double reach = std::max({std::abs(placed.centre.x), std::abs(placed.centre.y), std::abs(placed.centre.z)}) + placed.radius;
+    const double step = float_step_at(reach), diameter = 2.0 * placed.radius;
+    if (diameter > 0 && step > kFloatStepWarning * diameter)
+      queue_warning(fmt::format("--occluder {} ({})", k + 1, c.occluders[k]),
+                    fmt::format("placed where floats step by {:.3g} ({:.2g} % of its {:.4g} bounding diameter): its placement is "
+                                "rounded to that; place the scene nearer the origin",
+                                step, 100 * step / diameter, diameter));
+  }
   std::vector<const Csm*> views;
   for (const auto& csm : csms) views.push_back(csm.get());
   const VisibilityScene scene(views, instances);
@@ -121,7 +134,7 @@ Action register_ao(CLI::App& app) {
   sub->add_option("receiver", c->receiver, "Receiver mesh (OBJ, PLY, OFF, STL): AO is computed at its vertices");
   sub->add_option("--occluder", c->occluders, "An occluder's .csm file (repeatable; repeat a file for several instances of it)");
   sub->add_option("--occluder-transform", c->transforms,
-                  "Placement of the matching --occluder in the receiver's space: tx,ty,tz or tx,ty,tz,rx,ry,rz (degrees, about x "
+                  "Placement of the matching --occluder in the receiver's space: tx,ty,tz or tx,ty,tz,rx,ry,rz (degrees in -360..360, about x "
                   "then y then z) or 16 numbers (row-major 4x4); one per --occluder, in order, or none (identity)");
   sub->add_option("-o,--output", c->output, "Output PLY file");
   sub->add_option("--pattern", c->pattern,

@@ -25,11 +25,14 @@ Mesh load_model(const std::string& path, ProgressLine& progress, Winding winding
   Mesh mesh = load_mesh(path, winding);
   if (mesh.problems.any()) {
     if (strict) throw Error(fmt::format("{}: {} (--strict)", path, mesh.problems.summary()));
-    pending_warnings().push_back(fmt::format("splatcl: warning: {}: {}", path, mesh.problems.summary()));
+    queue_warning(path, mesh.problems.summary());
   }
-  if (const std::string far = float_step_warning(mesh); !far.empty())
-    pending_warnings().push_back(fmt::format("splatcl: warning: {}: {}", path, far));
+  if (const std::string far = float_step_warning(mesh); !far.empty()) queue_warning(path, far);
   return mesh;
+}
+
+void queue_warning(const std::string& subject, const std::string& text) {
+  pending_warnings().push_back(fmt::format("splatcl: warning: {}: {}", subject, text));
 }
 
 void print_model_warnings() {

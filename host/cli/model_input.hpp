@@ -17,7 +17,11 @@ namespace splatcl::cli {
 // matters (csm).
 Mesh load_model(const std::string& path, ProgressLine& progress, Winding winding, bool strict = false);
 
-// Prints the warnings load_model collected (main calls it when a command has succeeded).
+// Adds "splatcl: warning: SUBJECT: TEXT" to the warnings printed when the command has succeeded.
+void queue_warning(const std::string& subject, const std::string& text);
+
+// Prints the warnings load_model and queue_warning collected (main calls it when a command has
+// succeeded).
 void print_model_warnings();
 
 }  // namespace splatcl::cli

@@ -952,11 +952,15 @@ std::string MeshProblems::summary() const {
   return line;
 }
 
+double float_step_at(double reach) {
+  return reach > 0 && std::isfinite(reach) ? std::ldexp(1.0, std::max(std::ilogb(reach), -126) - 23) : 0.0;
+}
+
 std::string float_step_warning(const Mesh& mesh) {
   const Box box = mesh.bounds();
   // The spacing of floats where the mesh reaches (|x| 2^-24, half of it at most, was printed as the step).
   const double reach = box.reach(), diagonal = box.exact_diagonal();
-  const double step = reach > 0 && std::isfinite(reach) ? std::ldexp(1.0, std::max(std::ilogb(reach), -126) - 23) : 0.0;
+  const double step = float_step_at(reach);
   if (!(diagonal > 0 && step > kFloatStepWarning * diagonal)) return {};
   return fmt::format("coordinates reach {:.7g}, where floats step by {:.3g} ({:.2g} % of the mesh's {:.4g} diagonal): detail finer "
                      "than that was lost on reading; translate the mesh nearer the origin",

@@ -69,6 +69,8 @@ struct Mesh;
 // (no file name: "coordinates reach ..., where floats step by ..."); empty otherwise.
 inline constexpr double kFloatStepWarning = 1e-4;
 std::string float_step_warning(const Mesh& mesh);
+// The spacing of floats at magnitude `reach` (0 for 0 or a non-finite reach).
+double float_step_at(double reach);
 
 struct Mesh {
   std::string source;                 // file name or a description of a generated mesh
