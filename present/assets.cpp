@@ -25,6 +25,12 @@
 namespace splatcl::present {
 namespace {
 
+// The objects' CSMs put the sphere grid's pole on the object's x axis, not y (the thesis's and
+// `csm build`'s default): the uniform grid's first row of maps lies 14° from the pole at 1024 maps
+// and answers every direction within 20° of it, so up, where a scene's key lights and its floor's
+// AO look, was its worst direction.
+constexpr csm::PoleAxis kScenePole = csm::PoleAxis::X;
+
 template <class T>
 std::string_view bytes_of(const std::vector<T>& values) {
   return {reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)};
@@ -262,7 +268,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   // resolve_single_hit): named in the key unless it is sphere-exit, so that an open mesh's maps
   // cached with sphere-exit were built again and a closed mesh's keep their keys.
   const csm::SingleHit single_hit = csm::resolve_single_hit(csm::parse_single_hit(q.csm_single_hit), assets.mesh);
-  const std::string csm_parameters = fmt::format("csm v1 maps={} resolution={}{}", q.csm_maps, q.csm_resolution,
+  const std::string csm_parameters = fmt::format("csm v2 pole={} maps={} resolution={}{}", csm::to_string(kScenePole), q.csm_maps, q.csm_resolution,
                                                  single_hit == csm::SingleHit::SphereExit ? "" : fmt::format(" single_hit={}", csm::to_string(single_hit)));
   assets.key = asset_key(assets.mesh, splat_parameters + "|" + csm_parameters);
   std::error_code ec;
@@ -395,6 +401,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     options.maps = q.csm_maps;
     options.resolution = q.csm_resolution;
     options.single_hit = single_hit;
+    options.pole = kScenePole;
     csm::BuildResult built = csm::build_csm(assets.mesh, options, &runtime, [&](std::uint32_t done, std::uint32_t total) {
       report(fmt::format("coherent shadow map {}/{}", done, total));
     });
