@@ -164,6 +164,23 @@ std::string seconds(double ms) { return fmt::format("{:.1f} s", ms / 1000.0); }
 
 }  // namespace
 
+std::string far_placement_check(const ObjectSpec& object, const Mesh& mesh) {
+  // Bounds of where the object's points go at any time: its centre (or orbit) plus its extent.
+  double centre = glm::length(glm::dvec3(object.position));
+  if (object.animation.orbit_radius > 0)
+    centre = std::max(centre, glm::length(glm::dvec3(object.animation.orbit_center)) + object.animation.orbit_radius +
+                                  std::abs(double{object.position.y}));
+  const double reach = centre + std::sqrt(3.0) * object.scale * mesh.bounds().reach();
+  const double size = object.scale * mesh.bounds().exact_diagonal(), step = float_step_at(reach), share = step / size;
+  if (!(size > 0) || !(share > kFloatStepWarning)) return {};
+  const std::string text = fmt::format("placed where coordinates reach {:.7g}, where floats step by {:.3g} ({:.2g} % of its {:.4g} size): "
+                                       "the presenter draws, lights and shadows it in float world coordinates",
+                                       reach, step, 100 * share, size);
+  if (share > kFarPlacementShare)
+    throw Error(text + ", which breaks it up; move the scene (objects, lights, camera) nearer the origin");
+  return text + "; move the scene nearer the origin";
+}
+
 std::string stray_splats_warning(const std::vector<splats::SplatRecord>& splats) {
   constexpr std::size_t kFewest = 100;  // fewer splats have no "rest" to stray from
   constexpr double kStrayFactor = 10;
@@ -256,6 +273,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
       if (object.color_tolerance < 255) splat_parameters += fmt::format(" tolerance={}", object.color_tolerance);
     }
   }
+  assets.placement_warning = far_placement_check(object, assets.mesh);  // before any building
   // The drawn splats' fit (its gap splats are cached, and the LOD tree is built over them too).
   const bool fit_drawn = !splat_file && q.surface_clip > 0;
   const std::string gap_parameters =

@@ -847,6 +847,8 @@ std::vector<std::string> Presenter::mesh_warnings() const {
     if (scene_.objects[i].mesh.splat_path.empty() && assets_[i].mesh.problems.any())
       lines.push_back(fmt::format("{}: {}: {}", object_where(scene_, i), assets_[i].mesh.source, assets_[i].mesh.problems.summary()));
     if (!assets_[i].fit_warning.empty()) lines.push_back(fmt::format("{}: {}", object_where(scene_, i), assets_[i].fit_warning));
+    if (!assets_[i].placement_warning.empty())
+      lines.push_back(fmt::format("{}: {}", object_where(scene_, i), assets_[i].placement_warning));
   }
   return lines;
 }

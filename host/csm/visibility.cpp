@@ -38,7 +38,11 @@ Transform multiply(const Transform& a, const Transform& b) {
 Transform invert_affine(const Transform& m) {
   const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], i = m[10];
   const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-  if (!(std::abs(det) > 1e-30) || !std::isfinite(det)) throw Error("an occluder placement is not invertible");
+  // Relative to the rows' lengths (|det| <= their product), so that a uniform scale of any size
+  // passes: an absolute 1e-30 refused a scene object of scale 1e-11 (det 1e-33).
+  const double rows = std::hypot(a, b, c) * std::hypot(d, e, f) * std::hypot(g, h, i);
+  if (!(std::abs(det) > 1e-12 * rows) || !std::isfinite(det) || !std::isfinite(rows))
+    throw Error("an occluder placement is not invertible");
   const double r[9] = {(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
                        (f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det,
                        (d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det};

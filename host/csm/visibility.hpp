@@ -81,7 +81,8 @@ Vec3 transform_point(const std::array<T, 16>& t, Vec3 p) {
   return {row(0), row(1), row(2)};
 }
 // The inverse of an affine placement; throws Error "an occluder placement is not invertible" when
-// its 3 x 3 part's determinant is 0, below 1e-30 in magnitude or not finite.
+// its 3 x 3 part's determinant is 0, below 1e-12 of the product of its rows' lengths (nearly
+// singular at any scale) or not finite.
 Transform invert_affine(const Transform& m);
 
 // The instance table of `placed` instances of the CSMs whose headers are `infos` (computed in

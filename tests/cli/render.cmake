@@ -53,6 +53,20 @@ add_test(NAME cli.error_render_broken_scene COMMAND ${EXPECT_ERROR} "present-bro
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-missing-mesh.json "{\"objects\": [{\"mesh\": \"no-such-mesh.obj\"}]}")
 add_test(NAME cli.error_render_missing_mesh COMMAND ${EXPECT_ERROR} "no-such-mesh.obj" $<TARGET_FILE:splatcl>
          render ${CMAKE_CURRENT_BINARY_DIR}/present-missing-mesh.json --cache ${PRESENT_CACHE})
+# An object placed where floats step by more than 1/256 of its size is refused before its assets are
+# built, naming it (at 1e7 a unit sphere vanished from the frame with no word; at 1e6 it cracked).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-far-scene.json
+     "{\"objects\": [{\"name\": \"far ball\", \"mesh\": {\"procedural\": \"sphere\"}, \"position\": [1e7, 1e7, 1e7]}], \"camera\": {\"eye\": [1e7, 1e7, 10000003], \"target\": [1e7, 1e7, 1e7]}}")
+add_test(NAME cli.error_render_far_object COMMAND ${EXPECT_ERROR}
+         "present-far-scene.json: objects\\[0\\] 'far ball': placed where coordinates reach 1\\.7320[0-9]*e\\+07, where floats step by 2 .*breaks it up"
+         $<TARGET_FILE:splatcl> render ${CMAKE_CURRENT_BINARY_DIR}/present-far-scene.json --size 32x24 --cache ${PRESENT_CACHE})
+# A scale of 1e-11 is within the documented range: its placement was refused as "not invertible"
+# (an absolute determinant threshold), naming no object.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/present-tiny-scene.json
+     "{\"objects\": [{\"name\": \"tiny\", \"mesh\": {\"procedural\": \"sphere\"}, \"scale\": 1e-11}], \"camera\": {\"eye\": [0, 2e-11, 4e-11], \"target\": [0, 0, 0], \"near\": 1e-12, \"far\": 1e-9}}")
+add_test(NAME cli.render_tiny_scale COMMAND ${EXPECT_OUTPUT} --match "${RENDER_FRAME}"
+         -- $<TARGET_FILE:splatcl> render ${CMAKE_CURRENT_BINARY_DIR}/present-tiny-scene.json --size 32x24 --cache ${PRESENT_CACHE})
+set_tests_properties(cli.error_render_far_object cli.render_tiny_scale PROPERTIES FIXTURES_REQUIRED present_cache)
 add_test(NAME cli.error_view_no_display COMMAND ${EXPECT_ERROR} "GLFW: cannot" env -u DISPLAY -u WAYLAND_DISPLAY
          $<TARGET_FILE:splatcl> view --cache ${PRESENT_CACHE})
 find_program(XVFB_RUN xvfb-run)

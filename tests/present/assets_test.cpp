@@ -123,6 +123,22 @@ TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
   std::filesystem::remove_all(dir);
 }
 
+// An object far from the origin for its size: the float step where it goes (its position, or its
+// orbit) against its size. A unit sphere: nothing at the origin, a warning at 1e4 (step 0.001, 0.03 %
+// of its size), refused at 1e6 (0.0625, 1.8 %: it cracked) and when its orbit takes it there.
+TEST(PresenterAssets, AnObjectFarFromTheOriginForItsSizeIsWarnedOfOrRefused) {
+  const auto check = [](const std::string& placement) {
+    const Scene scene = parse_scene(R"({"objects": [{"name": "ball", "mesh": {"procedural": "sphere"}, )" + placement + "}]}", "far.json", ".");
+    return far_placement_check(scene.objects[0], make_fitted_mesh(scene.objects[0], "."));
+  };
+  EXPECT_EQ(check(R"("position": [0, 1, 0])"), "");
+  EXPECT_EQ(check(R"("position": [100, 1, 100])"), "");
+  EXPECT_NE(check(R"("position": [1e4, 1, 1e4])").find("placed where coordinates reach"), std::string::npos);
+  EXPECT_THROW(check(R"("position": [1e6, 1, 1e6])"), Error);
+  EXPECT_THROW(check(R"("position": [0, 1, 0], "animation": {"orbit": {"radius": 1e6}})"), Error);
+  EXPECT_EQ(check(R"("position": [1e6, 1, 1e6], "scale": 1e4)"), "");  // as far, but as large
+}
+
 // quality.splat_bound picks the splat method: the thesis's (default, the shipped scene's look) or
 // the two-sided variant of splatcl splats, whose splats keep the bound against the object's mesh
 // (checked on the surface) and live under their own cache key.
