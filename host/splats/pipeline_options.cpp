@@ -16,7 +16,7 @@ const std::vector<ParameterInfo>& splat_parameters() {
                   "thesis_only the default is {} / samples, at least {} (bounds the accepted sets' memory)",
                   kMaxCoveredLimit, kCoveredBudget, kMinBudgetCap);
   static const std::vector<ParameterInfo> list{
-      {"eps", "Geometric tolerance epsilon, absolute in model units (0: eps_diag times the bounding-box diagonal)", false, false, true},
+      {"eps", "Geometric tolerance epsilon, absolute in model units (0: eps_diag times the bounding-box diagonal); one larger than the diagonal is capped at it", false, false, true},
       {"eps_diag", "Epsilon as a fraction of the bounding-box diagonal when eps is 0", false, false, true},
       {"color_tol", "Colour tolerance phi per RGB channel, 0..255 (255 ignores colour)", false, false, true},
       {"color_field", "Sample colours without a texture: grey, soft (red to white gradient), hard (3-D checker of flat colours) or "
@@ -152,7 +152,8 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   options.surface_bound = !p.thesis_only;
   options.fit.size_at_accepted = !p.thesis_only;
   setup.diagonal = mesh.bounds().diagonal();
-  options.fit.eps = static_cast<float>(p.eps > 0 ? p.eps : p.eps_diag * setup.diagonal);
+  setup.requested_eps = p.eps > 0 ? p.eps : p.eps_diag * setup.diagonal;
+  options.fit.eps = static_cast<float>(setup.requested_eps > setup.diagonal && setup.diagonal > 0 ? setup.diagonal : setup.requested_eps);
   if (!(options.fit.eps > 0 && std::isfinite(options.fit.eps))) {
     if (p.eps > 0)
       throw Error(fmt::format("{}: eps {} is beyond float range (the splats are floats: give an eps between {:.3g} and {:.3g})", model,

@@ -62,6 +62,11 @@ struct SplatSetup {
   ColorSource colors;
   std::string color_description;  // "grey", "soft", ..., or "texture:FILE"
   double diagonal = 0;
+  // The eps asked for (eps, or eps_diag x the diagonal). options.fit.eps is it, or the diagonal when
+  // it is larger: no point of the mesh lies farther than that from another, so the bound is as
+  // loose as it gets, and a box fitted at eps 3 x its diagonal came out with holes (0.02 % of its
+  // surface uncovered by a splat facing its way), refused by the check (a helper's audit).
+  double requested_eps = 0;
 };
 // Throws Error for invalid parameters, a texture that cannot be read, or a textured run on a mesh
 // without texture coordinates (naming `model`).
