@@ -25,11 +25,29 @@
 namespace splatcl::present {
 namespace {
 
-// The objects' CSMs put the sphere grid's pole on the object's x axis, not y (the thesis's and
-// `csm build`'s default): the uniform grid's first row of maps lies 14° from the pole at 1024 maps
-// and answers every direction within 20° of it, so up, where a scene's key lights and its floor's
-// AO look, was its worst direction.
-constexpr csm::PoleAxis kScenePole = csm::PoleAxis::X;
+// The sphere grid's pole of an object's CSM: the object axis (x, z, then y on ties) whose world
+// direction at time 0 lies farthest from up and from the key lights as the object sees them. A
+// query is answered by the map of the grid cell its direction falls in, and the uniform grid's
+// first row of maps lies 14° from the pole at 1024 maps and answers every direction within 20° of
+// it, against about 6° at the equator: with the pole on y (the thesis's and `csm build`'s default)
+// an overhead key light's shadow was drawn as from 14-20° further over, and with it on x a low
+// light along x's.
+csm::PoleAxis scene_pole(const ObjectSpec& object, const Scene& scene) {
+  const glm::mat3 turn(object.placement(0.0f));
+  std::vector<glm::vec3> away{{0.0f, 1.0f, 0.0f}};
+  for (const Light& light : scene.key_lights)
+    if (glm::length(light.position - object.position) > 0.0f) away.push_back(glm::normalize(light.position - object.position));
+  const std::pair<csm::PoleAxis, int> axes[] = {{csm::PoleAxis::X, 0}, {csm::PoleAxis::Z, 2}, {csm::PoleAxis::Y, 1}};
+  csm::PoleAxis best = csm::PoleAxis::X;
+  float best_score = INFINITY;
+  for (const auto& [pole, column] : axes) {
+    const glm::vec3 axis = glm::normalize(turn[column]);
+    float score = 0.0f;
+    for (const glm::vec3& d : away) score = std::max(score, std::abs(glm::dot(axis, d)));
+    if (score < best_score) best = pole, best_score = score;
+  }
+  return best;
+}
 
 template <class T>
 std::string_view bytes_of(const std::vector<T>& values) {
@@ -166,10 +184,12 @@ std::string seconds(double ms) { return fmt::format("{:.1f} s", ms / 1000.0); }
 
 std::string far_placement_check(const ObjectSpec& object, const Mesh& mesh) {
   // Bounds of where the object's points go at any time: its centre (or orbit) plus its extent.
-  double centre = glm::length(glm::dvec3(object.position));
-  if (object.animation.orbit_radius > 0)
-    centre = std::max(centre, glm::length(glm::dvec3(object.animation.orbit_center)) + object.animation.orbit_radius +
-                                  std::abs(double{object.position.y}));
+  // An orbit's centre is orbit_center + (r cos, position.y − orbit_center.y, r sin): position's x
+  // and z play no part (ObjectSpec::placement).
+  const Animation& orbit = object.animation;
+  const double centre = orbit.orbit_radius > 0 ? glm::length(glm::dvec3(orbit.orbit_center)) + orbit.orbit_radius +
+                                                     std::abs(double{object.position.y} - double{orbit.orbit_center.y})
+                                               : glm::length(glm::dvec3(object.position));
   const double reach = centre + std::sqrt(3.0) * object.scale * mesh.bounds().reach();
   const double size = object.scale * mesh.bounds().exact_diagonal(), step = float_step_at(reach), share = step / size;
   if (!(size > 0) || !(share > kFloatStepWarning)) return {};
@@ -286,7 +306,8 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   // resolve_single_hit): named in the key unless it is sphere-exit, so that an open mesh's maps
   // cached with sphere-exit were built again and a closed mesh's keep their keys.
   const csm::SingleHit single_hit = csm::resolve_single_hit(csm::parse_single_hit(q.csm_single_hit), assets.mesh);
-  const std::string csm_parameters = fmt::format("csm v2 pole={} maps={} resolution={}{}", csm::to_string(kScenePole), q.csm_maps, q.csm_resolution,
+  const csm::PoleAxis pole = scene_pole(object, scene);
+  const std::string csm_parameters = fmt::format("csm v2 pole={} maps={} resolution={}{}", csm::to_string(pole), q.csm_maps, q.csm_resolution,
                                                  single_hit == csm::SingleHit::SphereExit ? "" : fmt::format(" single_hit={}", csm::to_string(single_hit)));
   assets.key = asset_key(assets.mesh, splat_parameters + "|" + csm_parameters);
   std::error_code ec;
@@ -419,7 +440,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     options.maps = q.csm_maps;
     options.resolution = q.csm_resolution;
     options.single_hit = single_hit;
-    options.pole = kScenePole;
+    options.pole = pole;
     csm::BuildResult built = csm::build_csm(assets.mesh, options, &runtime, [&](std::uint32_t done, std::uint32_t total) {
       report(fmt::format("coherent shadow map {}/{}", done, total));
     });

@@ -45,10 +45,11 @@ struct ObjectAssets {
 // The presenter draws, lights and shadows in float world coordinates: an object placed far from
 // the origin for its size (`position`, its orbit) moves by the float step there. Empty, or a
 // warning where that step exceeds kFloatStepWarning of the object's size (its placed mesh's
-// diagonal); an Error beyond kFarPlacementShare. A unit sphere at 1e6 (step 0.0625, 1.8 % of its
-// size) lost 4.4 % of its pixels to cracks and moved by pixels; at 1e7 it vanished from the frame
-// with no word (a helper's audit); at 1e5 (0.23 %) 7 of 32,467 pixels were uncovered.
-inline constexpr double kFarPlacementShare = 1.0 / 256;
+// diagonal); an Error beyond kFarPlacementShare, where its coordinates have 16 steps across it or
+// fewer. A unit sphere at 1e7 (step 2, 58 % of its size) vanished from the frame with no word (a
+// helper's audit); at 1e6 (0.0625, 1.8 %: a warning) it lost 4.4 % of its pixels to cracks and
+// moved by pixels; at 1e5 (0.23 %) 7 of 32,467 pixels were uncovered.
+inline constexpr double kFarPlacementShare = 1.0 / 16;
 std::string far_placement_check(const ObjectSpec& object, const Mesh& mesh);
 
 // Empty, or a warning when a few splats reach far beyond the rest (the discs' box more than 10x the

@@ -1034,8 +1034,8 @@ void Presenter::light_pixels(Frame& f) {
 // object's surface for that object's CSM only; the floor's pixels belong to none. Lifted for every
 // CSM by the coarsest texel around (until 2026-12-07: a pixel did not name its object), a ball
 // resting on a thin 3 x 3 plate read AO 0.095 off ray casting within 0.6 of the contact, up to 0.684
-// (0.049 and 0.180 now); on a plate 8 units wide 0.245, up to 0.949 (0.095 now: the rest is that
-// plate's depth bias, docs/presenter.md).
+// (0.051 and 0.230 now); on a plate 8 units wide 0.245, up to 0.949 (0.051 now, with the depth
+// bias in texels; docs/presenter.md).
 void Presenter::light_covered_pixels(Frame& f) {
   Impl& g = *impl_;
   f.normals = read_normals();

@@ -134,7 +134,7 @@ Action register_ao(CLI::App& app) {
   sub->add_option("receiver", c->receiver, "Receiver mesh (OBJ, PLY, OFF, STL): AO is computed at its vertices");
   sub->add_option("--occluder", c->occluders, "An occluder's .csm file (repeatable; repeat a file for several instances of it)");
   sub->add_option("--occluder-transform", c->transforms,
-                  "Placement of the matching --occluder in the receiver's space: tx,ty,tz or tx,ty,tz,rx,ry,rz (degrees in -360..360, about x "
+                  "Placement of the matching --occluder in the receiver's space: tx,ty,tz or tx,ty,tz,rx,ry,rz (degrees in -36000..36000, about x "
                   "then y then z) or 16 numbers (row-major 4x4); one per --occluder, in order, or none (identity)");
   sub->add_option("-o,--output", c->output, "Output PLY file");
   sub->add_option("--pattern", c->pattern,

@@ -122,7 +122,7 @@ int run_splats(const SplatsOptions& o) {
   fmt::print("samples    {} ({}; {} duplicates dropped), k = {}\n", run.samples.size(), to_string(options.sampling),
              run.samples.duplicates_dropped, run.neighbors.k);
   fmt::print("eps        {:.6g} ({:.3g} of the diagonal{}), colour tolerance {} ({})\n", options.fit.eps, options.fit.eps / diagonal,
-             setup.requested_eps > options.fit.eps ? fmt::format("; {:.6g} asked, capped at the diagonal", setup.requested_eps) : "",
+             setup.eps_capped ? fmt::format("; {:.6g} asked, capped at the diagonal", setup.requested_eps) : "",
              options.fit.color_tolerance, color_description);
   if (!run.samples.note.empty()) fmt::print(stderr, "splatcl: note: {}: {}\n", o.model, run.samples.note);
   // With none selected (every written splat a gap splat, as on sheets thinner than the sample

@@ -54,9 +54,10 @@ Transform parse_placement(const std::string& text) {
   if (values.size() != 3 && values.size() != 6)
     throw Error("bad occluder transform '" + text + "': give tx,ty,tz or tx,ty,tz,rx,ry,rz (degrees) or 16 numbers");
   double rx = 0, ry = 0, rz = 0;
-  for (std::size_t i = 3; i < values.size(); ++i)  // 1e30 degrees turned the occluder at random
-    if (std::fabs(values[i]) > 360)
-      throw Error(fmt::format("bad occluder transform '{}': rotation {:g} is beyond a full turn (degrees in -360..360)", text, values[i]));
+  // 1e30 degrees turned the occluder at random; a sweep over a few turns is fine.
+  for (std::size_t i = 3; i < values.size(); ++i)
+    if (std::fabs(values[i]) > 36000)
+      throw Error(fmt::format("bad occluder transform '{}': rotation {:g} is beyond 100 turns (degrees in -36000..36000)", text, values[i]));
   if (values.size() == 6) {
     const double k = std::numbers::pi / 180;
     rx = values[3] * k;

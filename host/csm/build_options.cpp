@@ -17,7 +17,7 @@ const std::vector<ParameterInfo>& csm_parameters() {
       {"order", "Map order: zigzag-h, zigzag-v, linear-h, linear-v (h = theta fastest), hilbert, morton (extension)"},
       {"pole", "Object axis of the sphere's pole: y, z, x, or y180, z180, x180 (poles swapped). On the uniform grid the maps "
                "lie farthest apart around the pole (the 32 maps of the first row lie 14 degrees from it at 1024 maps and answer every "
-               "direction within 20): put it on an axis that light and AO directions seldom follow (the presenter uses x)"},
+               "direction within 20): put it on an axis that light and AO directions seldom follow (the presenter takes, per object, the axis farthest from up and the key lights)"},
       {"single_hit", "z2 of single-surface pixels: sphere-exit (the ray's exit from the bounding sphere), exact (z2 = z1), thin (z2 = z1 on every pixel, also behind a second surface: for an open mesh that encloses air, a bowl or a roof, at the cost of compression), or auto: exact for a mesh with a border or a non-manifold edge (a sheet, a scan with holes), sphere-exit for a closed one"},
       {"encoding", "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)"},
       {"capture", "Capture method: raster (two-layer depth buffer) or raycast (SAH BVH); same depths up to rounding and "

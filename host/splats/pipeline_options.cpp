@@ -153,7 +153,8 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   options.fit.size_at_accepted = !p.thesis_only;
   setup.diagonal = mesh.bounds().diagonal();
   setup.requested_eps = p.eps > 0 ? p.eps : p.eps_diag * setup.diagonal;
-  options.fit.eps = static_cast<float>(setup.requested_eps > setup.diagonal && setup.diagonal > 0 ? setup.diagonal : setup.requested_eps);
+  setup.eps_capped = setup.requested_eps > setup.diagonal && setup.diagonal > 0;
+  options.fit.eps = static_cast<float>(setup.eps_capped ? setup.diagonal : setup.requested_eps);
   if (!(options.fit.eps > 0 && std::isfinite(options.fit.eps))) {
     if (p.eps > 0)
       throw Error(fmt::format("{}: eps {} is beyond float range (the splats are floats: give an eps between {:.3g} and {:.3g})", model,

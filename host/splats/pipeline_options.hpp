@@ -67,6 +67,7 @@ struct SplatSetup {
   // loose as it gets, and a box fitted at eps 3 x its diagonal came out with holes (0.02 % of its
   // surface uncovered by a splat facing its way), refused by the check (a helper's audit).
   double requested_eps = 0;
+  bool eps_capped = false;
 };
 // Throws Error for invalid parameters, a texture that cannot be read, or a textured run on a mesh
 // without texture coordinates (naming `model`).

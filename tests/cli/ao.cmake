@@ -66,13 +66,13 @@ set_tests_properties(cli.error_ao_singular_transform PROPERTIES FIXTURES_REQUIRE
 add_test(NAME cli.error_ao_bias_beyond_float COMMAND ${EXPECT_ERROR} "ao: --bias must be a finite number within float range"
          $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --bias 1e39 -o out.ply)
 set_tests_properties(cli.error_ao_bias_beyond_float PROPERTIES FIXTURES_REQUIRED csm_cube)
-# A rotation beyond a full turn is refused (1e30 degrees turned the occluder at random), and a
+# A rotation beyond 100 turns is refused (1e30 degrees turned the occluder at random), and a
 # placement where floats step by more than 1e-4 of the occluder's size is named in a warning (the
 # placement is applied in float: 1e6 + 0.6 became 1000000.625).
-add_test(NAME cli.error_ao_rotation_beyond_a_turn COMMAND ${EXPECT_ERROR} "bad occluder transform '0,0,0,1e30,0,0': rotation 1e\\+30 is beyond a full turn"
+add_test(NAME cli.error_ao_rotation_beyond_100_turns COMMAND ${EXPECT_ERROR} "bad occluder transform '0,0,0,1e30,0,0': rotation 1e\\+30 is beyond 100 turns"
          $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --occluder-transform 0,0,0,1e30,0,0 -o out.ply)
 add_test(NAME cli.ao_far_placement_warns COMMAND ${EXPECT_OUTPUT}
          --match "^splatcl: warning: --occluder 1 \\(.*\\): placed where floats step by 0.0625 \\([0-9.]+ % of its [0-9.]+ bounding diameter\\)"
          -- $<TARGET_FILE:splatcl> ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --occluder-transform 1000000,1000000.6,1000000
          -o ${CMAKE_CURRENT_BINARY_DIR}/ao-far-placement.ply)
-set_tests_properties(cli.error_ao_rotation_beyond_a_turn cli.ao_far_placement_warns PROPERTIES FIXTURES_REQUIRED csm_cube)
+set_tests_properties(cli.error_ao_rotation_beyond_100_turns cli.ao_far_placement_warns PROPERTIES FIXTURES_REQUIRED csm_cube)

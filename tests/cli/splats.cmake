@@ -129,3 +129,8 @@ add_test(NAME cli.splats_eps_beyond_the_diagonal_is_capped COMMAND ${EXPECT_OUTP
          --match "^eps +2\\.06155 \\(1 of the diagonal; 6\\.18466 asked, capped at the diagonal\\)" --match "^check +two-sided bound holds"
          -- $<TARGET_FILE:splatcl> splats ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.obj --eps-diag 3
          -o ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.ply)
+# ... and an eps within the diagonal that rounds down in float is not called capped.
+add_test(NAME cli.splats_eps_within_the_diagonal_is_not_capped COMMAND ${EXPECT_OUTPUT}
+         --match "^eps +0\\.01 \\([0-9.]+ of the diagonal\\)" --no-match "capped"
+         -- $<TARGET_FILE:splatcl> splats ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.obj --eps 0.01
+         -o ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box-fine.ply)

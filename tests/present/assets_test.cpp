@@ -125,7 +125,8 @@ TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
 
 // An object far from the origin for its size: the float step where it goes (its position, or its
 // orbit) against its size. A unit sphere: nothing at the origin, a warning at 1e4 (step 0.001, 0.03 %
-// of its size), refused at 1e6 (0.0625, 1.8 %: it cracked) and when its orbit takes it there.
+// of its size) and 1e6 (0.0625, 1.8 %: it cracked), refused at 1e7 (2, 58 %: it vanished) and when
+// its orbit takes it there; an orbit about the origin ignores position's x and z.
 TEST(PresenterAssets, AnObjectFarFromTheOriginForItsSizeIsWarnedOfOrRefused) {
   const auto check = [](const std::string& placement) {
     const Scene scene = parse_scene(R"({"objects": [{"name": "ball", "mesh": {"procedural": "sphere"}, )" + placement + "}]}", "far.json", ".");
@@ -134,8 +135,10 @@ TEST(PresenterAssets, AnObjectFarFromTheOriginForItsSizeIsWarnedOfOrRefused) {
   EXPECT_EQ(check(R"("position": [0, 1, 0])"), "");
   EXPECT_EQ(check(R"("position": [100, 1, 100])"), "");
   EXPECT_NE(check(R"("position": [1e4, 1, 1e4])").find("placed where coordinates reach"), std::string::npos);
-  EXPECT_THROW(check(R"("position": [1e6, 1, 1e6])"), Error);
-  EXPECT_THROW(check(R"("position": [0, 1, 0], "animation": {"orbit": {"radius": 1e6}})"), Error);
+  EXPECT_NE(check(R"("position": [1e6, 1, 1e6])").find("placed where coordinates reach"), std::string::npos);
+  EXPECT_THROW(check(R"("position": [1e7, 1, 1e7])"), Error);
+  EXPECT_THROW(check(R"("position": [0, 1, 0], "animation": {"orbit": {"radius": 1e7}})"), Error);
+  EXPECT_EQ(check(R"("position": [1e7, 1, 1e7], "animation": {"orbit": {"radius": 2}})"), "");
   EXPECT_EQ(check(R"("position": [1e6, 1, 1e6], "scale": 1e4)"), "");  // as far, but as large
 }
 
