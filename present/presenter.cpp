@@ -879,7 +879,9 @@ void Presenter::start_lighting(Frame& f) {
   f.shadow_pixels = f.settings.shadows == ShadowMode::Pixel && !scene_.key_lights.empty();
   f.ao_pixels = pixel_ao && ambient_occlusion;
   f.floor_shadows = floor_per_pixel && scene_.floor.enabled && f.settings.shadows == ShadowMode::Splat && !scene_.key_lights.empty();
-  f.floor_ao = floor_per_pixel && scene_.floor.enabled && !f.ao_pixels && ambient_occlusion;
+  // The pixel-AO mode too keeps the floor on its lattice (16 directions per node, filtered): per pixel
+  // its 16 directions were noise (mean |AO - ray-cast| 0.031 against 0.017, a helper's audit).
+  f.floor_ao = floor_per_pixel && scene_.floor.enabled && ambient_occlusion;
   for (const ObjectAssets& a : assets_) f.csms.push_back(&a.csm);
   // The pattern of a pixel is fixed per pixel index, so the noise does not crawl between frames.
   const std::size_t pixels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
@@ -1040,10 +1042,15 @@ void Presenter::light_covered_pixels(Frame& f) {
   Impl& g = *impl_;
   f.normals = read_normals();
   const std::vector<std::uint32_t> object_of = g.targets->gbuffer.read_object_ids();
-  const std::vector<CoveredPixel> covered = covered_pixels(f.builder->layout(), f.view_frame, f.view_z);
+  std::vector<CoveredPixel> covered = covered_pixels(f.builder->layout(), f.view_frame, f.view_z);
   // SplatLighting's objects are runs of receivers: the pixels by object, the floor's after them.
   const std::size_t objects = scene_.objects.size();
   const auto object_at = [&](const CoveredPixel& c) { return std::min<std::size_t>(object_of[c.index], objects); };
+  // The floor's pixels (of no object) need nothing here when its lattice holds their AO and no
+  // shadow is asked per pixel; they keep w = -1 (not computed), and the shading takes the lattice.
+  if (f.floor_ao && !f.shadow_pixels)
+    covered.erase(std::remove_if(covered.begin(), covered.end(), [&](const CoveredPixel& c) { return object_at(c) == objects; }),
+                  covered.end());
   std::vector<std::size_t> count(objects + 1, 0);
   for (const CoveredPixel& c : covered) ++count[object_at(c)];
   csm::SplatLighting::Receivers receivers;
@@ -1074,7 +1081,7 @@ void Presenter::light_covered_pixels(Frame& f) {
   constexpr std::size_t kRow = csm::SplatLighting::kRowFloats, kAt = csm::SplatLighting::kVisibilityAt;
   const std::size_t pixels = f.view_z.size();
   if (f.ao_pixels) {
-    f.pixel_ao.assign(pixels, Vec4{0, 1, 0, 1});
+    f.pixel_ao.assign(pixels, Vec4{0, 1, 0, -1});
     for (std::size_t r = 0; r < pixel_of.size(); ++r)
       f.pixel_ao[pixel_of[r]] = {rows[kRow * r], rows[kRow * r + 1], rows[kRow * r + 2], rows[kRow * r + 3]};
   }

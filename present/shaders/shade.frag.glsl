@@ -173,15 +173,19 @@ vec4 shade(ivec2 p) {
     add_light(u_key_center[k], u_key_color[k], position, n, to_eye, shadow[k], diffuse, specular);
 #endif
   // Ambient: sky irradiance around the bent normal times AO (albedo/π · E), evaluated per splat by
-  // the splat passes, or per pixel where that was computed (w ≥ 0: the pixel-AO mode) or on the
-  // floor from its lattice.
+  // the splat passes, or on the floor from its lattice, or per pixel where that was computed (w ≥ 0:
+  // the pixel-AO mode).
+  // The lattice first, as in the AO view.
   vec3 ambient = texelFetch(g_shadow_ambient, p, 0).yzw * inv_weight;
   vec4 lattice_ao;
-  if (floor_ao(lattice_uv, is_floor, lattice_ao)) ambient = max(sh_irradiance(lattice_ao.xyz), vec3(0.0)) / 3.14159265 * lattice_ao.w;
+  if (floor_ao(lattice_uv, is_floor, lattice_ao)) {
+    ambient = max(sh_irradiance(lattice_ao.xyz), vec3(0.0)) / 3.14159265 * lattice_ao.w;
+  } else {
 #if PIXEL_AO
-  vec4 ao = texelFetch(u_pixel_ao_texture, p, 0);
-  if (ao.w >= 0.0) ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
+    vec4 ao = texelFetch(u_pixel_ao_texture, p, 0);
+    if (ao.w >= 0.0) ambient = max(sh_irradiance(ao.xyz), vec3(0.0)) / 3.14159265 * ao.w;
 #endif
+  }
   return vec4(albedo * (diffuse + ambient) + u_specular * specular, 1.0);
 #endif
 }
