@@ -141,7 +141,9 @@ Action register_ao(CLI::App& app) {
                   "Sampling pattern set: mc, stratified, lhs, halton, hammersley-cp, hammersley-scrambled (long names "
                   "monte-carlo, latin-hypercube, halton-cp also accepted)")
       ->capture_default_str();
-  sub->add_option("--samples", c->options.samples, "Directions per vertex (a perfect square for stratified)")->capture_default_str();
+  sub->add_option("--samples", c->options.samples, "Directions per vertex, 1..4096 (a perfect square for stratified)")
+      ->capture_default_str()
+      ->type_name("COUNT");
   sub->add_option("--patterns", c->options.patterns, "Precomputed patterns each vertex picks one of")->capture_default_str();
   sub->add_option("--seed", c->options.seed, "Seed of the patterns and of each vertex's pattern choice")->capture_default_str();
   sub->add_flag("--ground-plane", c->options.ground, "Directions below the horizon (world y < 0) count as occluded (the thesis's floor test); the AO is then the lit share of the others times (1 + n.y) / 2");

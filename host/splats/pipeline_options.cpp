@@ -185,6 +185,7 @@ nlohmann::json splat_statistics(const SplatRun& run, const SplatSetup& setup, co
   stats["bbox_diagonal"] = setup.diagonal;
   stats["color_source"] = setup.color_description;
   stats["output"] = output;
+  if (setup.eps_capped) stats["eps_requested"] = setup.requested_eps;  // "eps" holds the diagonal it was capped at
   return stats;
 }
 

@@ -622,7 +622,8 @@ std::vector<SplatRecord> add_gap_splats(const Surface& surface, std::vector<Elli
       // Rounds of many gaps take minutes on a large scan at a small ε (the bunny at 3e-4 of its
       // diagonal: 31 s without a progress line).
       if (progress && r % 1024 == 0)
-        progress(fmt::format("gap fill round {}: {} of {} uncovered cells, {} splats added", round + 1, r, gaps.size(), added.size()));
+        progress(fmt::format("gap fill round {}: {} of {} uncovered cells filled or tried, {} splats added", round + 1, r, gaps.size(),
+                             added.size()));
       if (done[r]) continue;
       done[r] = 1;  // without a fitting splat, the next round reports it if nothing else covers it
       if (slot[r] == UINT32_MAX) {

@@ -54,7 +54,7 @@ foreach(distance 0.5 nan 5000000)
   hostile_error(option_quality_camera_${distance} "--camera-distance ${distance} is not a distance in 1..1e6 sphere radii$"
                 csm quality ${SPLATS_CUBE} --camera-distance ${distance})
 endforeach()
-hostile_error(option_unconvertible "^splatcl: --samples -5: not a whole number 0 or more \\(see --help\\)$" ao ${SPLATS_CUBE} --samples -5)
+hostile_error(option_unconvertible "^splatcl: --samples -5: not a whole number 1 or more \\(see --help\\)$" ao ${SPLATS_CUBE} --samples -5)
 hostile_error(option_too_large "^splatcl: --frames 99999999999: too large \\(see --help\\)$" render --frames 99999999999)
 hostile_error(option_unknown_subcommand "unknown csm command 'frobnicate' \\(known: build, info, verify, quality, analyze\\)$" csm frobnicate)
 

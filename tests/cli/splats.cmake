@@ -127,8 +127,9 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.obj
      "v 0 0 0\nv 1.5 0 0\nv 0 1 0\nv 1.5 1 0\nv 0 0 1\nv 1.5 0 1\nv 0 1 1\nv 1.5 1 1\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n")
 add_test(NAME cli.splats_eps_beyond_the_diagonal_is_capped COMMAND ${EXPECT_OUTPUT}
          --match "^eps +2\\.06155 \\(1 of the diagonal; 6\\.18466 asked, capped at the diagonal\\)" --match "^check +two-sided bound holds"
+         --file ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.json "\"eps_requested\": 6\\.1846[0-9]*,"
          -- $<TARGET_FILE:splatcl> splats ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.obj --eps-diag 3
-         -o ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.ply)
+         -o ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.ply --stats ${CMAKE_CURRENT_BINARY_DIR}/splats-long-box.json)
 # ... and an eps within the diagonal that rounds down in float is not called capped.
 add_test(NAME cli.splats_eps_within_the_diagonal_is_not_capped COMMAND ${EXPECT_OUTPUT}
          --match "^eps +0\\.01 \\([0-9.]+ of the diagonal\\)" --no-match "capped"
