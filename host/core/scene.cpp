@@ -235,6 +235,10 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   if (!o.mesh.splat_path.empty() && !j.contains("color")) o.splat_colors = true;  // a splat file's own colours
   o.position = r.vec3(j, "position", o.position);
   o.rotation_degrees = r.vec3(j, "rotation_degrees", o.rotation_degrees);
+  // 1e30 degrees turned the object at random (float radians); a few turns are fine.
+  for (int axis = 0; axis < 3; ++axis)
+    if (std::abs(o.rotation_degrees[axis]) > 36000.0f)
+      r.fail("rotation_degrees", fmt::format("{:g} is beyond 100 turns (degrees in -36000..36000)", o.rotation_degrees[axis]));
   o.scale = r.extent(j, "scale", o.scale);
   o.occluder = r.flag(j, "occluder", o.occluder);
   if (j.contains("two_sided")) o.two_sided = r.flag(j, "two_sided", false);

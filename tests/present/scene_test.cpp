@@ -64,6 +64,8 @@ TEST(PresenterScene, RefusesValuesThatRenderNonsense) {
       {R"({"objects": [], "quality": {"ao_bias": -0.01}})", "'ao_bias' must not be negative"},
       {R"({"objects": [], "quality": {"shadow_lift": -0.01}})", "'shadow_lift' must not be negative"},
       {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "two_sided": "yes"}]})", "objects[0] 'a': 'two_sided' must be true or false"},
+      {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "rotation_degrees": [0, 1e30, 0]}]})",
+       "objects[0] 'a': 'rotation_degrees' 1e+30 is beyond 100 turns"},
       {R"({"objects": [], "quality": {"antialias": -1}})", "'antialias' must not be negative"},
       // A key given twice: the later value won silently (a helper's audit: an object named twice).
       {R"({"objects": [{"name": "a", "name": "b", "mesh": {"procedural": "box"}}]})", "bad.json: objects[0]: key 'name' appears twice in one object"},
