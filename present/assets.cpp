@@ -25,26 +25,31 @@
 namespace splatcl::present {
 namespace {
 
-// The sphere grid's pole of an object's CSM: the object axis (x, z, then y on ties) whose world
-// direction at time 0 lies farthest from up and from the key lights as the object sees them. A
-// query is answered by the map of the grid cell its direction falls in, and the uniform grid's
-// first row of maps lies 14° from the pole at 1024 maps and answers every direction within 20° of
-// it, against about 6° at the equator: with the pole on y (the thesis's and `csm build`'s default)
-// an overhead key light's shadow was drawn as from 14-20° further over, and with it on x a low
-// light along x's.
-csm::PoleAxis scene_pole(const ObjectSpec& object, const Scene& scene) {
+// The sphere grid's pole of an object's CSM: the first object axis of x, z, y whose world direction
+// at time 0 keeps its pole cap clear of up and of the key lights as the object sees them, else the
+// one that keeps them farthest. A query is answered by the map of the grid cell its direction falls
+// in; the uniform grid's first row of maps lies 14° from the pole at 1024 maps and answers every
+// direction within 20° of it (the cap), against about 6° at the equator, and the rows just outside
+// the cap are tall: so 1.5 times the cap is kept clear. With the pole on y (the thesis's and `csm
+// build`'s default) an overhead key light's shadow was drawn as from 14-20° further over, and with
+// it on x a low light along x's. Outside the cap where a direction falls within its cell decides
+// its error, so x stays where it clears (a helper's scene: 41 pixels inside a ball's umbra lit with
+// the pole on x, 201 with it on z, the axis farthest from the light).
+csm::PoleAxis scene_pole(const ObjectSpec& object, const Scene& scene, std::uint32_t maps) {
   const glm::mat3 turn(object.placement(0.0f));
-  std::vector<glm::vec3> away{{0.0f, 1.0f, 0.0f}};
+  std::vector<glm::vec3> kept_clear{{0.0f, 1.0f, 0.0f}};
   for (const Light& light : scene.key_lights)
-    if (glm::length(light.position - object.position) > 0.0f) away.push_back(glm::normalize(light.position - object.position));
+    if (glm::length(light.position - object.position) > 0.0f) kept_clear.push_back(glm::normalize(light.position - object.position));
+  const double clear = 1.5 * std::acos(1.0 - 2.0 / std::sqrt(static_cast<double>(maps)));  // radians
   const std::pair<csm::PoleAxis, int> axes[] = {{csm::PoleAxis::X, 0}, {csm::PoleAxis::Z, 2}, {csm::PoleAxis::Y, 1}};
   csm::PoleAxis best = csm::PoleAxis::X;
-  float best_score = INFINITY;
+  double best_angle = -1.0;
   for (const auto& [pole, column] : axes) {
     const glm::vec3 axis = glm::normalize(turn[column]);
-    float score = 0.0f;
-    for (const glm::vec3& d : away) score = std::max(score, std::abs(glm::dot(axis, d)));
-    if (score < best_score) best = pole, best_score = score;
+    double nearest = std::numbers::pi / 2;  // the smallest angle between ±axis and a kept direction
+    for (const glm::vec3& d : kept_clear) nearest = std::min(nearest, std::acos(std::min(1.0, std::abs(double{glm::dot(axis, d)}))));
+    if (nearest > clear) return pole;
+    if (nearest > best_angle) best = pole, best_angle = nearest;
   }
   return best;
 }
@@ -306,7 +311,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   // resolve_single_hit): named in the key unless it is sphere-exit, so that an open mesh's maps
   // cached with sphere-exit were built again and a closed mesh's keep their keys.
   const csm::SingleHit single_hit = csm::resolve_single_hit(csm::parse_single_hit(q.csm_single_hit), assets.mesh);
-  const csm::PoleAxis pole = scene_pole(object, scene);
+  const csm::PoleAxis pole = scene_pole(object, scene, q.csm_maps);
   const std::string csm_parameters = fmt::format("csm v2 pole={} maps={} resolution={}{}", csm::to_string(pole), q.csm_maps, q.csm_resolution,
                                                  single_hit == csm::SingleHit::SphereExit ? "" : fmt::format(" single_hit={}", csm::to_string(single_hit)));
   assets.key = asset_key(assets.mesh, splat_parameters + "|" + csm_parameters);
