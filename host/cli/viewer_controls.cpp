@@ -265,7 +265,8 @@ void Controls::on_key(const Event& e, float time) {
     if (e.action == Action::Press && since < 0) {
       since = e.time;
     } else if (e.action == Action::Release && since >= 0) {
-      const double seconds = std::max(0.0, e.time - std::max(since, frame_start_));
+      const double seconds = e.time > since ? std::max(0.0, e.time - std::max(since, frame_start_))
+                                            : std::min(kTapSeconds, std::max(0.0, e.time - frame_start_));
       since = -1;
       const HeldKey& h = kHeld[static_cast<std::size_t>(held)];
       const float s = static_cast<float>(seconds);

@@ -146,6 +146,10 @@ class Controls {
 
   // Held-key speeds: object moves in world units per second per unit of camera distance, and turns.
   static constexpr float kMoveSpeed = 0.25f, kTurnDegrees = 90.0f;
+  // GLFW gives events no time of their own: they carry the time they were polled, once a frame, so
+  // a tap whose press and release arrive in one poll (same time) counts as held this long, or the
+  // frame if shorter (a 30 ms tap at 270 ms frames moved nothing until then, a helper's audit).
+  static constexpr double kTapSeconds = 0.05;
   static constexpr double kClickPixels = 4;  // a press and release closer than this is a click (pick)
 
  private:

@@ -67,13 +67,14 @@ void GlfwInput::on_button(GLFWwindow* window, int button, int action, int mods) 
   GlfwInput* in = self(window);
   if (!in) return;
   if (in->hooks_.button) in->hooks_.button(window, button, action, mods);
-  double x = 0, y = 0;
-  glfwGetCursorPos(window, &x, &y);
+  double x = in->cursor_x_, y = in->cursor_y_;
+  if (!in->have_cursor_) glfwGetCursorPos(window, &x, &y);
   push(window, Event::button_event(button, static_cast<Action>(action), x, y, 0, mods), false);
 }
 
 void GlfwInput::on_cursor(GLFWwindow* window, double x, double y) {
   if (GlfwInput* in = self(window)) {
+    in->cursor_x_ = x, in->cursor_y_ = y, in->have_cursor_ = true;
     if (in->hooks_.cursor) in->hooks_.cursor(window, x, y);
     push(window, Event::cursor(x, y, 0), false);
   }

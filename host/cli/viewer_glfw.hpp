@@ -47,6 +47,10 @@ class GlfwInput {
   GLFWwindow* window_;
   Hooks hooks_;
   EventQueue queue_;
+  // The cursor as of the events polled so far: a click's position. glfwGetCursorPos asks the X
+  // server for the pointer now, which may have moved on since the click.
+  double cursor_x_ = 0, cursor_y_ = 0;
+  bool have_cursor_ = false;
   bool captured(bool keyboard) const { return hooks_.captured && hooks_.captured(keyboard); }
   // Stamps the event with the time and the panel's capture, and queues it.
   static void push(GLFWwindow* window, Event event, bool keyboard);

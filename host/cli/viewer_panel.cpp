@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 
@@ -124,6 +125,10 @@ GlfwInput::Hooks Panel::hooks() const {
   h.character = [](GLFWwindow* w, unsigned c) { ImGui_ImplGlfw_CharCallback(w, c); };
   h.button = [](GLFWwindow* w, int button, int action, int mods) { ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods); };
   h.scroll = [](GLFWwindow* w, double dx, double dy) { ImGui_ImplGlfw_ScrollCallback(w, dx, dy); };
+  h.cursor = [this](GLFWwindow*, double x, double y) {
+    polled_cursor_[0] = x, polled_cursor_[1] = y;
+    have_polled_cursor_ = true;
+  };
   h.enter = [](GLFWwindow* w, int entered) { ImGui_ImplGlfw_CursorEnterCallback(w, entered); };
   h.focus = [](GLFWwindow* w, int focused) { ImGui_ImplGlfw_WindowFocusCallback(w, focused); };
   // The keyboard: ImGui's flag of its last frame (draw() clears it while the panel is hidden). The
@@ -134,8 +139,8 @@ GlfwInput::Hooks Panel::hooks() const {
     if (keyboard) return io.WantCaptureKeyboard;
     if (io.WantCaptureMouse) return true;
     if (!have_layer_) return false;
-    double x = 0, y = 0;
-    glfwGetCursorPos(window_, &x, &y);
+    double x = polled_cursor_[0], y = polled_cursor_[1];
+    if (!have_polled_cursor_) glfwGetCursorPos(window_, &x, &y);
     return x >= window_min_[0] && x < window_max_[0] && y >= window_min_[1] && y < window_max_[1];
   };
   return h;
@@ -149,6 +154,8 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
 
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
+  ImGuiIO& io = ImGui::GetIO();
+  if (have_polled_cursor_ && io.MousePos.x != -FLT_MAX) io.MousePos = ImVec2(static_cast<float>(polled_cursor_[0]), static_cast<float>(polled_cursor_[1]));
   ImGui::NewFrame();
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);

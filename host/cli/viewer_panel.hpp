@@ -48,6 +48,12 @@ class Panel {
   int rect_[4] = {0, 0, 0, 0};
   float window_min_[2] = {0, 0}, window_max_[2] = {0, 0};  // the panel window in ImGui's coordinates
   bool tooltip_ = false;                                  // a tooltip was up in the last ImGui frame  // the layer's drawn rectangle: x, y (bottom left), width, height
+  // The cursor as of the polled events (the hooks' cursor callback). ImGui 1.86's backend reads the
+  // pointer from the X server when its frame starts, after the frame's rendering: a slider dragged
+  // and released, the pointer then moved on, was set to where the pointer went while ImGui still
+  // saw the button down (a helper's audit: k 1.05 -> 3.0, the light count to 2^20).
+  mutable double polled_cursor_[2] = {0, 0};
+  mutable bool have_polled_cursor_ = false;
   void build(Controls& controls, const present::FrameStats& stats, const std::vector<ObjectFigures>& objects, float time);
   void resize_layer(int width, int height);
 };

@@ -294,6 +294,17 @@ TEST(ViewerControls, ObjectMovesGoAlongTheViewsRightAndForward) {
   const float y0 = f.scene.objects[1].rotation_degrees.y;
   f.controls->apply({Event::key_event(key::Q, Action::Press, t + 40.0), Event::key_event(key::Q, Action::Release, t + 40.5)}, t + 40.6, f.window, 0);
   EXPECT_NEAR(f.scene.objects[1].rotation_degrees.y - y0, 0.5f * Controls::kTurnDegrees, 1e-3f);
+  // A tap whose press and release were polled together (GLFW stamps both with the poll's time) moves
+  // by kTapSeconds, or by the frame when that is shorter; it moved nothing.
+  const float speed = Controls::kMoveSpeed * f.controls->orbit().distance;
+  glm::vec3 before = f.scene.objects[1].position;
+  f.controls->apply({Event::key_event(key::Right, Action::Press, t + 50.0), Event::key_event(key::Right, Action::Release, t + 50.0)}, t + 50.0,
+                    f.window, 0);
+  EXPECT_NEAR(glm::length(f.scene.objects[1].position - before), static_cast<float>(Controls::kTapSeconds) * speed, 1e-4f);
+  before = f.scene.objects[1].position;
+  f.controls->apply({Event::key_event(key::Right, Action::Press, t + 50.02), Event::key_event(key::Right, Action::Release, t + 50.02)},
+                    t + 50.02, f.window, 0);
+  EXPECT_NEAR(glm::length(f.scene.objects[1].position - before), 0.02f * speed, 1e-4f);
 }
 
 TEST(ViewerControls, AnOrbitingObjectStopsWhereItIsWhenMoved) {
