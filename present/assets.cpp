@@ -196,12 +196,12 @@ std::string far_placement_check(const ObjectSpec& object, const Mesh& mesh) {
                                                      std::abs(double{object.position.y} - double{orbit.orbit_center.y})
                                                : glm::length(glm::dvec3(object.position));
   const double reach = centre + std::sqrt(3.0) * object.scale * mesh.bounds().reach();
-  const double size = object.scale * mesh.bounds().exact_diagonal(), step = float_step_at(reach), share = step / size;
-  if (!(size > 0) || !(share > kFloatStepWarning)) return {};
-  const std::string text = fmt::format("placed where coordinates reach {:.7g}, where floats step by {:.3g} ({:.2g} % of its {:.4g} size): "
-                                       "the presenter draws, lights and shadows it in float world coordinates",
-                                       reach, step, 100 * share, size);
-  if (share > kFarPlacementShare)
+  const FloatStep far = float_step(reach, object.scale * mesh.bounds().exact_diagonal());
+  if (!far.coarse()) return {};
+  const std::string text = fmt::format("placed where coordinates reach {:.7g}, where {}: the presenter draws, lights and "
+                                       "shadows it in float world coordinates",
+                                       reach, far.clause("its", "size"));
+  if (far.share > kFarPlacementShare)
     throw Error(text + ", which breaks it up; move the scene (objects, lights, camera) nearer the origin");
   return text + "; move the scene nearer the origin";
 }

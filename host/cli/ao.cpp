@@ -77,12 +77,10 @@ int run_ao(const AoCommand& c) {
   for (std::size_t k = 0; k < instances.size(); ++k) {
     const MovedReach placed = moved_reach(csms[instances[k].occluder]->info, instances[k].placement, 0.0f);
     const double reach = std::max({std::abs(placed.centre.x), std::abs(placed.centre.y), std::abs(placed.centre.z)}) + placed.radius;
-    const double step = float_step_at(reach), diameter = 2.0 * placed.radius;
-    if (diameter > 0 && step > kFloatStepWarning * diameter)
+    if (const FloatStep far = float_step(reach, 2.0 * placed.radius); far.coarse())
       queue_warning(fmt::format("--occluder {} ({})", k + 1, c.occluders[k]),
-                    fmt::format("placed where floats step by {:.3g} ({:.2g} % of its {:.4g} bounding diameter): its placement is "
-                                "rounded to that; place the scene nearer the origin",
-                                step, 100 * step / diameter, diameter));
+                    fmt::format("placed where {}: its placement is rounded to that; place the scene nearer the origin",
+                                far.clause("its", "bounding diameter")));
   }
   std::vector<const Csm*> views;
   for (const auto& csm : csms) views.push_back(csm.get());

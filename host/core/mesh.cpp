@@ -956,15 +956,23 @@ double float_step_at(double reach) {
   return reach > 0 && std::isfinite(reach) ? std::ldexp(1.0, std::max(std::ilogb(reach), -126) - 23) : 0.0;
 }
 
+FloatStep float_step(double reach, double size) {
+  const double step = float_step_at(reach);
+  return {step, size, size > 0 ? step / size : 0.0};
+}
+
+std::string FloatStep::clause(std::string_view owner, std::string_view noun) const {
+  return fmt::format("floats step by {:.3g} ({:.2g} % of {} {:.4g} {})", step, 100 * share, owner, size, noun);
+}
+
 std::string float_step_warning(const Mesh& mesh) {
   const Box box = mesh.bounds();
   // The spacing of floats where the mesh reaches (|x| 2^-24, half of it at most, was printed as the step).
-  const double reach = box.reach(), diagonal = box.exact_diagonal();
-  const double step = float_step_at(reach);
-  if (!(diagonal > 0 && step > kFloatStepWarning * diagonal)) return {};
-  return fmt::format("coordinates reach {:.7g}, where floats step by {:.3g} ({:.2g} % of the mesh's {:.4g} diagonal): detail finer "
-                     "than that was lost on reading; translate the mesh nearer the origin",
-                     reach, step, 100 * step / diagonal, diagonal);
+  const FloatStep far = float_step(box.reach(), box.exact_diagonal());
+  if (!far.coarse()) return {};
+  return fmt::format("coordinates reach {:.7g}, where {}: detail finer than that was lost on reading; translate the mesh "
+                     "nearer the origin",
+                     box.reach(), far.clause("the mesh's", "diagonal"));
 }
 
 Box Mesh::bounds() const {

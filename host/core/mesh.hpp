@@ -71,6 +71,15 @@ inline constexpr double kFloatStepWarning = 1e-4;
 std::string float_step_warning(const Mesh& mesh);
 // The spacing of floats at magnitude `reach` (0 for 0 or a non-finite reach).
 double float_step_at(double reach);
+// The float spacing where coordinates reach `reach`, against a shape `size` across: the one test
+// and wording of every far-placement warning (meshes, presenter objects, ao's placements).
+struct FloatStep {
+  double step = 0, size = 0, share = 0;  // share = step / size (0 for no size)
+  bool coarse() const { return share > kFloatStepWarning; }
+  // "floats step by 0.0625 (6.2 % of its 1.2 size)", owner "its" and noun "size".
+  std::string clause(std::string_view owner, std::string_view noun) const;
+};
+FloatStep float_step(double reach, double size);
 
 struct Mesh {
   std::string source;                 // file name or a description of a generated mesh
