@@ -48,7 +48,8 @@ int run_ao(const AoCommand& c) {
   if (options.patterns == 0 || options.patterns > kMaxPatterns)
     throw Error(fmt::format("ao: --patterns {} is not a pattern count in 1..{}", options.patterns, kMaxPatterns));
   // 1e39 reads as the float inf: say what was wrong with what was typed.
-  if (!std::isfinite(options.bias)) throw Error("ao: --bias must be a finite number within float range (|x| < 3.4e38)");
+  if (!(options.bias >= 0 && options.bias <= kMaxBiasTexels))
+    throw Error(fmt::format("ao: --bias {} is not a texel count in 0..{}", options.bias, kMaxBiasTexels));
   if (!(c.lift_texels >= 0 && c.lift_texels <= kMaxLiftTexels))
     throw Error(fmt::format("ao: --lift {} is not a texel count in 0..{}", c.lift_texels, kMaxLiftTexels));
   check_output_file(c.output, "-o");
@@ -145,7 +146,7 @@ Action register_ao(CLI::App& app) {
   sub->add_option("--patterns", c->options.patterns, "Precomputed patterns each vertex picks one of")->capture_default_str();
   sub->add_option("--seed", c->options.seed, "Seed of the patterns and of each vertex's pattern choice")->capture_default_str();
   sub->add_flag("--ground-plane", c->options.ground, "Directions below the horizon (world y < 0) count as occluded (the thesis's floor test); the AO is then the lit share of the others times (1 + n.y) / 2");
-  sub->add_option("--bias", c->options.bias, "Shadow offset in texels of each occluder's CSM (occluded when the stored depth g < depth - bias/M, depth in units of the bounding diameter)")->capture_default_str();
+  sub->add_option("--bias", c->options.bias, "Shadow offset in texels of each occluder's CSM, 0..1000 (occluded when the stored depth g < depth - bias/M, depth in units of the bounding diameter)")->capture_default_str();
   sub->add_option("--lift", c->lift_texels,
                   "Receivers lifted along their normal off their own surface by this many texels, 0..1000. A receiver that is one of "
                   "the occluders (its CSM built from this mesh, placed where it lies) is lifted by texels of that occluder, for its "

@@ -52,6 +52,16 @@ struct Reader {
       fail(field, fmt::format("must be in [{:g}, {:g}], not {:g}", kMinSceneExtent, kMaxSceneExtent, v));
     return v;
   }
+  // A light's place: every coordinate within ±kMaxSceneExtent, so that the square of a distance
+  // between it and the scene stays finite in float (beyond 1.8e19 it was inf, and a light that
+  // covered the scene shaded it black; a helper's audit of cluster).
+  glm::vec3 place(const json& j, const std::string& field, glm::vec3 fallback) const {
+    const glm::vec3 v = vec3(j, field, fallback);
+    for (int i = 0; i < 3; ++i)
+      if (!(std::abs(v[i]) <= kMaxSceneExtent))
+        fail(field, fmt::format("coordinates must be within ±{:g}, not {:g}", kMaxSceneExtent, v[i]));
+    return v;
+  }
   std::uint32_t count(const json& j, const std::string& field, std::uint32_t fallback, std::uint32_t lo,
                       std::uint32_t hi) const {
     if (!j.contains(field)) return fallback;
@@ -126,11 +136,11 @@ Light read_light(const Reader& list_reader, const json& j, const std::string& wh
   const Reader r{fmt::format("{}: {}", list_reader.source, where)};
   Light light;
   if (!j.contains("position")) r.fail("position", "is missing (a light needs a position)");
-  light.position = r.vec3(j, "position", light.position);
-  light.radius = r.positive(j, "radius", light.radius);
+  light.position = r.place(j, "position", light.position);
+  light.radius = r.extent(j, "radius", light.radius);
   light.color = r.color(j, "color", light.color);
   light.size = r.number(j, "size", light.size);
-  if (light.size < 0) r.fail("size", "must not be negative");
+  if (!(light.size >= 0 && light.size <= kMaxSceneExtent)) r.fail("size", fmt::format("must be in [0, {:g}]", kMaxSceneExtent));
   return light;
 }
 
@@ -364,10 +374,13 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
       g.count = lr.count(l, "count", g.count, 0, kMaxSceneLights);
       const auto radius = lr.range(l, "radius", {g.radius_min, g.radius_max});
       const auto height = lr.range(l, "height", {g.height_min, g.height_max});
-      if (!(radius[0] > 0)) lr.fail("radius", "must be positive");
+      if (!(radius[0] >= kMinSceneExtent && radius[1] <= kMaxSceneExtent))
+        lr.fail("radius", fmt::format("must be within [{:g}, {:g}]", kMinSceneExtent, kMaxSceneExtent));
       if (!(height[0] >= 0)) lr.fail("height", "must not be negative (heights above the floor)");
+      if (!(height[1] <= kMaxSceneExtent)) lr.fail("height", fmt::format("must be at most {:g}", kMaxSceneExtent));
       g.radius_min = radius[0], g.radius_max = radius[1], g.height_min = height[0], g.height_max = height[1];
       g.extent = lr.non_negative(l, "extent", g.extent, "half the side of the lights' square; 0 = half the floor's");
+      if (!(g.extent <= kMaxSceneExtent)) lr.fail("extent", fmt::format("must be at most {:g}", kMaxSceneExtent));
       g.intensity = lr.positive(l, "intensity", g.intensity);
       g.seed = lr.count(l, "seed", static_cast<std::uint32_t>(g.seed), 0, UINT32_MAX);
     } else {

@@ -89,6 +89,10 @@ Transform invert_affine(const Transform& m);
 // double, stored as float). Throws Error for an instance naming a missing CSM or a singular placement.
 std::vector<device::CsmInstance> place_instances(const std::vector<CsmInfo>& infos, const std::vector<Instance>& placed);
 
+// The depth bias of a query (`bias`) is in texels of each occluder's maps: at most this many (a
+// negative one shadowed every receiver by its own surface).
+inline constexpr float kMaxBiasTexels = 1000;
+
 // Light vector of a query: light.xyz − light.w · receiver.xyz (w = 1 point light, w = 0 direction).
 // Native reference, multithreaded over queries.
 void visibility_reference(const VisibilityScene& scene, const std::vector<Vec4>& receivers, const std::vector<Vec4>& lights,

@@ -48,7 +48,11 @@ hostile_error(option_pixel_order "unknown pixel order 'x'" csm build ${SPLATS_CU
 foreach(fov 0 360 -5)
   hostile_error(option_quality_fov_${fov} "--fov ${fov} is not a field of view in \\(0, 180\\) degrees$" csm quality ${SPLATS_CUBE} --fov ${fov})
 endforeach()
-hostile_error(option_quality_bias_nan "--bias nan must be finite$" csm quality ${SPLATS_CUBE} --bias nan)
+# A negative bias shadowed every receiver by its own surface (a helper's audit).
+foreach(bias nan -1)
+  hostile_error(option_quality_bias_${bias} "--bias ${bias} is not a texel count in 0..1000$" csm quality ${SPLATS_CUBE} --bias ${bias})
+  hostile_error(option_ao_bias_${bias} "ao: --bias ${bias} is not a texel count in 0..1000$" ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --bias ${bias} -o x.ply)
+endforeach()
 hostile_error(option_ao_lift_negative "ao: --lift -1 is not a texel count in 0..1000$" ao ${SPLATS_CUBE} --occluder ${CSM_OUT} --lift -1 -o x.ply)
 foreach(distance 0.5 nan 5000000)
   hostile_error(option_quality_camera_${distance} "--camera-distance ${distance} is not a distance in 1..1e6 sphere radii$"
