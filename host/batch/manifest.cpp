@@ -389,13 +389,24 @@ std::vector<ModelEntry> scan_directory(const std::string& folder, const std::str
 }
 
 std::string manifest_checksum(const std::vector<ModelEntry>& models) {
+  // Paths as the files they name: resolved against the manifest's folder as it was typed, the same
+  // manifest run as man/set.json in one shard and as /abs/man/set.json (or from another working
+  // directory) in another gave other checksums, and merge refused the shards of one run.
+  const auto as_file = [](const std::string& path) {
+    std::error_code error;
+    const fs::path file = fs::weakly_canonical(fs::absolute(path, error), error);
+    return error || path.empty() ? path : file.string();
+  };
   std::vector<const ModelEntry*> sorted;
   for (const auto& m : models) sorted.push_back(&m);
   std::sort(sorted.begin(), sorted.end(), [](const ModelEntry* a, const ModelEntry* b) { return a->id < b->id; });
   nlohmann::json all = nlohmann::json::array();
-  for (const ModelEntry* m : sorted)
-    all.push_back({m->id, m->input, m->params.want_splats ? splats::to_json(m->params.splats) : nlohmann::json(),
+  for (const ModelEntry* m : sorted) {
+    splats::SplatParameters splat_params = m->params.splats;
+    splat_params.texture = as_file(splat_params.texture);
+    all.push_back({m->id, as_file(m->input), m->params.want_splats ? splats::to_json(splat_params) : nlohmann::json(),
                    m->params.want_csm ? csm::to_json(m->params.csm) : nlohmann::json()});
+  }
   return checksum_of(json_text(all, -1));
 }
 

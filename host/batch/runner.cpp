@@ -439,9 +439,16 @@ void check_run_paths(const std::string& input, bool input_is_directory, const st
   for (const auto& m : all_models) inputs.emplace(comparable_path(m.input), &m);
   if (const auto it = inputs.find(sum); it != inputs.end())
     throw Error("batch: --summary " + summary + " is the input of model '" + it->second->id + "' (" + it->second->origin + ")");
-  // Written over, the lock file would let a second run build the models this one holds.
-  if (sum == comparable_path((fs::path(output_dir) / kLockFileName).string()))
-    throw Error("batch: --summary " + summary + " is the output directory's lock file");
+  // Written over, the lock file would let a second run build the models this one holds; and read
+  // (a model's mesh or texture), closing it dropped every lock this process held on it (POSIX
+  // record locks: a second run then built the same models at once; a helper's audit).
+  const fs::path lock_file = comparable_path((fs::path(output_dir) / kLockFileName).string());
+  if (sum == lock_file) throw Error("batch: --summary " + summary + " is the output directory's lock file");
+  for (const auto& m : all_models) {
+    if (comparable_path(m.input) == lock_file) throw Error("batch: the input of model '" + m.id + "' (" + m.origin + ") is the output directory's lock file");
+    if (!m.params.splats.texture.empty() && comparable_path(m.params.splats.texture) == lock_file)
+      throw Error("batch: the texture of model '" + m.id + "' (" + m.origin + ") is the output directory's lock file");
+  }
   std::map<fs::path, std::pair<std::string, const ModelEntry*>> targets;  // every output: its name and model
   for (const auto& m : all_models)
     for (const std::string& name : output_names(m.id)) targets.emplace(comparable_path((fs::path(output_dir) / name).string()), std::pair{name, &m});

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 
 #include "batch/batch_test_support.hpp"
 #include "batch/manifest.hpp"
@@ -295,6 +296,18 @@ TEST(Manifest, ChecksumFollowsIdsInputsAndParameters) {
   EXPECT_NE(manifest_checksum(base), manifest_checksum(other_res));
   EXPECT_NE(manifest_checksum(base), manifest_checksum(other_path));
   EXPECT_EQ(manifest_checksum(base).size(), 16u);
+}
+
+// Shards of one run may name the manifest otherwise (set.json from its folder, man/set.json, an
+// absolute path): the inputs and textures resolve to other spellings of the same files, and merge
+// refused the shards (a helper's audit of batch).
+TEST(Manifest, ChecksumIsTheSameHoweverTheManifestsFolderIsSpelled) {
+  const std::string text = R"({"defaults": {"texture": "t.png"}, "models": ["a.obj", {"path": "sub/../b.obj"}]})";
+  const std::string here = std::filesystem::current_path().string();
+  const std::string checksum = manifest_checksum(parse_json_manifest(text, "m.json", "meshes", {}));
+  for (const std::string& folder : std::vector<std::string>{here + "/meshes", "./meshes", "meshes/", "other/../meshes", here + "/meshes/."})
+    EXPECT_EQ(manifest_checksum(parse_json_manifest(text, "m.json", folder, {})), checksum) << folder;
+  EXPECT_NE(manifest_checksum(parse_json_manifest(text, "m.json", "other", {})), checksum);
 }
 
 }  // namespace

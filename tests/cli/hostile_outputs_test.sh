@@ -86,6 +86,15 @@ case $mode in
     "$expect_error" "batch: --summary $work/out/.splatcl-batch.lock is the output directory's lock file$" \
       "$splatcl" batch "$work/set.csv" -o "$work/out" --summary "$work/out/.splatcl-batch.lock" || fail "not refused"
     [ -e "$work/out/cube.splats.ply" ] && fail "the model was built although the run was refused" ;;
+  batch-input-is-lock)  # read and closed, the lock file dropped this run's locks: a second run built the same models at once
+    mkdir -p "$work/out" && : >"$work/out/.splatcl-batch.lock"
+    printf '{"models": [{"path": "%s", "id": "a"}, {"path": "out/.splatcl-batch.lock", "id": "x"}]}' "$cube" >"$work/set.json"
+    "$expect_error" "batch: the input of model 'x' \\(.*\\) is the output directory's lock file$" \
+      "$splatcl" batch "$work/set.json" -o "$work/out" || fail "an input naming the lock file was not refused"
+    printf '{"models": [{"path": "%s", "id": "a", "texture": "out/.splatcl-batch.lock"}]}' "$cube" >"$work/set.json"
+    "$expect_error" "batch: the texture of model 'a' \\(.*\\) is the output directory's lock file$" \
+      "$splatcl" batch "$work/set.json" -o "$work/out" || fail "a texture naming the lock file was not refused"
+    [ -e "$work/out/a.splats.ply" ] && fail "the model was built although the run was refused" ;;
   batch-summary-folder-missing)  # the output directory and its lock file were made before the summary was refused
     printf 'path\n%s\n' "$cube" >"$work/set.csv"
     "$expect_error" "cannot write --summary $work/nodir/s.json: directory $work/nodir does not exist$" \
