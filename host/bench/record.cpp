@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "io/atomic_file.hpp"
+#include "io/memory.hpp"
 #include "io/text_file.hpp"
 #include "runtime/error.hpp"
 
@@ -60,20 +61,6 @@ std::optional<double> optional_number(const Json& json, const char* key) {
   if (it == json.end()) return std::nullopt;
   if (!it->is_number()) throw Error(std::string("benchmark record field '") + key + "' is not a number");
   return it->get<double>();
-}
-
-// Value of "key: value" lines in /proc files.
-std::string proc_field(const char* file, const std::string& key) {
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.compare(0, key.size(), key) != 0) continue;
-    const auto colon = line.find(':', key.size());
-    if (colon == std::string::npos) continue;
-    const auto begin = line.find_first_not_of(" \t", colon + 1);
-    return begin == std::string::npos ? std::string{} : line.substr(begin);
-  }
-  return {};
 }
 
 std::string os_description() {

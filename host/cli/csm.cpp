@@ -363,7 +363,9 @@ Action register_csm(CLI::App& app) {
   sub->require_subcommand(1);
 
   auto* build = sub->add_subcommand("build", "Capture N orthographic dual-depth maps of a mesh on its bounding sphere (OpenCL "
-                                              "rasterization or ray casting) and compress them per pixel while streaming; writes a .csm file");
+                                              "rasterization or ray casting) and compress them per pixel while streaming; writes a .csm file. "
+                                              "The compressed maps are held in memory: a build that would not fit stops with the cause "
+                                              "($SPLATCL_MEMORY_LIMIT, e.g. 8G, caps it further)");
   auto b = std::make_shared<BuildCommand>();
   add_device_option(*build, b->device);
   build->add_option("model", b->model, "Input mesh (OBJ, PLY, OFF, STL)");

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "core/bvh.hpp"
+#include "io/memory.hpp"
 #include "runtime/error.hpp"
 #include "runtime/profiling.hpp"
 #include "core/parallel.hpp"
@@ -87,10 +88,21 @@ BuildResult build_csm(const Mesh& mesh, const BuildOptions& o, Runtime* runtime,
     for_each_batch(o.maps, result.batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
       capture.capture(grid, first, count, z1, z2, &profiler);
       compressor.add(z1, z2, count, &profiler);
+      // Finishing copies what is held once, and the .csm's depths and file take about as much
+      // again: stop now, with the cause, rather than be killed for memory later (a 8192² build of
+      // 16,384 maps grew to 24 GB and the out-of-memory killer ended the whole batch run).
+      const std::uint64_t held = compressor.held_bytes();
+      require_memory(held + held / 2,
+                     fmt::format("the CSM build at resolution {} with {} maps (its compressed maps hold {} after {} maps)",
+                                 o.resolution, o.maps, memory_size(held), first + count),
+                     "lower the resolution or the map count");
     });
     result.segments = compressor.finish();
     for (const auto& [label, ms] : profiler.per_label_ms()) (label == "csm capture" ? result.capture_ms : result.compress_ms) += ms;
   } else {
+    require_memory(std::uint64_t{o.maps} * pixels * 2 * sizeof(float),
+                   fmt::format("the reference CSM build at resolution {} with {} maps (it holds every map)", o.resolution, o.maps),
+                   "lower the resolution or the map count, or use the OpenCL build");
     std::vector<float> z1(std::size_t{o.maps} * pixels), z2(z1.size()), b1, b2;
     Stopwatch capture_clock;
     for_each_batch(o.maps, result.batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {

@@ -115,12 +115,22 @@ void StreamingCompressor::add(const cl::Buffer& z1, const cl::Buffer& z2, std::u
   }
   done_ += count;
   chunks_.push_back(std::move(chunk));
+  // Folded once the offsets arrays pass a quarter of the segments' bytes (and 8 of them are held):
+  // each fold copies what is held, and the next comes only when a quarter as many bytes of offsets
+  // have come again, so the copying stays within 4 times the batches' offsets.
+  const std::uint64_t offsets_bytes = chunks_.size() * (pixels_ + 1) * sizeof(std::uint32_t);
+  if (chunks_.size() >= 8 && 4 * offsets_bytes > held_bytes() - offsets_bytes) merge_chunks();
 }
 
-Segments StreamingCompressor::finish() {
-  if (done_ != maps_) throw Error("CSM compression finished after " + std::to_string(done_) + " of " + std::to_string(maps_) + " maps");
-  Segments out;
-  out.maps = maps_;
+std::uint64_t StreamingCompressor::held_bytes() const {
+  std::uint64_t bytes = 0;
+  for (const Chunk& c : chunks_) bytes += c.offsets.size() * sizeof(std::uint32_t) + c.end.size() * (2 * sizeof(float) + sizeof(std::uint32_t));
+  return bytes;
+}
+
+void StreamingCompressor::merge_chunks() {
+  if (chunks_.size() < 2) return;
+  Chunk out;
   out.offsets.assign(pixels_ + 1, 0);
   for (std::size_t p = 0; p < pixels_; ++p) {
     std::uint64_t n = out.offsets[p];
@@ -141,6 +151,21 @@ Segments StreamingCompressor::finish() {
         out.end[at] = c.end[k];
       }
   });
+  chunks_.clear();
+  chunks_.push_back(std::move(out));
+}
+
+Segments StreamingCompressor::finish() {
+  if (done_ != maps_) throw Error("CSM compression finished after " + std::to_string(done_) + " of " + std::to_string(maps_) + " maps");
+  merge_chunks();
+  Segments out;
+  out.maps = maps_;
+  if (chunks_.empty()) return out;
+  Chunk& all = chunks_.front();
+  out.offsets = std::move(all.offsets);
+  out.lo = std::move(all.lo);
+  out.hi = std::move(all.hi);
+  out.end = std::move(all.end);
   chunks_.clear();
   return out;
 }

@@ -44,15 +44,21 @@ class StreamingCompressor {
   // Folds the next `count` maps (device buffers laid out [map][pixel]) into the open runs.
   void add(const cl::Buffer& z1, const cl::Buffer& z2, std::uint32_t count, Profiler* profiler = nullptr);
   std::uint32_t maps_done() const { return done_; }
+  // Bytes of the segments closed so far, with their per-pixel offsets.
+  std::uint64_t held_bytes() const;
   // After all maps were added: the segments, pixel by pixel.
   Segments finish();
 
  private:
+  // The segments a run of batches closed, pixel by pixel; each holds a full offsets array, so they
+  // are folded into one (merge_chunks) once those arrays pass a quarter of the segments: at 1024² and 16,384
+  // maps (8 maps a batch) the 2,048 arrays alone took 8 GiB.
   struct Chunk {
     std::vector<std::uint32_t> offsets;
     std::vector<float> lo, hi;
     std::vector<std::uint32_t> end;
   };
+  void merge_chunks();
   Runtime& runtime_;
   std::size_t pixels_;
   std::uint32_t maps_, done_ = 0;

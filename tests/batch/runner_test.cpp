@@ -187,6 +187,24 @@ TEST(BatchRunner, FailingModelsAreReportedAndTheRestComplete) {
   EXPECT_EQ(failed_models(summary), 4u);
 }
 
+// A model whose CSM cannot fit in memory fails with the cause and the others are built: before,
+// one with "res": 8192, "maps": 16384 grew until the out-of-memory killer ended the whole run, and
+// every resume of it (a helper's audit). The reference build holds every map: 8 TiB here.
+TEST(BatchRunner, AModelTooLargeForTheMemoryFailsAloneWithTheCause) {
+  ScratchDir dir("runner-memory");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  ModelEntry huge = model(dir, "a-huge", "cube.obj");
+  huge.params.csm.res = 8192;
+  huge.params.csm.maps = 16384;
+  const auto results = run_batch({huge, model(dir, "b-cube", "cube.obj")}, reference_options(dir));
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_FALSE(results[0].ok);
+  EXPECT_NE(results[0].reason.find("the reference CSM build at resolution 8192 with 16384 maps (it holds every map) needs about 8192.00 GiB more memory"),
+            std::string::npos)
+      << results[0].reason;
+  EXPECT_TRUE(results[1].ok) << results[1].reason;
+}
+
 // A sphere of radius 100 far from the origin (a scan in georeferenced coordinates). At 1e6 (float
 // steps of 0.0625, ε 0.35) its splats keep the bound once written, so the end-of-run check that
 // `splatcl splats` runs too (splats::check_before_writing) passes and the model is written; before

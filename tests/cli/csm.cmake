@@ -31,6 +31,15 @@ set_tests_properties(cli.csm_build_cube_raycast PROPERTIES FIXTURES_SETUP csm_cu
 add_test(NAME cli.csm_verify_raycast COMMAND splatcl csm verify ${CMAKE_CURRENT_BINARY_DIR}/csm-cube-raycast.csm ${SPLATS_CUBE})
 set_tests_properties(cli.csm_verify_raycast PROPERTIES PASS_REGULAR_EXPRESSION "recaptured by raycast, as recorded in the file")
 set_tests_properties(cli.csm_verify_raycast PROPERTIES FIXTURES_REQUIRED csm_cube_raycast)
+# A build that outgrows the memory it may use stops with the cause (SPLATCL_MEMORY_LIMIT counts the
+# process's resident set, far above 1 MiB) instead of being killed for memory; nothing is written.
+add_test(NAME cli.error_csm_memory_limit COMMAND ${EXPECT_ERROR}
+         "^splatcl: the CSM build at resolution 64 with 64 maps \\(its compressed maps hold [0-9.]+ [KMG]iB after [0-9]+ maps\\) needs about [0-9.]+ [KMG]iB more memory, and 0 bytes is available within SPLATCL_MEMORY_LIMIT: lower the resolution or the map count$"
+         sh -c "\"$<TARGET_FILE:splatcl>\" csm build ${SPLATS_CUBE} -o memory.csm --res 64 --maps 64 && exit 0; status=$?; [ ! -e memory.csm ] || exit 0; exit $status")
+set_tests_properties(cli.error_csm_memory_limit PROPERTIES ENVIRONMENT SPLATCL_MEMORY_LIMIT=1M)
+add_test(NAME cli.error_memory_limit_syntax COMMAND ${EXPECT_ERROR} "^splatcl: SPLATCL_MEMORY_LIMIT '2GB' is not a byte count \\(digits, optionally followed by K, M, G or T\\)$"
+         $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o syntax.csm --res 16 --maps 16)
+set_tests_properties(cli.error_memory_limit_syntax PROPERTIES ENVIRONMENT SPLATCL_MEMORY_LIMIT=2GB)
 add_test(NAME cli.error_csm_bad_capture COMMAND ${EXPECT_ERROR} "unknown capture method 'rays'" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o out.csm --capture rays)
 add_test(NAME cli.error_csm_missing_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*missing.obj" $<TARGET_FILE:splatcl> csm build missing.obj -o out.csm)
 add_test(NAME cli.error_csm_no_output COMMAND ${EXPECT_ERROR} "-o OUT.csm" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE})

@@ -69,6 +69,35 @@ TEST(CsmCompress, StreamingKernelMatchesReferenceForEveryBatchSplit) {
   }
 }
 
+// Each batch's segments come with a full offsets array: they are folded into one as they come, so
+// that many small batches (8192² maps one a batch) do not hold an array each (at 2048² and 1024
+// maps, 2 a batch, peak memory 13.1 -> 7.3 GB). Coherent maps (few segments) fold most often.
+TEST(CsmCompress, ManySmallBatchesAreFoldedAndGiveTheReferencesSegments) {
+  std::mt19937 rng(5);
+  constexpr std::size_t pixels = 300;
+  constexpr std::uint32_t maps = 120;
+  std::vector<float> z1(pixels * maps), z2(z1.size()), r1, r2;
+  random_depths(rng, pixels * 6, r1, r2);
+  // Each pixel sees 6 surfaces in turn, 20 maps each: at most one segment closes per pixel every 20 maps.
+  for (std::size_t m = 0; m < maps; ++m)
+    for (std::size_t p = 0; p < pixels; ++p) z1[m * pixels + p] = r1[(m / 20) * pixels + p], z2[m * pixels + p] = r2[(m / 20) * pixels + p];
+  Runtime& rt = runtime();
+  StreamingCompressor compressor(rt, pixels, maps);
+  const std::size_t bytes = pixels * sizeof(float);
+  cl::Buffer b1 = rt.buffer(CL_MEM_READ_WRITE, bytes, "z1"), b2 = rt.buffer(CL_MEM_READ_WRITE, bytes, "z2");
+  const std::uint64_t offsets_bytes = (pixels + 1) * sizeof(std::uint32_t);
+  for (std::uint32_t m = 0; m < maps; ++m) {
+    rt.queue().enqueueWriteBuffer(b1, CL_TRUE, 0, bytes, z1.data() + m * pixels);
+    rt.queue().enqueueWriteBuffer(b2, CL_TRUE, 0, bytes, z2.data() + m * pixels);
+    compressor.add(b1, b2, 1);
+    // The segments, and offsets arrays of at most a quarter of their bytes or 9 arrays, however many
+    // batches came (unfolded: 120 arrays, 144 KB, at the end).
+    const std::uint64_t segment_bytes = 12 * pixels * (m / 20 + 1);
+    EXPECT_LE(compressor.held_bytes(), segment_bytes + segment_bytes / 4 + 10 * offsets_bytes) << "after map " << m;
+  }
+  expect_same(compressor.finish(), compress_reference(z1, z2, pixels, maps));
+}
+
 TEST(CsmCompress, MergeRuleEdgeCases) {
   // Empty pixels merge into one +inf run; single-surface pixels (z1 == z2) never merge; identical
   // pairs merge; touching intervals (max z1 == min z2) do not (strict rule).
