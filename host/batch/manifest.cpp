@@ -351,7 +351,7 @@ std::vector<ModelEntry> scan_directory(const std::string& folder, const std::str
   ModelParams defaults = base;
   apply_overrides(defaults, overrides, "command line");
   // Every model of a directory takes these: a bad combination is the command line's, not the first
-  // model's ("../m/cube.obj (cube): 'maps': --maps 1000 is not a perfect square").
+  // model's ("../m/cube.obj (cube): 'maps': 1000 is not a perfect square").
   try {
     validate(defaults);
   } catch (const Error& e) {

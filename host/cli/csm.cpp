@@ -126,7 +126,11 @@ CsmParameters parameters(const BuildCommand& c) {
   for (const auto& [option, value] : *c.given) set_parameter(p, option, value);
   return p;
 }
-BuildOptions build_options(const BuildCommand& c) { return to_build_options(parameters(c)); }
+BuildOptions build_options(const BuildCommand& c) {
+  const CsmParameters p = parameters(c);
+  validate(p, Spelling::Option);  // errors name the options as typed (--maps), not the manifest keys
+  return to_build_options(p);
+}
 
 // --mode other than per-pixel: the thesis's alternatives, compared by size (no .csm written).
 int run_mode(const BuildCommand& c, CompressionMode mode) {

@@ -61,7 +61,7 @@ int run_splats(const SplatsOptions& o) {
   // The same parameters, parsing and translation as `splatcl batch` (splats/pipeline_options.hpp).
   SplatParameters params;
   for (const auto& [option, value] : *o.given) set_parameter(params, option, value);
-  validate(params);
+  validate(params, Spelling::Option);
   ProgressLine progress("splats");
   Stopwatch load_clock;
   const Mesh mesh = load_model(o.model, progress, winding(params), o.strict);

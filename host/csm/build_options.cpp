@@ -67,15 +67,15 @@ void set_parameter(CsmParameters& p, const std::string& name, const nlohmann::js
   }
 }
 
-void validate(const CsmParameters& p) {
-  auto in_key = [](const char* key, auto&& check) {
+void validate(const CsmParameters& p, Spelling spelling) {
+  auto in_key = [spelling](const char* key, auto&& check) {
     try {
       check();
     } catch (const Error& e) {
-      throw Error(fmt::format("'{}': {}", key, e.what()));
+      throw Error(fmt::format("{}: {}", spelled(key, spelling), e.what()));
     }
   };
-  if (p.res < 1 || p.res > 8192) throw Error(fmt::format("'res' must be an integer from 1 to 8192, got {}", p.res));
+  if (p.res < 1 || p.res > 8192) throw Error(fmt::format("{} must be an integer from 1 to 8192, got {}", spelled("res", spelling), p.res));
   in_key("dist", [&] { parse_distribution(p.dist); });
   in_key("order", [&] { parse_order(p.order); });
   in_key("pole", [&] { parse_pole_axis(p.pole); });

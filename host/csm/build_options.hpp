@@ -33,8 +33,8 @@ bool is_csm_parameter(const std::string& name);
 // unknown name or a value out of range.
 void set_parameter(CsmParameters& params, const std::string& name, const nlohmann::json& value);
 // Checks every name and the combination (a map count that fits the distribution and order).
-// Throws Error "'KEY': ..." for the first problem.
-void validate(const CsmParameters& params);
+// Throws Error "'KEY': ..." (or "'--KEY': ..." for Spelling::Option) for the first problem.
+void validate(const CsmParameters& params, Spelling spelling = Spelling::Key);
 // The parameters that determine the .csm file's bytes (all but batch), by key: a run's record,
 // and what its parameters checksum is computed from.
 nlohmann::json to_json(const CsmParameters& params);

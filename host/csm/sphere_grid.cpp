@@ -71,16 +71,16 @@ std::array<Vec3, 3> pole_frame(PoleAxis pole) {
 }
 
 std::array<std::uint32_t, 2> grid_shape(Distribution distribution, std::uint32_t maps) {
-  if (maps == 0) throw Error("the number of maps must be positive");
+  if (maps == 0) throw Error("0 maps: the number of maps must be positive");
   if (distribution == Distribution::ThesisAo) {
     const auto t = static_cast<std::uint32_t>(std::llround(std::sqrt(maps / 2.0)));
     if (2ull * t * t != maps)
-      throw Error("--maps " + std::to_string(maps) + " does not fit the ao distribution's T x 2T grid (use 2T², e.g. 8192)");
+      throw Error(std::to_string(maps) + " does not fit the ao distribution's T x 2T grid (use 2T², e.g. 8192)");
     return {t, 2 * t};
   }
   const auto g = static_cast<std::uint32_t>(std::llround(std::sqrt(static_cast<double>(maps))));
   if (std::uint64_t{g} * g != maps)
-    throw Error("--maps " + std::to_string(maps) + " is not a perfect square, as the " + to_string(distribution) +
+    throw Error(std::to_string(maps) + " is not a perfect square, as the " + to_string(distribution) +
                 " G x G grid needs (e.g. 4096 or 16384)");
   return {g, g};
 }

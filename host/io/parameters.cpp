@@ -25,6 +25,10 @@ std::string option_name(const std::string& key) {
   return option;
 }
 
+std::string spelled(const std::string& key, Spelling spelling) {
+  return "'" + (spelling == Spelling::Option ? option_name(key) : key) + "'";
+}
+
 std::string shown_value(const nlohmann::json& value) {
   return value.is_string() ? fmt::format("'{}'", printable(value.get<std::string>())) : value.dump();
 }

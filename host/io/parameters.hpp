@@ -23,6 +23,11 @@ std::string parameter_key(const std::string& name);
 // "eps_diag" → "--eps-diag".
 std::string option_name(const std::string& key);
 
+// How a message names a parameter, quoted as set_parameter's errors name it as given: as a manifest
+// names it ('eps_diag') or as the command line does ('--eps-diag').
+enum class Spelling { Key, Option };
+std::string spelled(const std::string& key, Spelling spelling);
+
 // A value as a manifest would spell it, for messages: 'text' or the JSON.
 std::string shown_value(const nlohmann::json& value);
 

@@ -98,12 +98,12 @@ Winding winding(const SplatParameters& p) { return p.keep_winding ? Winding::AsG
 
 double crease_angle(const SplatParameters& p) { return p.crease_angle.value_or(p.thesis_only ? 180.0 : kDefaultCreaseAngle); }
 
-void validate(const SplatParameters& p) {
-  auto in_key = [](const char* key, auto&& check) {
+void validate(const SplatParameters& p, Spelling spelling) {
+  auto in_key = [spelling](const char* key, auto&& check) {
     try {
       check();
     } catch (const Error& e) {
-      throw Error(fmt::format("'{}': {}", key, e.what()));
+      throw Error(fmt::format("{}: {}", spelled(key, spelling), e.what()));
     }
   };
   in_key("samples", [&] { parse_sampling(p.samples); });

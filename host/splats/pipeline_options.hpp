@@ -51,7 +51,8 @@ bool is_splat_parameter(const std::string& name);
 // unknown name or a value out of range.
 void set_parameter(SplatParameters& params, const std::string& name, const nlohmann::json& value);
 // Checks what set_parameter cannot check alone (the sampling spec, the colour field name).
-void validate(const SplatParameters& params);
+// Errors name the parameter as `spelling` does.
+void validate(const SplatParameters& params, Spelling spelling = Spelling::Key);
 // Every parameter by key: a run's record, and what its parameters checksum is computed from.
 nlohmann::json to_json(const SplatParameters& params);
 

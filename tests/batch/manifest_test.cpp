@@ -207,7 +207,7 @@ TEST(Manifest, DirectoryScanFindsMeshesRecursivelySkippingHiddenAndOutput) {
   // Every model of a directory takes the command line's values: a bad combination is blamed on it,
   // not on the first model.
   EXPECT_EQ(error_of([&] { scan_directory(dir.path().string(), dir / "out", {{"maps", 1000}}); })
-                .rfind("command line: 'maps': --maps 1000 is not a perfect square", 0),
+                .rfind("command line: 'maps': 1000 is not a perfect square", 0),
             0u);
 }
 

@@ -43,7 +43,7 @@ set_tests_properties(cli.error_memory_limit_syntax PROPERTIES ENVIRONMENT SPLATC
 add_test(NAME cli.error_csm_bad_capture COMMAND ${EXPECT_ERROR} "unknown capture method 'rays'" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o out.csm --capture rays)
 add_test(NAME cli.error_csm_missing_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*missing.obj" $<TARGET_FILE:splatcl> csm build missing.obj -o out.csm)
 add_test(NAME cli.error_csm_no_output COMMAND ${EXPECT_ERROR} "-o OUT.csm" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE})
-add_test(NAME cli.error_csm_bad_maps COMMAND ${EXPECT_ERROR} "not a perfect square" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o out.csm --maps 1000)
+add_test(NAME cli.error_csm_bad_maps COMMAND ${EXPECT_ERROR} "^splatcl: '--maps': 1000 is not a perfect square, as the uniform G x G grid needs" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o out.csm --maps 1000)
 add_test(NAME cli.error_csm_bad_order COMMAND ${EXPECT_ERROR} "unknown map order 'spiral'" $<TARGET_FILE:splatcl> csm build ${SPLATS_CUBE} -o out.csm --order spiral)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/csm-degenerate.obj "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")
 add_test(NAME cli.error_csm_degenerate_model COMMAND ${EXPECT_ERROR} "csm-degenerate.obj: every face is degenerate" $<TARGET_FILE:splatcl>

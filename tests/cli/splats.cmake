@@ -73,7 +73,7 @@ add_test(NAME cli.error_splats_bench_missing_models COMMAND ${EXPECT_ERROR} "mod
 add_test(NAME cli.splats_reference COMMAND ${EXPECT_OUTPUT} --match "${SPLATS_BOUND_HOLDS}" --match "\\(fit on reference\\)$" --ply ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-ref.ply 100
          -- $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} --samples grid:4 --reference -o ${CMAKE_CURRENT_BINARY_DIR}/splats-cube-ref.ply)
 add_test(NAME cli.error_splats_missing_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*missing.obj" $<TARGET_FILE:splatcl> splats missing.obj -o out.ply)
-add_test(NAME cli.error_splats_bad_samples COMMAND ${EXPECT_ERROR} "'samples': 'grid:0' is not 'auto'" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --samples grid:0)
+add_test(NAME cli.error_splats_bad_samples COMMAND ${EXPECT_ERROR} "^splatcl: '--samples': 'grid:0' is not 'auto'" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --samples grid:0)
 add_test(NAME cli.error_splats_bad_color_tol COMMAND ${EXPECT_ERROR} "--color-tol" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --color-tol 300)
 # An eps beyond float range is named as such (not blamed on eps_diag); a missing texture image is
 # named before the mesh's missing texture coordinates.
