@@ -71,7 +71,9 @@ std::optional<std::uint64_t> memory_limit_from_environment() {
   if (digits == 0 || digits > 12 || !(suffix.empty() || unit != std::string::npos))
     throw Error(fmt::format("SPLATCL_MEMORY_LIMIT '{}' is not a byte count (digits, optionally followed by K, M, G or T)", value));
   const std::uint64_t number = std::strtoull(value.c_str(), nullptr, 10);
-  return suffix.empty() ? number : number << (10 * (unit + 1));
+  const unsigned shift = suffix.empty() ? 0 : 10 * static_cast<unsigned>(unit + 1);
+  if (number > (UINT64_MAX >> shift)) throw Error(fmt::format("SPLATCL_MEMORY_LIMIT '{}' is beyond 16 EiB", value));
+  return number << shift;
 }
 
 std::optional<std::uint64_t> available_memory() {

@@ -40,7 +40,7 @@ TEST(MemoryGuard, LimitTakesBytesOrABinarySuffix) {
     const ScopedLimit limit(text);
     EXPECT_EQ(memory_limit_from_environment(), bytes) << text;
   }
-  for (const char* bad : {"lots", "1.5G", "-1", "2GB", "G", "1e9", "9999999999999"}) {
+  for (const char* bad : {"lots", "1.5G", "-1", "2GB", "G", "1e9", "9999999999999", "999999999999T", "16777216T"}) {
     const ScopedLimit limit(bad);
     EXPECT_THROW(memory_limit_from_environment(), Error) << bad;
   }
