@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -386,6 +387,18 @@ std::vector<ModelEntry> scan_directory(const std::string& folder, const std::str
   }
   if (models.empty()) throw Error("no meshes (.obj, .ply, .off, .stl) in " + folder);
   return finish(std::move(models), folder, "list them in a manifest with distinct ids");
+}
+
+std::vector<std::pair<std::string, std::string>> ids_differing_in_case_only(const std::vector<ModelEntry>& models) {
+  std::map<std::string, std::string> first_of;  // case-folded id -> the first id that folds to it
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (const ModelEntry& m : models) {
+    std::string folded = m.id;
+    std::transform(folded.begin(), folded.end(), folded.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const auto [it, fresh] = first_of.emplace(folded, m.id);
+    if (!fresh) pairs.emplace_back(it->second, m.id);
+  }
+  return pairs;
 }
 
 std::string manifest_checksum(const std::vector<ModelEntry>& models) {

@@ -66,6 +66,10 @@ std::vector<ModelEntry> scan_directory(const std::string& folder, const std::str
 // by '/', none empty, "." or "..", none starting with '.'.
 void check_model_id(const std::string& id);
 
+// Ids that differ only in letter case ("Chair" and "chair"), as pairs: on a case-insensitive file
+// system (macOS, Windows, an SMB share) their outputs are the same files.
+std::vector<std::pair<std::string, std::string>> ids_differing_in_case_only(const std::vector<ModelEntry>& models);
+
 // A checksum of the whole model list (ids, inputs, parameters): shards of one run share it, so
 // `splatcl batch merge` can tell summaries of different runs apart.
 std::string manifest_checksum(const std::vector<ModelEntry>& models);

@@ -14,6 +14,7 @@
 #include "batch/shard.hpp"
 #include "batch/summary.hpp"
 #include "cli/commands.hpp"
+#include "cli/model_input.hpp"
 #include "cli/parameter_options.hpp"
 #include "cli/progress.hpp"
 #include "io/atomic_file.hpp"
@@ -92,6 +93,10 @@ int run_batch_command(const BatchCommand& c) {
   std::error_code ec;
   const bool input_is_directory = fs::is_directory(c.input, ec);
   const std::vector<ModelEntry> all = input_is_directory ? scan_directory(c.input, c.output, overrides) : load_manifest(c.input, overrides);
+  for (const auto& [a, b] : ids_differing_in_case_only(all))
+    queue_warning(c.input, fmt::format("model ids '{}' and '{}' differ only in letter case: on a case-insensitive file system "
+                                       "(macOS, Windows, an SMB share) their outputs are the same files; give one another \"id\"",
+                                       a, b));
   const std::vector<ModelEntry> models = select_shard(all, shard);
   if (c.list) {
     for (const auto& m : models) fmt::print("{}\t{}\n", m.id, m.input);

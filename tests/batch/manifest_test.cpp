@@ -298,6 +298,17 @@ TEST(Manifest, ChecksumFollowsIdsInputsAndParameters) {
   EXPECT_EQ(manifest_checksum(base).size(), 16u);
 }
 
+// A studio's share may be case-insensitive: ids that differ only in case are named (a warning).
+TEST(Manifest, IdsDifferingOnlyInCaseArePaired) {
+  const auto models = json(R"({"models": [{"path": "a.obj", "id": "Chair"}, {"path": "b.obj", "id": "chair"},
+                                          {"path": "c.obj", "id": "table"}, {"path": "d.obj", "id": "CHAIR"}]})");
+  const auto pairs = ids_differing_in_case_only(models);
+  ASSERT_EQ(pairs.size(), 2u);  // sorted by id: CHAIR, Chair, chair, table
+  EXPECT_EQ(pairs[0], (std::pair<std::string, std::string>{"CHAIR", "Chair"}));
+  EXPECT_EQ(pairs[1], (std::pair<std::string, std::string>{"CHAIR", "chair"}));
+  EXPECT_TRUE(ids_differing_in_case_only(json(R"({"models": ["a.obj", "b.obj"]})")).empty());
+}
+
 // Shards of one run may name the manifest otherwise (set.json from its folder, man/set.json, an
 // absolute path): the inputs and textures resolve to other spellings of the same files, and merge
 // refused the shards (a helper's audit of batch).

@@ -8,6 +8,10 @@ file(WRITE ${BATCH_DIR}/unknown-key.json "{\"models\": [{\"path\": \"a.obj\", \"
 file(WRITE ${BATCH_DIR}/bad-value.csv "path,k\na.obj,zero\n")
 file(WRITE ${BATCH_DIR}/ok.csv "path\na.obj\n")
 file(WRITE ${BATCH_DIR}/not-summary.json "{\"models\": []}")
+file(WRITE ${BATCH_DIR}/case.json "{\"models\": [{\"path\": \"a.obj\", \"id\": \"Chair\"}, {\"path\": \"a.obj\", \"id\": \"chair\"}]}")
+add_test(NAME cli.batch_ids_differing_in_case_warn COMMAND ${EXPECT_OUTPUT}
+         --match "^splatcl: warning: .*case.json: model ids 'Chair' and 'chair' differ only in letter case: on a case-insensitive file system"
+         -- $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/case.json --list)
 add_test(NAME cli.error_batch_missing_manifest COMMAND ${EXPECT_ERROR} "cannot read manifest .*missing.json: No such file"
          $<TARGET_FILE:splatcl> batch missing.json -o ${BATCH_DIR}/out)
 add_test(NAME cli.error_batch_bad_json COMMAND ${EXPECT_ERROR} "bad.json: not valid JSON: parse error at line 1"
