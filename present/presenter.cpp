@@ -311,6 +311,7 @@ csm::SplatLighting::Settings lighting_settings_of(const Scene& scene, bool ambie
   lighting.filter = settings.filter;
   lighting.ao_samples = q.ao_samples;
   lighting.shadow_samples = q.shadow_samples;
+  static_assert(kMaxSceneAoBias == csm::kMaxBiasTexels, "a scene's ao_bias has the CSM queries' range");
   lighting.bias = q.ao_bias;
   lighting.lift = q.shadow_lift;
   lighting.ground = scene.floor.enabled;

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/output_files.hpp"
 #include "io/checksum.hpp"
 #include "io/json_keys.hpp"
 #include "io/text_file.hpp"
@@ -405,11 +406,7 @@ std::string manifest_checksum(const std::vector<ModelEntry>& models) {
   // Paths as the files they name: resolved against the manifest's folder as it was typed, the same
   // manifest run as man/set.json in one shard and as /abs/man/set.json (or from another working
   // directory) in another gave other checksums, and merge refused the shards of one run.
-  const auto as_file = [](const std::string& path) {
-    std::error_code error;
-    const fs::path file = fs::weakly_canonical(fs::absolute(path, error), error);
-    return error || path.empty() ? path : file.string();
-  };
+  const auto as_file = [](const std::string& path) { return path.empty() ? path : comparable_path(path).string(); };
   std::vector<const ModelEntry*> sorted;
   for (const auto& m : models) sorted.push_back(&m);
   std::sort(sorted.begin(), sorted.end(), [](const ModelEntry* a, const ModelEntry* b) { return a->id < b->id; });

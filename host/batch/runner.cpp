@@ -436,7 +436,8 @@ void check_run_paths(const std::string& input, bool input_is_directory, const st
     throw Error("batch: --summary " + summary + " is the manifest " + input);
   }
   std::map<fs::path, const ModelEntry*> inputs;
-  for (const auto& m : all_models) inputs.emplace(comparable_path(m.input), &m);
+  std::vector<fs::path> input_paths;  // per model, in all_models' order: resolved once (metadata calls on a shared file system)
+  for (const auto& m : all_models) inputs.emplace(input_paths.emplace_back(comparable_path(m.input)), &m);
   if (const auto it = inputs.find(sum); it != inputs.end())
     throw Error("batch: --summary " + summary + " is the input of model '" + it->second->id + "' (" + it->second->origin + ")");
   // Written over, the lock file would let a second run build the models this one holds; and read
@@ -444,8 +445,9 @@ void check_run_paths(const std::string& input, bool input_is_directory, const st
   // record locks: a second run then built the same models at once; a helper's audit).
   const fs::path lock_file = comparable_path((fs::path(output_dir) / kLockFileName).string());
   if (sum == lock_file) throw Error("batch: --summary " + summary + " is the output directory's lock file");
-  for (const auto& m : all_models) {
-    if (comparable_path(m.input) == lock_file) throw Error("batch: the input of model '" + m.id + "' (" + m.origin + ") is the output directory's lock file");
+  for (std::size_t k = 0; k < all_models.size(); ++k) {
+    const ModelEntry& m = all_models[k];
+    if (input_paths[k] == lock_file) throw Error("batch: the input of model '" + m.id + "' (" + m.origin + ") is the output directory's lock file");
     if (!m.params.splats.texture.empty() && comparable_path(m.params.splats.texture) == lock_file)
       throw Error("batch: the texture of model '" + m.id + "' (" + m.origin + ") is the output directory's lock file");
   }

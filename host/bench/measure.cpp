@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "io/memory.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::bench {
@@ -59,10 +60,7 @@ bool reset_peak_rss() {
 }
 
 double peak_rss_mb() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  if (const auto peak = proc_kib("/proc/self/status", "VmHWM")) return static_cast<double>(*peak) / (1024.0 * 1024.0);
   rusage usage{};
   ::getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux

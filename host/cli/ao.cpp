@@ -48,8 +48,7 @@ int run_ao(const AoCommand& c) {
   if (options.patterns == 0 || options.patterns > kMaxPatterns)
     throw Error(fmt::format("ao: --patterns {} is not a pattern count in 1..{}", options.patterns, kMaxPatterns));
   // 1e39 reads as the float inf: say what was wrong with what was typed.
-  if (!(options.bias >= 0 && options.bias <= kMaxBiasTexels))
-    throw Error(fmt::format("ao: --bias {} is not a texel count in 0..{}", options.bias, kMaxBiasTexels));
+  if (const std::string problem = bias_error(options.bias); !problem.empty()) throw Error("ao: " + problem);
   if (!(c.lift_texels >= 0 && c.lift_texels <= kMaxLiftTexels))
     throw Error(fmt::format("ao: --lift {} is not a texel count in 0..{}", c.lift_texels, kMaxLiftTexels));
   check_output_file(c.output, "-o");

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "io/memory.hpp"
 #include "cli/commands.hpp"
 #include "cli/model_input.hpp"
 #include "io/cpu_set.hpp"
@@ -125,6 +126,9 @@ int main(int argc, char** argv) {
     }
   }
   try {
+    // A bad $SPLATCL_MEMORY_LIMIT is named now, not when a build first asks for memory (after a
+    // batch run's first model had built its splats).
+    (void)splatcl::memory_limit_from_environment();
     for (auto& [sub, action] : actions)
       if (sub->parsed()) {
         const int status = action();

@@ -76,7 +76,7 @@ double float_step_at(double reach);
 struct FloatStep {
   double step = 0, size = 0, share = 0;  // share = step / size (0 for no size)
   bool coarse() const { return share > kFloatStepWarning; }
-  // "floats step by 0.0625 (6.2 % of its 1.2 size)", owner "its" and noun "size".
+  // "floats step by 0.0625 (5.2 % of its 1.2 size)", owner "its" and noun "size".
   std::string clause(std::string_view owner, std::string_view noun) const;
 };
 FloatStep float_step(double reach, double size);

@@ -410,6 +410,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     read_asset_quality(r, q, Q);
     Q.ao_samples = r.count(q, "ao_samples", Q.ao_samples, 1, 256);
     Q.ao_bias = r.non_negative(q, "ao_bias", Q.ao_bias, "a depth bias in texels of each occluder's CSM");
+    if (!(Q.ao_bias <= kMaxSceneAoBias)) r.fail("ao_bias", fmt::format("must be in [0, {:g}] texels, not {:g}", kMaxSceneAoBias, Q.ao_bias));
     Q.shadow_lift = r.non_negative(q, "shadow_lift", Q.shadow_lift, "a lift off the surface in world units");
     Q.shadow_lift_auto = !q.contains("shadow_lift");
     Q.splat_scale = r.number(q, "splat_scale", Q.splat_scale);

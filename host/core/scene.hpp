@@ -126,6 +126,8 @@ inline constexpr float kAutoLengthShare = 0.01f;
 inline constexpr float kAutoLengthShareLarge = 0.008f;
 // The range of an object's "fit" size and "scale".
 inline constexpr float kMinSceneExtent = 1e-15f, kMaxSceneExtent = 1e15f;
+// quality.ao_bias at most: csm::kMaxBiasTexels (core cannot see csm; present/ checks they agree).
+inline constexpr float kMaxSceneAoBias = 1000;
 // quality.splat_scale (and the viewer's slider): the gaps a larger k opens at sharp edges are covered
 // at a cost that grows with k: a 1-unit box (rings 2) renders in 2.0 s at 1.05, 6.9 s at 3 (1,880
 // gap splats); a helper's audit saw 260 s at 10.

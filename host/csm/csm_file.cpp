@@ -267,7 +267,7 @@ Csm decode_csm(const std::string& bytes, const std::string& name, Encoding* enco
     if (shape[0] != rows || shape[1] != cols) throw fail(fmt::format("grid {}x{} does not match {} maps", rows, cols, info.maps));
   } catch (const Error& e) {
     if (std::string(e.what()).rfind(name, 0) == 0) throw;
-    // The grid's own message speaks of the --maps option; here the count comes from the file.
+    // The grid's own message speaks of a requested count; here the count comes from the file.
     throw fail(fmt::format("its {} maps do not fit the {} distribution's grid", info.maps, to_string(info.distribution)));
   }
 

@@ -22,7 +22,7 @@ void validate(const QualityOptions& o) {
     throw Error(fmt::format("--camera-distance {} is not a distance in 1..1e6 sphere radii", o.camera_distance));
   if (!(o.light_max > 1.05f && std::isfinite(o.light_max)))
     throw Error(fmt::format("--light-max {} is not a light distance above 1.05 sphere radii", o.light_max));
-  if (!(o.bias >= 0 && o.bias <= kMaxBiasTexels)) throw Error(fmt::format("--bias {} is not a texel count in 0..{}", o.bias, kMaxBiasTexels));
+  if (const std::string problem = bias_error(o.bias); !problem.empty()) throw Error(problem);
 }
 namespace {
 

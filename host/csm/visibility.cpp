@@ -137,6 +137,10 @@ VisibilityScene::VisibilityScene(const std::vector<const Csm*>& csms, const std:
   place(placed);
 }
 
+std::string bias_error(float bias) {
+  return bias >= 0 && bias <= kMaxBiasTexels ? std::string{} : fmt::format("--bias {} is not a texel count in 0..{}", bias, kMaxBiasTexels);
+}
+
 void VisibilityScene::place(const std::vector<Instance>& placed) { instances = place_instances(infos, placed); }
 
 std::vector<device::CsmInstance> place_instances(const std::vector<CsmInfo>& infos, const std::vector<Instance>& placed) {

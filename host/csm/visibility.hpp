@@ -92,6 +92,8 @@ std::vector<device::CsmInstance> place_instances(const std::vector<CsmInfo>& inf
 // The depth bias of a query (`bias`) is in texels of each occluder's maps: at most this many (a
 // negative one shadowed every receiver by its own surface).
 inline constexpr float kMaxBiasTexels = 1000;
+// "" for a bias in 0..kMaxBiasTexels, else "--bias B is not a texel count in 0..1000".
+std::string bias_error(float bias);
 
 // Light vector of a query: light.xyz − light.w · receiver.xyz (w = 1 point light, w = 0 direction).
 // Native reference, multithreaded over queries.

@@ -11,10 +11,21 @@ namespace splatcl {
 // Value of a "key: value" line of a /proc file ("" when absent).
 std::string proc_field(const char* file, const std::string& key);
 
-// The memory still available: /proc/meminfo's MemAvailable, less where a cgroup (v2 memory.max or
-// v1 memory.limit_in_bytes) leaves this process less, and at most $SPLATCL_MEMORY_LIMIT less what
-// the process holds now (its resident set). nullopt when none of these can be read.
+// A "key: N kB" line of a /proc file in bytes (nullopt when absent).
+std::optional<std::uint64_t> proc_kib(const char* file, const std::string& key);
+
+// The memory still available: /proc/meminfo's MemAvailable, less where a cgroup this process is in
+// (v2 memory.max, v1 memory.limit_in_bytes or its hierarchical limit; a Slurm job's or a
+// container's) leaves less after its inactive page cache, and at most $SPLATCL_MEMORY_LIMIT less
+// what the process holds now (its resident set). nullopt when none of these can be read.
 std::optional<std::uint64_t> available_memory();
+
+// The tightest room the cgroups in `self_cgroup` (/proc/self/cgroup's text: v2 "0::/path", its
+// folder under `mount` and each parent's; v1 "N:...memory...:/path" under mount/memory, with its
+// hierarchical limit) leave after their inactive page cache, which the kernel reclaims before it
+// kills. A folder that is not visible (a container with its own cgroup namespace) is read at the
+// mount's root. nullopt where no limit is set.
+std::optional<std::uint64_t> cgroup_memory_room(const std::string& self_cgroup, const std::string& mount);
 
 // The limit $SPLATCL_MEMORY_LIMIT names: bytes, or with a K, M, G or T suffix (powers of 1024).
 // Throws Error for a value that is none of these. nullopt when unset or empty.

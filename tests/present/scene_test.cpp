@@ -62,6 +62,7 @@ TEST(PresenterScene, RefusesValuesThatRenderNonsense) {
       {R"({"objects": [], "sky": {"ground": [0, -1, 0]}})", "'ground' must have no negative channel"},
       {R"({"objects": [], "quality": {"depth_offset": -0.001}})", "'depth_offset' must not be negative"},
       {R"({"objects": [], "quality": {"ao_bias": -0.01}})", "'ao_bias' must not be negative"},
+      {R"({"objects": [], "quality": {"ao_bias": 2000}})", "'ao_bias' must be in [0, 1000] texels, not 2000"},
       {R"({"objects": [], "quality": {"shadow_lift": -0.01}})", "'shadow_lift' must not be negative"},
       {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "two_sided": "yes"}]})", "objects[0] 'a': 'two_sided' must be true or false"},
       {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "rotation_degrees": [0, 1e30, 0]}]})",
