@@ -23,7 +23,10 @@ void check_writable_directory(const std::string& dir, const std::string& what) {
   const std::string probe = (fs::path(dir) / (".splatcl-write-test" + std::to_string(::getpid()))).string();
   const auto fail = [&](int error) {
     ::unlink(probe.c_str());
-    throw Error("cannot write " + what + ": directory " + dir + " is not writable (" + std::strerror(error) + ")");
+    // The directory exists (callers check): ENOENT then comes from a file system that makes no new
+    // files, such as /proc ("No such file or directory" named the wrong cause).
+    const std::string cause = error == ENOENT ? "its file system does not take new files" : std::strerror(error);
+    throw Error("cannot write " + what + ": directory " + dir + " is not writable (" + cause + ")");
   };
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail(errno);

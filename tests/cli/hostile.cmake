@@ -21,6 +21,10 @@ function(hostile_error name pattern)
   add_test(NAME hostile.${name} COMMAND ${EXPECT_ERROR} "${pattern}" $<TARGET_FILE:splatcl> ${ARGN})
   set_tests_properties(hostile.${name} PROPERTIES TIMEOUT 20)
 endfunction()
+# A directory whose file system makes no files (/proc, as root): the cause was "No such file or
+# directory". Another user is refused by its permissions.
+hostile_error(output_in_proc "cannot write -o /proc/x.csm: directory /proc is not writable \\((its file system does not take new files|Permission denied)\\)$"
+              csm build ${SPLATS_CUBE} -o /proc/x.csm)
 hostile_error(limit_cluster_lights "--lights 1000000000 is not a light count in \\[0, 1048576\\]$" cluster --lights 1000000000)
 hostile_error(limit_cluster_lights_negative "--lights -1 is not a light count" cluster --lights -1)
 hostile_error(limit_cluster_size "--size '100000x100000' is not WIDTHxHEIGHT with sides in 1..16384$" cluster --size 100000x100000)
