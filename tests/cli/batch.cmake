@@ -12,6 +12,12 @@ file(WRITE ${BATCH_DIR}/case.json "{\"models\": [{\"path\": \"a.obj\", \"id\": \
 add_test(NAME cli.batch_ids_differing_in_case_warn COMMAND ${EXPECT_OUTPUT}
          --match "^splatcl: warning: .*case.json: model ids 'Chair' and 'chair' differ only in letter case: on a case-insensitive file system"
          -- $<TARGET_FILE:splatcl> batch ${BATCH_DIR}/case.json --list)
+# A model whose CSM would not fit fails alone, with the cause, its splats written (the OOM killer
+# ended the whole run before; SPLATCL_MEMORY_LIMIT stands in for a small machine).
+file(WRITE ${BATCH_DIR}/memory.json "{\"models\": [{\"path\": \"${SPLATS_CUBE}\", \"id\": \"cube\", \"res\": 64, \"maps\": 64}]}")
+add_test(NAME cli.batch_model_beyond_memory_fails_alone COMMAND sh -c
+         "rm -rf \"$0/memory-out\"; SPLATCL_MEMORY_LIMIT=1M \"$1\" batch \"$0/memory.json\" -o \"$0/memory-out\" > \"$0/memory.txt\"; status=$?; cat \"$0/memory.txt\"; [ $status -eq 2 ] && grep -q '^FAILED  cube: csm: the CSM build at resolution 64 with 64 maps (its compressed maps hold .*) needs about .* more memory' \"$0/memory.txt\" && [ -s \"$0/memory-out/cube.splats.ply\" ] && [ ! -e \"$0/memory-out/cube.csm\" ]"
+         ${BATCH_DIR} $<TARGET_FILE:splatcl>)
 add_test(NAME cli.error_batch_missing_manifest COMMAND ${EXPECT_ERROR} "cannot read manifest .*missing.json: No such file"
          $<TARGET_FILE:splatcl> batch missing.json -o ${BATCH_DIR}/out)
 add_test(NAME cli.error_batch_bad_json COMMAND ${EXPECT_ERROR} "bad.json: not valid JSON: parse error at line 1"
