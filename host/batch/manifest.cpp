@@ -4,16 +4,16 @@
 
 #include <algorithm>
 #include <cctype>
-#include <map>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
-#include "io/output_files.hpp"
 #include "io/checksum.hpp"
 #include "io/json_keys.hpp"
+#include "io/output_files.hpp"
 #include "io/text_file.hpp"
 #include "runtime/error.hpp"
 

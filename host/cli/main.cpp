@@ -7,10 +7,10 @@
 
 #include <fmt/format.h>
 
-#include "io/memory.hpp"
 #include "cli/commands.hpp"
 #include "cli/model_input.hpp"
 #include "io/cpu_set.hpp"
+#include "io/memory.hpp"
 #include "io/in_flight.hpp"
 #include "runtime/error.hpp"
 #include "io/json_keys.hpp"

@@ -88,9 +88,10 @@ BuildResult build_csm(const Mesh& mesh, const BuildOptions& o, Runtime* runtime,
     for_each_batch(o.maps, result.batch_maps, progress, [&](std::uint32_t first, std::uint32_t count) {
       capture.capture(grid, first, count, z1, z2, &profiler);
       compressor.add(z1, z2, count, &profiler);
-      // Finishing copies what is held once, and the .csm's depths and file take about as much
-      // again (a 1024² build of 256 maps peaked at 2.1 times what was held): stop now, with the cause, rather than be killed for memory later (a 8192² build of
-      // 16,384 maps grew to 24 GB and the out-of-memory killer ended the whole batch run).
+      // Finishing copies what is held once, and the .csm's depths and file take about as much again
+      // (a review saw a 1024² build of 256 maps admitted with 1.5 times reserved peak above it):
+      // stop now, with the cause, rather than be killed for memory later (an 8192² build of 16,384
+      // maps grew to 24 GB and the out-of-memory killer ended the whole batch run).
       const std::uint64_t held = compressor.held_bytes();
       require_memory(2 * held,
                      fmt::format("the CSM build at resolution {} with {} maps (its compressed maps hold {} after {} maps)",

@@ -16,6 +16,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// `room` becomes the smaller of it and `other`, where either is known.
+void keep_smaller(std::optional<std::uint64_t>& room, std::optional<std::uint64_t> other) {
+  if (other) room = room ? std::min(*room, *other) : *other;
+}
 
 std::optional<std::uint64_t> read_number(const fs::path& path) {
   std::ifstream in(path);
@@ -54,9 +58,6 @@ std::optional<std::uint64_t> room_in(const fs::path& dir, bool v2) {
 
 std::optional<std::uint64_t> cgroup_memory_room(const std::string& self_cgroup, const std::string& mount) {
   std::optional<std::uint64_t> room;
-  const auto tighter = [&](std::optional<std::uint64_t> other) {
-    if (other) room = room ? std::min(*room, *other) : *other;
-  };
   std::istringstream in(self_cgroup);
   std::string line;
   while (std::getline(in, line)) {
@@ -71,7 +72,7 @@ std::optional<std::uint64_t> cgroup_memory_room(const std::string& self_cgroup, 
     fs::path dir = relative.empty() ? root : root / relative;
     if (!fs::is_directory(dir, error)) dir = root;
     for (;; dir = dir.parent_path()) {
-      tighter(room_in(dir, v2));
+      keep_smaller(room, room_in(dir, v2));
       if (!v2 || dir == root || !dir.has_relative_path()) break;  // v1's hierarchical limit covers the parents
     }
   }
@@ -124,16 +125,13 @@ std::optional<std::uint64_t> memory_limit_from_environment() {
 
 std::optional<std::uint64_t> available_memory() {
   std::optional<std::uint64_t> room = proc_kib("/proc/meminfo", "MemAvailable");
-  const auto tighter = [&](std::optional<std::uint64_t> other) {
-    if (other) room = room ? std::min(*room, *other) : *other;
-  };
   std::ifstream self("/proc/self/cgroup");
   std::stringstream text;
   text << self.rdbuf();
-  tighter(cgroup_memory_room(text.str(), "/sys/fs/cgroup"));
+  keep_smaller(room, cgroup_memory_room(text.str(), "/sys/fs/cgroup"));
   if (const auto limit = memory_limit_from_environment()) {
     const std::uint64_t held = proc_kib("/proc/self/status", "VmRSS").value_or(0);
-    tighter(*limit > held ? *limit - held : 0);
+    keep_smaller(room, *limit > held ? *limit - held : 0);
   }
   return room;
 }
