@@ -27,6 +27,14 @@
 #define CSM_FILTER_NONE 0u
 #define CSM_FILTER_SAME_MAP 1u   // 4 × 4 texels of the selected map (16 taps)
 #define CSM_FILTER_CROSS_MAP 2u  // 2 × 2 texels in each of the 4 nearest maps (16 taps)
+#define CSM_FILTER_MARCH 3u      // the true light ray through the 4 nearest maps' texels (csm_march_vote)
+// csm_march_taps: a step between neighbouring texels' stored depths that a ray passes from behind
+// to in front by at most this many texels counts as the inside of a solid, a larger one as a
+// silhouette. The depth a two-hit texel stores lies anywhere between its first and second hit
+// (the run's common interval, Talpe §5.2), so neighbouring texels of one solid step by up to its
+// thickness, and so do a steep surface's; 4 and 8 gave the fewest wrong answers against ray
+// casting, larger values more false shadows past silhouettes (docs/results/csm.md, *Filter march*).
+#define CSM_MARCH_JUMP_TEXELS 4.0f
 
 // One grid cell's camera (object space) and its position in the map sequence.
 typedef struct {
@@ -249,6 +257,102 @@ CSM_INLINE float csm_map_taps(const CsmScene* scene, CSM_GLOBAL const CsmOcclude
   return lit;
 }
 
+// The limits of τ ≥ 0 where f + τ·k lies in [0, m) (one axis of the map's texels), narrowed into
+// [*lo, *hi]; an empty range leaves *lo ≥ *hi or NaN.
+CSM_INLINE void csm_march_clip(float f, float k, float m, float* lo, float* hi) {
+  if (k == 0.0f) {
+    if (!(f >= 0.0f && f < m)) *hi = -1.0f;
+    return;
+  }
+  float a = (0.0f - f) / k, b = (m - f) / k;
+  if (k < 0.0f) {
+    const float t = a;
+    a = b;
+    b = t;
+  }
+  if (a > *lo) *lo = a;
+  if (!(b >= *hi)) *hi = b;
+}
+
+// The light ray's boundary τ of texel column i along one axis (f + τ·k leaves [i, i + 1)); +∞ when
+// the ray does not move along it.
+CSM_INLINE float csm_march_boundary(float f, float k, int i) {
+  if (k > 0.0f) return ((float)(i + 1) - f) / k;
+  if (k < 0.0f) return ((float)i - f) / k;
+  return INFINITY;
+}
+
+// Filter march: the true light ray in one map. The nearest map's direction d differs from the light
+// vector w (object space: wx, wy, wz) by up to half a grid cell, and the single-texel test answers
+// along d, which moves a shadow edge by the occluder's distance times that angle. Here the ray from
+// the receiver along w is followed through the map's texel columns toward the capture plane (its
+// depth falls by τ while it moves τ·k texels sideways), and it is occluded where, within one column,
+// its depth passes that texel's stored depth (a surface, or on a two-hit texel a depth inside the
+// solid, lies across it), or where it passes from behind one column's depth to at most
+// CSM_MARCH_JUMP_TEXELS in front of the next one's (a step of the stored depths inside a solid). A
+// ray that leaves the shadow of a silhouette sideways, farther in front of the next column's depth,
+// is not stopped there: that is where the single-texel test errs. As with it, depths are biased by `bias` texels, texels outside the map are empty, and
+// the ray is followed to the capture plane whatever the light's distance. Each column costs a
+// segment search: about M · tan(angle) + 1 of them (5 at 64² and 1024 maps). 0 or 1.
+CSM_INLINE float csm_march_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell, float rx,
+                                float ry, float rz, float wx, float wy, float wz, float bias) {
+  const float wd = wx * cell->d[0] + wy * cell->d[1] + wz * cell->d[2];
+  // A light vector 90° or more from the map's direction never reaches its capture plane: such a
+  // map (on grids of a few maps) sees nothing of the ray and votes lit.
+  if (!(wd > 0.0f)) return 1.0f;
+  const float x = rx * cell->u[0] + ry * cell->u[1] + rz * cell->u[2];
+  const float y = rx * cell->v[0] + ry * cell->v[1] + rz * cell->v[2];
+  const float limit = (oc->radius - (rx * cell->d[0] + ry * cell->d[1] + rz * cell->d[2])) * oc->depth_scale - bias * oc->texel_depth;
+  const float fx = (x + oc->radius) * oc->pixel_scale, fy = (y + oc->radius) * oc->pixel_scale;
+  // Texels sideways per unit of depth toward the capture plane.
+  const float per_depth = oc->pixel_scale / (wd * oc->depth_scale);
+  const float kx = (wx * cell->u[0] + wy * cell->u[1] + wz * cell->u[2]) * per_depth;
+  const float ky = (wx * cell->v[0] + wy * cell->v[1] + wz * cell->v[2]) * per_depth;
+  // The part of the ray over the map, down to depth 0 (the biased depth is limit − τ).
+  const float m = (float)oc->resolution;
+  float enter = 0.0f, end = limit;
+  csm_march_clip(fx, kx, m, &enter, &end);
+  csm_march_clip(fy, ky, m, &enter, &end);
+  if (!(enter < end)) return 1.0f;
+  const int res = (int)oc->resolution, step_i = kx > 0.0f ? 1 : -1, step_j = ky > 0.0f ? 1 : -1;
+  int i = csm_floor(fx + enter * kx), j = csm_floor(fy + enter * ky);
+  i = i < 0 ? 0 : (i >= res ? res - 1 : i);
+  j = j < 0 ? 0 : (j >= res ? res - 1 : j);
+  int behind = 0;  // the ray left the previous column behind its stored depth
+  const float jump = CSM_MARCH_JUMP_TEXELS * oc->texel_depth;
+  for (;;) {  // each pass moves one texel in a fixed direction: at most 2M passes
+    const float bx = csm_march_boundary(fx, kx, i), by = csm_march_boundary(fy, ky, j);
+    float leave = bx < by ? bx : by;
+    if (!(leave < end)) leave = end;
+    if (leave < enter) leave = enter;  // rounding at a corner: an empty stretch
+    const float g = csm_fetch(scene, oc->pixel_base + (uint)j * oc->resolution + (uint)i, cell->sequence);
+    if (g < limit - enter && g >= limit - leave) return 0.0f;  // crosses the depth in this column
+    if (behind && !(g < limit - enter) && g - (limit - enter) <= jump) return 0.0f;  // a step inside a solid
+    behind = g < limit - leave;
+    if (!(leave < end)) return 1.0f;
+    if (bx < by) i += step_i;
+    else j += step_j;
+    if (i < 0 || i >= res || j < 0 || j >= res) return 1.0f;
+    enter = leave;
+  }
+}
+
+// Filter march over the 4 maps nearest the light vector (the cross-map filter's cells; wx, wy, wz
+// in object space): occluded (0) when the ray is blocked in at least 2 of them, else lit (1). One
+// map alone is fooled where its stored depths step inside a solid by more than
+// CSM_MARCH_JUMP_TEXELS; the maps store different depths there, so a vote of the four removes most
+// of those false lights (docs/results/csm.md, *Filter march*).
+CSM_INLINE float csm_march_vote(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, const uint* cells, float rx, float ry, float rz,
+                                float wx, float wy, float wz, float bias) {
+  int blocked = 0;
+  for (int t = 0; t < 4; ++t) {
+    blocked += csm_march_taps(scene, oc, scene->cells + cells[t], rx, ry, rz, wx, wy, wz, bias) == 0.0f;
+    if (blocked == 2) return 0.0f;
+    if (blocked + (3 - t) < 2) return 1.0f;  // 2 can no longer be reached
+  }
+  return 1.0f;
+}
+
 // The stored depths of one map's tap window, kept while coherent queries stay in it: a chunk of
 // screen-neighbouring receivers mostly falls into the same window, so its 4 or 16 segment searches
 // become comparisons. Texels outside the map hold +∞, which tests lit exactly like csm_map_taps.
@@ -299,17 +403,20 @@ CSM_INLINE float csm_instance_visibility(const CsmScene* scene, uint k, float px
   const float fy = f[3] * wx + f[4] * wy + f[5] * wz;
   const float fz = f[6] * wx + f[7] * wy + f[8] * wz;
   CSM_GLOBAL const CsmCell* cells = scene->cells + oc->cell_base;
-  if (filter == CSM_FILTER_CROSS_MAP) {
+  if (filter == CSM_FILTER_CROSS_MAP || filter == CSM_FILTER_MARCH) {
     float sr = 0.0f, tc = 0.0f;
     if (!csm_grid_coords(oc, fx, fy, fz, &sr, &tc)) return 1.0f;
     // Sample positions: s·rows − 0.5 on a cell-centred grid, s·rows on the ao grid's corners.
     const float corner_shift = oc->centred ? 0.5f : 0.0f;
     const int a0 = csm_floor(sr - corner_shift), b0 = csm_floor(tc - corner_shift);
-    float lit = 0.0f;
+    uint near[4];
     for (int da = 0; da < 2; ++da)
-      for (int db = 0; db < 2; ++db)
-        lit += csm_map_taps(scene, oc, cells + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db), rx, ry, rz, 2,
-                            bias);
+      for (int db = 0; db < 2; ++db) near[2 * da + db] = oc->cell_base + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db);
+    if (filter == CSM_FILTER_MARCH)
+      return csm_march_vote(scene, oc, near, rx, ry, rz, m[0] * wx + m[1] * wy + m[2] * wz, m[4] * wx + m[5] * wy + m[6] * wz,
+                            m[8] * wx + m[9] * wy + m[10] * wz, bias);
+    float lit = 0.0f;
+    for (int t = 0; t < 4; ++t) lit += csm_map_taps(scene, oc, scene->cells + near[t], rx, ry, rz, 2, bias);
     return lit * 0.0625f;
   }
   uint entry = 0u;
@@ -341,7 +448,7 @@ typedef struct {
   int placed;        // 1: row, col hold an earlier query's cell (the walk's start)
   uint row, col;     // that cell (col unwrapped, as csm_walk_cell returns it)
   uint cell;         // cells index of the chosen map
-  uint cross[4];     // CSM_FILTER_CROSS_MAP: cells indices of the 4 nearest maps
+  uint cross[4];     // CSM_FILTER_CROSS_MAP and MARCH: cells indices of the 4 nearest maps
   uint entry, sequence;  // filter none: cached (pixel entry, map) ...
   float g;               // ... and its stored depth (entry == UINT_MAX: none)
   CsmWindow windows[4];  // PCF: the tap windows (same map: windows[0]; cross map: one per map)
@@ -377,7 +484,7 @@ CSM_INLINE void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInst
   float rho2 = 0.0f, len2 = 0.0f;
   cache->lit = !csm_direction(fx, fy, fz, &rho2, &len2);
   if (cache->lit) {
-  } else if (filter == CSM_FILTER_CROSS_MAP) {
+  } else if (filter == CSM_FILTER_CROSS_MAP || filter == CSM_FILTER_MARCH) {
     float sr = 0.0f, tc = 0.0f;
     csm_grid_coords(oc, fx, fy, fz, &sr, &tc);
     const float corner_shift = oc->centred ? 0.5f : 0.0f;
@@ -416,6 +523,9 @@ CSM_INLINE float csm_instance_visibility_cached(const CsmScene* scene, uint k, f
   const float ry = m[4] * px + m[5] * py + m[6] * pz + m[7] - oc->centre[1];
   const float rz = m[8] * px + m[9] * py + m[10] * pz + m[11] - oc->centre[2];
   if (filter == CSM_FILTER_SAME_MAP) return csm_window_taps(scene, oc, cache->cell, rx, ry, rz, 4, bias, cache->windows) * 0.0625f;
+  if (filter == CSM_FILTER_MARCH)
+    return csm_march_vote(scene, oc, cache->cross, rx, ry, rz, m[0] * wx + m[1] * wy + m[2] * wz, m[4] * wx + m[5] * wy + m[6] * wz,
+                          m[8] * wx + m[9] * wy + m[10] * wz, bias);
   if (filter == CSM_FILTER_CROSS_MAP) {
     float lit = 0.0f;
     for (int t = 0; t < 4; ++t) lit += csm_window_taps(scene, oc, cache->cross[t], rx, ry, rz, 2, bias, cache->windows + t);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <initializer_list>
 
+#include "csm/visibility.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::present {
@@ -35,6 +36,14 @@ void apply_overrides(Scene& scene, const Overrides& o) {
   pick(o.shading, "--shading", {"clustered", "tiled", "brute"}, scene.quality.shading);
   pick(o.mode, "--mode", {"splats", "points"}, scene.quality.mode);
   pick(o.shadows, "--shadows", {"splat", "pixel", "off"}, scene.quality.shadows);
+  if (!o.filter.empty()) {
+    try {
+      csm::parse_filter(o.filter);
+    } catch (const Error& e) {
+      throw Error(fmt::format("--filter: {}", e.what()));
+    }
+    scene.quality.filter = o.filter;
+  }
   if (o.lod) {
     if (!(*o.lod >= 0 && *o.lod <= 1000)) throw Error(fmt::format("--lod {} is not a pixel error in [0, 1000]", *o.lod));
     scene.quality.lod_error = static_cast<float>(*o.lod);

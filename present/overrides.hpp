@@ -15,6 +15,7 @@ std::pair<int, int> parse_frame_size(const std::string& text, const char* what);
 // names the option for a value outside its set.
 struct Overrides {
   std::string shading, mode, shadows;
+  std::string filter;  // CSM shadow test (csm::parse_filter)
   // Unset keeps the scene's value; a given value out of range (negative, NaN) is an error.
   std::optional<long long> lights;  // generated light count
   std::optional<double> lod;        // LOD error threshold in pixels

@@ -33,7 +33,7 @@ present::AssetProgress asset_progress(ProgressLine& line, const std::string& com
 // stderr as "splatcl: warning: ..." lines.
 void print_mesh_warnings(const present::Presenter& presenter);
 
-// Adds the positional scene, --shading, --mode, --shadows, --lights, --lod, --cache and --device.
+// Adds the positional scene, --shading, --mode, --shadows, --filter, --lights, --lod, --cache and --device.
 void add_scene_options(CLI::App& app, SceneOptions& options);
 
 }  // namespace splatcl::cli

@@ -13,8 +13,10 @@
 #include <cfloat>
 #include <chrono>
 #include <cmath>
+#include <span>
 
 #include "core/camera.hpp"
+#include "csm/visibility.hpp"
 #include "runtime/error.hpp"
 
 namespace splatcl::cli::viewer {
@@ -30,7 +32,7 @@ namespace {
 ImU32 color_u32(const glm::vec3& c) { return ImGui::ColorConvertFloat4ToU32(ImVec4(c.x, c.y, c.z, 1.0f)); }
 
 // Radio buttons over a sequence of strings; true when one was chosen.
-bool choice(const char* label, std::string& value, std::initializer_list<const char*> values) {
+bool choice(const char* label, std::string& value, std::span<const char* const> values) {
   bool changed = false;
   ImGui::TextUnformatted(label);
   for (const char* v : values) {
@@ -38,6 +40,9 @@ bool choice(const char* label, std::string& value, std::initializer_list<const c
     if (ImGui::RadioButton(fmt::format("{}##{}", v, label).c_str(), value == v)) value = v, changed = true;
   }
   return changed;
+}
+bool choice(const char* label, std::string& value, std::initializer_list<const char*> values) {
+  return choice(label, value, std::span<const char* const>(values.begin(), values.size()));
 }
 
 // A checkbox for "value > 0" (on sets `on`, off sets 0) and, while on, a slider for the value.
@@ -171,6 +176,7 @@ void Panel::build(Controls& controls, const present::FrameStats& stats, const st
     choice("shading [C]", q.shading, {"clustered", "tiled", "brute"});
     choice("mode    [M]", q.mode, {"splats", "points"});
     choice("shadows [H]", q.shadows, {"splat", "pixel", "off"});
+    choice("shadow test", q.filter, csm::kFilterNames);
     ImGui::Checkbox("ambient occlusion [O]", &v.ambient_occlusion);
     ImGui::SameLine();
     ImGui::Checkbox("per pixel [A]", &v.pixel_ao);

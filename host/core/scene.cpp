@@ -424,7 +424,7 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.shading = r.text(q, "shading", Q.shading, {"clustered", "tiled", "brute"});
     Q.tile = r.count(q, "tile", Q.tile, 4, 256);
     Q.shadows = r.text(q, "shadows", Q.shadows, {"splat", "pixel", "off"});
-    Q.filter = r.text(q, "filter", Q.filter, {"none", "same-map", "cross-map"});
+    Q.filter = r.text(q, "filter", Q.filter, {"none", "same-map", "cross-map", "march"});
     Q.shadow_samples = r.count(q, "shadow_samples", Q.shadow_samples, 1, 64);
     Q.ambient_occlusion = r.flag(q, "ambient_occlusion", Q.ambient_occlusion);
     Q.pixel_ao = r.flag(q, "pixel_ao", Q.pixel_ao);

@@ -28,6 +28,19 @@ static_assert(kReachTexels >= 2.5 * 1.41421357);
 // through map d only if its distance to the line (centre, d) is <= R' and (p − centre)·d < R. The
 // map a query picks lies within `slack` radians of the query's direction w, so if no direction
 // within `slack` of w can satisfy both, the instance answers 1 for (p, w) at that placement.
+// Whether Cone bounds the queries of `filter` with a bias of `bias` texels. None and SameMap: any
+// bias >= 0 (the proof above). CrossMap taps 4 maps, an unbounded slack: never. March answers
+// "occluded" only where the light ray itself (whatever map answers) passes a stored depth, or a
+// step between two neighbours' depths, biased by `bias` texels: stored depths lie in the sphere, so
+// that point of the ray lies within R + (1.2 + bias) texels of the centre (1.2: from a texel's
+// centre to its edge with the next one; 1.5 allows for rounding), and w points from p within
+// asin(R' / |centre − p|) of the centre when 1.5 + bias <= kReachTexels.
+inline bool cone_bounds_filter(Filter filter, float bias) {
+  if (!(bias >= 0)) return false;
+  if (filter == Filter::None || filter == Filter::SameMap) return true;
+  return filter == Filter::March && bias <= kReachTexels - 1.5;
+}
+
 struct Cone {
   bool always = false;   // p too close to the sphere: every direction may reach it
   glm::vec3 to_centre{}; // centre − p

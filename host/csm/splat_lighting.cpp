@@ -104,8 +104,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   // set (csm_ao_finish, as the AO kernel does). Both give the same rows bit for bit, and the same as
   // the AO kernel and one visibility batch through all instances (key_light_visibility).
   const bool incremental = allow_incremental && valid_ && rows_.size() == n * kRowFloats && same_settings(settings) &&
-                           lit_placements_.size() == placements.size() && filter != Filter::CrossMap &&
-                           settings.bias >= 0;
+                           lit_placements_.size() == placements.size() && cone_bounds_filter(filter, settings.bias);
   // Set again when the update completes: one that fails half way forces a full update next time.
   valid_ = false;
   std::vector<char> moved(input.objects.size(), 1), kernel_receiver(n, 1);
@@ -183,9 +182,9 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
     }
     return answer;
   };
-  // Where the queries through an instance may answer "occluded" (Cone): with the map choice of
-  // Filter::None or SameMap and a bias >= 0 (CrossMap taps 4 maps; an unbounded slack there).
-  const bool cull = filter != Filter::CrossMap && settings.bias >= 0;
+  // Where the queries through an instance may answer "occluded" (Cone; cone_bounds_filter). The
+  // AO's queries use Filter::None.
+  const bool cull_shadows = cone_bounds_filter(filter, settings.bias), cull_ao = cone_bounds_filter(Filter::None, settings.bias);
   std::vector<MovedReach> instance_reaches;  // per entry of `instances`
   for (const Instance& instance : instances) {
     const CsmInfo& info = csms_[instance.occluder]->info;
@@ -389,7 +388,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
         QueryBatch batch;
         for (std::size_t r = 0; r < m; ++r) {
           const Vec4& p = ao_at.at(ao_subset[r], instances[i].occluder);
-          const Cone cone = cull ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : Cone{true};
+          const Cone cone = cull_ao ? instance_reaches[i].cone_from({p.x, p.y, p.z}) : Cone{true};
           for (std::uint32_t j = 0; j < samples; ++j) {
             const std::size_t at = r * samples + j;
             const Vec4& d = receiver_directions[at];
@@ -431,7 +430,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
           const Vec4& p = shadow_at.at(shadow_subset[r], instances[i].occluder);
           return glm::vec3(p.x, p.y, p.z);
         };
-        for (std::size_t r = 0; r < m; ++r) cones[r] = cull ? instance_reaches[i].cone_from(lift(r)) : Cone{true};
+        for (std::size_t r = 0; r < m; ++r) cones[r] = cull_shadows ? instance_reaches[i].cone_from(lift(r)) : Cone{true};
         QueryBatch batch;
         for (std::size_t k = 0; k < light_points.size(); ++k)
           for (std::size_t j = 0; j < light_points[k].size(); ++j) {

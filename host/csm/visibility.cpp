@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <iterator>
 #include <numbers>
 
 #include "primitives/launch.hpp"
@@ -22,7 +23,6 @@ static_assert(sizeof(device::CsmCell) == 40 && sizeof(device::CsmOccluder) == 68
 
 namespace {
 
-constexpr const char* kFilterNames[] = {"none", "same-map", "cross-map"};
 
 Transform multiply(const Transform& a, const Transform& b) {
   Transform c{};
@@ -57,9 +57,9 @@ Transform invert_affine(const Transform& m) {
 const char* to_string(Filter value) { return kFilterNames[static_cast<std::uint32_t>(value)]; }
 
 Filter parse_filter(const std::string& text) {
-  for (std::uint32_t i = 0; i < 3; ++i)
+  for (std::uint32_t i = 0; i < std::size(kFilterNames); ++i)
     if (text == kFilterNames[i]) return static_cast<Filter>(i);
-  throw Error("unknown filter '" + text + "' (one of: none, same-map, cross-map)");
+  throw Error("unknown filter '" + text + "' (one of: none, same-map, cross-map, march)");
 }
 
 Transform world_to_object(const CsmInfo& info, const Transform& placement) {

@@ -55,6 +55,8 @@ add_test(NAME cli.error_csm_missing_file COMMAND ${EXPECT_ERROR} "cannot read mi
 add_test(NAME cli.csm_quality_cube COMMAND ${EXPECT_OUTPUT} --match "^study +2 views of 32x32 pixels, .*filter cross-map"
          --match "^wrong +[0-9.]+ % of image pixels, [0-9.]+ % of object pixels \\([0-9]+ of [1-9][0-9]* object pixels"
          --match "^queries +[1-9][0-9]* CSM visibility queries" -- $<TARGET_FILE:splatcl> csm quality ${SPLATS_CUBE} --maps 64 --res 16 --views 2 --image 32 --filter cross-map)
+add_test(NAME cli.csm_quality_cube_march COMMAND ${EXPECT_OUTPUT} --match "^study +2 views of 32x32 pixels, .*filter march"
+         --match "^wrong +[0-9.]+ % of image pixels" -- $<TARGET_FILE:splatcl> csm quality ${SPLATS_CUBE} --maps 64 --res 16 --views 2 --image 32 --filter march)
 add_test(NAME cli.error_csm_quality_bad_filter COMMAND ${EXPECT_ERROR} "unknown filter 'gauss'" $<TARGET_FILE:splatcl> csm quality ${SPLATS_CUBE} --maps 64 --res 16 --filter gauss)
 
 # csm build --mode: the thesis's alternatives (sizes only, every sample checked), csm analyze.

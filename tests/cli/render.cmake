@@ -40,6 +40,12 @@ add_test(NAME cli.error_render_bad_lod COMMAND ${EXPECT_ERROR} "--lod" $<TARGET_
 add_test(NAME cli.render_specular COMMAND ${EXPECT_OUTPUT} --match "${RENDER_FRAME}" --png ${CMAKE_CURRENT_BINARY_DIR}/render-specular.png 64 48
          -- $<TARGET_FILE:splatcl> render --size 64x48 --specular 0.5 --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-specular.png)
 set_tests_properties(cli.render_specular PROPERTIES FIXTURES_REQUIRED present_cache)
+# The march shadow test from the command line (its image properties: csm.CsmVisibility.March*).
+add_test(NAME cli.render_filter_march COMMAND ${EXPECT_OUTPUT} --match "${RENDER_FRAME}" --png ${CMAKE_CURRENT_BINARY_DIR}/render-march.png 64 48
+         -- $<TARGET_FILE:splatcl> render --size 64x48 --filter march --shadows pixel --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-march.png)
+set_tests_properties(cli.render_filter_march PROPERTIES FIXTURES_REQUIRED present_cache)
+add_test(NAME cli.error_render_bad_filter COMMAND ${EXPECT_ERROR} "--filter: unknown filter 'soft' \\(one of: none, same-map, cross-map, march\\)"
+         $<TARGET_FILE:splatcl> render --filter soft)
 add_test(NAME cli.error_render_bad_specular COMMAND ${EXPECT_ERROR} "--specular" $<TARGET_FILE:splatcl> render --specular -1)
 add_test(NAME cli.error_render_missing_scene COMMAND ${EXPECT_ERROR} "cannot read scene .*missing.json" $<TARGET_FILE:splatcl> render missing.json)
 add_test(NAME cli.error_render_bad_size COMMAND ${EXPECT_ERROR} "--size '12by7'" $<TARGET_FILE:splatcl> render --size 12by7)

@@ -65,76 +65,83 @@ const Fixture& fixture() {
 
 SplatLighting make_lighting(const Fixture& f) { return SplatLighting(runtime(), {&f.slab, &f.block}, f.patterns, f.pattern_of); }
 
+// The same for each shadow filter: the queries that skip instances out of reach (Cone) for the
+// default same-map PCF, and every query for cross-map and march (the AO's queries are culled with
+// each: they use filter none).
 TEST(CsmSplatLighting, FullUpdateEqualsTheAoKernelAndOneVisibilityBatch) {
-  const Fixture& f = fixture();
-  SplatLighting lighting = make_lighting(f);
-  const std::vector<Transform> placements = {kIdentity, translation(1.2, 0, 0)};
-  const SplatLighting::Update update = lighting.update(f.receivers, placements, f.settings, false);
-  const std::size_t n = f.receivers.positions.size();
-  EXPECT_EQ(update.receivers, n);
-  const std::vector<float>& rows = lighting.rows();
-  ASSERT_EQ(rows.size(), n * SplatLighting::kRowFloats);
+  for (const Filter filter : {Filter::SameMap, Filter::CrossMap, Filter::March}) {
+    SCOPED_TRACE(to_string(filter));
+    Fixture f = fixture();
+    f.settings.filter = filter;
+    SplatLighting lighting = make_lighting(f);
+    const std::vector<Transform> placements = {kIdentity, translation(1.2, 0, 0)};
+    const SplatLighting::Update update = lighting.update(f.receivers, placements, f.settings, false);
+    const std::size_t n = f.receivers.positions.size();
+    EXPECT_EQ(update.receivers, n);
+    const std::vector<float>& rows = lighting.rows();
+    ASSERT_EQ(rows.size(), n * SplatLighting::kRowFloats);
 
-  AoRequest request;
-  request.positions = f.receivers.positions;
-  request.normals = f.receivers.normals;
-  request.patterns = f.patterns;
-  request.samples = f.settings.ao_samples;
-  request.pattern_of = f.pattern_of;
-  request.ground = f.settings.ground;
-  request.bias = f.settings.bias;
-  AmbientOcclusion& device = lighting.device();
-  device.place({{0, placements[0]}, {1, placements[1]}});
-  std::vector<Vec4> ao = device.run(request);
-  // An object's splats: the AO kernel with the object as own instance, lifted by its own texel.
-  const Csm* csms[] = {&f.slab, &f.block};
-  for (std::uint32_t object = 0; object < 2; ++object) {
-    const SplatLighting::Object& o = f.receivers.objects[object];
-    AoRequest own = request;
-    own.own_instance = object;
-    own.positions.assign(f.receivers.positions.begin() + static_cast<std::ptrdiff_t>(o.first),
-                         f.receivers.positions.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
-    for (Vec4& p : own.positions) p.w = kAoLiftTexels * placed_texel(csms[object]->info, placements[object]);
-    own.normals.assign(f.receivers.normals.begin() + static_cast<std::ptrdiff_t>(o.first),
-                       f.receivers.normals.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
-    own.pattern_of.assign(f.pattern_of.begin() + static_cast<std::ptrdiff_t>(o.first),
-                          f.pattern_of.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
-    const std::vector<Vec4> part = device.run(own);
-    std::copy(part.begin(), part.end(), ao.begin() + static_cast<std::ptrdiff_t>(o.first));
-  }
-  std::size_t occluded = 0;
-  for (std::size_t s = 0; s < n; ++s) {
-    EXPECT_EQ(std::memcmp(&rows[SplatLighting::kRowFloats * s], &ao[s], sizeof(Vec4)), 0) << "splat " << s;
-    occluded += ao[s].w < 1.0f;
-  }
-  EXPECT_GT(occluded, n / 10);  // the slab and the block shade part of the floor
-
-  std::vector<Vec4> lifted;
-  for (std::size_t s = 0; s < n; ++s) {
-    const Vec4& p = f.receivers.positions[s];
-    lifted.push_back({p.x, p.y + f.settings.lift, p.z, 1.0f});
-  }
-  std::size_t shadowed = 0;
-  for (std::size_t k = 0; k < f.settings.key_lights.size(); ++k) {
-    const std::vector<float> visible = key_light_visibility(device.queries(), lifted, f.settings.key_lights[k],
-                                                            f.settings.shadow_samples, f.settings.filter, f.settings.bias);
-    for (std::size_t s = 0; s < f.receivers.objects[0].first; ++s) {  // the floor's splats, of no object
-      EXPECT_EQ(rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt + k], visible[s]) << "splat " << s;
-      shadowed += visible[s] < 1.0f;
+    AoRequest request;
+    request.positions = f.receivers.positions;
+    request.normals = f.receivers.normals;
+    request.patterns = f.patterns;
+    request.samples = f.settings.ao_samples;
+    request.pattern_of = f.pattern_of;
+    request.ground = f.settings.ground;
+    request.bias = f.settings.bias;
+    AmbientOcclusion& device = lighting.device();
+    device.place({{0, placements[0]}, {1, placements[1]}});
+    std::vector<Vec4> ao = device.run(request);
+    // An object's splats: the AO kernel with the object as own instance, lifted by its own texel.
+    const Csm* csms[] = {&f.slab, &f.block};
+    for (std::uint32_t object = 0; object < 2; ++object) {
+      const SplatLighting::Object& o = f.receivers.objects[object];
+      AoRequest own = request;
+      own.own_instance = object;
+      own.positions.assign(f.receivers.positions.begin() + static_cast<std::ptrdiff_t>(o.first),
+                           f.receivers.positions.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
+      for (Vec4& p : own.positions) p.w = kAoLiftTexels * placed_texel(csms[object]->info, placements[object]);
+      own.normals.assign(f.receivers.normals.begin() + static_cast<std::ptrdiff_t>(o.first),
+                         f.receivers.normals.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
+      own.pattern_of.assign(f.pattern_of.begin() + static_cast<std::ptrdiff_t>(o.first),
+                            f.pattern_of.begin() + static_cast<std::ptrdiff_t>(o.first + o.count));
+      const std::vector<Vec4> part = device.run(own);
+      std::copy(part.begin(), part.end(), ao.begin() + static_cast<std::ptrdiff_t>(o.first));
     }
+    std::size_t occluded = 0;
+    for (std::size_t s = 0; s < n; ++s) {
+      EXPECT_EQ(std::memcmp(&rows[SplatLighting::kRowFloats * s], &ao[s], sizeof(Vec4)), 0) << "splat " << s;
+      occluded += ao[s].w < 1.0f;
+    }
+    EXPECT_GT(occluded, n / 10);  // the slab and the block shade part of the floor
+
+    std::vector<Vec4> lifted;
+    for (std::size_t s = 0; s < n; ++s) {
+      const Vec4& p = f.receivers.positions[s];
+      lifted.push_back({p.x, p.y + f.settings.lift, p.z, 1.0f});
+    }
+    std::size_t shadowed = 0;
+    for (std::size_t k = 0; k < f.settings.key_lights.size(); ++k) {
+      const std::vector<float> visible = key_light_visibility(device.queries(), lifted, f.settings.key_lights[k],
+                                                              f.settings.shadow_samples, f.settings.filter, f.settings.bias);
+      for (std::size_t s = 0; s < f.receivers.objects[0].first; ++s) {  // the floor's splats, of no object
+        EXPECT_EQ(rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt + k], visible[s]) << "splat " << s;
+        shadowed += visible[s] < 1.0f;
+      }
+    }
+    EXPECT_GT(shadowed, 0u);
+    // The slab's top sees the key light above it (no acne through its own maps), its underside does
+    // not (PCF lets up to 3 of 32 taps through near the slab's rim).
+    const SplatLighting::Object& slab = f.receivers.objects[0];
+    for (std::size_t s = slab.first; s < slab.first + slab.count; ++s) {
+      const float visible = rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt];
+      if (f.receivers.normals[s].y > 0) EXPECT_EQ(visible, 1.0f) << "slab splat " << s;
+      else EXPECT_LE(visible, 0.1f) << "slab splat " << s;
+    }
+    for (std::size_t s = 0; s < n; ++s)  // no third or fourth key light: visible
+      for (std::size_t k = f.settings.key_lights.size(); k < SplatLighting::kMaxKeyLights; ++k)
+        EXPECT_EQ(rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt + k], 1.0f);
   }
-  EXPECT_GT(shadowed, 0u);
-  // The slab's top sees the key light above it (no acne through its own maps), its underside does
-  // not (PCF lets up to 3 of 32 taps through near the slab's rim).
-  const SplatLighting::Object& slab = f.receivers.objects[0];
-  for (std::size_t s = slab.first; s < slab.first + slab.count; ++s) {
-    const float visible = rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt];
-    if (f.receivers.normals[s].y > 0) EXPECT_EQ(visible, 1.0f) << "slab splat " << s;
-    else EXPECT_LE(visible, 0.1f) << "slab splat " << s;
-  }
-  for (std::size_t s = 0; s < n; ++s)  // no third or fourth key light: visible
-    for (std::size_t k = f.settings.key_lights.size(); k < SplatLighting::kMaxKeyLights; ++k)
-      EXPECT_EQ(rows[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt + k], 1.0f);
 }
 
 TEST(CsmSplatLighting, IncrementalUpdateAfterAMoveEqualsTheFullUpdate) {

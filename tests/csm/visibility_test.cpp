@@ -12,6 +12,7 @@
 #include <random>
 
 #include "csm/build.hpp"
+#include "csm/query_reach.hpp"
 #include "csm/visibility.hpp"
 #include "csm_test_support.hpp"
 #include "runtime/error.hpp"
@@ -76,6 +77,12 @@ Queries random_queries(const Csm& csm, std::size_t n, unsigned seed) {
     q.add(p, edges[k % std::size(edges)], 0);
     q.add(p, p + edges[k % std::size(edges)], 1);
   }
+  // Light vectors of extreme lengths, receivers beyond the capture plane or far beside the sphere
+  // whose ray toward the light still crosses it (filter march follows the ray over the map).
+  for (float scale : {1e-30f, 1e-19f, 1e18f}) q.add(c + Vec3{0.1f, -0.9f, 0.05f} * r, Vec3{0.02f, 1, -0.03f} * scale, 0);
+  q.add(c + Vec3{0, 5, 0} * r, {0, 1, 0}, 0);
+  q.add(c + Vec3{1.5f, -3, 0} * r, c + Vec3{-0.5f, 3, 0} * r, 1);
+  q.add(c + Vec3{0, -1e6f, 0} * r, {1e-6f, 1, 0}, 0);
   q.add(c + Vec3{1e30f, 0, 0}, {0, 1, 0}, 0);
   q.add(c + Vec3{0, -1e30f, 0}, {0, 1, 0}, 0);
   q.add({INFINITY, 0, 0}, {0, 1, 0}, 0);
@@ -95,7 +102,7 @@ void expect_kernel_matches_reference(const Csm& csm, const std::vector<Instance>
   const VisibilityScene scene({&csm}, instances);
   VisibilityQueries queries(runtime(), scene);
   const Queries q = random_queries(csm, count, seed);
-  for (Filter filter : {Filter::None, Filter::SameMap, Filter::CrossMap}) {
+  for (Filter filter : {Filter::None, Filter::SameMap, Filter::CrossMap, Filter::March}) {
     std::vector<float> ref;
     visibility_reference(scene, q.receivers, q.lights, filter, 0.0f, ref);
     expect_identical(ref, queries.run(q.receivers, q.lights, filter, 0.0f), to_string(filter));
@@ -103,7 +110,7 @@ void expect_kernel_matches_reference(const Csm& csm, const std::vector<Instance>
     for (float v : ref) {
       lit += v == 1.0f;
       shadowed += v == 0.0f;
-      EXPECT_TRUE(v >= 0.0f && v <= 1.0f && (filter == Filter::None ? v == 0.0f || v == 1.0f : v * 256 == std::floor(v * 256)));
+      EXPECT_TRUE(v >= 0.0f && v <= 1.0f && (filter == Filter::None || filter == Filter::March ? v == 0.0f || v == 1.0f : v * 256 == std::floor(v * 256)));
     }
     EXPECT_GT(lit, q.receivers.size() / 10) << to_string(filter);
     EXPECT_GT(shadowed, q.receivers.size() / 100) << to_string(filter);
@@ -253,7 +260,7 @@ TEST(CsmVisibility, PlacingNewInstancesEqualsAFreshScene) {
     if (!fresh.instances.empty()) {
       EXPECT_EQ(std::memcmp(placed.instances.data(), fresh.instances.data(), fresh.instances.size() * sizeof(device::CsmInstance)), 0);
     }
-    for (Filter filter : {Filter::None, Filter::SameMap, Filter::CrossMap}) {
+    for (Filter filter : {Filter::None, Filter::SameMap, Filter::CrossMap, Filter::March}) {
       std::vector<float> ref;
       visibility_reference(fresh, q.receivers, q.lights, filter, 0.0f, ref);
       const std::string what = fmt::format("placement {} {}", k, to_string(filter));
@@ -495,20 +502,179 @@ TEST(CsmVisibility, AgreesWithRayCastingForFreeSpaceReceivers) {
     else q.add(p, random_unit(rng), 0);
   }
   const VisibilityScene scene({&csm}, {{}});
-  const std::vector<float> vis = VisibilityQueries(runtime(), scene).run(q.receivers, q.lights, Filter::None, 0.0f);
-  std::size_t wrong = 0, shadowed = 0;
-  for (std::size_t k = 0; k < vis.size(); ++k) {
+  std::vector<char> exact(q.receivers.size());
+  std::size_t shadowed = 0;
+  for (std::size_t k = 0; k < exact.size(); ++k) {
     const Vec4 p = q.receivers[k];
-    const bool exact = ray_cast_lit(bvh, c, {p.x, p.y, p.z}, q.lights[k]);
-    wrong += exact != (vis[k] == 1.0f);
-    shadowed += !exact;
+    exact[k] = ray_cast_lit(bvh, c, {p.x, p.y, p.z}, q.lights[k]);
+    shadowed += !exact[k];
   }
-  const double percent = 100.0 * static_cast<double>(wrong) / static_cast<double>(vis.size());
-  RecordProperty("wrong_percent", std::to_string(percent));
-  EXPECT_GT(shadowed, vis.size() / 10);
-  // 3.07 % measured: 1024 maps are about 0.11 rad apart, so shadow edges far from their occluder
-  // shift; the receivers are never on a surface, so there is no self-shadowing term.
-  EXPECT_LT(percent, 4.0) << wrong << " of " << vis.size();
+  EXPECT_GT(shadowed, exact.size() / 10);
+  // The kernel's answers (the same as the reference's, KernelMatchesReferenceEveryDistribution).
+  const auto wrong_percent = [&](Filter filter) {
+    const std::vector<float> vis = VisibilityQueries(runtime(), scene).run(q.receivers, q.lights, filter, 0.0f);
+    std::size_t wrong = 0;
+    for (std::size_t k = 0; k < vis.size(); ++k) wrong += (exact[k] != 0) != (vis[k] == 1.0f);
+    const double percent = 100.0 * static_cast<double>(wrong) / static_cast<double>(vis.size());
+    RecordProperty(fmt::format("wrong_percent_{}", to_string(filter)), std::to_string(percent));
+    return percent;
+  };
+  // 3.07 % measured with filter none: 1024 maps are about 0.11 rad apart, so shadow edges far from
+  // their occluder shift; the receivers are never on a surface, so there is no self-shadowing
+  // term. Filter march follows the true ray: 1.20 % measured (texel-sized misses, and surfaces
+  // hidden behind the first box that no map stores).
+  const double none = wrong_percent(Filter::None), march = wrong_percent(Filter::March);
+  EXPECT_LT(none, 4.0);
+  EXPECT_LT(march, 1.6);
+  EXPECT_LT(march, 0.5 * none);
+}
+
+
+// An open tube of radius 1 around the y axis from y = −1 to 1 (no caps).
+Mesh tube_mesh(unsigned segments) {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (unsigned k = 0; k < segments; ++k) {
+    const float a = 2 * std::numbers::pi_v<float> * static_cast<float>(k) / static_cast<float>(segments);
+    vertices.push_back({std::cos(a), -1, std::sin(a)});
+    vertices.push_back({std::cos(a), 1, std::sin(a)});
+  }
+  for (unsigned k = 0; k < segments; ++k) {
+    const unsigned n = (k + 1) % segments;
+    faces.push_back({2 * k, 2 * k + 1, 2 * n + 1, 2 * n});
+  }
+  return make_mesh(vertices, faces, "tube");
+}
+
+// A standing torus (axis z): major radius 1, tube radius `tube`.
+Mesh torus_mesh(float tube) {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<std::uint32_t>> faces;
+  const unsigned n = 48, m = 20;
+  for (unsigned i = 0; i < n; ++i)
+    for (unsigned k = 0; k < m; ++k) {
+      const float a = 2 * std::numbers::pi_v<float> * static_cast<float>(i) / static_cast<float>(n);
+      const float b = 2 * std::numbers::pi_v<float> * static_cast<float>(k) / static_cast<float>(m);
+      const float r = 1 + tube * std::cos(b);
+      vertices.push_back({r * std::cos(a), r * std::sin(a), tube * std::sin(b)});
+    }
+  const auto at = [&](unsigned i, unsigned k) { return (i % n) * m + k % m; };
+  for (unsigned i = 0; i < n; ++i)
+    for (unsigned k = 0; k < m; ++k) faces.push_back({at(i, k), at(i, k + 1), at(i + 1, k + 1), at(i + 1, k)});
+  return make_mesh(vertices, faces, "torus");
+}
+
+// Shadows cast over long distances, against shadow rays on the mesh: receivers on a floor under a
+// plate, a sphere and two standing tori (point lights above), and inside an open tube (single-hit
+// thin) lit from beside its rim. The nearest map answers along its own direction, up to ~4° from the light's
+// (1024 maps), which moves each shadow edge by the occluder's distance times that angle; filter
+// march follows the true ray and keeps the edges in place. Kernel and reference agree exactly.
+// The tori's solids are thick (their stored depths step by up to their thickness between texels,
+// CSM_MARCH_JUMP_TEXELS), the plate's thin, the tube's a single surface.
+TEST(CsmVisibility, MarchKeepsLongShadowEdgesInPlace) {
+  struct Case {
+    const char* name;
+    Mesh mesh;
+    SingleHit single_hit;
+  };
+  const Case cases[] = {{"plate", boxes_mesh({{{-0.5f, -0.1f, -0.5f}, {0.5f, 0.1f, 0.5f}}}, "plate"), SingleHit::Auto},
+                        {"sphere", sphere_mesh(16, 32, 0.5f), SingleHit::Auto},
+                        {"tube", tube_mesh(96), SingleHit::Thin},
+                        {"torus", torus_mesh(0.35f), SingleHit::Auto},
+                        {"thick torus", torus_mesh(0.6f), SingleHit::Auto}};
+  for (const Case& test : cases) {
+    BuildOptions options;
+    options.maps = 1024;
+    options.resolution = 64;
+    options.pole = PoleAxis::X;  // off the lights' direction, as the presenter picks it
+    options.single_hit = test.single_hit;
+    const Csm csm = build_csm(test.mesh, options, &runtime()).csm;
+    const Vec3 c = csm.info.sphere.centre;
+    const float r = csm.info.sphere.radius;
+    const Bvh bvh = build_bvh(mesh_triangles(test.mesh, c));
+    std::mt19937 rng(9);
+    Queries q;
+    while (q.receivers.size() < 20000) {
+      if (std::string(test.name) == "tube") {
+        const float a = uniform(rng, 0, 2 * std::numbers::pi_v<float>), b = uniform(rng, 0, 2 * std::numbers::pi_v<float>);
+        const float d = uniform(rng, 1.3f, 2.5f);
+        q.add({0.9f * std::cos(a), uniform(rng, -1, 1), 0.9f * std::sin(a)}, {d * std::cos(b), uniform(rng, 1.2f, 3), d * std::sin(b)}, 1);
+      } else {
+        const float floor = std::string(test.name).find("torus") != std::string::npos ? 1.05f : 0.9f;
+        q.add({uniform(rng, -r, r), c.y - floor * r, uniform(rng, -r, r)}, c + Vec3{uniform(rng, -1, 1), 3, uniform(rng, -1, 1)} * r, 1);
+      }
+    }
+    const VisibilityScene scene({&csm}, {{}});
+    std::size_t wrong[2] = {0, 0}, shadowed = 0;
+    for (int m = 0; m < 2; ++m) {
+      const Filter filter = m == 0 ? Filter::None : Filter::March;
+      std::vector<float> ref;
+      visibility_reference(scene, q.receivers, q.lights, filter, 0.0f, ref);
+      const std::string what = fmt::format("{} {}", test.name, to_string(filter));
+      expect_identical(ref, VisibilityQueries(runtime(), scene).run(q.receivers, q.lights, filter, 0.0f), what.c_str());
+      for (std::size_t k = 0; k < ref.size(); ++k) {
+        const Vec4 p = q.receivers[k];
+        const bool exact = ray_cast_lit(bvh, c, {p.x, p.y, p.z}, q.lights[k]);
+        wrong[m] += exact != (ref[k] == 1.0f);
+        shadowed += m == 0 && !exact;
+      }
+      RecordProperty(fmt::format("{}_{}_wrong", test.name, to_string(filter)), std::to_string(wrong[m]));
+    }
+    EXPECT_GT(shadowed, q.receivers.size() / 2) << test.name;
+    // Measured (wrong of 20,000, none → march): plate 860 → 275, sphere 390 → 64, tube 1075 → 228,
+    // torus 1747 → 204, thick torus 1593 → 198.
+    EXPECT_LT(static_cast<double>(wrong[1]), 0.35 * static_cast<double>(wrong[0])) << test.name << ": " << wrong[0] << " → " << wrong[1];
+    EXPECT_LT(wrong[1], 300u) << test.name;
+  }
+}
+
+// The presenter skips the queries through an instance outside its cone (csm/query_reach.hpp,
+// cone_bounds_filter): every query a filter it allows answers "occluded" must lie inside the cone,
+// here for a rotated, scaled, moved instance, receivers close to and far from it, point and
+// directional lights, and each bias the bound admits.
+TEST(CsmVisibility, OccludedAnswersLieInsideTheCullingCone) {
+  const Csm& csm = scene_csm();
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  const Transform placement{1.5 * c, 0, 1.5 * s, 2, 0, 1.5, 0, -1, -1.5 * s, 0, 1.5 * c, 0.5, 0, 0, 0, 1};
+  const VisibilityScene scene({&csm}, {{0, placement}});
+  const MovedReach reach = moved_reach(csm.info, placement, map_slack(csm.info));
+  // March follows the light ray itself, so its answers need no slack for the map choice; the
+  // single-texel test does (which shows the check can fail).
+  const MovedReach no_slack = moved_reach(csm.info, placement, 0.0f);
+  std::mt19937 rng(21);
+  Queries q;
+  for (int k = 0; k < 40000; ++k) {
+    const float distance = k % 4 == 0 ? uniform(rng, 3, 12) : uniform(rng, 0, 3);
+    const Vec3 p = Vec3{reach.centre.x, reach.centre.y, reach.centre.z} + distance * reach.radius * random_unit(rng);
+    if (k % 2) q.add(p, p + uniform(rng, 0.5f, 8) * reach.radius * random_unit(rng), 1);
+    else q.add(p, random_unit(rng), 0);
+  }
+  for (const Filter filter : {Filter::None, Filter::SameMap, Filter::March})
+    for (const float bias : {0.0f, 1.0f, 3.5f}) {
+      ASSERT_TRUE(cone_bounds_filter(filter, bias));
+      std::vector<float> vis;
+      visibility_reference(scene, q.receivers, q.lights, filter, bias, vis);
+      std::size_t occluded = 0, outside = 0, outside_no_slack = 0;
+      for (std::size_t k = 0; k < vis.size(); ++k) {
+        if (vis[k] == 1.0f) continue;
+        ++occluded;
+        const Vec4 p = q.receivers[k], l = q.lights[k];
+        const glm::vec3 w{l.x - l.w * p.x, l.y - l.w * p.y, l.z - l.w * p.z};
+        outside += !reach.cone_from({p.x, p.y, p.z}).may_reach(w, glm::length(w));
+        outside_no_slack += !no_slack.cone_from({p.x, p.y, p.z}).may_reach(w, glm::length(w));
+      }
+      EXPECT_GT(occluded, vis.size() / 20) << to_string(filter) << " bias " << bias;
+      EXPECT_EQ(outside, 0u) << to_string(filter) << " bias " << bias;
+      if (filter == Filter::March) {
+        EXPECT_EQ(outside_no_slack, 0u) << "bias " << bias;
+      }
+      if (filter == Filter::None && bias == 0.0f) {
+        EXPECT_GT(outside_no_slack, 0u);
+      }
+    }
+  EXPECT_FALSE(cone_bounds_filter(Filter::CrossMap, 0.0f));
+  EXPECT_FALSE(cone_bounds_filter(Filter::March, 4.0f));
+  EXPECT_FALSE(cone_bounds_filter(Filter::None, -1.0f));
 }
 
 }  // namespace
@@ -519,7 +685,7 @@ namespace {
 
 // Side-by-side timing of the visibility kernel and the native reference on coherent, screen-like
 // batches: receivers on a grid over a floor under the bunny, lit by a point light above it (as in
-// `splatcl bench csm`; also with both PCF filters) or by one directional light. Run with
+// `splatcl bench csm`; also with both PCF filters and march) or by one directional light. Run with
 // --gtest_also_run_disabled_tests; SPLATCL_QUERY_MAPS / SPLATCL_QUERY_RES / SPLATCL_QUERIES set the sizes (1024, 64, 2^20).
 TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
   const std::string path = model_path("stanford-bunny.obj");
@@ -536,7 +702,7 @@ TEST(CsmVisibility, DISABLED_TimeCoherentBatches) {
   const float r = csm.info.sphere.radius;
   const std::uint32_t n = env("SPLATCL_QUERIES", 1u << 20), width = static_cast<std::uint32_t>(std::ceil(std::sqrt(double(n))));
   const std::pair<bool, Filter> cases[] = {
-      {true, Filter::None}, {false, Filter::None}, {true, Filter::SameMap}, {true, Filter::CrossMap}};
+      {true, Filter::None}, {false, Filter::None}, {true, Filter::SameMap}, {true, Filter::CrossMap}, {true, Filter::March}};
   for (const auto& [point, filter] : cases) {
     Queries q;
     for (std::uint32_t k = 0; k < n; ++k) {
