@@ -279,6 +279,46 @@ TEST_F(PresenterTest, PointLightFloorShadowMatchesTheExactShadow) {
   EXPECT_LE(sum / static_cast<double>(floor_pixels), 0.022);
 }
 
+// A shadow cast over a long distance: a 2 × 2 plate at height 5 under a point key light off to the
+// side, against its exact shadow on the floor (as above). The map nearest the light's direction
+// answers along its own direction, up to ~4° off at 1024 maps, which moves the PCF filters' edge by
+// up to 5 · tan 4° = 0.35 units; filter march follows the light ray and keeps it in place.
+TEST_F(PresenterTest, MarchKeepsALongCastShadowInPlace) {
+  double wrong_share[2] = {0, 0};
+  int k = 0;
+  for (const char* filter : {"same-map", "march"}) {
+    const Scene scene = parse_scene(fmt::format(R"({{"objects": [{{"name": "plate", "mesh": {{"procedural": "box", "size": [2, 0.05, 2], "rings": 2}},
+        "position": [0, 5, 0]}}], "floor": {{"size": 10, "splats_per_side": 40}}, "lights": {{"count": 0}},
+        "key_lights": [{{"position": [2.5, 12, 1.5], "radius": 50}}], "quality": {{"filter": "{}"}},
+        "camera": {{"eye": [-1, 4, 4], "target": [-1.5, 0, -0.8], "fov_y_degrees": 50, "near": 0.1, "far": 30}}}})",
+                                                filter),
+                                    "plate.json", ".");
+    const int width = 160, height = 120;
+    const RenderedView frame(scene, *runtime_, width, height, DebugView::Shadows);
+    const glm::vec3 light = scene.key_lights[0].position;
+    std::size_t floor_pixels = 0, shadowed = 0, wrong = 0;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
+        const glm::vec3 dir = frame.camera.direction(x, y);
+        if (frame.view_z[p] == 0.0f || dir.y >= 0.0f) continue;
+        const glm::vec3 q = frame.camera.eye - (frame.camera.eye.y / dir.y) * dir;
+        if (std::abs(frame.camera.view_z(q) - frame.view_z[p]) > 0.02f || std::max(std::abs(q.x), std::abs(q.z)) > 4.5f) continue;
+        const float t = (5.0f - q.y) / (light.y - q.y);
+        const glm::vec3 at = q + t * (light - q);
+        const bool exact_lit = !(std::abs(at.x) <= 1.0f && std::abs(at.z) <= 1.0f);
+        wrong += exact_lit != (frame.values[3 * p] >= 0.5f);
+        shadowed += !exact_lit;
+        ++floor_pixels;
+      }
+    ASSERT_GT(floor_pixels, 5000u) << filter;
+    ASSERT_GT(shadowed, 800u) << filter;
+    wrong_share[k++] = static_cast<double>(wrong) / static_cast<double>(shadowed);
+    std::printf("%s: %zu of %zu floor pixels wrong (%zu shadowed)\n", filter, wrong, floor_pixels, shadowed);
+  }
+  EXPECT_LT(wrong_share[1], 0.5 * wrong_share[0]);
+}
+
 // A sheet lying on the floor within ε, seen from its back (its normal faces the floor, so its back
 // copy is drawn): it blends with the floor there, as any two surfaces within ε do. Pushed back as a
 // fold's grazing back copies are, it vanished under the floor (the albedo over it 0.73 grey).
