@@ -15,7 +15,7 @@ struct FrameSettings {
   RenderMode mode = RenderMode::Splats;
   ShadingMethod shading = ShadingMethod::Clustered;
   ShadowMode shadows = ShadowMode::Splat;
-  csm::Filter filter = csm::Filter::SameMap;  // quality.filter (csm::parse_filter)
+  csm::Filter filter = csm::Filter::March;  // quality.filter (csm::parse_filter)
   // Error naming the setting and its values for text outside its set.
   static FrameSettings parse(const Quality& quality);
 };

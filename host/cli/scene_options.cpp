@@ -45,7 +45,7 @@ void add_scene_options(CLI::App& app, SceneOptions& o) {
   app.add_option("--shadows", o.overrides.shadows, "Key-light shadows: splat, pixel or off");
   app.add_option("--filter", o.overrides.filter,
                  "Key-light shadow test: none (1 texel), same-map (4x4 PCF), cross-map (2x2 PCF in 4 maps) or march (the true light ray "
-                 "through 4 maps: shadow edges in place, hard per light sample) (default: the scene's quality.filter, same-map)");
+                 "through 4 maps: shadow edges in place, hard per light sample) (default: the scene's quality.filter, march)");
   app.add_option("--lights", o.overrides.lights, "Number of generated point lights (default: the scene's)");
   app.add_option("--lod", o.overrides.lod,
                  "Level of detail: screen-space error threshold in pixels, 0 = off (default: the scene's quality.lod_error)");

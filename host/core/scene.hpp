@@ -201,7 +201,7 @@ struct Quality {
   std::string shading = "clustered";  // "clustered", "tiled" or "brute"
   std::uint32_t tile = 32;            // cluster / tile side in pixels
   std::string shadows = "splat";      // key-light shadows: "splat" (per splat), "pixel" or "off"
-  std::string filter = "same-map";    // CSM filter of shadow queries (PCF)
+  std::string filter = "march";       // CSM shadow test of the key lights (csm::Filter)
   std::uint32_t shadow_samples = 4;   // points sampled on a key light of non-zero size
   bool ambient_occlusion = true;      // per-splat AO from every occluder
   bool pixel_ao = false;              // quality mode: AO per pixel of the G-buffer instead of per splat

@@ -37,7 +37,7 @@ class SplatLighting {
   struct Settings {
     bool ao = true;       // off: AO 1 and the bent normal = the normal
     bool shadows = true;  // off: every key light visible
-    Filter filter = Filter::SameMap;  // of the shadow queries (AO queries use Filter::None)
+    Filter filter = Filter::March;  // of the shadow queries (AO queries use Filter::None)
     std::uint32_t ao_samples = 16, shadow_samples = 4;
     float bias = 0.5f;    // CSM depth bias in texels of each occluder's CSM
     float lift = 0.02f;   // shadow receivers are lifted by it (world units) along their normal
