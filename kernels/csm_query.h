@@ -129,6 +129,20 @@ CSM_INLINE uint csm_wrap_col(CSM_GLOBAL const CsmOccluder* oc, int b) {
   return (uint)(b < 0 ? b + cols : (b >= cols ? b - cols : b));
 }
 
+// The 4 maps around continuous grid coordinates (sr, tc) (csm_grid_coords): rows a0, a0 + 1 and
+// columns b0, b0 + 1 (wrapped) of the samples around them (s·rows − 0.5 on a cell-centred grid,
+// s·rows on the ao grid's corners), as cells indices. Cross-map PCF clamps the rows, so near a pole
+// both rows are the edge row; `distinct` keeps two different rows there (the march's vote of 2 must
+// be over 4 different maps, not 2 counted twice).
+CSM_INLINE void csm_near_cells(CSM_GLOBAL const CsmOccluder* oc, float sr, float tc, int distinct, uint* out) {
+  const float corner_shift = oc->centred ? 0.5f : 0.0f;
+  int a0 = csm_floor(sr - corner_shift);
+  const int b0 = csm_floor(tc - corner_shift);
+  if (distinct && oc->rows >= 2u) a0 = a0 < 0 ? 0 : (a0 > (int)oc->rows - 2 ? (int)oc->rows - 2 : a0);
+  for (int da = 0; da < 2; ++da)
+    for (int db = 0; db < 2; ++db) out[2 * da + db] = oc->cell_base + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db);
+}
+
 // Is y ≤ c·sqrt(len2), given sc = c·|c|? Compared squared, so no root is taken. For fixed (y, len2)
 // it is monotone in sc (float rounding is monotone): true for one sc, true for every larger one. So
 // over a sorted list of boundaries it flips once, and the cell found by walking along the list does
@@ -282,18 +296,20 @@ CSM_INLINE float csm_march_boundary(float f, float k, int i) {
   return INFINITY;
 }
 
-// Filter march: the true light ray in one map. The nearest map's direction d differs from the light
-// vector w (object space: wx, wy, wz) by up to half a grid cell, and the single-texel test answers
-// along d, which moves a shadow edge by the occluder's distance times that angle. Here the ray from
-// the receiver along w is followed through the map's texel columns toward the capture plane (its
-// depth falls by τ while it moves τ·k texels sideways), and it is occluded where, within one column,
-// its depth passes that texel's stored depth (a surface, or on a two-hit texel a depth inside the
-// solid, lies across it), or where it passes from behind one column's depth to at most
+// Filter march: the true light ray in one map (csm_march_vote asks 4). A map's direction d differs
+// from the light vector w (object space: wx, wy, wz) by up to a grid cell, and the single-texel test
+// answers along d, which moves a shadow edge by the occluder's distance times that angle. Here the
+// ray from the receiver along w is followed through the map's texel columns toward the capture
+// plane (its depth falls by τ while it moves τ·k texels sideways), and it is blocked where, within
+// one column, its depth passes that texel's stored depth (a surface, or on a two-hit texel a depth
+// inside the solid, lies across it), or where it passes from behind one column's depth to at most
 // CSM_MARCH_JUMP_TEXELS in front of the next one's (a step of the stored depths inside a solid). A
 // ray that leaves the shadow of a silhouette sideways, farther in front of the next column's depth,
-// is not stopped there: that is where the single-texel test errs. As with it, depths are biased by `bias` texels, texels outside the map are empty, and
-// the ray is followed to the capture plane whatever the light's distance. Each column costs a
-// segment search: about M · tan(angle) + 1 of them (5 at 64² and 1024 maps). 0 or 1.
+// is not stopped there: that is where the single-texel test errs. As with it, depths are biased by
+// `bias` texels, texels outside the map are empty, and the ray is followed to the capture plane
+// whatever the light's distance. Each column costs a segment search: at most about
+// 2M · tan(angle) + 1 of them (the ray from depth 2 to 0; about 5 for a receiver on the sphere at
+// 64² and 1024 maps). 0 or 1.
 CSM_INLINE float csm_march_taps(const CsmScene* scene, CSM_GLOBAL const CsmOccluder* oc, CSM_GLOBAL const CsmCell* cell, float rx,
                                 float ry, float rz, float wx, float wy, float wz, float bias) {
   const float wd = wx * cell->d[0] + wy * cell->d[1] + wz * cell->d[2];
@@ -313,11 +329,19 @@ CSM_INLINE float csm_march_taps(const CsmScene* scene, CSM_GLOBAL const CsmOcclu
   float enter = 0.0f, end = limit;
   csm_march_clip(fx, kx, m, &enter, &end);
   csm_march_clip(fy, ky, m, &enter, &end);
+  // Stored depths lie in [0, 1] (in the bounding sphere): while the ray's depth is above 2 nothing
+  // stops it, nor can the step rule fire at the first column it enters below that. A receiver far
+  // behind the sphere starts there instead of walking every column in between.
+  if (limit - 2.0f > enter) enter = limit - 2.0f;
   if (!(enter < end)) return 1.0f;
   const int res = (int)oc->resolution, step_i = kx > 0.0f ? 1 : -1, step_j = ky > 0.0f ? 1 : -1;
-  int i = csm_floor(fx + enter * kx), j = csm_floor(fy + enter * ky);
-  i = i < 0 ? 0 : (i >= res ? res - 1 : i);
-  j = j < 0 ? 0 : (j >= res ? res - 1 : j);
+  // The clip puts the start in [0, M] up to rounding, which grows with |fx|: clamp before the int.
+  float start_x = fx + enter * kx, start_y = fy + enter * ky;
+  start_x = start_x > 0.0f ? (start_x < m ? start_x : m) : 0.0f;
+  start_y = start_y > 0.0f ? (start_y < m ? start_y : m) : 0.0f;
+  int i = csm_floor(start_x), j = csm_floor(start_y);
+  i = i >= res ? res - 1 : i;
+  j = j >= res ? res - 1 : j;
   int behind = 0;  // the ray left the previous column behind its stored depth
   const float jump = CSM_MARCH_JUMP_TEXELS * oc->texel_depth;
   for (;;) {  // each pass moves one texel in a fixed direction: at most 2M passes
@@ -406,12 +430,8 @@ CSM_INLINE float csm_instance_visibility(const CsmScene* scene, uint k, float px
   if (filter == CSM_FILTER_CROSS_MAP || filter == CSM_FILTER_MARCH) {
     float sr = 0.0f, tc = 0.0f;
     if (!csm_grid_coords(oc, fx, fy, fz, &sr, &tc)) return 1.0f;
-    // Sample positions: s·rows − 0.5 on a cell-centred grid, s·rows on the ao grid's corners.
-    const float corner_shift = oc->centred ? 0.5f : 0.0f;
-    const int a0 = csm_floor(sr - corner_shift), b0 = csm_floor(tc - corner_shift);
     uint near[4];
-    for (int da = 0; da < 2; ++da)
-      for (int db = 0; db < 2; ++db) near[2 * da + db] = oc->cell_base + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db);
+    csm_near_cells(oc, sr, tc, filter == CSM_FILTER_MARCH, near);
     if (filter == CSM_FILTER_MARCH)
       return csm_march_vote(scene, oc, near, rx, ry, rz, m[0] * wx + m[1] * wy + m[2] * wz, m[4] * wx + m[5] * wy + m[6] * wz,
                             m[8] * wx + m[9] * wy + m[10] * wz, bias);
@@ -487,11 +507,7 @@ CSM_INLINE void csm_cache_choose(const CsmScene* scene, CSM_GLOBAL const CsmInst
   } else if (filter == CSM_FILTER_CROSS_MAP || filter == CSM_FILTER_MARCH) {
     float sr = 0.0f, tc = 0.0f;
     csm_grid_coords(oc, fx, fy, fz, &sr, &tc);
-    const float corner_shift = oc->centred ? 0.5f : 0.0f;
-    const int a0 = csm_floor(sr - corner_shift), b0 = csm_floor(tc - corner_shift);
-    for (int da = 0; da < 2; ++da)
-      for (int db = 0; db < 2; ++db)
-        cache->cross[2 * da + db] = oc->cell_base + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db);
+    csm_near_cells(oc, sr, tc, filter == CSM_FILTER_MARCH, cache->cross);
   } else if (cache->placed && csm_near_previous(cache, wx, wy, wz)) {
     csm_walk_cell(oc, scene->bounds, fx, fy, fz, rho2, len2, &cache->row, &cache->col);
     cache->cell = oc->cell_base + csm_cell_entry(oc, cache->row, cache->col);

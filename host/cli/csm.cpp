@@ -413,7 +413,7 @@ Action register_csm(CLI::App& app) {
       ->capture_default_str();
   quality->add_option("--light-max", q->options.light_max, "Largest light distance from the centre, in sphere radii")->capture_default_str();
   quality->add_option("--seed", q->options.seed, "Random seed of the views and lights")->capture_default_str();
-  quality->add_option("--filter", q->filter, "Shadow test: none (1 texel), same-map (4x4 texels), cross-map (2x2 texels in 4 maps) or march (the true light ray through the nearest map's texels: shadow edges in place)")->capture_default_str();
+  quality->add_option("--filter", q->filter, "Shadow test: none (1 texel), same-map (4x4 texels), cross-map (2x2 texels in 4 maps) or march (the true light ray through the texels of the 4 nearest maps, blocked in at least 2: shadow edges in place; more acne than the PCFs on receivers that lie on the surface)")->capture_default_str();
   quality->add_option("--bias", q->options.bias, "Shadow offset in texels of the CSM, 0..1000 (shadow when the stored depth g < depth - bias/M, depth in units of the bounding diameter)")->capture_default_str();
   quality->add_flag("--reference", q->build.reference, "Use the native C++ references instead of the OpenCL kernels");
 

@@ -67,9 +67,7 @@ std::string cluster_build_options(const Runtime& runtime, const ClusterLayout& l
   if (shape == Shape::Gpu && tile_pixels <= max_sort_tile_pixels(runtime.info(), shape))
     options += " -DSORT_N=" + std::to_string(sort_padded(tile_pixels)) + " -DSORT_GROUP=" + std::to_string(sort_group);
   // The window-depth conversion divides; keys must match the host reference bit for bit.
-  if (runtime.device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)
-    options += " -cl-fp32-correctly-rounded-divide-sqrt";
-  return options;
+  return options + runtime.exact_divide_option();
 }
 
 }  // namespace

@@ -141,7 +141,8 @@ void ambient_occlusion_reference(const VisibilityScene& scene, const AoRequest& 
 AmbientOcclusion::AmbientOcclusion(Runtime& runtime, const VisibilityScene& scene)
     : runtime_(runtime),
       scene_(runtime, scene),
-      kernel_(runtime.kernel("csm_ao.cl", "csm_ambient_occlusion_receivers", fmt::format("-DCSM_AO_LANES={}", kAoLanes))),
+      kernel_(runtime.kernel("csm_ao.cl", "csm_ambient_occlusion_receivers",
+                                   fmt::format("-DCSM_AO_LANES={}", kAoLanes) + runtime.exact_divide_option())),
       positions_(runtime, "AO receivers"),
       normals_(runtime, "AO normals"),
       choice_(runtime, "AO pattern choice"),

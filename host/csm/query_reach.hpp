@@ -29,12 +29,14 @@ static_assert(kReachTexels >= 2.5 * 1.41421357);
 // map a query picks lies within `slack` radians of the query's direction w, so if no direction
 // within `slack` of w can satisfy both, the instance answers 1 for (p, w) at that placement.
 // Whether Cone bounds the queries of `filter` with a bias of `bias` texels. None and SameMap: any
-// bias >= 0 (the proof above). CrossMap taps 4 maps, an unbounded slack: never. March answers
-// "occluded" only where the light ray itself (whatever map answers) passes a stored depth, or a
-// step between two neighbours' depths, biased by `bias` texels: stored depths lie in the sphere, so
-// that point of the ray lies within R + (1.2 + bias) texels of the centre (1.2: from a texel's
-// centre to its edge with the next one; 1.5 allows for rounding), and w points from p within
-// asin(R' / |centre − p|) of the centre when 1.5 + bias <= kReachTexels.
+// bias >= 0 (the proof above). CrossMap taps 4 maps, an unbounded slack: never. March follows the
+// light ray itself in each map it asks and answers "occluded" only where the ray's biased depth
+// passes a texel's stored depth inside that texel, or lies between two neighbouring texels' depths
+// (behind the one it leaves, in front of the one it enters) on their shared face. A stored depth
+// lies on its texel's chord through the bounding sphere, so that point of the ray lies within √2/2
+// texel sideways of a point in the sphere, and the real ray bias texels behind it: within
+// R + (0.71 + bias) texels of the centre. So w points from p within asin(R' / |centre − p|) of the
+// centre, with no map slack, when 0.71 + bias < kReachTexels; 3.5 leaves room for rounding.
 inline bool cone_bounds_filter(Filter filter, float bias) {
   if (!(bias >= 0)) return false;
   if (filter == Filter::None || filter == Filter::SameMap) return true;

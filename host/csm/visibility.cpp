@@ -198,7 +198,9 @@ VisibilityQueries::VisibilityQueries(Runtime& runtime, const VisibilityScene& sc
   ends_ = upload(runtime, scene.ends, "CSM segment ends", CL_MEM_READ_ONLY);
   depths_ = upload(runtime, scene.depths, "CSM segment depths", CL_MEM_READ_ONLY);
   bounds_ = upload(runtime, scene.bounds, "CSM cell boundaries", CL_MEM_READ_ONLY);
-  chunk_kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_chunks");
+  // The map choice (csm_atan2, square roots) and the march divide; the answers must match the
+  // reference's bit for bit.
+  chunk_kernel_ = runtime.kernel("csm_visibility.cl", "csm_visibility_chunks", runtime.exact_divide_option());
 }
 
 void VisibilityQueries::place(const std::vector<Instance>& placed) {

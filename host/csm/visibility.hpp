@@ -31,7 +31,7 @@ enum class Filter : std::uint32_t {
   None = CSM_FILTER_NONE,          // one texel of the nearest map
   SameMap = CSM_FILTER_SAME_MAP,   // 4 × 4 texels of the nearest map (16 taps)
   CrossMap = CSM_FILTER_CROSS_MAP, // 2 × 2 texels in each of the 4 nearest maps (16 taps)
-  March = CSM_FILTER_MARCH         // the true light ray through the nearest map's texels (0 or 1)
+  March = CSM_FILTER_MARCH         // the true light ray through 4 maps' texels, blocked in 2 (0 or 1)
 };
 // The filters' names, in Filter's order (scene files, command lines, the viewer's panel).
 inline constexpr std::array<const char*, 4> kFilterNames = {"none", "same-map", "cross-map", "march"};

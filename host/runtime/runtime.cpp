@@ -302,6 +302,11 @@ cl::Program Runtime::program(const std::string& file, const std::string& options
   return program;
 }
 
+std::string Runtime::exact_divide_option() const {
+  const cl_device_fp_config config = device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>();
+  return (config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) ? " -cl-fp32-correctly-rounded-divide-sqrt" : "";
+}
+
 cl::Kernel Runtime::kernel(const std::string& file, const std::string& name, const std::string& options) {
   cl::Program built = program(file, options);
   try {

@@ -76,6 +76,11 @@ class Runtime {
   // Work-items that keep every compute unit busy for CPU-shaped kernels.
   std::size_t cpu_chunks() const;
 
+  // " -cl-fp32-correctly-rounded-divide-sqrt" where the device offers it, else "": for kernels that
+  // must match a host reference (whose division and std::sqrt are correctly rounded) bit for bit.
+  // OpenCL 1.2 lets a device round single-precision division to 2.5 ulp without it.
+  std::string exact_divide_option() const;
+
   // Builds (once) the embedded kernel file `file` with `options` and returns a fresh kernel object.
   // Build failures throw Error: one line with the build log's first error (file name and line) and
   // the path of the whole log, written to the temporary directory.

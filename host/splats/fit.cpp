@@ -29,9 +29,7 @@ std::string build_options(const Runtime& runtime, const FitOptions& options) {
                                  options.literal_lambda ? 1 : 0, options.retest_violator ? 1 : 0, options.clip ? 1 : 0, kOnHullBit,
                                  options.size_at_accepted ? 1 : 0);
   // The reference's std::sqrt and division are correctly rounded; ask the device for the same.
-  const cl_device_fp_config config = runtime.device().getInfo<CL_DEVICE_SINGLE_FP_CONFIG>();
-  if (config & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) text += " -cl-fp32-correctly-rounded-divide-sqrt";
-  return text;
+  return text + runtime.exact_divide_option();
 }
 
 }  // namespace

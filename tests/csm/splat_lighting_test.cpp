@@ -65,9 +65,9 @@ const Fixture& fixture() {
 
 SplatLighting make_lighting(const Fixture& f) { return SplatLighting(runtime(), {&f.slab, &f.block}, f.patterns, f.pattern_of); }
 
-// The same for each shadow filter: the queries that skip instances out of reach (Cone) for the
-// default same-map PCF, and every query for cross-map and march (the AO's queries are culled with
-// each: they use filter none).
+// The same for each shadow filter: the queries skip instances out of reach (Cone) with same-map
+// PCF and march (the default; bias 0.5 texels), every query runs with cross-map; the AO's queries
+// are culled with each (they use filter none).
 TEST(CsmSplatLighting, FullUpdateEqualsTheAoKernelAndOneVisibilityBatch) {
   for (const Filter filter : {Filter::SameMap, Filter::CrossMap, Filter::March}) {
     SCOPED_TRACE(to_string(filter));

@@ -3,6 +3,7 @@
 // against SphereGrid::nearest_cell; CSM visibility against exact ray casting.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -79,7 +80,7 @@ Queries random_queries(const Csm& csm, std::size_t n, unsigned seed) {
   }
   // Light vectors of extreme lengths, receivers beyond the capture plane or far beside the sphere
   // whose ray toward the light still crosses it (filter march follows the ray over the map).
-  for (float scale : {1e-30f, 1e-19f, 1e18f}) q.add(c + Vec3{0.1f, -0.9f, 0.05f} * r, Vec3{0.02f, 1, -0.03f} * scale, 0);
+  for (float scale : {1e-30f, 1e-15f, 1e18f}) q.add(c + Vec3{0.1f, -0.9f, 0.05f} * r, Vec3{0.02f, 1, -0.03f} * scale, 0);
   q.add(c + Vec3{0, 5, 0} * r, {0, 1, 0}, 0);
   q.add(c + Vec3{1.5f, -3, 0} * r, c + Vec3{-0.5f, 3, 0} * r, 1);
   q.add(c + Vec3{0, -1e6f, 0} * r, {1e-6f, 1, 0}, 0);
@@ -115,6 +116,10 @@ void expect_kernel_matches_reference(const Csm& csm, const std::vector<Instance>
     EXPECT_GT(lit, q.receivers.size() / 10) << to_string(filter);
     EXPECT_GT(shadowed, q.receivers.size() / 100) << to_string(filter);
   }
+  // The presenter's bias (0.5 texels) moves the march's start and its step rule.
+  std::vector<float> ref;
+  visibility_reference(scene, q.receivers, q.lights, Filter::March, 0.5f, ref);
+  expect_identical(ref, queries.run(q.receivers, q.lights, Filter::March, 0.5f), "march, bias 0.5");
 }
 
 TEST(CsmVisibility, KernelMatchesReferenceEveryDistribution) {
@@ -625,6 +630,33 @@ TEST(CsmVisibility, MarchKeepsLongShadowEdgesInPlace) {
     // torus 1747 → 204, thick torus 1593 → 198.
     EXPECT_LT(static_cast<double>(wrong[1]), 0.35 * static_cast<double>(wrong[0])) << test.name << ": " << wrong[0] << " → " << wrong[1];
     EXPECT_LT(wrong[1], 300u) << test.name;
+  }
+}
+
+// The march's vote of 2 is over 4 different maps everywhere, also where cross-map PCF's clamped
+// rows repeat one row (within half a row of a pole), which would make it a vote of 1 of 2 maps.
+TEST(CsmVisibility, MarchVotesOverFourDistinctMapsAtThePoles) {
+  for (const Csm* csm : {&scene_csm()}) {
+    const VisibilityScene scene({csm}, {{}});
+    const device::CsmOccluder& oc = scene.occluders[0];
+    std::mt19937 rng(5);
+    std::size_t repeated_by_pcf = 0;
+    for (int k = 0; k < 2000; ++k) {
+      // Half the directions within 10° of a pole (the sphere frame's y axis), half anywhere.
+      Vec3 d = random_unit(rng);
+      if (k % 2) d = Vec3{0.17f * d.x, k % 4 == 1 ? 1.0f : -1.0f, 0.17f * d.z};
+      if (k < 4) d = Vec3{0, k % 2 ? 1.0f : -1.0f, 0};  // on the poles
+      float sr = 0, tc = 0;
+      ASSERT_TRUE(device::csm_grid_coords(&oc, d.x, d.y, d.z, &sr, &tc));
+      std::uint32_t march[4], pcf[4];
+      device::csm_near_cells(&oc, sr, tc, 1, march);
+      device::csm_near_cells(&oc, sr, tc, 0, pcf);
+      std::sort(march, march + 4);
+      std::sort(pcf, pcf + 4);
+      EXPECT_EQ(std::unique(march, march + 4), march + 4) << d.x << " " << d.y << " " << d.z;
+      repeated_by_pcf += std::unique(pcf, pcf + 4) != pcf + 4;
+    }
+    EXPECT_GT(repeated_by_pcf, 0u);  // the case exists
   }
 }
 
