@@ -79,9 +79,9 @@ class Presenter {
   bool floor_per_pixel = true;
   // When occluders move, recompute only the splats whose AO or shadow queries may reach a moved
   // occluder (before or after its move) and the moved objects' own splats; the result equals a full
-  // recomputation exactly. Off: every splat each time (cross-map PCF always does that, and march
-  // with a bias over 3.5 texels: csm::cone_bounds_filter). The same for the floor's pixel lattice:
-  // with the camera still, its nodes keep their visibility through the occluders that did not move.
+  // recomputation exactly. Off: every splat each time (cross-map PCF always does that:
+  // csm::cone_reach_texels). The same for the floor's pixel lattice: with the camera still, its
+  // nodes keep their visibility through the occluders that did not move.
   bool incremental_lighting = true;
   // The shading also writes linear radiance (read_hdr_rgb); off, only the tone-mapped image.
   bool hdr_output = true;

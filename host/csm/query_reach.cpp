@@ -128,7 +128,7 @@ float placed_texel(const CsmInfo& info, const Transform& placement) {
 }
 
 // The bounding sphere of `info` placed by `placement` (model file → world), and its reach R'.
-MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float slack) {
+MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float slack, double reach_texels) {
   double stretch = 0;
   const glm::dmat4 to_world = object_to_world(info, placement, stretch);
   const glm::dvec3 c(info.sphere.centre.x, info.sphere.centre.y, info.sphere.centre.z);
@@ -136,7 +136,7 @@ MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float sl
   reach.centre = glm::vec3(to_world * glm::dvec4(c, 1.0));
   const double texel = 2.0 * info.sphere.radius / std::max(1u, info.resolution);
   reach.radius = static_cast<float>(stretch * info.sphere.radius * 1.0001);
-  reach.reach = static_cast<float>(stretch * (info.sphere.radius + kReachTexels * texel) * 1.0001);
+  reach.reach = static_cast<float>(stretch * (info.sphere.radius + reach_texels * texel) * 1.0001);
   reach.slack = slack;
   reach.cos_slack = std::cos(slack);
   reach.sin_slack = std::sin(slack);

@@ -3,7 +3,9 @@
 // geometry that lets an update skip the queries through an occluder instance that cannot reach a
 // receiver (the presenter's incremental lighting), the AO kernel's query directions on the host,
 // and the points sampled on a key light of non-zero size.
+#include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -28,19 +30,21 @@ static_assert(kReachTexels >= 2.5 * 1.41421357);
 // through map d only if its distance to the line (centre, d) is <= R' and (p − centre)·d < R. The
 // map a query picks lies within `slack` radians of the query's direction w, so if no direction
 // within `slack` of w can satisfy both, the instance answers 1 for (p, w) at that placement.
-// Whether Cone bounds the queries of `filter` with a bias of `bias` texels. None and SameMap: any
-// bias >= 0 (the proof above). CrossMap taps 4 maps, an unbounded slack: never. March follows the
-// light ray itself in each map it asks and answers "occluded" only where the ray's biased depth
-// passes a texel's stored depth inside that texel, or lies between two neighbouring texels' depths
-// (behind the one it leaves, in front of the one it enters) on their shared face. A stored depth
-// lies on its texel's chord through the bounding sphere, so that point of the ray lies within √2/2
-// texel sideways of a point in the sphere, and the real ray bias texels behind it: within
-// R + (0.71 + bias) texels of the centre. So w points from p within asin(R' / |centre − p|) of the
-// centre, with no map slack, when 0.71 + bias < kReachTexels; 3.5 leaves room for rounding.
-inline bool cone_bounds_filter(Filter filter, float bias) {
-  if (!(bias >= 0)) return false;
-  if (filter == Filter::None || filter == Filter::SameMap) return true;
-  return filter == Filter::March && bias <= kReachTexels - 1.5;
+// The reach R' − R, in texels, that makes Cone bound the queries of `filter` with a bias of `bias`
+// texels; none where no reach does. None and SameMap: kReachTexels for any bias >= 0 (the proof
+// above). CrossMap taps 4 maps, an unbounded slack: none. March follows the light ray itself in
+// each map it asks and answers "occluded" only where the ray's biased depth passes a texel's stored
+// depth inside that texel, or lies between two neighbouring texels' depths (behind the one it
+// leaves, in front of the one it enters) on their shared face. A stored depth lies on its texel's
+// chord through the bounding sphere, so that point of the ray lies within √2/2 texel sideways of a
+// point in the sphere, and the real ray bias texels behind it: within R + (0.71 + bias) texels of
+// the centre, and w points from p within asin(R' / |centre − p|) of the centre, with no map slack,
+// for R' − R >= 0.71 + bias texels (1.5 + bias leaves room for rounding).
+inline std::optional<double> cone_reach_texels(Filter filter, float bias) {
+  if (!(bias >= 0)) return std::nullopt;
+  if (filter == Filter::None || filter == Filter::SameMap) return kReachTexels;
+  if (filter == Filter::March && bias < 1e6f) return std::max(kReachTexels, 1.5 + static_cast<double>(bias));
+  return std::nullopt;
 }
 
 struct Cone {
@@ -67,8 +71,8 @@ struct MovedReach {
 float map_slack(const CsmInfo& info);
 
 // The bounding sphere of `info` placed by `placement` (model file → world, row-major) and its reach
-// R' = R + kReachTexels texels, for the map slack `slack`.
-MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float slack);
+// R' = R + `reach_texels` texels (cone_reach_texels), for the map slack `slack`.
+MovedReach moved_reach(const CsmInfo& info, const Transform& placement, float slack, double reach_texels = kReachTexels);
 
 // The world size of one texel of `info`'s maps placed by `placement` (model file → world): the
 // largest stretch of the placement times 2R / resolution.

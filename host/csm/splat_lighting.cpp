@@ -104,7 +104,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   // set (csm_ao_finish, as the AO kernel does). Both give the same rows bit for bit, and the same as
   // the AO kernel and one visibility batch through all instances (key_light_visibility).
   const bool incremental = allow_incremental && valid_ && rows_.size() == n * kRowFloats && same_settings(settings) &&
-                           lit_placements_.size() == placements.size() && cone_bounds_filter(filter, settings.bias);
+                           lit_placements_.size() == placements.size() && cone_reach_texels(filter, settings.bias).has_value();
   // Set again when the update completes: one that fails half way forces a full update next time.
   valid_ = false;
   std::vector<char> moved(input.objects.size(), 1), kernel_receiver(n, 1);
@@ -182,13 +182,15 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
     }
     return answer;
   };
-  // Where the queries through an instance may answer "occluded" (Cone; cone_bounds_filter). The
-  // AO's queries use Filter::None.
-  const bool cull_shadows = cone_bounds_filter(filter, settings.bias), cull_ao = cone_bounds_filter(Filter::None, settings.bias);
+  // Where the queries through an instance may answer "occluded" (Cone, with the reach the shadow
+  // filter needs; cone_reach_texels). The AO's queries use Filter::None, which a larger reach bounds too.
+  const std::optional<double> shadow_reach = cone_reach_texels(filter, settings.bias);
+  const bool cull_shadows = shadow_reach.has_value(), cull_ao = cone_reach_texels(Filter::None, settings.bias).has_value();
   std::vector<MovedReach> instance_reaches;  // per entry of `instances`
   for (const Instance& instance : instances) {
     const CsmInfo& info = csms_[instance.occluder]->info;
-    instance_reaches.push_back(moved_reach(info, placements[instance.occluder], slack_of(instance.occluder)));
+    instance_reaches.push_back(moved_reach(info, placements[instance.occluder], slack_of(instance.occluder),
+                                           std::max(kReachTexels, shadow_reach.value_or(kReachTexels))));
   }
 
   // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).

@@ -144,31 +144,37 @@ TEST(CsmSplatLighting, FullUpdateEqualsTheAoKernelAndOneVisibilityBatch) {
   }
 }
 
+// Also with a bias beyond the default reach: march's cone grows with the bias (cone_reach_texels),
+// so the incremental update stays on.
 TEST(CsmSplatLighting, IncrementalUpdateAfterAMoveEqualsTheFullUpdate) {
-  const Fixture& f = fixture();
-  SplatLighting incremental = make_lighting(f);
-  const std::size_t n = f.receivers.positions.size();
-  incremental.update(f.receivers, {kIdentity, translation(1.2, 0, 0)}, f.settings, true);
-  int step = 0;
-  for (const Transform& moved : {translation(0.9, 0, 0.4), translation(-1.5, 0, 0.1), translation(-1.2, 0, 0.3)}) {
-    const std::vector<Transform> placements = {kIdentity, moved};
-    const SplatLighting::Update update = incremental.update(f.receivers, placements, f.settings, true);
-    // The first move builds the cache of the static occluder; later moves of the same object
-    // recompute only the splats whose lit directions changed.
-    if (step++ > 0) {
-      EXPECT_LT(update.receivers, n);
+  for (const float bias : {0.5f, 6.0f}) {
+    SCOPED_TRACE(bias);
+    Fixture f = fixture();
+    f.settings.bias = bias;
+    SplatLighting incremental = make_lighting(f);
+    const std::size_t n = f.receivers.positions.size();
+    incremental.update(f.receivers, {kIdentity, translation(1.2, 0, 0)}, f.settings, true);
+    int step = 0;
+    for (const Transform& moved : {translation(0.9, 0, 0.4), translation(-1.5, 0, 0.1), translation(-1.2, 0, 0.3)}) {
+      const std::vector<Transform> placements = {kIdentity, moved};
+      const SplatLighting::Update update = incremental.update(f.receivers, placements, f.settings, true);
+      // The first move builds the cache of the static occluder; later moves of the same object
+      // recompute only the splats whose lit directions changed.
+      if (step++ > 0) {
+        EXPECT_LT(update.receivers, n);
+      }
+      SplatLighting full = make_lighting(f);
+      full.update(f.receivers, placements, f.settings, false);
+      ASSERT_EQ(incremental.rows().size(), full.rows().size());
+      EXPECT_EQ(std::memcmp(incremental.rows().data(), full.rows().data(), full.rows().size() * sizeof(float)), 0);
     }
-    SplatLighting full = make_lighting(f);
-    full.update(f.receivers, placements, f.settings, false);
-    ASSERT_EQ(incremental.rows().size(), full.rows().size());
-    EXPECT_EQ(std::memcmp(incremental.rows().data(), full.rows().data(), full.rows().size() * sizeof(float)), 0);
+    // Changed settings take the full update.
+    SplatLighting::Settings no_shadows = f.settings;
+    no_shadows.shadows = false;
+    EXPECT_EQ(incremental.update(f.receivers, {kIdentity, translation(0.2, 0, 0)}, no_shadows, true).receivers, n);
+    for (std::size_t s = 0; s < n; ++s)
+      EXPECT_EQ(incremental.rows()[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt], 1.0f);
   }
-  // Changed settings take the full update.
-  SplatLighting::Settings no_shadows = f.settings;
-  no_shadows.shadows = false;
-  EXPECT_EQ(incremental.update(f.receivers, {kIdentity, translation(0.2, 0, 0)}, no_shadows, true).receivers, n);
-  for (std::size_t s = 0; s < n; ++s)
-    EXPECT_EQ(incremental.rows()[SplatLighting::kRowFloats * s + SplatLighting::kVisibilityAt], 1.0f);
 }
 
 // Receivers that change between updates (pixels: some hidden, some showing another point) with
