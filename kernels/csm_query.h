@@ -24,6 +24,10 @@
 
 #include "csm_inline.h"
 
+// Light vectors whose squared length is below the smallest normal float (|w| < 1.1e-19) are lit,
+// like a zero one: a device that flushes denormals reads that square as 0, the host does not.
+#define CSM_MIN_LEN2 1.17549435e-38f
+
 #define CSM_FILTER_NONE 0u
 #define CSM_FILTER_SAME_MAP 1u   // 4 × 4 texels of the selected map (16 taps)
 #define CSM_FILTER_CROSS_MAP 2u  // 2 × 2 texels in each of the 4 nearest maps (16 taps)
@@ -109,7 +113,7 @@ CSM_INLINE float csm_atan2(float y, float x) {
 // non-finite direction (a light at the receiver), which the callers treat as lit.
 CSM_INLINE int csm_grid_coords(CSM_GLOBAL const CsmOccluder* oc, float x, float y, float z, float* sr, float* tc) {
   const float rho2 = x * x + z * z, len2 = rho2 + y * y;
-  if (!(len2 > 0.0f) || !(len2 < INFINITY)) return 0;
+  if (!(len2 >= CSM_MIN_LEN2) || !(len2 < INFINITY)) return 0;
   const float s = oc->uniform ? (1.0f - y / csm_sqrt(len2)) * 0.5f : csm_atan2(csm_sqrt(rho2), y) * 0.318309886f;
   float t = csm_atan2(x, z) * 0.159154943f;
   if (t < 0.0f) t += 1.0f;
@@ -131,14 +135,18 @@ CSM_INLINE uint csm_wrap_col(CSM_GLOBAL const CsmOccluder* oc, int b) {
 
 // The 4 maps around continuous grid coordinates (sr, tc) (csm_grid_coords): rows a0, a0 + 1 and
 // columns b0, b0 + 1 (wrapped) of the samples around them (s·rows − 0.5 on a cell-centred grid,
-// s·rows on the ao grid's corners), as cells indices. Cross-map PCF clamps the rows, so near a pole
+// s·rows on the ao grid's corners), as cell indices. Cross-map PCF clamps the rows, so near a pole
 // both rows are the edge row; `distinct` keeps two different rows there (the march's vote of 2 must
-// be over 4 different maps, not 2 counted twice).
+// be over 4 different maps, not 2 counted twice), and on the ao grid, whose row 0 is one map (the
+// pole) repeated, rows from 1 on (with at least 3 rows; fewer maps than that repeat some).
 CSM_INLINE void csm_near_cells(CSM_GLOBAL const CsmOccluder* oc, float sr, float tc, int distinct, uint* out) {
   const float corner_shift = oc->centred ? 0.5f : 0.0f;
   int a0 = csm_floor(sr - corner_shift);
   const int b0 = csm_floor(tc - corner_shift);
-  if (distinct && oc->rows >= 2u) a0 = a0 < 0 ? 0 : (a0 > (int)oc->rows - 2 ? (int)oc->rows - 2 : a0);
+  if (distinct && oc->rows >= 2u) {
+    const int lowest = !oc->centred && oc->rows >= 3u ? 1 : 0;
+    a0 = a0 < lowest ? lowest : (a0 > (int)oc->rows - 2 ? (int)oc->rows - 2 : a0);
+  }
   for (int da = 0; da < 2; ++da)
     for (int db = 0; db < 2; ++db) out[2 * da + db] = oc->cell_base + csm_clamp_row(oc, a0 + da) * oc->cols + csm_wrap_col(oc, b0 + db);
 }
@@ -165,7 +173,7 @@ CSM_INLINE int csm_below(float y, float len2, float sc) {
 CSM_INLINE int csm_direction(float x, float y, float z, float* rho2, float* len2) {
   *rho2 = x * x + z * z;
   *len2 = *rho2 + y * y;
-  return *len2 > 0.0f && *len2 < INFINITY;
+  return *len2 >= CSM_MIN_LEN2 && *len2 < INFINITY;
 }
 
 // The nearest map's cell by exact boundary tests: row a = the number of θ boundaries θ_k ≤ θ
@@ -331,7 +339,8 @@ CSM_INLINE float csm_march_taps(const CsmScene* scene, CSM_GLOBAL const CsmOcclu
   csm_march_clip(fy, ky, m, &enter, &end);
   // Stored depths lie in [0, 1] (in the bounding sphere): while the ray's depth is above 2 nothing
   // stops it, nor can the step rule fire at the first column it enters below that. A receiver far
-  // behind the sphere starts there instead of walking every column in between.
+  // behind the sphere starts there instead of walking every column in between (the same answers
+  // for receivers within about 2^22 diameters of the map; farther, float rounding decides both).
   if (limit - 2.0f > enter) enter = limit - 2.0f;
   if (!(enter < end)) return 1.0f;
   const int res = (int)oc->resolution, step_i = kx > 0.0f ? 1 : -1, step_j = ky > 0.0f ? 1 : -1;
@@ -730,7 +739,7 @@ CSM_INLINE csm_vint csm_vinstance_lit(const CsmScene* scene, uint k, csm_vfloat 
   const csm_vfloat fy = f[3] * wx + f[4] * wy + f[5] * wz;
   const csm_vfloat fz = f[6] * wx + f[7] * wy + f[8] * wz;
   const csm_vfloat rho2 = fx * fx + fz * fz, len2 = rho2 + fy * fy;
-  const csm_vint test = run & (len2 > 0.0f) & (len2 < INFINITY);  // csm_direction; the others are lit
+  const csm_vint test = run & (len2 >= CSM_MIN_LEN2) & (len2 < INFINITY);  // csm_direction; the others are lit
   if (!csm_vany(test)) return !test;
   // Lanes not tested walk from the pole, a valid direction, and keep no result.
   const csm_vuint entry = csm_vselect_cell(oc, scene->bounds, csm_vsel(test, fx, csm_vf(0.0f)), csm_vsel(test, fy, csm_vf(1.0f)),

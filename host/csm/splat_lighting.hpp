@@ -1,6 +1,6 @@
 #pragma once
 // Per-splat lighting through every occluder's CSM: ambient occlusion with the bent normal (as the
-// AO kernel computes it) and the PCF visibility of up to 4 key lights, as rows of 8 floats per
+// AO kernel computes it) and the visibility (Settings::filter) of up to 4 key lights, as rows of 8 floats per
 // splat (bent normal xyz, AO, visibility of key lights 0-3).
 //
 // Full update: every splat's AO directions and key-light points through each occluder instance,

@@ -78,7 +78,7 @@ class Runtime {
 
   // " -cl-fp32-correctly-rounded-divide-sqrt" where the device offers it, else "": for kernels that
   // must match a host reference (whose division and std::sqrt are correctly rounded) bit for bit.
-  // OpenCL 1.2 lets a device round single-precision division to 2.5 ulp without it.
+  // OpenCL 1.2 lets a device round single-precision division to 2.5 ulp and sqrt to 3 without it.
   std::string exact_divide_option() const;
 
   // Builds (once) the embedded kernel file `file` with `options` and returns a fresh kernel object.
