@@ -43,7 +43,7 @@ static_assert(kReachTexels >= 2.5 * 1.41421357);
 inline std::optional<double> cone_reach_texels(Filter filter, float bias) {
   if (!(bias >= 0)) return std::nullopt;
   if (filter == Filter::None || filter == Filter::SameMap) return kReachTexels;
-  if (filter == Filter::March && bias < 1e6f) return std::max(kReachTexels, 1.5 + static_cast<double>(bias));
+  if (filter == Filter::March) return std::max(kReachTexels, 1.5 + static_cast<double>(bias));
   return std::nullopt;
 }
 

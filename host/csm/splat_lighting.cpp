@@ -190,7 +190,7 @@ SplatLighting::Update SplatLighting::update(const Receivers& input, const std::v
   for (const Instance& instance : instances) {
     const CsmInfo& info = csms_[instance.occluder]->info;
     instance_reaches.push_back(moved_reach(info, placements[instance.occluder], slack_of(instance.occluder),
-                                           std::max(kReachTexels, shadow_reach.value_or(kReachTexels))));
+                                           shadow_reach.value_or(kReachTexels)));
   }
 
   // The AO kernel's directions for splat s into out[0 .. samples) (ao_directions).
