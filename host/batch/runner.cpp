@@ -91,17 +91,21 @@ OutputFile describe_written_file(const fs::path& dir, const std::string& name) {
   return file;
 }
 
-// The recorded output, when its input and parameters match and every file still has its checksum.
+// The recorded output, when its input and parameters match, the same device (or the reference)
+// made it, and every file still has its checksum. Another device, or the reference after an
+// OpenCL run, can round differently: `--reference` reused the OpenCL run's files and the summary
+// called them the reference's.
 std::optional<OutputResult> reusable_output(const std::optional<nlohmann::json>& record, const fs::path& dir, const std::string& kind,
-                                            const std::string& input_checksum, const nlohmann::json& params, const std::string& params_checksum) {
+                                            const std::string& input_checksum, const nlohmann::json& params, const std::string& params_checksum,
+                                            const std::string& made_by) {
   if (!record || record->value("input_checksum", "") != input_checksum) return std::nullopt;
   const auto outputs = record->find("outputs");
   if (outputs == record->end() || !outputs->is_object() || !outputs->contains(kind)) return std::nullopt;
   const auto& entry = (*outputs)[kind];
-  if (!entry.is_object() || entry.value("params_checksum", "") != params_checksum) return std::nullopt;
+  if (!entry.is_object() || entry.value("params_checksum", "") != params_checksum || entry.value("made_by", "") != made_by) return std::nullopt;
   const auto files = entry.find("files");
   if (files == entry.end() || !files->is_array() || files->empty()) return std::nullopt;
-  OutputResult result{kind, true, params, params_checksum, {}, 0};
+  OutputResult result{kind, true, params, params_checksum, made_by, {}, 0};
   try {
     for (const auto& f : *files) {
       const std::string name = f.at("path").get<std::string>();
@@ -120,9 +124,10 @@ std::optional<OutputResult> reusable_output(const std::optional<nlohmann::json>&
 
 // A record of the wrong shape (edited by hand, another version) counts as no record.
 std::optional<OutputResult> reusable(const std::optional<nlohmann::json>& record, const fs::path& dir, const std::string& kind,
-                                     const std::string& input_checksum, const nlohmann::json& params, const std::string& params_checksum) {
+                                     const std::string& input_checksum, const nlohmann::json& params, const std::string& params_checksum,
+                                     const std::string& made_by) {
   try {
-    return reusable_output(record, dir, kind, input_checksum, params, params_checksum);
+    return reusable_output(record, dir, kind, input_checksum, params, params_checksum, made_by);
   } catch (const nlohmann::json::exception&) {
     return std::nullopt;
   }
@@ -159,7 +164,7 @@ nlohmann::json files_json(const std::vector<OutputFile>& files) {
 nlohmann::json record_json(const ModelResult& r) {
   nlohmann::json outputs = nlohmann::json::object();
   for (const auto& o : r.outputs)
-    outputs[o.kind] = {{"params", o.params}, {"params_checksum", o.params_checksum}, {"files", files_json(o.files)}};
+    outputs[o.kind] = {{"params", o.params}, {"params_checksum", o.params_checksum}, {"made_by", o.made_by}, {"files", files_json(o.files)}};
   return {{"format", "splatcl-batch-record"}, {"version", 1},          {"id", r.id},
           {"input", r.input},                 {"input_checksum", r.input_checksum}, {"input_bytes", r.input_bytes},
           {"status", r.ok ? "ok" : "failed"}, {"reason", r.reason},    {"warning", r.warning},
@@ -168,7 +173,8 @@ nlohmann::json record_json(const ModelResult& r) {
 
 class Worker {
  public:
-  Worker(const RunOptions& options, std::function<void(const std::string&)> report) : options_(options), report_(std::move(report)) {}
+  Worker(const RunOptions& options, std::string made_by, std::function<void(const std::string&)> report)
+      : options_(options), made_by_(std::move(made_by)), report_(std::move(report)) {}
 
   ModelResult process(const ModelEntry& entry) {
     Stopwatch clock;
@@ -234,7 +240,7 @@ class Worker {
       std::string checksum;
       try {
         checksum = params_checksum(kind, params);
-        if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum)) {
+        if (auto reused = reusable(record, dir, kind, r.input_checksum, params, checksum, made_by_)) {
           r.outputs.push_back(std::move(*reused));
           return;
         }
@@ -287,7 +293,7 @@ class Worker {
     for (const auto& p : pending) {
       try {
         Stopwatch clock;
-        OutputResult out{p.kind, false, p.params, p.checksum, {}, 0};
+        OutputResult out{p.kind, false, p.params, p.checksum, made_by_, {}, 0};
         out.files = p.kind == "splats" ? build_splats(entry, splat_mesh(), dir) : build_csm(entry, mesh, dir);
         out.build_ms = clock.elapsed_ms();
         r.outputs.push_back(std::move(out));
@@ -359,6 +365,7 @@ class Worker {
   }
 
   const RunOptions& options_;
+  const std::string made_by_;
   std::function<void(const std::string&)> report_;
   std::shared_ptr<Runtime> runtime_;
 };
@@ -504,6 +511,8 @@ std::vector<ModelResult> run_batch(const std::vector<ModelEntry>& models, const 
   prepare_output_directory(options.output_dir);
   if (const char* hook = std::getenv(kKillAfterWritesVariable)) kill_after_writes = std::atol(hook);
   remove_stale_temporaries(models, options.output_dir);
+  // What makes the outputs, as the summary's `device` names it (no device: an error before any work).
+  const std::string made_by = options.reference ? std::string("reference") : choose_device(options.device).name;
 
   std::vector<ModelResult> results(models.size());
   std::mutex mutex;
@@ -516,7 +525,7 @@ std::vector<ModelResult> run_batch(const std::vector<ModelEntry>& models, const 
     if (progress) progress(finished, models.size(), failed, now);
   };
   auto work = [&] {
-    Worker worker(options, report);
+    Worker worker(options, made_by, report);
     for (std::size_t i; !stop && (i = next.fetch_add(1)) < models.size();) {
       try {
         results[i] = worker.process(models[i]);

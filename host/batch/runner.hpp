@@ -42,6 +42,7 @@ struct OutputResult {
   bool reused = false;
   nlohmann::json params;
   std::string params_checksum;
+  std::string made_by;            // the OpenCL device's name, or "reference"
   std::vector<OutputFile> files;  // the data file, then its statistics
   double build_ms = 0;            // 0 when reused
 };

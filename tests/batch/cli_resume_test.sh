@@ -54,4 +54,9 @@ done
 # A third run reuses everything and still writes the same statuses.
 "$splatcl" batch "$work/set.json" -o "$work/killed" > "$work/again.log" || fail "third run failed"
 [ "$(grep -c '^reused' "$work/again.log")" -eq 4 ] || fail "a complete run was not fully reused: $(cat "$work/again.log")"
+
+# The native reference does not pass off the OpenCL run's files as its own: it rebuilds them.
+"$splatcl" batch "$work/set.json" -o "$work/killed" --reference > "$work/reference.log" || fail "reference run failed: $(cat "$work/reference.log")"
+! grep -q '^reused' "$work/reference.log" || fail "--reference reused an OpenCL run's outputs: $(cat "$work/reference.log")"
+grep -q '"made_by": "reference"' "$work/killed/a-cube.batch.json" || fail "the record does not say the reference made the outputs"
 echo "ok: interrupted runs resume to the uninterrupted result"

@@ -154,6 +154,39 @@ TEST(BatchRunner, RebuildsExactlyWhatChangedOrIsCorrupt) {
   EXPECT_TRUE(r.reused());
 }
 
+// An output is reused only when the same device, or the reference, made it: another device may
+// round differently (`--reference` after an OpenCL run reused the OpenCL files and the summary
+// called them the reference's). The record says which made each output.
+TEST(BatchRunner, OutputsOfAnotherDeviceAreRebuilt) {
+  ScratchDir dir("runner-made-by");
+  write_text(dir / "cube.obj", test::kCubeObj);
+  const std::vector<ModelEntry> models{model(dir, "cube", "cube.obj")};
+  const RunOptions options = reference_options(dir);
+  ASSERT_TRUE(run_batch(models, options).at(0).ok);
+  const std::string record_path = options.output_dir + "/cube.batch.json";
+  nlohmann::json record = nlohmann::json::parse(read_text(record_path));
+  EXPECT_EQ(record.at("outputs").at("splats").at("made_by"), "reference");
+  EXPECT_EQ(record.at("outputs").at("csm").at("made_by"), "reference");
+
+  // As if an OpenCL device had made the splats: they are rebuilt, the CSM reused.
+  record["outputs"]["splats"]["made_by"] = "Some GPU";
+  write_text(record_path, record.dump());
+  auto r = run_batch(models, options).at(0);
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_FALSE(output(r, "splats")->reused);
+  EXPECT_EQ(output(r, "splats")->made_by, "reference");
+  EXPECT_TRUE(output(r, "csm")->reused);
+
+  // A record from before made_by existed is rebuilt once, then reused.
+  record = nlohmann::json::parse(read_text(record_path));
+  record["outputs"]["csm"].erase("made_by");
+  write_text(record_path, record.dump());
+  r = run_batch(models, options).at(0);
+  EXPECT_TRUE(output(r, "splats")->reused);
+  EXPECT_FALSE(output(r, "csm")->reused);
+  EXPECT_TRUE(run_batch(models, options).at(0).reused());
+}
+
 TEST(BatchRunner, FailingModelsAreReportedAndTheRestComplete) {
   ScratchDir dir("runner-fail");
   write_text(dir / "cube.obj", test::kCubeObj);
