@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "csm/build.hpp"
+#include "csm/splat_lighting.hpp"
 #include "io/checksum.hpp"
 #include "io/output_files.hpp"
 #include "io/text_file.hpp"
@@ -242,7 +243,10 @@ std::string stray_splats_warning(const std::vector<splats::SplatRecord>& splats)
                      stray, splats.size(), whole / central);
 }
 
-void check_asset_settings(const Scene& scene) {
+void check_scene_settings(const Scene& scene) {
+  if (scene.key_lights.size() > csm::SplatLighting::kMaxKeyLights)
+    throw Error(fmt::format("{}: 'key_lights' lists {} lights, at most {}", scene.source, scene.key_lights.size(),
+                            csm::SplatLighting::kMaxKeyLights));
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     if (!scene.objects[i].mesh.splat_path.empty()) continue;  // a splat file is drawn as it is
     try {

@@ -80,9 +80,11 @@ SplatObjectFile read_splat_object(const std::string& path);
 // splat file's shadow map is captured from. Throws Error naming `what` when no splat has area.
 Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::string& what);
 
-// Refuses an object's asset settings that only the splat stage would reject (its sampling text),
-// before any object's assets are built; the error names the scene file and the object.
-void check_asset_settings(const Scene& scene);
+// Refuses what the scene reader alone cannot check: more key lights than the lighting holds, and an
+// object's asset settings that only the splat stage would reject (its sampling text). Before any
+// object's assets are built; the error names the scene file (and the object). `splatcl cluster`
+// checks the same, so a scene it accepts is one render accepts.
+void check_scene_settings(const Scene& scene);
 // Loads the object's assets from `cache_dir` or builds and stores them. Throws Error naming the
 // mesh or the cache file.
 ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, const std::string& cache_dir,

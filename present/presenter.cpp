@@ -428,9 +428,7 @@ struct Presenter::Impl {
 Presenter::Presenter(Scene scene, Runtime& runtime, int width, int height, const std::string& cache_dir,
                      const AssetProgress& progress)
     : impl_(std::make_unique<Impl>()), scene_(std::move(scene)), runtime_(runtime) {
-  if (scene_.key_lights.size() > kMaxKeyLights)
-    throw Error(fmt::format("{}: at most {} key lights", scene_.source, kMaxKeyLights));
-  check_asset_settings(scene_);  // before any object's assets are built
+  check_scene_settings(scene_);  // before any object's assets are built
   Impl& g = *impl_;
   // Assets and the splat arrays: objects in scene order, then the floor, then every object's LOD
   // sequence (originals and tree nodes sorted by e_max). Per instance: centre, normal, major and

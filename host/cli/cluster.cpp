@@ -17,6 +17,7 @@
 #include "cluster/shading.hpp"
 #include "cluster/scene_input.hpp"
 #include "core/scene.hpp"
+#include "present/assets.hpp"
 #include "core/scene_ray_cast.hpp"
 #include "io/atomic_file.hpp"
 #include "io/image.hpp"
@@ -57,7 +58,12 @@ std::pair<std::uint32_t, std::uint32_t> parse_dimensions(const std::string& text
   return {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)};
 }
 
-Scene load_cluster_scene(const std::string& path) { return path.empty() ? default_scene() : load_scene(path); }
+// Checked as render checks it (present/assets.hpp), though the cluster stage uses neither part.
+Scene load_cluster_scene(const std::string& path) {
+  Scene scene = path.empty() ? default_scene() : load_scene(path);
+  present::check_scene_settings(scene);
+  return scene;
+}
 
 // Random colour per cluster index, so neighbouring clusters are told apart in the image.
 std::vector<float> cluster_image(const ClusterList& clusters) {

@@ -33,7 +33,8 @@ using namespace splatcl::csm;
 
 struct BuildCommand {
   DeviceOptions device;
-  std::string model, output, coherence, mode = "per-pixel", pixel_order = "hilbert";
+  std::string model, output, coherence, mode = "per-pixel";
+  std::string pixel_order;  // empty: not given (hilbert); only --mode per-map takes it
   // The build parameters: the list `splatcl batch` shares, as --NAME options applied after parsing.
   std::shared_ptr<GivenParameters> given = std::make_shared<GivenParameters>();
   bool reference = false;
@@ -135,10 +136,12 @@ BuildOptions build_options(const BuildCommand& c) {
 // --mode other than per-pixel: the thesis's alternatives, compared by size (no .csm written).
 int run_mode(const BuildCommand& c, CompressionMode mode) {
   if (!c.output.empty()) throw Error(fmt::format("csm build: --mode {} only measures sizes; -o writes per-pixel CSMs only", to_string(mode)));
+  if (!c.coherence.empty())
+    throw Error(fmt::format("csm build: --mode {} only measures sizes; --coherence maps per-pixel CSMs only", to_string(mode)));
   const BuildOptions options = build_options(c);
   ModeOptions mode_options;
   mode_options.mode = mode;
-  mode_options.pixel_curve = parse_pixel_curve(c.pixel_order);
+  mode_options.pixel_curve = parse_pixel_curve(c.pixel_order.empty() ? "hilbert" : c.pixel_order);
   ProgressLine progress("csm");
   const Mesh mesh = load_model(c.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
@@ -168,7 +171,11 @@ int run_mode(const BuildCommand& c, CompressionMode mode) {
 int run_build(const BuildCommand& c) {
   if (c.model.empty()) throw Error("csm build: a MODEL is required (see splatcl csm build --help)");
   const CompressionMode mode = parse_compression_mode(c.mode);
-  (void)parse_pixel_curve(c.pixel_order);  // a bad --pixel-order is an error whatever the mode
+  if (!c.pixel_order.empty()) {
+    (void)parse_pixel_curve(c.pixel_order);  // a bad --pixel-order is an error whatever the mode
+    if (mode != CompressionMode::PerMap)
+      throw Error(fmt::format("csm build: --pixel-order is the pixel curve of --mode per-map; --mode {} has none", to_string(mode)));
+  }
   if (mode != CompressionMode::PerPixel) return run_mode(c, mode);
   if (c.output.empty()) throw Error("csm build: an output file is required (-o OUT.csm)");
   const BuildOptions options = build_options(c);
@@ -277,6 +284,15 @@ int run_analyze(const AnalyzeCommand& c) {
 }
 
 int run_verify(const VerifyCommand& c) {
+  // The recapture's options need the model; checked before the file is read and called valid.
+  if (c.model.empty()) {
+    for (const auto& [given, option] : {std::pair{!c.capture.empty(), "--capture"}, std::pair{c.reference, "--reference"},
+                                        std::pair{!c.device.device.empty(), "--device"}})
+      if (given) throw Error(fmt::format("csm verify: {} is for the recapture, which needs the MODEL the file was built from", option));
+  }
+  if (!c.capture.empty()) (void)parse_capture_method(c.capture);
+  std::shared_ptr<Runtime> runtime;
+  if (!c.model.empty() && !c.reference) runtime = Runtime::create(c.device.device);
   ProgressLine progress("csm");
   progress.show("reading " + c.file);
   Encoding encoding = Encoding::Plain;
@@ -286,8 +302,6 @@ int run_verify(const VerifyCommand& c) {
              csm.info.maps, csm.info.resolution, csm.info.resolution);
   if (c.model.empty()) return 0;
   const Mesh mesh = load_model(c.model, progress, Winding::AsGiven);
-  std::shared_ptr<Runtime> runtime;
-  if (!c.reference) runtime = Runtime::create(c.device.device);
   const CaptureMethod method = c.capture.empty() ? csm.info.capture : parse_capture_method(c.capture);
   const LosslessReport report = check_lossless(csm, mesh, runtime.get(), map_progress(progress, "recaptured"), method);
   progress.clear();
@@ -378,7 +392,7 @@ Action register_csm(CLI::App& app) {
   build->add_option("--mode", b->mode, "Compression: per-pixel (writes the .csm), or for size comparison only: per-map, hilbert-3d "
                                        "(blocks of M maps), hilbert-4d (all maps in memory)")
       ->capture_default_str();
-  build->add_option("--pixel-order", b->pixel_order, "Pixel curve of --mode per-map: hilbert, zigzag-h, zigzag-v")->capture_default_str();
+  build->add_option("--pixel-order", b->pixel_order, "Pixel curve of --mode per-map: hilbert (default), zigzag-h, zigzag-v");
   build->add_option("--coherence", b->coherence, "Also write the coherence map (PNG: white = one segment, black = one per map)");
   build->add_flag("--reference", b->reference, "Use the native C++ reference instead of the OpenCL kernels (keeps all maps in memory)");
 
@@ -411,7 +425,7 @@ Action register_csm(CLI::App& app) {
                       "Camera distance from the centre in sphere radii, 1..1e6: 1 is on the bounding sphere (Talpe §6.1); "
                       "1/sin(fov/2) (1.414 at 90 deg) frames the whole sphere, for models whose surface reaches it")
       ->capture_default_str();
-  quality->add_option("--light-max", q->options.light_max, "Largest light distance from the centre, in sphere radii")->capture_default_str();
+  quality->add_option("--light-max", q->options.light_max, "Largest light distance from the centre, in sphere radii, (1.05, 1e6]")->capture_default_str();
   quality->add_option("--seed", q->options.seed, "Random seed of the views and lights")->capture_default_str();
   quality->add_option("--filter", q->filter, "Shadow test: none (1 texel), same-map (4x4 texels), cross-map (2x2 texels in 4 maps) or march (the true light ray through the texels of the 4 nearest maps, blocked in at least 2: shadow edges in place; more acne than the PCFs on receivers that lie on the surface)")->capture_default_str();
   quality->add_option("--bias", q->options.bias, "Shadow offset in texels of the CSM, 0..1000 (shadow when the stored depth g < depth - bias/M, depth in units of the bounding diameter)")->capture_default_str();

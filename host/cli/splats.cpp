@@ -58,6 +58,7 @@ int run_splats(const SplatsOptions& o) {
   check_distinct_outputs({{"-o", o.output}, {"--stats", o.stats}, {"--render", o.render}});
   check_outputs_spare_inputs({{"-o", o.output}, {"--stats", o.stats}, {"--render", o.render}}, {{"model", o.model}});
   check_output_extension(o.output, "-o", {".ply"}, "a PLY of splats");
+  check_output_extension(o.render, "--render", {".png", ".exr"}, "the picture");  // not after the work
   // The same parameters, parsing and translation as `splatcl batch` (splats/pipeline_options.hpp).
   SplatParameters params;
   for (const auto& [option, value] : *o.given) set_parameter(params, option, value);

@@ -256,13 +256,22 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
     const json& a = r.object(j, "animation");
     r.known_keys(a, "animation", {"spin_degrees_per_second", "orbit"});
     o.animation.spin_degrees_per_second = r.vec3(a, "spin_degrees_per_second", o.animation.spin_degrees_per_second);
+    for (int axis = 0; axis < 3; ++axis)
+      if (std::abs(o.animation.spin_degrees_per_second[axis]) > kMaxDegreesPerSecond)
+        r.fail("spin_degrees_per_second", fmt::format("{:g} is beyond 100 turns a second (degrees per second in -{:g}..{:g})",
+                                                      o.animation.spin_degrees_per_second[axis], kMaxDegreesPerSecond, kMaxDegreesPerSecond));
     if (a.contains("orbit")) {
       const json& orbit = r.object(a, "orbit");
       r.known_keys(orbit, "animation.orbit", {"center", "radius", "degrees_per_second", "phase_degrees"});
       o.animation.orbit_center = r.vec3(orbit, "center", o.animation.orbit_center);
       o.animation.orbit_radius = r.positive(orbit, "radius", 1.0f);
       o.animation.orbit_degrees_per_second = r.number(orbit, "degrees_per_second", 30.0f);
+      if (std::abs(o.animation.orbit_degrees_per_second) > kMaxDegreesPerSecond)
+        r.fail("degrees_per_second", fmt::format("{:g} is beyond 100 turns a second (degrees per second in -{:g}..{:g})",
+                                                 o.animation.orbit_degrees_per_second, kMaxDegreesPerSecond, kMaxDegreesPerSecond));
       o.animation.orbit_phase_degrees = r.number(orbit, "phase_degrees", 0.0f);
+      if (std::abs(o.animation.orbit_phase_degrees) > 36000.0f)
+        r.fail("phase_degrees", fmt::format("{:g} is beyond 100 turns (degrees in -36000..36000)", o.animation.orbit_phase_degrees));
     }
   }
   return o;
@@ -298,15 +307,26 @@ Quality object_quality(const Quality& scene_quality, const ObjectSpec& object) {
   return q;
 }
 
+// base + rate · time degrees, reduced to (−360, 360) in double: at a late time the float product
+// had few bits below a turn, and the object jumped instead of turning.
+namespace {
+float turned_degrees(float base, float rate, float time) {
+  return static_cast<float>(std::fmod(static_cast<double>(base) + static_cast<double>(rate) * static_cast<double>(time), 360.0));
+}
+}  // namespace
+
 glm::mat4 ObjectSpec::placement(float time) const {
   glm::vec3 centre = position;
   if (animation.orbit_radius > 0) {
-    const float angle = glm::radians(animation.orbit_phase_degrees + animation.orbit_degrees_per_second * time);
+    const float angle = glm::radians(turned_degrees(animation.orbit_phase_degrees, animation.orbit_degrees_per_second, time));
     centre = animation.orbit_center +
              glm::vec3(animation.orbit_radius * std::cos(angle), position.y - animation.orbit_center.y,
                        animation.orbit_radius * std::sin(angle));
   }
-  const glm::mat4 m = glm::translate(glm::mat4(1.0f), centre) * rotation_matrix(rotation_degrees + animation.spin_degrees_per_second * time);
+  const glm::vec3 turned(turned_degrees(rotation_degrees.x, animation.spin_degrees_per_second.x, time),
+                         turned_degrees(rotation_degrees.y, animation.spin_degrees_per_second.y, time),
+                         turned_degrees(rotation_degrees.z, animation.spin_degrees_per_second.z, time));
+  const glm::mat4 m = glm::translate(glm::mat4(1.0f), centre) * rotation_matrix(turned);
   return glm::scale(m, glm::vec3(scale));
 }
 
@@ -412,12 +432,16 @@ Scene parse_scene(std::string_view text, const std::string& source, const std::s
     Q.ao_bias = r.non_negative(q, "ao_bias", Q.ao_bias, "a depth bias in texels of each occluder's CSM");
     if (!(Q.ao_bias <= kMaxSceneAoBias)) r.fail("ao_bias", fmt::format("must be in [0, {:g}] texels, not {:g}", kMaxSceneAoBias, Q.ao_bias));
     Q.shadow_lift = r.non_negative(q, "shadow_lift", Q.shadow_lift, "a lift off the surface in world units");
+    if (!(Q.shadow_lift <= kMaxSceneExtent)) r.fail("shadow_lift", fmt::format("must be at most {:g} world units", kMaxSceneExtent));
     Q.shadow_lift_auto = !q.contains("shadow_lift");
     Q.splat_scale = r.number(q, "splat_scale", Q.splat_scale);
     if (!(Q.splat_scale >= kMinSplatScale && Q.splat_scale <= kMaxSplatScale))  // the gap covering grows with k
       r.fail("splat_scale", fmt::format("must be in [{:g}, {:g}], not {:g}", kMinSplatScale, kMaxSplatScale, Q.splat_scale));
     Q.antialias = r.non_negative(q, "antialias", Q.antialias, "0 = off");
+    // A jump relative to the farther depth is below 1, so above 1 only coverage would mark outlines.
+    if (!(Q.antialias <= 1)) r.fail("antialias", fmt::format("must be in [0, 1] (a relative depth jump; 0 = off), not {:g}", Q.antialias));
     Q.depth_offset = r.non_negative(q, "depth_offset", Q.depth_offset, "the visibility pass's ε behind the nearest splat");
+    if (!(Q.depth_offset <= kMaxSceneExtent)) r.fail("depth_offset", fmt::format("must be at most {:g} world units", kMaxSceneExtent));
     Q.depth_offset_auto = !q.contains("depth_offset");
     Q.gaussian = r.positive(q, "gaussian", Q.gaussian);
     Q.mode = r.text(q, "mode", Q.mode, {"splats", "points"});

@@ -20,8 +20,9 @@ void validate(const QualityOptions& o) {
   if (!(o.fov_degrees > 0 && o.fov_degrees < 180)) throw Error(fmt::format("--fov {} is not a field of view in (0, 180) degrees", o.fov_degrees));
   if (!(o.camera_distance >= 1 && o.camera_distance <= 1e6f))
     throw Error(fmt::format("--camera-distance {} is not a distance in 1..1e6 sphere radii", o.camera_distance));
-  if (!(o.light_max > 1.05f && std::isfinite(o.light_max)))
-    throw Error(fmt::format("--light-max {} is not a light distance above 1.05 sphere radii", o.light_max));
+  // Farther, the light vector's squared length leaves float's range (1e20 read every query as lit).
+  if (!(o.light_max > 1.05f && o.light_max <= 1e6f))
+    throw Error(fmt::format("--light-max {} is not a light distance in (1.05, 1e6] sphere radii", o.light_max));
   if (const std::string problem = bias_error(o.bias); !problem.empty()) throw Error(problem);
 }
 namespace {

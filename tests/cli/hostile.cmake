@@ -49,6 +49,18 @@ hostile_error(option_render_dt_nan "--dt nan is not a time step in seconds" rend
 add_test(NAME hostile.option_empty_device COMMAND ${EXPECT_ERROR} "--device: empty: give an index, a type \\(cpu, gpu\\) or a name substring"
          sh -c "\"$<TARGET_FILE:splatcl>\" devices --device ''")
 hostile_error(option_pixel_order "unknown pixel order 'x'" csm build ${SPLATS_CUBE} -o ${HOSTILE_DIR}/x.csm --pixel-order x)
+# Options that another option makes meaningless were ignored silently (a helper's audit).
+hostile_error(option_pixel_order_per_pixel "csm build: --pixel-order is the pixel curve of --mode per-map; --mode per-pixel has none$"
+              csm build ${SPLATS_CUBE} -o ${HOSTILE_DIR}/x.csm --pixel-order zigzag-v)
+hostile_error(option_coherence_per_map "csm build: --mode per-map only measures sizes; --coherence maps per-pixel CSMs only$"
+              csm build ${SPLATS_CUBE} --mode per-map --coherence ${HOSTILE_DIR}/coherence.png)
+hostile_error(option_verify_capture_without_model "csm verify: --capture is for the recapture, which needs the MODEL the file was built from$"
+              csm verify ${CSM_OUT} --capture raycast)
+hostile_error(option_verify_bad_capture "unknown capture method 'foo'" csm verify ${CSM_OUT} ${SPLATS_CUBE} --capture foo)
+hostile_error(option_quality_light_max_huge "--light-max 1e\\+30 is not a light distance in \\(1.05, 1e6\\] sphere radii$"
+              csm quality ${SPLATS_CUBE} --light-max 1e30)
+file(WRITE ${HOSTILE_DIR}/five-key-lights.json "{\"objects\": [], \"key_lights\": [{\"position\": [0, 3, 0]}, {\"position\": [1, 3, 0]}, {\"position\": [2, 3, 0]}, {\"position\": [3, 3, 0]}, {\"position\": [4, 3, 0]}]}")
+hostile_error(limit_cluster_key_lights "five-key-lights.json: 'key_lights' lists 5 lights, at most 4$" cluster ${HOSTILE_DIR}/five-key-lights.json --size 64x48)
 foreach(fov 0 360 -5)
   hostile_error(option_quality_fov_${fov} "--fov ${fov} is not a field of view in \\(0, 180\\) degrees$" csm quality ${SPLATS_CUBE} --fov ${fov})
 endforeach()

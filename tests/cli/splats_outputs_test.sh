@@ -3,7 +3,8 @@
 # -o (nor at --stats, nor staged leftovers) when another output fails, and an -o file from an
 # earlier run stays as it was.
 #   stats:  --stats into a missing directory: refused before any work, with one line naming it;
-#   render: --render to an image format that does not exist: fails after the splats are computed.
+#   render: --render to an image format that does not exist: refused before any work (until
+#           2026-12-07 it failed after the splats were computed, and then too left nothing).
 set -u
 mode=$1 splatcl=$2 work=$3 expect_error=$4
 fail() { echo "FAIL: $*"; exit 1; }
@@ -21,12 +22,12 @@ case $mode in
     run "cannot write --stats .*no-such-dir/stats.json: directory .*no-such-dir does not exist" --stats "$work/no-such-dir/stats.json"
     [ -e "$out" ] && fail "-o $out was written although --stats cannot be" ;;
   render)
-    run "cannot write $work/picture.nosuchformat: " --stats "$work/stats.json" --render "$work/picture.nosuchformat"
+    run "--render $work/picture.nosuchformat: the file must end in .png or .exr" --stats "$work/stats.json" --render "$work/picture.nosuchformat"
     [ -e "$out" ] && fail "-o $out was written although --render failed"
     [ -e "$work/stats.json" ] && fail "--stats was written although --render failed"
     # An earlier result stays untouched.
     echo "earlier result" >"$out"
-    run "cannot write $work/picture.nosuchformat: " --render "$work/picture.nosuchformat"
+    run "--render $work/picture.nosuchformat: the file must end in .png or .exr" --render "$work/picture.nosuchformat"
     [ "$(cat "$out")" = "earlier result" ] || fail "-o $out was replaced although --render failed" ;;
   *) fail "unknown mode $mode" ;;
 esac

@@ -2,6 +2,8 @@
 // procedural meshes and cache keys, and the validation of every quality option.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <string>
 
 #include "csm/build.hpp"
@@ -68,6 +70,17 @@ TEST(PresenterScene, RefusesValuesThatRenderNonsense) {
       {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "rotation_degrees": [0, 1e30, 0]}]})",
        "objects[0] 'a': 'rotation_degrees' 1e+30 is beyond 100 turns"},
       {R"({"objects": [], "quality": {"antialias": -1}})", "'antialias' must not be negative"},
+      // Accepted with no upper bound until a helper's audit: 1e30 blended the objects through each
+      // other (depth_offset) or turned them at random (the rates).
+      {R"({"objects": [], "quality": {"antialias": 1.5}})", "'antialias' must be in [0, 1]"},
+      {R"({"objects": [], "quality": {"depth_offset": 1e30}})", "'depth_offset' must be at most 1e+15 world units"},
+      {R"({"objects": [], "quality": {"shadow_lift": 1e30}})", "'shadow_lift' must be at most 1e+15 world units"},
+      {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "animation": {"spin_degrees_per_second": [0, 1e30, 0]}}]})",
+       "objects[0] 'a': 'spin_degrees_per_second' 1e+30 is beyond 100 turns a second"},
+      {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "animation": {"orbit": {"degrees_per_second": -4e4}}}]})",
+       "objects[0] 'a': 'degrees_per_second' -40000 is beyond 100 turns a second"},
+      {R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "animation": {"orbit": {"phase_degrees": 1e30}}}]})",
+       "objects[0] 'a': 'phase_degrees' 1e+30 is beyond 100 turns"},
       // A key given twice: the later value won silently (a helper's audit: an object named twice).
       {R"({"objects": [{"name": "a", "name": "b", "mesh": {"procedural": "box"}}]})", "bad.json: objects[0]: key 'name' appears twice in one object"},
       {R"({"objects": [], "quality": {"specular": 1, "specular": 2}})", "bad.json: quality: key 'specular' appears twice in one object"},
@@ -109,12 +122,42 @@ TEST(PresenterScene, ObjectSamplingIsCheckedBeforeAssetsAreBuilt) {
   const Scene scene = parse_scene(R"({"objects": [{"name": "good", "mesh": {"procedural": "box"}},
       {"name": "typo", "mesh": {"procedural": "box"}, "quality": {"sampling": "grid:0"}}]})", "s.json", ".");
   try {
-    check_asset_settings(scene);
+    check_scene_settings(scene);
     ADD_FAILURE() << "grid:0 accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("s.json: objects[1] 'typo': 'sampling': 'grid:0' is not"), std::string::npos) << e.what();
   }
-  EXPECT_NO_THROW(check_asset_settings(parse_scene(R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "quality": {"sampling": "spacing:0.1"}}]})", "s.json", ".")));
+  EXPECT_NO_THROW(check_scene_settings(parse_scene(R"({"objects": [{"name": "a", "mesh": {"procedural": "box"}, "quality": {"sampling": "spacing:0.1"}}]})", "s.json", ".")));
+}
+
+// More key lights than the lighting holds are refused with the scene's name (by render and by
+// cluster, which checks the scene alike).
+TEST(PresenterScene, KeyLightCountIsCheckedBeforeAssetsAreBuilt) {
+  std::string lights;
+  for (int i = 0; i < 5; ++i) lights += std::string(i ? ", " : "") + R"({"position": [0, 3, 0]})";
+  try {
+    check_scene_settings(parse_scene(R"({"objects": [], "key_lights": [)" + lights + "]}", "k.json", "."));
+    ADD_FAILURE() << "5 key lights accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("k.json: 'key_lights' lists 5 lights, at most 4"), std::string::npos) << e.what();
+  }
+}
+
+// A spinning or orbiting object at a late time turns by its rate × time reduced to a turn in
+// double: the float product of 2e6 s at 1 degree/s kept about 0.2 degrees of the angle's precision.
+TEST(PresenterScene, LateTimesTurnObjectsPrecisely) {
+  const Scene scene = parse_scene(R"({"objects": [{"name": "s", "mesh": {"procedural": "box"}, "animation": {"spin_degrees_per_second": [0, 1, 0]}},
+      {"name": "o", "mesh": {"procedural": "box"}, "animation": {"orbit": {"radius": 2, "degrees_per_second": 1, "phase_degrees": 0}}}]})",
+                                  "late.json", ".");
+  const float late = 2000000.25f;  // exactly representable; 2000000.25 degrees is 200.25 modulo a turn
+  ASSERT_EQ(static_cast<double>(late), 2000000.25);
+  const double angle = 200.25 * std::numbers::pi / 180.0;
+  const glm::mat4 spin = scene.objects[0].placement(late);
+  EXPECT_NEAR(spin[0][0], std::cos(angle), 1e-6);
+  EXPECT_NEAR(spin[2][0], std::sin(angle), 1e-6);
+  const glm::mat4 orbit = scene.objects[1].placement(late);
+  EXPECT_NEAR(orbit[3][0], 2 * std::cos(angle), 1e-5);
+  EXPECT_NEAR(orbit[3][2], 2 * std::sin(angle), 1e-5);
 }
 
 // The scene reader (core) checks csm_maps itself, as a perfect square; the assets build their maps
