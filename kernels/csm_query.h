@@ -37,8 +37,9 @@
 // silhouette. The depth a two-hit texel stores lies anywhere between its first and second hit
 // (the run's common interval, Talpe §5.2), so neighbouring texels of one solid step by up to its
 // thickness, and so do a steep surface's; 4 and 8 gave the fewest wrong answers against ray
-// casting, larger values more false shadows past silhouettes (docs/results/csm.md, *Filter march*).
-#define CSM_MARCH_JUMP_TEXELS 4.0f
+// casting, larger values more false shadows past silhouettes, and 4 left lit holes in the middle of
+// a cube's floor shadow, 8 few (docs/results/csm.md, *Filter march*).
+#define CSM_MARCH_JUMP_TEXELS 8.0f
 
 // One grid cell's camera (object space) and its position in the map sequence.
 typedef struct {

@@ -506,6 +506,13 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
       continue;
     }
     const auto at = [&](std::uint32_t i) { return to_double(positions[faces.corners[begin + i]]); };
+    const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      for (const std::uint32_t i : {a, b, c}) {
+        out.corners.push_back(faces.corners[begin + i]);
+        if (!faces.texcoords.empty()) out.texcoords.push_back(faces.texcoords[begin + i]);
+      }
+      out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+    };
     // Newell's normal, and the fan's triangles against it.
     D3 normal{0, 0, 0};
     const D3 origin = at(0);
@@ -516,7 +523,20 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
     }
     const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     if (!(length > 0)) {
-      keep(f);
+      // No Newell normal, yet its fan may have area: a self-intersecting "bowtie" whose two halves
+      // turn opposite ways (kept whole, it was called zero-area and got no splats, though its
+      // fan, which every consumer takes, covers a surface). Replaced by that fan.
+      bool area = false;
+      for (std::uint32_t i = 1; i + 1 < n && !area; ++i) {
+        const D3 c = cross3(sub(at(i), origin), sub(at(i + 1), origin));
+        area = c[0] * c[0] + c[1] * c[1] + c[2] * c[2] > 0;
+      }
+      if (!area) {
+        keep(f);
+        continue;
+      }
+      for (std::uint32_t i = 1; i + 1 < n; ++i) emit(0, i, i + 1);
+      ++split;
       continue;
     }
     // A frame of the Newell plane; corners projected into it (counter-clockwise about the normal).
@@ -540,13 +560,6 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
       const D3 c = cross3(sub(at(i), origin), sub(at(i + 1), origin));
       fans = c[0] * w[0] + c[1] * w[1] + c[2] * w[2] >= 0;  // no fan triangle folded back
     }
-    const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-      for (const std::uint32_t i : {a, b, c}) {
-        out.corners.push_back(faces.corners[begin + i]);
-        if (!faces.texcoords.empty()) out.texcoords.push_back(faces.texcoords[begin + i]);
-      }
-      out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
-    };
     if (fans) {
       bool tilted = false;
       const double cos_tilt = std::cos(kMaxFanTilt * std::numbers::pi / 180);

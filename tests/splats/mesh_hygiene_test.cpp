@@ -612,6 +612,25 @@ TEST(MeshHygiene, StronglyNonPlanarPolygonsAreSplitIntoTheirFan) {
   EXPECT_LT(worst, 45.0);
 }
 
+// A self-intersecting polygon whose halves turn opposite ways has no Newell normal, but its fan
+// has area: it was kept whole and called zero-area, and got no splats (a helper's audit: half of
+// the surface uncovered while both checks passed). Flat and twisted, it is split into its fan.
+TEST(MeshHygiene, BowtiePolygonsAreSplitIntoTheirFan) {
+  const Mesh flat = make_mesh({{1, 0, 0}, {2, 0, 0}, {1, 1, 0}, {2, 1, 0}}, {{0, 1, 2, 3}}, "bowtie");
+  EXPECT_EQ(flat.problems.zero_area_faces, 0u);
+  EXPECT_EQ(flat.problems.split_polygons, 1u);
+  ASSERT_EQ(flat.face_count(), 2u);
+  EXPECT_EQ(face_positions(flat, 0), (std::vector<Vec3>{{1, 0, 0}, {2, 0, 0}, {1, 1, 0}}));
+  EXPECT_EQ(face_positions(flat, 1), (std::vector<Vec3>{{1, 0, 0}, {1, 1, 0}, {2, 1, 0}}));
+  const Mesh twisted = make_mesh({{0, 0, 0}, {1, 1, 0.3f}, {1, 0, 0}, {0, 1, 0.3f}}, {{0, 1, 2, 3}}, "twisted bowtie");
+  EXPECT_EQ(twisted.problems.zero_area_faces, 0u);
+  EXPECT_EQ(twisted.face_count(), 2u);
+  // A polygon whose fan has no area either stays one zero-area face.
+  const Mesh line = make_mesh({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}}, {{0, 1, 2, 3}}, "collinear");
+  EXPECT_EQ(line.problems.zero_area_faces, 1u);
+  EXPECT_EQ(line.face_count(), 1u);
+}
+
 TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
   const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {5, 5, 5}, {NAN, 0, 0}};
   const Mesh mesh = make_mesh(v,

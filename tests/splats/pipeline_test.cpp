@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 #include "splats/pipeline.hpp"
 #include "splats_test_support.hpp"
@@ -93,7 +94,17 @@ TEST(SplatPipeline, ClippedSplatsVerifyAndRoundTrip) {
   const std::vector<SplatRecord> records = device.records();
   const VerifyReport report = verify_splats(device.samples, records, 1e-3f);
   EXPECT_TRUE(report.ok()) << report.uncovered << " uncovered, " << report.empty_splats << " empty";
-  EXPECT_GT(run_statistics(device, options)["clipped_splats"].get<std::size_t>(), 0u);
+  // Every clip line written cuts the splat (it lies inside the ellipse's reach along its normal),
+  // and the statistics count those.
+  std::size_t cutting = 0;
+  for (const SplatRecord& r : records) {
+    if (!std::isfinite(r.clip_offset)) continue;
+    const double a = length(DVec3(r.major)) * r.clip_x, b = length(DVec3(r.minor)) * r.clip_y;
+    EXPECT_LT(r.clip_offset, std::sqrt(a * a + b * b));
+    ++cutting;
+  }
+  EXPECT_GT(cutting, 0u);
+  EXPECT_EQ(run_statistics(device, options)["clipped_splats"].get<std::size_t>(), cutting);
   const std::string path = temp_path("clipped.ply");
   write_splat_file(path, records, SplatFileInfo{"cube", "grid:12", 1e-3f, 10, 20, "hard", true});
   const SplatFile file = read_splat_file(path);
