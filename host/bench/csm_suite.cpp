@@ -293,7 +293,8 @@ void bench_queries(Session& session, const Mesh& mesh, const CsmSizes& sizes) {
 void check_csm_model() {
   const std::filesystem::path path = std::filesystem::path(splats_models_dir()) / kModelFile;
   if (!std::filesystem::is_directory(splats_models_dir()))
-    throw Error("models directory " + splats_models_dir() + " does not exist (set it with --models)");
+    throw Error("models directory " + splats_models_dir() + (std::filesystem::exists(splats_models_dir()) ? " is not a directory" : " does not exist") +
+                " (set it with --models)");
   if (!std::filesystem::is_regular_file(path)) throw Error("bench csm: missing model " + path.string() + " (--models DIR)");
   (void)load_mesh(path.string());  // read too, as check_splats_models does
 }

@@ -213,7 +213,9 @@ std::vector<std::string> write_plots(const Results& results, const std::string& 
   const fs::path dir(dir_name);
   std::error_code error;
   fs::create_directories(dir, error);
-  if (!fs::is_directory(dir)) throw Error("cannot create plot directory " + dir_name);
+  if (!fs::is_directory(dir))
+    throw Error("cannot create plot directory " + dir_name + ": " +
+                (fs::exists(dir) ? std::string("a file of that name is there") : error ? error.message() : std::string("no such directory")));
 
   std::vector<std::string> suites;
   for (const auto& r : results.records)

@@ -51,7 +51,8 @@ std::filesystem::path model_path(const BenchModel& model) { return std::filesyst
 // Fails before any timing when a model is missing, naming what to pass.
 void check_splats_models() {
   const std::string& dir = splats_models_dir();
-  if (!std::filesystem::is_directory(dir)) throw Error("bench splats: models directory " + dir + " does not exist (--models DIR)");
+  if (!std::filesystem::is_directory(dir))
+    throw Error("bench splats: models directory " + dir + (std::filesystem::exists(dir) ? " is not a directory" : " does not exist") + " (--models DIR)");
   for (const BenchModel& model : kModels) {
     if (!std::filesystem::is_regular_file(model_path(model)))
       throw Error("bench splats: missing model " + model_path(model).string() + " (--models DIR)");

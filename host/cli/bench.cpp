@@ -61,6 +61,7 @@ struct BenchOptions {
 // shape and device.
 int run_tune(const BenchOptions& o) {
   check_output_file(o.tuning_path, "-o");
+  check_output_extension(o.tuning_path, "-o", {".json"}, "a tuning database, JSON");
   splatcl::TuningDatabase database;
   if (std::filesystem::exists(o.tuning_path)) {
     database = splatcl::TuningDatabase::read(o.tuning_path);
@@ -285,6 +286,9 @@ Action register_bench(CLI::App& app) {
     // Fails before a long run, not after it, when a result could not be written.
     check_output_file(o.json_path, "--json");
     check_output_file(o.csv_path, "--csv");
+    // JSON under a .csv name read back as broken CSV (bench report: "quote inside an unquoted cell").
+    check_output_extension(o.json_path, "--json", {".json"}, "benchmark records, JSON");
+    check_output_extension(o.csv_path, "--csv", {".csv"}, "benchmark records, CSV");
     check_distinct_outputs({{"--json", o.json_path}, {"--csv", o.csv_path}});
     // Written over, the baseline was compared with the run itself: "0 regressed".
     check_outputs_spare_inputs({{"--json", o.json_path}, {"--csv", o.csv_path}}, {{"--compare baseline", o.compare_path}});

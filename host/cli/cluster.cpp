@@ -17,6 +17,7 @@
 #include "cluster/shading.hpp"
 #include "cluster/scene_input.hpp"
 #include "core/scene.hpp"
+#include "io/in_flight.hpp"
 #include "present/assets.hpp"
 #include "core/scene_ray_cast.hpp"
 #include "io/atomic_file.hpp"
@@ -92,12 +93,15 @@ int run_cluster(const ClusterOptions& o) {
   const std::vector<std::string> output_names = {"lights-per-cluster.png", "clusters.png", "shaded.png", "summary.json"};
   // The folders -o makes, removed again (where still empty) when the run fails: a refused run
   // (a frame whose keys need more than 32 bits, a full disk) left the empty folder behind.
+  // A signal removes them too (io/in_flight.hpp): a SIGTERM left the empty folder.
   struct MadeFolders {
     std::vector<std::filesystem::path> paths;  // outermost first
+    std::vector<int> slots;
     bool keep = false;
     ~MadeFolders() {
       std::error_code ignored;
       for (auto it = paths.rbegin(); !keep && it != paths.rend(); ++it) std::filesystem::remove(*it, ignored);
+      for (const int slot : slots) unregister_in_flight(slot);
     }
   } made;
   if (!o.output_dir.empty()) {
@@ -105,6 +109,7 @@ int run_cluster(const ClusterOptions& o) {
     for (std::filesystem::path p = std::filesystem::absolute(o.output_dir, ec); !ec && p.has_relative_path() && !std::filesystem::exists(p, ec);
          p = p.parent_path())
       made.paths.insert(made.paths.begin(), p);
+    for (const std::filesystem::path& p : made.paths) made.slots.push_back(register_in_flight_folder(p.string()));
     std::filesystem::create_directories(o.output_dir, ec);
     if (ec) throw Error("cannot create -o directory " + o.output_dir + ": " + ec.message());
     std::vector<std::pair<std::string, std::string>> outputs;

@@ -46,7 +46,8 @@ int run_view(const ViewOptions& o) {
     throw Error(fmt::format("--seconds {} is not a duration in seconds (finite, not negative; 0 = until closed)", o.seconds));
   if (o.screenshot_on_exit && o.seconds <= 0) throw Error("--screenshot-on-exit needs --seconds (the time of the last frame)");
   if (!std::filesystem::is_directory(o.screenshot_dir))
-    throw Error(fmt::format("--screenshots {}: not a directory", o.screenshot_dir));
+    throw Error(fmt::format("--screenshots {}: {}", o.screenshot_dir,
+                            std::filesystem::exists(o.screenshot_dir) ? "not a directory" : "no such directory"));
   const splatcl::Scene scene = o.scene.load();
   auto runtime = Runtime::create(o.scene.device.device);
   auto context = present::GlContext::window(width, height, "splatcl view");

@@ -25,7 +25,13 @@ std::vector<Mesh> placed_meshes(const Scene& scene) {
     if (!object.mesh.splat_path.empty())
       throw Error(fmt::format("{}: objects[{}] ({}) is a splat file: the ray caster draws meshes and the floor only",
                               scene.source, i, object.name));
-    Mesh mesh = make_fitted_mesh(object, scene.directory);
+    // Named as render names it (a missing mesh read "cannot read mesh m.obj", no scene or object).
+    Mesh mesh;
+    try {
+      mesh = make_fitted_mesh(object, scene.directory);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: {}", object_where(scene, i), e.what()));
+    }
     const glm::mat4 placement = object.placement(scene.time);
     for (Vec3& v : mesh.vertices) {
       const glm::vec4 p = placement * glm::vec4(v.x, v.y, v.z, 1.0f);

@@ -6,8 +6,11 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 
 #include "io/oiio/oiio_module.h"
@@ -99,6 +102,10 @@ std::vector<unsigned char> encode_image_rgb(const std::string& path, int width, 
 DecodedImage decode_image_u8(const std::string& path, const std::string& what) {
   const Module& m = module();
   if (!m.failure.empty()) throw Error("cannot read " + what + " " + path + ": " + m.failure);
+  // The file's own cause first: the module's reader called a folder "no format reader for it".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read " + what + " " + path + ": it is a directory");
+  if (!std::ifstream(path, std::ios::binary)) throw Error("cannot read " + what + " " + path + ": " + std::strerror(errno));
   DecodedImage image;
   std::array<char, 512> error{};
   const auto allocate = [](void* sink, int width, int height, int channels) {

@@ -10,6 +10,9 @@ namespace splatcl {
 // Registers `path` while it is being written; returns a slot for unregister_in_flight (-1 when all
 // slots are taken: the file is then left to the next run's clean-up).
 int register_in_flight(const std::string& path);
+// A folder the process made for its outputs: removed on such a signal when it is empty by then
+// (after the files), as a failing run removes it.
+int register_in_flight_folder(const std::string& path);
 void unregister_in_flight(int slot);
 
 // Installs handlers of SIGTERM, SIGINT and SIGHUP that unlink every registered file and then end

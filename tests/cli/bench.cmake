@@ -117,3 +117,6 @@ add_test(NAME cli.bench_compare_notes_other_settings COMMAND ${EXPECT_OUTPUT} --
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-empty-models/stanford-bunny.obj "")
 add_test(NAME cli.error_bench_unreadable_model COMMAND ${EXPECT_ERROR} "cannot read mesh .*bench-empty-models/stanford-bunny.obj: no vertex or face lines"
          $<TARGET_FILE:splatcl> bench --quick --models ${CMAKE_CURRENT_BINARY_DIR}/bench-empty-models)
+# Records under the other format's name read back as broken (bench report on JSON named .csv).
+add_test(NAME cli.error_bench_json_named_csv COMMAND ${EXPECT_ERROR} "--json .*x.csv: the file must end in .json \\(benchmark records, JSON\\)$"
+         $<TARGET_FILE:splatcl> bench primitives --quick --json ${CMAKE_CURRENT_BINARY_DIR}/x.csv)

@@ -34,6 +34,10 @@ add_test(NAME cli.cluster_listed_and_generated_lights COMMAND ${EXPECT_OUTPUT} -
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/cluster-splat-object.json "{\"objects\": [{\"name\": \"scan\", \"splats\": \"scan.ply\"}]}")
 add_test(NAME cli.error_cluster_splat_object COMMAND ${EXPECT_ERROR} "cluster-splat-object.json: objects\\[0\\] \\(scan\\) is a splat file: the ray caster draws meshes and the floor only$"
          $<TARGET_FILE:splatcl> cluster ${CMAKE_CURRENT_BINARY_DIR}/cluster-splat-object.json)
+# A mesh that cannot be read is named with the scene and the object, as render names it.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/cluster-missing-mesh.json "{\"objects\": [{\"name\": \"torus\", \"mesh\": \"missing.obj\"}]}")
+add_test(NAME cli.error_cluster_missing_mesh COMMAND ${EXPECT_ERROR} "cluster-missing-mesh.json: objects\\[0\\] 'torus': cannot read mesh .*missing.obj: no such file$"
+         $<TARGET_FILE:splatcl> cluster ${CMAKE_CURRENT_BINARY_DIR}/cluster-missing-mesh.json --size 64x48)
 # On a terminal the brute-force check shows its rows (`--lights 300000` was silent for 28 s);
 # script(1) gives it one.
 add_test(NAME cli.cluster_progress_on_a_terminal COMMAND ${EXPECT_OUTPUT} --match "checking against brute-force shading with 2000 lights: [0-9]+ of 48 rows"

@@ -8,7 +8,7 @@ file(MAKE_DIRECTORY ${HOSTILE_DIR})
 foreach(mode full-disk-coherence full-disk-coherence-build full-disk-splats-render full-disk-cluster full-disk-render
              batch-summary-is-manifest batch-summary-is-output batch-summary-is-lock batch-input-is-lock batch-summary-folder-missing batch-output-in-output batch-fifo-input batch-output-is-input batch-output-inside-input
              batch-output-contains-input batch-unwritable batch-concurrent batch-same-shard-twice batch-scan-own-folders
-             threads-follow-affinity csm-leftover sigterm-csm-build sigterm-batch render-cache-read-only)
+             threads-follow-affinity csm-leftover sigterm-csm-build sigterm-batch sigterm-cluster render-cache-read-only)
   add_test(NAME hostile.${mode} COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/hostile_outputs_test.sh ${mode} $<TARGET_FILE:splatcl>
            ${HOSTILE_DIR}/${mode} ${EXPECT_ERROR})
   set_tests_properties(hostile.${mode} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120)

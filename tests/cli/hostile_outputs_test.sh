@@ -227,6 +227,16 @@ case $mode in
       "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 >"$work/again.log" || fail "the rerun failed"
       grep -q '^ok      cube' "$work/again.log" || fail "the rerun did not build the model: $(cat "$work/again.log")"
     fi ;;
+  sigterm-cluster)  # SIGTERM while a staged output is on disk: no file, and no folder -o made (it stayed)
+    SPLATCL_TEST_PAUSE_BEFORE_RENAME_MS=5000 "$splatcl" cluster --size 64x48 -o "$work/made/cl" >/dev/null 2>&1 &
+    pid=$!
+    for _ in $(seq 200); do [ -n "$(find "$work/made" -type f 2>/dev/null)" ] && break; sleep 0.05; done
+    [ -n "$(find "$work/made" -type f 2>/dev/null)" ] || fail "no staged output appeared"
+    kill -TERM "$pid"
+    wait "$pid"
+    status=$?
+    [ "$status" -eq 143 ] || fail "expected the status of a SIGTERM (143), got $status"
+    [ ! -e "$work/made" ] || fail "the folders -o made are still there: $(find "$work/made")" ;;
   *) fail "unknown mode $mode" ;;
 esac
 no_leftovers "$work"

@@ -79,8 +79,11 @@ add_test(NAME cli.error_splats_bad_color_tol COMMAND ${EXPECT_ERROR} "--color-to
 # named before the mesh's missing texture coordinates.
 add_test(NAME cli.error_splats_eps_beyond_float COMMAND ${EXPECT_ERROR} "splats-cube.obj: eps 1e-300 is beyond float range"
          $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --eps 1e-300)
-add_test(NAME cli.error_splats_missing_texture COMMAND ${EXPECT_ERROR} "nope.png"
+add_test(NAME cli.error_splats_missing_texture COMMAND ${EXPECT_ERROR} "nope.png: No such file or directory$"
          $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --texture nope.png)
+# A folder named as the texture: the image reader's "no format reader" was the cause given.
+add_test(NAME cli.error_splats_texture_is_a_directory COMMAND ${EXPECT_ERROR} "cannot read texture .*/tests: it is a directory$"
+         $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE} -o out.ply --texture ${CMAKE_CURRENT_BINARY_DIR})
 add_test(NAME cli.error_splats_no_output COMMAND ${EXPECT_ERROR} "-o OUT.ply" $<TARGET_FILE:splatcl> splats ${SPLATS_CUBE})
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/splats-broken.ply "ply\nformat ascii 1.0\nend_header\n")
 add_test(NAME cli.error_splats_verify_broken COMMAND ${EXPECT_ERROR} "splats-broken.ply" $<TARGET_FILE:splatcl> splats verify ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/splats-broken.ply)
