@@ -508,11 +508,11 @@ std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, con
 std::vector<ModelResult> run_batch(const std::vector<ModelEntry>& models, const RunOptions& options, const BatchProgress& progress,
                                    const ModelFinished& finished_model) {
   if (options.output_dir.empty()) throw Error("batch: an output directory is required");
+  // What makes the outputs, as the summary's `device` names it (no device: an error before any work).
+  const std::string made_by = options.reference ? std::string("reference") : choose_device(options.device).name;
   prepare_output_directory(options.output_dir);
   if (const char* hook = std::getenv(kKillAfterWritesVariable)) kill_after_writes = std::atol(hook);
   remove_stale_temporaries(models, options.output_dir);
-  // What makes the outputs, as the summary's `device` names it (no device: an error before any work).
-  const std::string made_by = options.reference ? std::string("reference") : choose_device(options.device).name;
 
   std::vector<ModelResult> results(models.size());
   std::mutex mutex;

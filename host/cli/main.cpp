@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
       message = fmt::format("{} given {} times: give it once", message.substr(0, at), message.substr(at + 34));
     // A CLI::Range check: "--kmeans: Value 4x not in range 1 to 4294967295" (also for no number).
     if (std::smatch m; std::regex_match(message, m, std::regex("(.*): Value (.*) not in range (.*) to (.*)")))
-      message = fmt::format("{}: '{}' is not a number in {}..{}", m[1].str(), m[2].str(), m[3].str(), m[4].str());
+      message = fmt::format("{}: '{}' is not in {}..{}", m[1].str(), m[2].str(), m[3].str(), m[4].str());
     std::fprintf(stderr, "splatcl: %s (see --help)\n", splatcl::printable(message).c_str());
     return 1;
   }

@@ -254,7 +254,7 @@ Action register_splats(CLI::App& app) {
                   "splat, sigma = semi-axis/2; 3DGS has no clip lines, so --clip splats are written unclipped, with a warning)")
       ->capture_default_str();
   sub->add_option("--stats", o->stats, "Write statistics (counts, reduction, errors against eps, time per phase) as JSON");
-  sub->add_option("--render", o->render, "Also write an offscreen picture of the splats (PNG): per-splat colours for grey models, else the splat colours");
+  sub->add_option("--render", o->render, "Also write an offscreen picture of the splats (.png or .exr): per-splat colours for grey models, else the splat colours");
   sub->add_flag("--reference", o->reference, "Fit with the native C++ reference instead of the OpenCL kernels");
   sub->add_flag("--strict", o->strict,
                 "Refuse a model with problems (faces dropped for a non-finite vertex, an index out of range or fewer than 3 "

@@ -526,10 +526,17 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
       // No Newell normal, yet its fan may have area: a self-intersecting "bowtie" whose two halves
       // turn opposite ways (kept whole, it was called zero-area and got no splats, though its
       // fan, which every consumer takes, covers a surface). Replaced by that fan.
+      // Area beyond float rounding, by rounded_zero_area's measure for one of its triangles.
+      double magnitude = 0, longest = 0;
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const D3 p = at(i), e = sub(at((i + 1) % n), p);
+        magnitude = std::max({magnitude, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
+        longest = std::max(longest, std::sqrt(dot3(e, e)));
+      }
       bool area = false;
       for (std::uint32_t i = 1; i + 1 < n && !area; ++i) {
         const D3 c = cross3(sub(at(i), origin), sub(at(i + 1), origin));
-        area = c[0] * c[0] + c[1] * c[1] + c[2] * c[2] > 0;
+        area = std::sqrt(dot3(c, c)) > kCollinearSteps * std::ldexp(magnitude, -23) * longest;
       }
       if (!area) {
         keep(f);

@@ -245,10 +245,15 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
   if (!o.mesh.splat_path.empty() && !j.contains("color")) o.splat_colors = true;  // a splat file's own colours
   o.position = r.vec3(j, "position", o.position);
   o.rotation_degrees = r.vec3(j, "rotation_degrees", o.rotation_degrees);
-  // 1e30 degrees turned the object at random (float radians); a few turns are fine.
-  for (int axis = 0; axis < 3; ++axis)
-    if (std::abs(o.rotation_degrees[axis]) > 36000.0f)
-      r.fail("rotation_degrees", fmt::format("{:g} is beyond 100 turns (degrees in -36000..36000)", o.rotation_degrees[axis]));
+  // Angles within 100 turns and rates within 100 turns a second: 1e30 degrees (or degrees per
+  // second) turned the object at random (float radians); a few turns are fine.
+  const auto check_turns = [&](const char* field, glm::vec3 values, bool per_second) {
+    for (int axis = 0; axis < 3; ++axis)
+      if (std::abs(values[axis]) > kMaxSceneDegrees)
+        r.fail(field, fmt::format("{:g} is beyond 100 turns{} (degrees{} in -{:g}..{:g})", values[axis], per_second ? " a second" : "",
+                                  per_second ? " per second" : "", kMaxSceneDegrees, kMaxSceneDegrees));
+  };
+  check_turns("rotation_degrees", o.rotation_degrees, false);
   o.scale = r.extent(j, "scale", o.scale);
   o.occluder = r.flag(j, "occluder", o.occluder);
   if (j.contains("two_sided")) o.two_sided = r.flag(j, "two_sided", false);
@@ -256,22 +261,16 @@ ObjectSpec read_object(const Reader& scene_reader, const json& j, std::size_t in
     const json& a = r.object(j, "animation");
     r.known_keys(a, "animation", {"spin_degrees_per_second", "orbit"});
     o.animation.spin_degrees_per_second = r.vec3(a, "spin_degrees_per_second", o.animation.spin_degrees_per_second);
-    for (int axis = 0; axis < 3; ++axis)
-      if (std::abs(o.animation.spin_degrees_per_second[axis]) > kMaxDegreesPerSecond)
-        r.fail("spin_degrees_per_second", fmt::format("{:g} is beyond 100 turns a second (degrees per second in -{:g}..{:g})",
-                                                      o.animation.spin_degrees_per_second[axis], kMaxDegreesPerSecond, kMaxDegreesPerSecond));
+    check_turns("spin_degrees_per_second", o.animation.spin_degrees_per_second, true);
     if (a.contains("orbit")) {
       const json& orbit = r.object(a, "orbit");
       r.known_keys(orbit, "animation.orbit", {"center", "radius", "degrees_per_second", "phase_degrees"});
       o.animation.orbit_center = r.vec3(orbit, "center", o.animation.orbit_center);
       o.animation.orbit_radius = r.positive(orbit, "radius", 1.0f);
       o.animation.orbit_degrees_per_second = r.number(orbit, "degrees_per_second", 30.0f);
-      if (std::abs(o.animation.orbit_degrees_per_second) > kMaxDegreesPerSecond)
-        r.fail("degrees_per_second", fmt::format("{:g} is beyond 100 turns a second (degrees per second in -{:g}..{:g})",
-                                                 o.animation.orbit_degrees_per_second, kMaxDegreesPerSecond, kMaxDegreesPerSecond));
+      check_turns("degrees_per_second", glm::vec3(o.animation.orbit_degrees_per_second), true);
       o.animation.orbit_phase_degrees = r.number(orbit, "phase_degrees", 0.0f);
-      if (std::abs(o.animation.orbit_phase_degrees) > 36000.0f)
-        r.fail("phase_degrees", fmt::format("{:g} is beyond 100 turns (degrees in -36000..36000)", o.animation.orbit_phase_degrees));
+      check_turns("phase_degrees", glm::vec3(o.animation.orbit_phase_degrees), false);
     }
   }
   return o;

@@ -126,8 +126,9 @@ inline constexpr float kAutoLengthShare = 0.01f;
 inline constexpr float kAutoLengthShareLarge = 0.008f;
 // The range of an object's "fit" size and "scale".
 inline constexpr float kMinSceneExtent = 1e-15f, kMaxSceneExtent = 1e15f;
-// Spin and orbit rates at most (100 turns a second), as rotation_degrees is at most 100 turns.
-inline constexpr float kMaxDegreesPerSecond = 36000.0f;
+// Angles (rotation_degrees, an orbit's phase_degrees) at most 100 turns, and spin and orbit rates
+// at most 100 turns a second: beyond, float angles turned objects at random.
+inline constexpr float kMaxSceneDegrees = 36000.0f;
 // quality.ao_bias at most: csm::kMaxBiasTexels (core cannot see csm; present/ checks they agree).
 inline constexpr float kMaxSceneAoBias = 1000;
 // quality.splat_scale (and the viewer's slider): the gaps a larger k opens at sharp edges are covered

@@ -8,10 +8,10 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
-#include <cstring>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
+#include <system_error>
 
 #include "io/oiio/oiio_module.h"
 #include "runtime/error.hpp"
@@ -105,7 +105,12 @@ DecodedImage decode_image_u8(const std::string& path, const std::string& what) {
   // The file's own cause first: the module's reader called a folder "no format reader for it".
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error("cannot read " + what + " " + path + ": it is a directory");
-  if (!std::ifstream(path, std::ios::binary)) throw Error("cannot read " + what + " " + path + ": " + std::strerror(errno));
+  if (std::FILE* file = std::fopen(path.c_str(), "rb")) {
+    std::fclose(file);
+  } else {
+    const int cause = errno;  // at once, and by the thread-safe category (batch decodes in parallel)
+    throw Error("cannot read " + what + " " + path + ": " + std::generic_category().message(cause));
+  }
   DecodedImage image;
   std::array<char, 512> error{};
   const auto allocate = [](void* sink, int width, int height, int channels) {

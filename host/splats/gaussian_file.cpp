@@ -104,7 +104,7 @@ std::size_t write_gaussian_file(const std::string& path, const std::vector<Splat
   out.reserve(header.size() + splats.size() * gaussian_properties().size() * sizeof(float));
   std::size_t clipped = 0;
   for (const SplatRecord& s : splats) {
-    if (std::isfinite(s.clip_offset)) ++clipped;
+    if (clip_cuts(s)) ++clipped;
     const Gaussian g = to_gaussian(s);
     for (const float v : g.position) append_bytes(out, v);
     for (const float v : g.normal) append_bytes(out, v);

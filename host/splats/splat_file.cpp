@@ -86,6 +86,13 @@ std::uint64_t file_checksum(std::string_view header_with_zeros, std::string_view
 
 }  // namespace
 
+bool clip_cuts(const SplatRecord& s) {
+  if (!(s.clip_offset < INFINITY)) return false;
+  const double a = std::hypot(double{s.major.x}, double{s.major.y}, double{s.major.z}) * s.clip_x;
+  const double b = std::hypot(double{s.minor.x}, double{s.minor.y}, double{s.minor.z}) * s.clip_y;
+  return s.clip_offset < std::hypot(a, b);
+}
+
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info) {
   std::string body;
   for (const SplatRecord& s : splats) {

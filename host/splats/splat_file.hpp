@@ -22,6 +22,11 @@ struct SplatRecord {
   float clip_x = 0, clip_y = 0, clip_offset = INFINITY;
 };
 
+// Whether the splat's clip line cuts its ellipse as written (scale 1): the line's offset lies within
+// the ellipse's reach along the line's normal, √((a·clip_x)² + (b·clip_y)²). A line beyond it keeps
+// the whole splat at scale 1 but may cut it drawn larger (the presenter's splat scale k).
+bool clip_cuts(const SplatRecord& s);
+
 struct SplatFileInfo {
   std::string model;     // source mesh as given
   std::string sampling;  // "vertices" or "grid:N"

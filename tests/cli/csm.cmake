@@ -79,9 +79,9 @@ add_test(NAME cli.error_csm_analyze_nothing COMMAND ${EXPECT_ERROR} "--kmeans K"
 add_test(NAME cli.error_csm_analyze_big_k COMMAND ${EXPECT_ERROR} "^splatcl: --kmeans 32 is more clusters than the 16 maps \\(--maps\\)$" $<TARGET_FILE:splatcl> csm analyze
          ${SPLATS_CUBE} --maps 16 --res 8 --kmeans 32)
 # --iterations 0 crashed (no map had a cluster); --kmeans 0 failed only after the build.
-add_test(NAME cli.error_csm_analyze_no_iterations COMMAND ${EXPECT_ERROR} "--iterations: '0' is not a number in 1..1000000" $<TARGET_FILE:splatcl> csm analyze
+add_test(NAME cli.error_csm_analyze_no_iterations COMMAND ${EXPECT_ERROR} "--iterations: '0' is not in 1..1000000" $<TARGET_FILE:splatcl> csm analyze
          ${SPLATS_CUBE} --maps 16 --res 8 --kmeans 4 --iterations 0)
-add_test(NAME cli.error_csm_analyze_zero_k COMMAND ${EXPECT_ERROR} "--kmeans: '0' is not a number in 1..4294967295" $<TARGET_FILE:splatcl> csm analyze
+add_test(NAME cli.error_csm_analyze_zero_k COMMAND ${EXPECT_ERROR} "--kmeans: '0' is not in 1..4294967295" $<TARGET_FILE:splatcl> csm analyze
          ${SPLATS_CUBE} --maps 16 --res 8 --kmeans 0)
 # An output that names an input, or the wrong kind of file, is refused before any work (the model
 # stays as it was; a copy written here is the input).
