@@ -633,7 +633,7 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
   std::sort(edges.begin(), edges.end());
   Components components(n);
   std::vector<std::uint8_t> open(n, 0);
-  std::vector<std::uint64_t> twice;  // undirected edges (low end first, matched_edges) used twice in one direction
+  std::vector<std::uint64_t> twice;  // undirected edges (low end first, matched_edges) used twice in one direction, unpaired
   const auto run_end = [&](std::size_t i) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].first == edges[i].first) ++j;
@@ -646,7 +646,9 @@ void check_surface(const std::vector<Vec3>& positions, const Faces& faces, MeshP
     const std::size_t ri = static_cast<std::size_t>(reverse - edges.begin()), rj = ri < edges.size() && reverse->first == key(to, from) ? run_end(ri) : ri;
     for (std::size_t k = i + 1; k < j; ++k) components.unite(edges[i].second, edges[k].second);
     if (rj > ri) components.unite(edges[i].second, edges[ri].second);
-    if (j - i >= 2) twice.push_back(key(std::min(from, to), std::max(from, to)));
+    // An edge four faces share, two each way (two cubes touching along an edge), pairs up: only
+    // uses that cannot pair (two one way, none or one the other) make it inconsistent.
+    if (j - i >= 2 && j - i != rj - ri) twice.push_back(key(std::min(from, to), std::max(from, to)));
     if (j - i != 1 || rj - ri != 1) {
       for (std::size_t k = i; k < j; ++k) open[edges[k].second] = 1;
       for (std::size_t k = ri; k < rj; ++k) open[edges[k].second] = 1;

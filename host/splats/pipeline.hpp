@@ -37,8 +37,8 @@ namespace splatcl::splats {
 // instead of whole (needles). 9: the surface bound counts only triangles that face within 60° of
 // the splat (fins: a strip of a hole's wall laid along the rim over the plate's top). 11: a texture
 // coordinate of exactly 1 takes the last texel, not the first (colours along u = 1 / v = 1 seams).
-// 12: clip lines that cut nothing are dropped (SplatRun::records); a polygon with no Newell normal
-// whose fan has area (a bowtie) is split into its fan instead of kept as a zero-area face.
+// 12: a polygon with no Newell normal whose fan has area (a bowtie) is split into its fan instead
+// of kept as a zero-area face.
 inline constexpr int kSplatMethodVersion = 12;
 
 struct PipelineOptions {

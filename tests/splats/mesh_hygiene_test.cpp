@@ -333,6 +333,23 @@ TEST(MeshHygiene, InconsistentOrientationIsCountedAndTheFacesKept) {
   EXPECT_EQ(file.face_count(), 2u);
 }
 
+// Two outward cubes touching along one edge: four faces share it, two each way. Nothing is wound
+// wrong, yet it was warned "1 edge with inconsistent orientation" (a helper's audit).
+TEST(MeshHygiene, AnEdgeFourFacesShareTwoEachWayIsConsistent) {
+  std::vector<Vec3> v;
+  std::vector<std::vector<std::uint32_t>> f;
+  for (const float o : {0.0f, 1.0f}) {  // the unit cube at (o, o, 0), outward quads
+    const auto base = static_cast<std::uint32_t>(v.size());
+    for (int k = 0; k < 8; ++k) v.push_back({o + static_cast<float>(k & 1), o + static_cast<float>((k >> 1) & 1), static_cast<float>((k >> 2) & 1)});
+    for (const auto& q : {std::array{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}})
+      f.push_back({base + q[0], base + q[1], base + q[2], base + q[3]});
+  }
+  const Mesh cubes = make_mesh(v, f, "two cubes");
+  EXPECT_EQ(cubes.problems.inconsistent_edges, 0u) << cubes.problems.summary();
+  EXPECT_EQ(cubes.problems.summary().find("inconsistent orientation"), std::string::npos) << cubes.problems.summary();
+  EXPECT_EQ(cubes.face_count(), 12u);
+}
+
 TEST(MeshHygiene, InsideOutClosedMeshIsWarned) {
   const std::vector<Vec3> v{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   std::vector<std::vector<std::uint32_t>> outward{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
