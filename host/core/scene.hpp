@@ -188,8 +188,10 @@ struct Quality {
   // they stand off a curved surface, by more than this × the mesh's bounding-box diagonal, and the
   // gaps that leaves covered by more splats (splats::cover_drawn_gaps); 0 = drawn as built. How
   // far a splat may stand off the surface: at the silhouette of a close-up it shows as a fin of up
-  // to this much (the shipped scene, at a 4× finer ε, uses 0.001). Per object too.
-  float surface_clip = 0.0025f;
+  // to this much, and past a convex edge over the next face seen at a grazing angle (0.0025, the
+  // default until 2026-12-07, drew crescents of one face's colour on the next in close-ups of an
+  // octahedron: PresenterTest.OctahedronCloseUpsShowNoOverhangOverTheNextFace). Per object too.
+  float surface_clip = 0.001f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   // Not given in the scene: the presenter lowers depth_offset to kAutoLengthShare of the
   // smallest object's bounding-box diagonal where that is smaller, so that a small scene's ε does

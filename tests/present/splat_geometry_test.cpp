@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/scene_ray_cast.hpp"
 #include "present/passes.hpp"
 #include "presenter_test_support.hpp"
 
@@ -164,6 +165,68 @@ TEST_F(PresenterTest, SplatGeometryFromGrazingViewsAndCloseUps) {
       }
     }
   }
+}
+
+// An octahedron (a CAD-like part with sharp convex edges) with a user scene's quality, in close-ups
+// of its vertices and edges at 640 × 480: a splat that overhangs an edge shows over the next face,
+// seen at a grazing angle, as a crescent of the other face's colour and normal (a helper's audit).
+// Counted against the ray-cast mesh: pixels inside one facet (their 3 × 3 pixels see it) whose
+// splat normal stands more than 45° off that facet's. A splat may overhang an edge by about the
+// fit's tolerance (surface_clip × diagonal), so these close-ups, 0.2–0.4 units from an object of
+// size 1.2, still show crescents a few pixels wide; the user default 0.0025 (until 2026-12-07) drew
+// them about 3 times as wide: 2,018 of 1,153,696 pixels against 703 at 0.001.
+TEST_F(PresenterTest, OctahedronCloseUpsShowLittleOverhangOverTheNextFace) {
+  const auto off_facet = [&](float surface_clip, std::size_t& inside_facets) {
+    Scene base = parse_scene(R"({"objects": [{"name": "octa", "mesh": {"procedural": "sphere", "radius": 0.6, "segments": 4, "rings": 2},
+        "position": [0, 0.6, 0], "rotation_degrees": [0, 20, 0]}], "floor": false, "lights": {"count": 0},
+        "camera": {"eye": [0, 1.6, 2.2], "target": [0, 0.6, 0], "fov_y_degrees": 40, "near": 0.01, "far": 50}})",
+                             "octa.json", ".");
+    base.quality.surface_clip = surface_clip;
+    Presenter presenter(base, *runtime_, 640, 480, SPLATCL_TEST_CACHE);
+    const glm::vec3 centre(0.0f, 0.6f, 0.0f);
+    // Eyes around the top vertex, a side vertex and an edge's middle, looking at points near them.
+    const float c20 = std::cos(glm::radians(20.0f)), s20 = std::sin(glm::radians(20.0f));
+    const glm::vec3 side(0.6f * c20, 0.0f, -0.6f * s20), top(0.0f, 0.6f, 0.0f);
+    const struct {
+      glm::vec3 eye, target;
+    } views[] = {{top + glm::vec3(0.3f, 0.15f, 0.3f), top * 0.7f},       {top + glm::vec3(-0.35f, 0.1f, 0.2f), top * 0.7f},
+                 {side + glm::vec3(0.2f, 0.25f, 0.35f), side * 0.7f},    {side + glm::vec3(0.3f, -0.2f, -0.2f), side * 0.7f},
+                 {0.5f * (top + side) + glm::vec3(0.3f, 0.3f, 0.3f), 0.4f * (top + side)},
+                 {{0.405f, 0.15f, 0.864f}, {0.205f, 0.0f, 0.564f}}};  // the audit's view
+    std::size_t off = 0;
+    inside_facets = 0;
+    for (const auto& v : views) {
+      look_at(presenter.scene(), centre + v.eye, centre + v.target);
+      presenter.render(0.0f);
+      const auto normals = presenter.read_normals();
+      const DepthFrame mesh = ray_cast(presenter.scene(), 640, 480);
+      const ViewFrame frame = view_frame(presenter.scene().camera);
+      const int w = presenter.width(), h = presenter.height();
+      for (int y = 1; y + 1 < h; ++y)
+        for (int x = 1; x + 1 < w; ++x) {
+          const std::size_t p = static_cast<std::size_t>(y) * w + x;
+          bool inside = true;  // the 3 × 3 pixels see one facet (the outlines may differ by a pixel)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const std::size_t q = static_cast<std::size_t>(y + dy) * w + x + dx;
+              inside = inside && mesh.view_z[q] != kNoSurfaceViewZ && dot(mesh.normals[q], mesh.normals[p]) > 0.9999f;
+            }
+          if (!inside) continue;
+          ++inside_facets;
+          const Vec3 facet = frame.direction_to_world(mesh.normals[p]);
+          const Vec3 splat{normals[3 * p], normals[3 * p + 1], normals[3 * p + 2]};
+          off += !(dot(facet, splat) > std::cos(glm::radians(45.0f)) * length(splat) * length(facet));
+        }
+    }
+    std::printf("octahedron close-ups at surface_clip %g: %zu of %zu pixels inside facets more than 45 degrees off\n", surface_clip, off,
+                inside_facets);
+    return off;
+  };
+  std::size_t inside_default = 0, inside_old = 0;
+  const std::size_t at_default = off_facet(Quality{}.surface_clip, inside_default), at_old = off_facet(0.0025f, inside_old);
+  EXPECT_GT(inside_default, 1000000u);
+  EXPECT_LE(at_default, inside_default / 1000);
+  EXPECT_LT(2 * at_default, at_old);
 }
 
 // A bumpy sphere (radius 1 + 0.06 sin 6θ sin 6φ, 96 × 48 quads) in 16 close-ups at 640 × 480,
