@@ -217,8 +217,9 @@ double dot3(const D3& a, const D3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] 
 // had 304 of its 600 faces zero-area and 230 of its 572 vertices without a normal. kTransformedSteps, for closedness only: collinear corners moved by a float transform (the
 // scene's fit), each rounded again.
 constexpr double kCollinearSteps = 1, kTransformedSteps = 8;
-bool rounded_zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
-                       const std::vector<std::uint32_t>& corners, std::size_t f, double steps) {
+// The largest |cross product| (twice an area) face f may have and still count as zero-area.
+double rounding_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
+                     const std::vector<std::uint32_t>& corners, std::size_t f, double steps) {
   const std::uint32_t begin = offsets[f], end = offsets[f + 1];
   double magnitude = 0, longest = 0;
   for (std::uint32_t c = begin; c < end; ++c) {
@@ -226,8 +227,12 @@ bool rounded_zero_area(const std::vector<Vec3>& positions, const std::vector<std
     magnitude = std::max({magnitude, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
     longest = std::max(longest, std::sqrt(dot3(e, e)));
   }
+  return steps * std::ldexp(magnitude, -23) * longest;
+}
+bool rounded_zero_area(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& offsets,
+                       const std::vector<std::uint32_t>& corners, std::size_t f, double steps) {
   const D3 area = fan_area(positions, offsets, corners, f);
-  return std::sqrt(dot3(area, area)) <= steps * std::ldexp(magnitude, -23) * longest;
+  return std::sqrt(dot3(area, area)) <= rounding_area(positions, offsets, corners, f, steps);
 }
 
 D3 unit3(const D3& a) {
@@ -526,17 +531,12 @@ std::size_t split_unfannable_faces(const std::vector<Vec3>& positions, Faces& fa
       // No Newell normal, yet its fan may have area: a self-intersecting "bowtie" whose two halves
       // turn opposite ways (kept whole, it was called zero-area and got no splats, though its
       // fan, which every consumer takes, covers a surface). Replaced by that fan.
-      // Area beyond float rounding, by rounded_zero_area's measure for one of its triangles.
-      double magnitude = 0, longest = 0;
-      for (std::uint32_t i = 0; i < n; ++i) {
-        const D3 p = at(i), e = sub(at((i + 1) % n), p);
-        magnitude = std::max({magnitude, std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
-        longest = std::max(longest, std::sqrt(dot3(e, e)));
-      }
+      // Area beyond float rounding, by rounded_zero_area's measure, in one of its triangles.
+      const double rounding = rounding_area(positions, faces.offsets, faces.corners, f, kCollinearSteps);
       bool area = false;
       for (std::uint32_t i = 1; i + 1 < n && !area; ++i) {
         const D3 c = cross3(sub(at(i), origin), sub(at(i + 1), origin));
-        area = std::sqrt(dot3(c, c)) > kCollinearSteps * std::ldexp(magnitude, -23) * longest;
+        area = std::sqrt(dot3(c, c)) > rounding;
       }
       if (!area) {
         keep(f);

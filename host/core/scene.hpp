@@ -190,7 +190,7 @@ struct Quality {
   // far a splat may stand off the surface: at the silhouette of a close-up it shows as a fin of up
   // to this much, and past a convex edge over the next face seen at a grazing angle (0.0025, the
   // default until 2026-12-07, drew crescents of one face's colour on the next in close-ups of an
-  // octahedron: PresenterTest.OctahedronCloseUpsShowNoOverhangOverTheNextFace). Per object too.
+  // octahedron: PresenterTest.OctahedronCloseUpsShowLittleOverhangOverTheNextFace). Per object too.
   float surface_clip = 0.001f;
   float depth_offset = 0.02f;  // ε of the visibility pass, world units along the view ray
   // Not given in the scene: the presenter lowers depth_offset to kAutoLengthShare of the

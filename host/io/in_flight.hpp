@@ -1,7 +1,8 @@
 #pragma once
 // Files a process has half written (write_atomically's temporaries, StagedOutputs' staged names),
 // and folders it made for its outputs, so that a signal that ends it — SIGTERM from scancel, a time
-// limit or preemption, SIGINT, SIGHUP — removes them (the folders when empty) before it dies. A SIGKILL cannot be caught: the next run removes what it leaves
+// limit or preemption, SIGINT, SIGHUP — removes them (the folders when empty) before it dies. A
+// SIGKILL cannot be caught: the next run removes what it leaves
 // (remove_dead_temporaries, batch's own clean-up).
 #include <string>
 
