@@ -49,6 +49,7 @@ void bench_scan(Session& session, std::size_t n) {
   const cl::Buffer in = upload(runtime, values, "scan input");
   const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "scan output");
   for (const Shape shape : kBothShapes) {
+    poison_buffer(runtime, out, n * sizeof(std::uint32_t));
     prim::Scanner scanner(runtime, shape);
     Profiler profiler;
     const Case c = opencl_case("scan-exclusive", shape, n, "elements", {}, scan_bytes);
@@ -77,6 +78,7 @@ void bench_compact_flagged(Session& session, std::size_t n) {
   const cl::Buffer flags_buffer = upload(runtime, flags, "compaction flags");
   const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "compaction output");
   for (const Shape shape : kBothShapes) {
+    poison_buffer(runtime, out, n * sizeof(std::uint32_t));
     prim::Compactor compactor(runtime, shape);
     Profiler profiler;
     std::size_t kept = 0;
@@ -108,6 +110,7 @@ void bench_compact_unique(Session& session, std::size_t n) {
   const cl::Buffer in = upload(runtime, keys, "unique input");
   const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "unique output");
   for (const Shape shape : kBothShapes) {
+    poison_buffer(runtime, out, n * sizeof(std::uint32_t));
     prim::Compactor compactor(runtime, shape);
     Profiler profiler;
     std::size_t kept = 0;
@@ -204,6 +207,7 @@ void bench_sort_unique(Session& session, std::size_t n) {
   const cl::Buffer keys_work = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "sort-unique keys");
   const cl::Buffer out = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(std::uint32_t), "sort-unique output");
   for (const Shape shape : kBothShapes) {
+    poison_buffer(runtime, out, n * sizeof(std::uint32_t));
     prim::RadixSorter sorter(runtime, prim::KeyType::U32, false, shape);
     prim::Compactor compactor(runtime, shape);
     Profiler profiler;

@@ -151,6 +151,15 @@ void copy_buffer(Runtime& runtime, const cl::Buffer& from, const cl::Buffer& to,
   }
 }
 
+void poison_buffer(Runtime& runtime, const cl::Buffer& buffer, std::size_t bytes) {
+  try {
+    if (bytes > 0) runtime.queue().enqueueFillBuffer(buffer, cl_uchar{0xA5}, 0, bytes);
+    runtime.queue().finish();
+  } catch (...) {
+    rethrow_as_error("clearing a benchmark output");
+  }
+}
+
 std::vector<std::uint32_t> random_keys(std::size_t n, unsigned bits, std::uint64_t seed) {
   std::mt19937 rng(static_cast<std::uint32_t>(seed));
   const std::uint32_t mask = bits >= 32 ? ~0u : (1u << bits) - 1u;

@@ -108,6 +108,9 @@ class Session {
 void finish(Runtime& runtime);
 // Copies `bytes` from one device buffer to another and waits: restores a case's input outside the timing.
 void copy_buffer(Runtime& runtime, const cl::Buffer& from, const cl::Buffer& to, std::size_t bytes);
+// Fills `bytes` of the buffer with 0xA5 bytes before a kernel shape writes its output there, so that
+// the check after it cannot pass on what another shape left in the buffer.
+void poison_buffer(Runtime& runtime, const cl::Buffer& buffer, std::size_t bytes);
 // n keys uniformly drawn from [0, 2^bits) (bits up to 32) from a fixed seed: the same inputs on every run and machine.
 std::vector<std::uint32_t> random_keys(std::size_t n, unsigned bits, std::uint64_t seed);
 

@@ -153,6 +153,7 @@ std::vector<DeviceInfo> list_devices() {
       DeviceInfo info;
       info.index = result.size();
       info.platform = trim(platform.getInfo<CL_PLATFORM_NAME>());
+      info.platform_vendor = trim(platform.getInfo<CL_PLATFORM_VENDOR>());
       info.vendor = trim(device.getInfo<CL_DEVICE_VENDOR>());
       info.name = trim(device.getInfo<CL_DEVICE_NAME>());
       const cl_device_type type = device.getInfo<CL_DEVICE_TYPE>();
@@ -182,6 +183,37 @@ std::vector<DeviceInfo> default_devices() {
   return devices;
 }
 
+DeviceInfo match_device(const std::vector<DeviceInfo>& devices, const std::string& selector, const std::string& origin) {
+  const std::string wanted = lower(selector);
+  if (std::all_of(wanted.begin(), wanted.end(), [](unsigned char c) { return std::isdigit(c); })) {
+    const auto index = std::stoul(wanted);
+    if (index >= devices.size())
+      throw Error("device index " + wanted + origin + " out of range: " + std::to_string(devices.size()) +
+                  " device(s) found (see 'splatcl devices')");
+    return devices[index];
+  }
+  for (const auto& d : devices)
+    if (d.type == wanted) return d;
+  // A name substring: the platform's name or vendor first, so that 'intel' is Intel's runtime and
+  // not PoCL on an Intel CPU (whose device name says Intel), and 'pocl' is PoCL; then the device's
+  // name. More than one device either way is refused, not guessed.
+  const auto has = [&](const std::string& text) { return lower(text).find(wanted) != std::string::npos; };
+  for (const bool by_platform : {true, false}) {
+    std::vector<std::size_t> matches;
+    for (std::size_t i = 0; i < devices.size(); ++i)
+      if (by_platform ? has(devices[i].platform) || has(devices[i].platform_vendor) : has(devices[i].name)) matches.push_back(i);
+    if (matches.size() == 1) return devices[matches[0]];
+    if (matches.size() > 1) {
+      std::string listed;
+      for (const std::size_t i : matches)
+        listed += (listed.empty() ? "" : ", ") + fmt::format("[{}] {} / {}", devices[i].index, devices[i].platform, devices[i].name);
+      throw Error(fmt::format("'{}'{} matches {} OpenCL devices by {}: {}; give its index or more of its name (see 'splatcl devices')",
+                              selector, origin, matches.size(), by_platform ? "platform name or vendor" : "device name", listed));
+    }
+  }
+  throw Error("no OpenCL device matches '" + selector + "'" + origin + " (see 'splatcl devices')");
+}
+
 DeviceInfo choose_device(const std::string& selector_in) {
   std::string selector = selector_in;
   std::string origin;  // names the variable where the selector came from it, not from --device
@@ -197,20 +229,7 @@ DeviceInfo choose_device(const std::string& selector_in) {
     if (it == devices.end()) it = first([](const DeviceInfo& d) { return d.type == "cpu"; });
     return it == devices.end() ? devices.front() : *it;
   }
-  const auto devices = list_devices();
-  const std::string wanted = lower(selector);
-  if (std::all_of(wanted.begin(), wanted.end(), [](unsigned char c) { return std::isdigit(c); })) {
-    const auto index = std::stoul(wanted);
-    if (index >= devices.size())
-      throw Error("device index " + wanted + origin + " out of range: " + std::to_string(devices.size()) +
-                  " device(s) found (see 'splatcl devices')");
-    return devices[index];
-  }
-  for (const auto& d : devices)
-    if (d.type == wanted) return d;
-  for (const auto& d : devices)
-    if (lower(d.name).find(wanted) != std::string::npos || lower(d.platform).find(wanted) != std::string::npos) return d;
-  throw Error("no OpenCL device matches '" + selector + "'" + origin + " (see 'splatcl devices')");
+  return match_device(list_devices(), selector, origin);
 }
 
 const char* to_string(Shape shape) {

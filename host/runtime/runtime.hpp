@@ -19,7 +19,8 @@ inline constexpr const char* kDeviceEnvVar = "SPLATCL_DEVICE";
 struct DeviceInfo {
   std::size_t index = 0;  // position in the flat list over all platforms
   std::string platform;
-  std::string vendor;  // CL_DEVICE_VENDOR
+  std::string platform_vendor;  // CL_PLATFORM_VENDOR ("The pocl project", "Intel(R) Corporation")
+  std::string vendor;  // CL_DEVICE_VENDOR (for a CPU device, the CPU's maker)
   std::string name;
   // "cpu", "gpu", "accelerator", "other", or "simulator": a device that checks kernels rather than
   // runs them fast (Oclgrind, which reports itself as ACCELERATOR|GPU|CPU). Simulators are never a
@@ -44,10 +45,14 @@ std::vector<DeviceInfo> list_devices();
 std::vector<DeviceInfo> default_devices();
 
 // Chooses a device: selector is an index ("0"), a type ("cpu", "gpu", "simulator") or a
-// case-insensitive substring of the device or platform name. Empty selector: $SPLATCL_DEVICE, else
+// case-insensitive substring of the platform's name or vendor, else of the device's name, that
+// names one device (several are an Error that lists them). Empty selector: $SPLATCL_DEVICE, else
 // the first GPU, else the first PoCL CPU device, else the first CPU, else the first device that is
 // not a simulator.
 DeviceInfo choose_device(const std::string& selector = "");
+// The non-empty selector's device among `devices`, as choose_device; `origin` is appended to the
+// selector in errors (" (from $SPLATCL_DEVICE)").
+DeviceInfo match_device(const std::vector<DeviceInfo>& devices, const std::string& selector, const std::string& origin = "");
 
 // Kernel shape: CPU-shaped (one work-item per contiguous chunk, no barriers) or GPU-shaped
 // (work-groups with local memory). Auto picks by CL_DEVICE_TYPE.

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -65,6 +66,20 @@ TEST(BenchSession, OpenCLRowRecordsShapeDeviceAndKernelTimes) {
   ASSERT_TRUE(r.extra.contains("device_ms"));
   EXPECT_TRUE(r.extra["device_ms"].contains("copy_uint4"));
   EXPECT_GE(r.extra["device_total_ms"].get<double>(), 0.0);
+}
+
+// A shape whose kernel writes nothing must fail its check: the output buffer, shared between the
+// two shapes, holds no earlier shape's result once poisoned.
+TEST(BenchSession, PoisonedOutputFailsTheCheckOfAShapeThatWritesNothing) {
+  Session session("test", quick_options());
+  Runtime& runtime = session.runtime();
+  const std::vector<std::uint32_t> expected(257, 7u);
+  const cl::Buffer out = upload(runtime, expected, "test output");
+  EXPECT_NO_THROW(expect_same_output("first shape", download<std::uint32_t>(runtime, out, expected.size()), expected));
+  poison_buffer(runtime, out, expected.size() * sizeof(std::uint32_t));
+  const std::vector<std::uint32_t> left = download<std::uint32_t>(runtime, out, expected.size());
+  EXPECT_EQ(std::count(left.begin(), left.end(), 0xA5A5A5A5u), 257);
+  EXPECT_THROW(expect_same_output("second shape", left, expected), Error);
 }
 
 TEST(BenchSession, FinishPrintsTheTableAndWritesTheFile) {

@@ -34,6 +34,30 @@ TEST(Runtime, ChoosesByIndexTypeAndName) {
   EXPECT_EQ(choose_device(first.name.substr(0, 4)).index, first.index);
 }
 
+// PoCL on an Intel CPU names Intel in its device name: 'intel' is Intel's runtime by its platform,
+// 'pocl' PoCL by its platform's vendor, and a substring of both device names is refused.
+TEST(Runtime, NameSelectorsPreferPlatformsAndRefuseAmbiguity) {
+  const auto device = [](std::size_t index, const char* platform, const char* platform_vendor, const char* name) {
+    DeviceInfo d;
+    d.index = index, d.platform = platform, d.platform_vendor = platform_vendor, d.name = name, d.type = "cpu";
+    return d;
+  };
+  const std::vector<DeviceInfo> devices{
+      device(0, "Portable Computing Language", "The pocl project", "pthread-skylake-avx512-Intel(R) Xeon(R) Processor"),
+      device(1, "Intel(R) OpenCL", "Intel(R) Corporation", "Intel(R) Xeon(R) Processor")};
+  EXPECT_EQ(match_device(devices, "intel").index, 1u);
+  EXPECT_EQ(match_device(devices, "Intel(R) OpenCL").index, 1u);
+  EXPECT_EQ(match_device(devices, "pocl").index, 0u);
+  EXPECT_EQ(match_device(devices, "pthread").index, 0u);
+  try {
+    match_device(devices, "xeon");
+    ADD_FAILURE() << "an ambiguous selector was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'xeon' matches 2 OpenCL devices by device name: [0] Portable"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(match_device(devices, "cpu-less"), Error);
+}
+
 // Sets (or with nullptr unsets) $SPLATCL_DEVICE for one scope: the rest of the process keeps the
 // device it was started with (tests/devices/on_devices.sh reruns these tests on each device).
 class ScopedDeviceVariable {
