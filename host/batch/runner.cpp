@@ -122,6 +122,19 @@ std::optional<OutputResult> reusable_output(const std::optional<nlohmann::json>&
   return result;
 }
 
+// An output the run was not asked for: the record's entry of it, kept when the record is of the same
+// input bytes (its own checks decide, when a later run wants it, whether its files still hold).
+void carry_output(const std::optional<nlohmann::json>& record, ModelResult& r, const std::string& kind) {
+  if (!record) return;
+  try {
+    const auto outputs = record->find("outputs");
+    if (record->value("input_checksum", "") == r.input_checksum && outputs != record->end() && outputs->is_object() &&
+        outputs->contains(kind) && (*outputs)[kind].is_object())
+      r.carried_outputs[kind] = (*outputs)[kind];
+  } catch (const nlohmann::json::exception&) {  // a record of the wrong shape carries nothing
+  }
+}
+
 // A record of the wrong shape (edited by hand, another version) counts as no record.
 std::optional<OutputResult> reusable(const std::optional<nlohmann::json>& record, const fs::path& dir, const std::string& kind,
                                      const std::string& input_checksum, const nlohmann::json& params, const std::string& params_checksum,
@@ -162,7 +175,7 @@ nlohmann::json files_json(const std::vector<OutputFile>& files) {
 }
 
 nlohmann::json record_json(const ModelResult& r) {
-  nlohmann::json outputs = nlohmann::json::object();
+  nlohmann::json outputs = r.carried_outputs;
   for (const auto& o : r.outputs)
     outputs[o.kind] = {{"params", o.params}, {"params_checksum", o.params_checksum}, {"made_by", o.made_by}, {"files", files_json(o.files)}};
   return {{"format", "splatcl-batch-record"}, {"version", 1},          {"id", r.id},
@@ -254,6 +267,9 @@ class Worker {
     };
     if (entry.params.want_splats) consider("splats", splats::to_json(entry.params.splats));
     if (entry.params.want_csm) consider("csm", csm::to_json(entry.params.csm));
+    // `--outputs splats` dropped the CSM from the record, and the next full run rebuilt it.
+    for (const auto& [kind, wanted] : {std::pair{"splats", entry.params.want_splats}, std::pair{"csm", entry.params.want_csm}})
+      if (!wanted) carry_output(record, r, kind);
     // What loading found wrong with the mesh, kept in the record for runs that reuse every output.
     bool warning_recorded = false;
     if (record) {

@@ -55,6 +55,9 @@ struct ModelResult {
   std::string input_checksum;
   std::uint64_t input_bytes = 0;
   std::vector<OutputResult> outputs;  // complete outputs only (a failed model may have some)
+  // The record's entries (by kind) of outputs this run was not asked for (--outputs), kept in the
+  // record as they were when it is of the same input bytes: a later run that wants them reuses them.
+  nlohmann::json carried_outputs = nlohmann::json::object();
   double total_ms = 0;
   bool reused() const;  // every output reused: nothing was built
 };

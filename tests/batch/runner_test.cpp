@@ -146,12 +146,22 @@ TEST(BatchRunner, RebuildsExactlyWhatChangedOrIsCorrupt) {
   EXPECT_FALSE(run_batch(models, options).at(0).reused());
   EXPECT_TRUE(run_batch(models, options).at(0).reused());
 
-  // Only the outputs asked for are built and checked.
+  // Only the outputs asked for are built and checked; the other stays in the record, and a run
+  // that asks for both again reuses it (`--outputs csm` dropped the splats, which were rebuilt).
   models[0].params.want_splats = false;
   r = run_batch(models, options).at(0);
   ASSERT_EQ(r.outputs.size(), 1u);
   EXPECT_EQ(r.outputs[0].kind, "csm");
   EXPECT_TRUE(r.reused());
+  EXPECT_TRUE(nlohmann::json::parse(read_text(options.output_dir + "/cube.batch.json")).at("outputs").contains("splats"));
+  models[0].params.want_splats = true;
+  EXPECT_TRUE(run_batch(models, options).at(0).reused());
+  // Not across a changed input: the record's other output is of the old bytes.
+  models[0].params.want_csm = false;
+  write_text(dir / "cube.obj", std::string(test::kCubeObj) + "# edited again\n");
+  r = run_batch(models, options).at(0);
+  EXPECT_FALSE(output(r, "splats")->reused);
+  EXPECT_FALSE(nlohmann::json::parse(read_text(options.output_dir + "/cube.batch.json")).at("outputs").contains("csm"));
 }
 
 // An output is reused only when the same device, or the reference, made it: another device may
