@@ -235,7 +235,10 @@ void Surface::Recent::remember(std::uint32_t t, std::uint32_t piece) {
 bool Surface::within(DVec3 p, double radius, Recent* recent, const Facing* facing) const {
   const auto near = [&](const SurfaceTriangle& tri) {
     if (std::fabs(dot(p - tri.a, tri.normal)) > radius || beyond_reach(tri, p, radius)) return false;
-    if (facing && std::fabs(dot(facing->normal, tri.normal)) < facing->min_cos) return false;
+    if (facing) {
+      const double c = dot(facing->normal, tri.normal);
+      if ((facing->same_side ? c : std::fabs(c)) < facing->min_cos) return false;
+    }
     const DVec3 d = closest_point(tri, p) - p;
     return dot(d, d) <= radius * radius;
   };

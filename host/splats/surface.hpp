@@ -152,10 +152,11 @@ class Surface {
   // Whether some triangle lies within `radius` of p (stops at the first one found). `recent`, when
   // given, is tried first (its triangles, then the tree outward from its region) and updated.
   // `facing`, when given, counts only triangles whose plane is within its angle of its normal
-  // (either side).
+  // (either side, or with `same_side` only triangles that face its way).
   struct Facing {
     DVec3 normal;    // unit
-    double min_cos;  // |normal · triangle normal| at least this
+    double min_cos;  // |normal · triangle normal| at least this (normal · triangle normal with same_side)
+    bool same_side = false;
   };
   bool within(DVec3 p, double radius, Recent* recent = nullptr, const Facing* facing = nullptr) const;
 

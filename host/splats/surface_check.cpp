@@ -17,6 +17,8 @@ namespace splatcl::splats {
 namespace {
 
 constexpr std::uint64_t kSurfaceSalt = 0x5bd1e9955bd1e995ULL, kSplatSalt = 0xc2b2ae3d27d4eb4fULL;
+// Triangles this much farther than the nearest (× ε) still tie with it for the flipped count.
+constexpr double kFlipTieSlack = 1e-3;
 
 // The `stream`-th output of a SplitMix64 stream keyed by seed and salt: independent, reproducible
 // seeds for chunks and splats, whatever the thread count.
@@ -432,7 +434,12 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
       const CheckedEllipse& e = ellipses[j];
       if (!e.valid) return;
       const Surface::Nearest centre = surface.nearest(e.c);
-      flipped[j] = centre.triangle != UINT32_MAX && dot(e.n, surface.triangles()[centre.triangle].normal) < 0;
+      // Flipped: no triangle at the centre's distance faces the splat's way. At an edge or vertex
+      // several triangles tie for nearest, and the pick among them would be arbitrary.
+      if (centre.triangle != UINT32_MAX && dot(e.n, surface.triangles()[centre.triangle].normal) < 0) {
+        const Surface::Facing same_way{e.n, 1e-12, true};
+        flipped[j] = !surface.within(e.c, centre.distance + kFlipTieSlack * eps, nullptr, &same_way);
+      }
       results[j] = measure_splat(e, j, options, surface, limit, scratch[worker]);
     });
   }

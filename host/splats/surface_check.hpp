@@ -58,7 +58,7 @@ struct SurfaceCheckReport {
   double area_beyond_fraction = 0;       // of the total splat area, from the area-uniform interior points
   std::size_t splats_beyond = 0;         // splats with some checked point beyond ε (1 + slack)
   double largest_major = 0, diagonal = 0;  // largest major semi-axis; the surface's bounding-box diagonal
-  std::size_t flipped = 0;               // the triangle nearest the centre faces the other way
+  std::size_t flipped = 0;               // no triangle nearest the centre (ties at edges and vertices) faces its way
   std::size_t degenerate = 0;            // non-finite fields, zero axes or normal, nothing kept by the clip
 
   double max_distance_eps() const { return eps > 0 ? max_distance / eps : 0.0; }

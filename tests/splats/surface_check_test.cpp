@@ -279,6 +279,32 @@ TEST(SurfaceCheck, TangentSplatsOnASphereAreTheirRimHeightAway) {
   EXPECT_EQ(report.uncovered_points, 0u);
 }
 
+// At an octahedron's tip four faces tie for nearest to a centre just above it. A splat lying on
+// one face (its normal) faces the opposite face's way by −1/3: it is not flipped, whichever face
+// the search picks. One facing down at the tip is flipped by every face.
+TEST(SurfaceCheck, SplatAtAVertexIsFlippedOnlyAgainstEveryNearestFace) {
+  const Mesh octahedron = make_mesh({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+                                    {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}, "octahedron");
+  const Surface surface(octahedron);
+  std::vector<SplatRecord> splats;
+  // Each face at the tip (0, 1, 0): its outward normal, and a splat on it, centred just above the tip.
+  for (const SurfaceTriangle& t : surface.triangles()) {
+    if (!(t.normal.y > 0)) continue;
+    const DVec3 along = normalized(cross(t.normal, DVec3{0, 1, 0}));
+    SplatRecord s;
+    s.center = {0.0f, 1.0f + 1e-4f, 0.0f}, s.normal = to_float(t.normal);
+    s.major = to_float(0.05 * along), s.minor = to_float(0.05 * cross(t.normal, along));
+    splats.push_back(s);
+  }
+  ASSERT_EQ(splats.size(), 4u);
+  SurfaceCheckReport report = check_surface(octahedron, splats, options(10'000, 0.1));
+  EXPECT_EQ(report.flipped, 0u);
+  splats.push_back(circle({0.0f, 1.0f + 1e-4f, 0.0f}, 0.05f, {0, -1, 0}));
+  splats.back().major = {0.05f, 0, 0}, splats.back().minor = {0, 0, 0.05f};
+  report = check_surface(octahedron, splats, options(10'000, 0.1));
+  EXPECT_EQ(report.flipped, 1u);
+}
+
 TEST(SurfaceCheck, SameSeedSameReportOtherSeedSimilar) {
   const Mesh plane = testing::plane_mesh(4);
   std::vector<SplatRecord> splats = grid();
