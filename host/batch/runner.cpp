@@ -466,13 +466,16 @@ void check_run_paths(const std::string& input, bool input_is_directory, const st
   // Written over, the lock file would let a second run build the models this one holds; and read
   // (a model's mesh or texture), closing it dropped every lock this process held on it (POSIX
   // record locks: a second run then built the same models at once; a helper's audit).
-  const fs::path lock_file = comparable_path((fs::path(output_dir) / kLockFileName).string());
-  if (sum == lock_file) throw Error("batch: --summary " + summary + " is the output directory's lock file");
-  for (std::size_t k = 0; k < all_models.size(); ++k) {
-    const ModelEntry& m = all_models[k];
-    if (input_paths[k] == lock_file) throw Error("batch: the input of model '" + m.id + "' (" + m.origin + ") is the output directory's lock file");
-    if (!m.params.splats.texture.empty() && comparable_path(m.params.splats.texture) == lock_file)
-      throw Error("batch: the texture of model '" + m.id + "' (" + m.origin + ") is the output directory's lock file");
+  // The summary's folder has one too (lock_models).
+  for (const auto& [lock_file, whose] : {std::pair{comparable_path((fs::path(output_dir) / kLockFileName).string()), "the output directory's"},
+                                         std::pair{sum.parent_path() / kLockFileName, "the summary folder's"}}) {
+    if (sum == lock_file) throw Error("batch: --summary " + summary + " is " + whose + " lock file");
+    for (std::size_t k = 0; k < all_models.size(); ++k) {
+      const ModelEntry& m = all_models[k];
+      if (input_paths[k] == lock_file) throw Error("batch: the input of model '" + m.id + "' (" + m.origin + ") is " + whose + " lock file");
+      if (!m.params.splats.texture.empty() && comparable_path(m.params.splats.texture) == lock_file)
+        throw Error("batch: the texture of model '" + m.id + "' (" + m.origin + ") is " + whose + " lock file");
+    }
   }
   std::map<fs::path, std::pair<std::string, const ModelEntry*>> targets;  // every output: its name and model
   for (const auto& m : all_models)
@@ -503,20 +506,28 @@ void prepare_output_directory(const std::string& output_dir) {
   check_writable_directory(output_dir, "output directory " + output_dir);
 }
 
-std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir,
-                                      const std::string& summary_path) {
-  auto locks = std::make_unique<KeyLocks>((fs::path(output_dir) / kLockFileName).string());
+RunLocks lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir, const std::string& summary_path) {
+  RunLocks locks;
+  locks.models = std::make_unique<KeyLocks>((fs::path(output_dir) / kLockFileName).string());
   for (const auto& m : models) {
-    const pid_t holder = locks->try_lock(m.id);
+    const pid_t holder = locks.models->try_lock(m.id);
     if (holder != 0)
       throw Error(fmt::format("batch: model '{}' in {} is being built by another batch run{}; run one batch per model and output "
                               "directory at a time (lock {})",
-                              m.id, output_dir, holder > 0 ? fmt::format(" (pid {})", holder) : "", locks->path()));
+                              m.id, output_dir, holder > 0 ? fmt::format(" (pid {})", holder) : "", locks.models->path()));
+  }
+  // In the lock file of the summary's own folder, which every run naming it shares. One process
+  // must not open one lock file twice: closing either descriptor would drop all its POSIX locks.
+  const fs::path summary = comparable_path(summary_path), folder = summary.parent_path();
+  KeyLocks* summary_locks = locks.models.get();
+  if (folder != comparable_path(output_dir)) {
+    locks.summary = std::make_unique<KeyLocks>((folder / kLockFileName).string());
+    summary_locks = locks.summary.get();
   }
   // Model ids cannot contain ':', so the summary's key is no model's.
-  if (const pid_t holder = locks->try_lock("summary:" + comparable_path(summary_path).string()); holder != 0)
+  if (const pid_t holder = summary_locks->try_lock("summary:" + summary.string()); holder != 0)
     throw Error(fmt::format("batch: the summary {} is being written by another batch run{}; run one batch per summary at a time (lock {})",
-                            summary_path, holder > 0 ? fmt::format(" (pid {})", holder) : "", locks->path()));
+                            summary_path, holder > 0 ? fmt::format(" (pid {})", holder) : "", summary_locks->path()));
   if (const char* hold = std::getenv(kHoldLocksVariable)) std::this_thread::sleep_for(std::chrono::milliseconds(std::atol(hold)));
   return locks;
 }

@@ -90,11 +90,16 @@ void prepare_output_directory(const std::string& output_dir);
 // other's files and records. A run holds the lock of each of its models (in OUTDIR/.splatcl-batch.lock)
 // until its summary is written; a second run over any of them is refused with one line naming the
 // model and the other run's pid. Shards of one run hold disjoint models and run side by side. The
-// summary file is locked too (a shard with no models, two runs naming one --summary). Taken before
-// the run removes any temporary: two copies of one shard (a requeued Slurm task while the first
-// still runs on another node, whose pids this node cannot see) never delete each other's files.
-std::unique_ptr<KeyLocks> lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir,
-                                      const std::string& summary_path);
+// summary file is locked too (a shard with no models, two runs naming one --summary), in the lock
+// file of the summary's folder: two runs into different output directories naming one --summary
+// both wrote it. Taken before the run removes any temporary: two copies of one shard (a requeued
+// Slurm task while the first still runs on another node, whose pids this node cannot see) never
+// delete each other's files.
+struct RunLocks {
+  std::unique_ptr<KeyLocks> models;
+  std::unique_ptr<KeyLocks> summary;  // null when the summary's folder is the output directory
+};
+RunLocks lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir, const std::string& summary_path);
 
 // The per-model locks' file in the output directory.
 inline constexpr const char* kLockFileName = ".splatcl-batch.lock";

@@ -111,6 +111,11 @@ int run_batch_command(const BatchCommand& c) {
   prepare_output_directory(c.output);
   const auto locks = lock_models(models, c.output, summary_path);
   check_output_file(summary_path, "--summary");
+  // An earlier run's summary would no longer match the files once this run rewrites any: an
+  // interrupted run left it in place, naming other parameters and checksums. Removed now, a
+  // summary on disk is always of a run that finished.
+  if (!fs::remove(summary_path, ec) && ec)
+    throw Error(fmt::format("cannot remove the earlier summary {}: {}", summary_path, ec.message()));
 
   RunInfo info;
   info.input = c.input;
@@ -203,7 +208,7 @@ Action register_batch(CLI::App& app) {
       "batch",
       "Many meshes → splat PLYs and coherent shadow maps, with statistics and a summary JSON; resumable (finished outputs are "
       "verified by checksum and skipped) and shardable over machines (--shard i/N). Exit status: 0 every model ok; 1 an error, "
-      "nothing ran (bad manifest, option or device); 2 the run completed but some models failed. See docs/batch.md");
+      "nothing ran (bad manifest, option or device), or the summary could not be written; 2 the run completed but some models failed. See docs/batch.md");
   auto c = std::make_shared<BatchCommand>();
   add_device_option(*sub, c->device);
   sub->add_option("input", c->input, "Manifest (.json or .csv) or a directory of meshes (OBJ, PLY, OFF, STL; searched recursively)");

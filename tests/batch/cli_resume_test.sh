@@ -55,6 +55,13 @@ done
 "$splatcl" batch "$work/set.json" -o "$work/killed" > "$work/again.log" || fail "third run failed"
 [ "$(grep -c '^reused' "$work/again.log")" -eq 4 ] || fail "a complete run was not fully reused: $(cat "$work/again.log")"
 
+# A run killed while it rewrites outputs leaves no summary: the earlier one named the files as they
+# were before it (an interrupted --k 9 run left the k 8 summary beside k 9 splats).
+SPLATCL_BATCH_KILL_AFTER_WRITES=1 "$splatcl" batch "$work/set.json" -o "$work/killed" --k 9 > /dev/null 2>&1
+[ $? -eq 137 ] || fail "expected the hook to kill the --k 9 run"
+[ ! -f "$work/killed/summary.json" ] || fail "a run killed while rewriting outputs left the earlier summary"
+"$splatcl" batch "$work/set.json" -o "$work/killed" > /dev/null || fail "the run after the --k 9 kill failed"
+
 # The native reference does not pass off the OpenCL run's files as its own: it rebuilds them.
 "$splatcl" batch "$work/set.json" -o "$work/killed" --reference > "$work/reference.log" || fail "reference run failed: $(cat "$work/reference.log")"
 ! grep -q '^reused' "$work/reference.log" || fail "--reference reused an OpenCL run's outputs: $(cat "$work/reference.log")"

@@ -7,7 +7,7 @@ file(MAKE_DIRECTORY ${HOSTILE_DIR})
 # output directory, two batch runs at once, a killed csm build's temporary (tests/cli/hostile_outputs_test.sh).
 foreach(mode full-disk-coherence full-disk-coherence-build full-disk-splats-render full-disk-cluster full-disk-render
              batch-summary-is-manifest batch-summary-is-output batch-summary-is-lock batch-input-is-lock batch-summary-folder-missing batch-output-in-output batch-fifo-input batch-output-is-input batch-output-inside-input
-             batch-output-contains-input batch-unwritable batch-concurrent batch-same-shard-twice batch-scan-own-folders
+             batch-output-contains-input batch-unwritable batch-concurrent batch-concurrent-summary batch-same-shard-twice batch-scan-own-folders
              threads-follow-affinity csm-leftover sigterm-csm-build sigterm-batch sigterm-cluster render-cache-read-only)
   add_test(NAME hostile.${mode} COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/hostile_outputs_test.sh ${mode} $<TARGET_FILE:splatcl>
            ${HOSTILE_DIR}/${mode} ${EXPECT_ERROR})

@@ -156,6 +156,22 @@ case $mode in
     "$splatcl" batch "$work/set.csv" -o "$work/out" --reference --maps 64 --res 16 >"$work/third.log" || fail "a later run failed"
     grep -q '^reused  cube' "$work/third.log" || fail "a later run did not reuse: $(cat "$work/third.log")" ;;
 
+  batch-concurrent-summary)  # two runs into different output directories naming one --summary
+    printf 'path\n%s\n' "$cube" >"$work/set.csv"
+    printf 'path\n%s\n' "$work/wedge.obj" >"$work/other.csv"
+    printf 'v 0 0 0\nv 2 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/wedge.obj"
+    mkdir -p "$work/summaries"
+    SPLATCL_BATCH_HOLD_LOCKS_MS=3000 "$splatcl" batch "$work/set.csv" -o "$work/outA" --summary "$work/summaries/s.json" --reference \
+      --maps 64 --res 16 >"$work/first.log" 2>&1 &
+    first=$!
+    for _ in $(seq 100); do [ -e "$work/summaries/.splatcl-batch.lock" ] && break; sleep 0.05; done
+    sleep 0.5
+    "$expect_error" "batch: the summary $work/summaries/s.json is being written by another batch run \\(pid $first\\); run one batch per summary at a time" \
+      "$splatcl" batch "$work/other.csv" -o "$work/outB" --summary "$work/summaries/s.json" --reference --maps 64 --res 16 ||
+      fail "the second run was not refused"
+    wait "$first" || fail "the first run failed: $(cat "$work/first.log")"
+    grep -q '"id": "cube"' "$work/summaries/s.json" || fail "the summary is not the first run's: $(cat "$work/summaries/s.json")" ;;
+
   batch-same-shard-twice)  # two copies of one shard (a requeued Slurm task while the first still runs)
     # Copy A pauses 1.5 s before each rename, so it has a temporary on disk. summary-0-of-2.json.tmpDEAD
     # stands for a summary temporary of a copy on another node: its pid does not exist on this one.
