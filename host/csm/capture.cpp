@@ -113,7 +113,10 @@ Sphere bounding_sphere(const Mesh& mesh) {
   sphere.centre = {static_cast<float>(best_c[0]), static_cast<float>(best_c[1]), static_cast<float>(best_c[2])};
   const double fc[3] = {sphere.centre.x, sphere.centre.y, sphere.centre.z};
   const double radius = farthest(fc, points);
-  if (!(radius > 0) || !std::isfinite(radius)) throw Error(mesh.source + ": the mesh has zero extent (all vertices coincide)");
+  if (!(radius > 0) || !std::isfinite(radius)) {
+    const std::string collapsed = float_step_warning(mesh);  // the vertices differ in the file, too close for floats there
+    throw Error(mesh.source + ": the mesh has zero extent" + (collapsed.empty() ? " (all vertices coincide)" : ": " + collapsed));
+  }
   sphere.radius = static_cast<float>(radius * (1 + 1e-5));
   if (!(sphere.radius >= kMinSphereRadius && sphere.radius <= kMaxSphereRadius))
     throw Error(fmt::format("{}: the mesh's bounding sphere has radius {:g}, outside [{:g}, {:g}] (scale the model into that range)",

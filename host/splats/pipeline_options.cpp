@@ -159,6 +159,8 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
     if (p.eps > 0)
       throw Error(fmt::format("{}: eps {} is beyond float range (the splats are floats: give an eps between {:.3g} and {:.3g})", model,
                               p.eps, std::numeric_limits<float>::min(), std::numeric_limits<float>::max()));
+    if (const std::string collapsed = float_step_warning(mesh); !setup.diagonal && !collapsed.empty())
+      throw Error(fmt::format("{}: the mesh has zero extent: {}", model, collapsed));
     throw Error(fmt::format("{}: eps resolves to {} (eps_diag {} x bounding-box diagonal {}); the mesh has no extent or one "
                             "beyond float range, or eps underflows: pass --eps",
                             model, options.fit.eps, p.eps_diag, setup.diagonal));

@@ -219,6 +219,16 @@ add_test(NAME hostile.mesh_far_from_origin_warns COMMAND ${EXPECT_OUTPUT}
          -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/tetra-1e7.obj -o ${HOSTILE_DIR}/tetra-1e7.csm --maps 16 --res 8)
 add_test(NAME hostile.mesh_near_origin_does_not_warn COMMAND ${EXPECT_OUTPUT} --no-match "warning"
          -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/tetra-near.obj -o ${HOSTILE_DIR}/tetra-near.csm --maps 16 --res 8)
+# A tenth-of-a-millimetre tetrahedron at 1e6 reads as one point: csm build and splats said only
+# "zero extent" or "eps resolves to 0", and ao took it as a receiver of AO 1 with no float warning.
+file(WRITE ${HOSTILE_DIR}/tetra-collapsed.obj "v 1000000 1000000 1000000\nv 1000000.0001 1000000 1000000\nv 1000000 1000000.0001 1000000\nv 1000000 1000000 1000000.0001\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+set(COLLAPSED_CAUSE "tetra-collapsed.obj: the mesh has zero extent: coordinates reach 1000000, where floats step by 0.0625: every vertex reads as the same point")
+hostile_error(mesh_collapsed_csm "${COLLAPSED_CAUSE}" csm build ${HOSTILE_DIR}/tetra-collapsed.obj -o ${HOSTILE_DIR}/tetra-collapsed.csm --maps 16 --res 8)
+hostile_error(mesh_collapsed_splats "${COLLAPSED_CAUSE}" splats ${HOSTILE_DIR}/tetra-collapsed.obj -o ${HOSTILE_DIR}/tetra-collapsed.ply)
+add_test(NAME hostile.mesh_collapsed_ao_receiver_warns COMMAND ${EXPECT_OUTPUT}
+         --match "warning: .*tetra-collapsed.obj: coordinates reach 1000000, where floats step by 0.0625: every vertex reads as the same point"
+         -- $<TARGET_FILE:splatcl> ao ${HOSTILE_DIR}/tetra-collapsed.obj --occluder ${HOSTILE_DIR}/tetra-near.csm -o ${HOSTILE_DIR}/collapsed-ao.ply)
+set_tests_properties(hostile.mesh_collapsed_ao_receiver_warns PROPERTIES DEPENDS hostile.mesh_near_origin_does_not_warn)
 # Numbers beyond float range in a scene (finite as doubles, inf as floats) failed far from the
 # field with another cause ("an occluder placement is not invertible", "camera up vector is
 # parallel") or drew nothing; splat_scale had no upper bound (k = 10: 260 s of gap covering).
