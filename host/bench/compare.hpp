@@ -1,8 +1,10 @@
 #pragma once
 // Regression check of a benchmark run against a baseline results file: records are matched by
 // suite, case, impl, device, size and every scalar extra field (problem variant, kernel shape,
-// implementation variant, thread count); a matched record whose median time grew by more than the
-// threshold is a regression.
+// implementation variant, thread count); a matched record whose median time and fastest run both
+// grew by more than the threshold is a regression (noise on a shared machine only adds time, so a
+// slowdown that the fastest run does not show is noise: two identical quick runs here flagged 28
+// of 36 records on medians alone).
 #include <string>
 #include <vector>
 
@@ -18,9 +20,10 @@ void require_distinct_records(const Results& results, const std::string& path);
 
 struct ComparedRecord {
   std::string key;
-  double baseline_ms = 0, current_ms = 0;
-  double change_pct = 0;  // (current − baseline) / baseline × 100; positive = slower
-  bool regression = false;
+  double baseline_ms = 0, current_ms = 0;  // median times
+  double change_pct = 0;  // (current − baseline) / baseline × 100 of the medians; positive = slower
+  double min_change_pct = 0;  // the same of the fastest runs (min_ms)
+  bool regression = false;  // both changes beyond the threshold
 };
 
 struct Comparison {

@@ -151,7 +151,10 @@ int report_comparison(const bench::Results& current, const std::string& baseline
       std::printf("note: the runs differ in %s: %s in the baseline, %s here\n", field, a->dump().c_str(), b->dump().c_str());
   }
   std::fflush(stdout);
-  if (comparison.matched.empty()) throw Error("no record matches one in " + baseline_path);
+  if (comparison.matched.empty()) {  // nothing compared: not a verdict on the code (status 2, as a comparison that failed)
+    std::fprintf(stderr, "splatcl: no record matches one in %s\n", printable(baseline_path).c_str());
+    return 2;
+  }
   if (comparison.regressions() > 0) {
     std::fprintf(stderr, "splatcl: %zu regression(s) beyond %g %% against %s\n", comparison.regressions(), threshold_pct,
                  baseline_path.c_str());
@@ -200,7 +203,9 @@ Action register_bench(CLI::App& app) {
   report->add_option("FILE", options->results_path, "Results written by 'splatcl bench --json'")->required()->type_name("FILE");
 
   auto* compare = bench->add_subcommand(
-      "compare", "Compare a results file with a baseline: exit status 1 when a record's median time grew beyond the threshold");
+      "compare",
+      "Compare a results file with a baseline. Exit status: 0 no regression; 1 a record's median time and fastest run both "
+      "grew beyond the threshold; 2 no comparison (a file unreadable, or no record matches)");
   compare->add_option("RESULTS", options->results_path, "Results (.json or .csv)")->required()->type_name("RESULTS");
   compare->add_option("BASELINE", options->baseline_path, "Baseline results (.json or .csv)")->required()->type_name("BASELINE");
   compare->add_option("--threshold", options->threshold_pct, "Regression threshold, in percent of the baseline's median time")
@@ -254,8 +259,14 @@ Action register_bench(CLI::App& app) {
       return 0;
     }
     if (compare->parsed()) {
-      const bench::Results current = read_any_results(o.results_path);
-      return report_comparison(current, o.baseline_path, o.threshold_pct);
+      // As diff and cmp: 0 no regression, 1 regressions, 2 no comparison (unreadable or unrelated files).
+      try {
+        const bench::Results current = read_any_results(o.results_path);
+        return report_comparison(current, o.baseline_path, o.threshold_pct);
+      } catch (const Error& e) {
+        std::fprintf(stderr, "splatcl: %s\n", printable(e.what()).c_str());
+        return 2;
+      }
     }
     if (plot->parsed()) {
       print_plots(bench::write_plots(read_any_results(o.results_path), o.output_dir));

@@ -42,9 +42,9 @@ TEST(BenchCompare, IdenticalResultsPass) {
 
 TEST(BenchCompare, SlowerBeyondTheThresholdIsARegression) {
   Results current = baseline();
-  current.records[1].median_ms = 50;  // gpu shape +25 %
-  current.records[3].median_ms = 5.2;  // scan +4 %
-  current.records[2].median_ms = 10;   // reference faster: never a regression
+  current.records[1].median_ms = current.records[1].min_ms = 50;  // gpu shape +25 %
+  current.records[3].median_ms = current.records[3].min_ms = 5.2;  // scan +4 %
+  current.records[2].median_ms = current.records[2].min_ms = 10;   // reference faster: never a regression
   const Comparison c = compare_results(current, baseline(), 10);
   ASSERT_EQ(c.matched.size(), 4u);
   EXPECT_EQ(c.regressions(), 1u);
@@ -58,6 +58,31 @@ TEST(BenchCompare, SlowerBeyondTheThresholdIsARegression) {
   EXPECT_NE(report.find("shape=gpu"), std::string::npos);
   // A lower threshold catches the scan too.
   EXPECT_EQ(compare_results(current, baseline(), 3).regressions(), 2u);
+}
+
+// Noise on a shared machine only adds time: a median that grew while the fastest run did not is
+// noise, not a regression (two identical quick runs flagged 28 of 36 records on medians alone).
+TEST(BenchCompare, ASlowerMedianWithAnUnchangedFastestRunIsNoise) {
+  Results current = baseline();
+  current.records[0].median_ms = 30, current.records[0].max_ms = 60;  // +200 % median, fastest run 10 as before
+  current.records[1].median_ms = 60, current.records[1].min_ms = 46;  // +50 % median, fastest run +15 %
+  const Comparison c = compare_results(current, baseline(), 10);
+  EXPECT_FALSE(c.matched[0].regression);
+  EXPECT_NEAR(c.matched[0].change_pct, 200.0, 1e-9);
+  EXPECT_NEAR(c.matched[0].min_change_pct, 0.0, 1e-9);
+  EXPECT_TRUE(c.matched[1].regression);
+  EXPECT_NEAR(c.matched[1].min_change_pct, 15.0, 1e-9);
+  EXPECT_EQ(c.regressions(), 1u);
+  EXPECT_EQ(compare_results(current, baseline(), 20).regressions(), 0u);  // the fastest run's 15 % is within 20
+}
+
+// Unrelated files (another suite): the counts, not every key of both.
+TEST(BenchCompare, NoMatchReportsCountsOnly) {
+  Results other = baseline();
+  for (Record& r : other.records) r.suite = "csm";
+  const Comparison c = compare_results(other, baseline(), 10);
+  EXPECT_TRUE(c.matched.empty());
+  EXPECT_EQ(comparison_report(c), "no record matches: 4 here, 4 in the baseline (other suites, devices or sizes)\n");
 }
 
 TEST(BenchCompare, MatchesByFullIdentity) {

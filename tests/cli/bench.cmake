@@ -29,6 +29,14 @@ endif()
 set(BENCH_RECORD "\"suite\": \"csm\", \"case\": \"capture\", \"impl\": \"opencl\", \"device\": \"dev\", \"size\": 1000, \"size_unit\": \"rays\", \"runs\": 3, \"throughput\": 1e5, \"throughput_unit\": \"rays/s\"")
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json "{\"machine\": {}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 10, \"min_ms\": 9, \"max_ms\": 11}]}\n")
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json "{\"machine\": {}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 12, \"min_ms\": 11, \"max_ms\": 13}]}\n")
+# The median slower by 20 %, the fastest run not: noise, not a regression.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-noisy.json "{\"machine\": {}, \"records\": [{${BENCH_RECORD}, \"median_ms\": 12, \"min_ms\": 9, \"max_ms\": 30}]}\n")
+add_test(NAME cli.bench_compare_noise_is_no_regression COMMAND ${EXPECT_OUTPUT} --match "^0 of 1 matched records regressed by more than 10 %"
+         -- $<TARGET_FILE:splatcl> bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-noisy.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 10)
+# Unrelated files: exit status 2 (no comparison), not 1 (regressions).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bench-other-suite.json "{\"machine\": {}, \"records\": [{\"suite\": \"primitives\", \"case\": \"scan\", \"impl\": \"opencl\", \"device\": \"dev\", \"runs\": 1, \"median_ms\": 1, \"min_ms\": 1, \"max_ms\": 1}]}\n")
+add_test(NAME cli.bench_compare_no_match_exits_2 COMMAND sh -c "\"$1\" bench compare \"$2\" \"$3\" 2>\"$2.err\"; test $? -eq 2 && grep -q 'splatcl: no record matches one in .*bench-fast.json' \"$2.err\""
+         sh $<TARGET_FILE:splatcl> ${CMAKE_CURRENT_BINARY_DIR}/bench-other-suite.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json)
 add_test(NAME cli.error_bench_regression COMMAND ${EXPECT_ERROR} "1 regression\\(s\\) beyond 10 % against .*bench-fast.json" $<TARGET_FILE:splatcl>
          bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 10)
 add_test(NAME cli.bench_within_threshold COMMAND ${EXPECT_OUTPUT} --match "^0 of 1 matched records regressed by more than 25 %" --match "\\| \\+20\\.0 % \\|"
