@@ -124,6 +124,30 @@ std::string hostname() {
   return name;
 }
 
+// The command that made the results, its arguments quoted where a shell would need it.
+std::string command_line() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::string line, argument;
+  while (std::getline(in, argument, '\0')) {
+    const bool plain = !argument.empty() && argument.find_first_of(" \t\n'\"\\$`*?[]{}()<>|&;#~") == std::string::npos;
+    std::string quoted = plain ? argument : "'";
+    if (!plain) {
+      for (const char c : argument) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      quoted += "'";
+    }
+    line += (line.empty() ? "" : " ") + quoted;
+  }
+  return line;
+}
+
+// The 1-, 5- and 15-minute load averages: how busy the shared machine was when the results were taken.
+Json load_average() {
+  std::ifstream in("/proc/loadavg");
+  double one = 0, five = 0, fifteen = 0;
+  if (!(in >> one >> five >> fifteen)) return nullptr;
+  return Json::array({one, five, fifteen});
+}
+
 }  // namespace
 
 bool describes_implementation(const std::string& extra_field) {
@@ -263,6 +287,8 @@ Json machine_info(const DeviceInfo* device) {
   }
   if (const char* threads = std::getenv("POCL_MAX_PTHREAD_COUNT")) machine["pocl_max_pthread_count"] = threads;
   machine["date"] = utc_now();
+  machine["command"] = command_line();
+  machine["load_average"] = load_average();
   return machine;
 }
 

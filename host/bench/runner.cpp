@@ -194,9 +194,11 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
     }
   }
   if (devices.size() > 1) {
-    Json names = Json::array();
-    for (const auto& device : devices) names.push_back(device.name);
-    results.machine["opencl_devices"] = names;
+    // Each device's platform and version too: the machine block's opencl_* fields are the first's.
+    Json described = Json::array();
+    for (const auto& device : devices)
+      described.push_back({{"name", device.name}, {"platform", device.platform}, {"type", device.type}, {"version", device.version}});
+    results.machine["opencl_devices"] = described;
   }
   return results;
 }

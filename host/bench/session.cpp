@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 
 #include "io/json_keys.hpp"
 #include "bench/report.hpp"
+#include "runtime/tuning.hpp"
 
 namespace splatcl::bench {
 
@@ -121,8 +123,16 @@ Results Session::results() const {
   // How the run measured, for compare: a --warmup 0 run (it times the kernel build) or another
   // tuning database read as plain regressions beside a default run.
   results.machine["warmup"] = options_.measure.warmup;
+  results.machine["quick"] = options_.quick;  // small problems: figures not comparable with a full run's
   const char* tuning = std::getenv(kTuningEnvVar);
-  results.machine["tuning"] = tuning && *tuning ? tuning : "embedded data/tuning.json";
+  const std::string source = tuning && *tuning ? tuning : "embedded data/tuning.json";
+  // Whether the database has a record for this device at all: one with none runs every kernel
+  // at its defaults, which the database's name alone did not say.
+  const auto database = TuningDatabase::active();
+  const DeviceInfo& device = runtime_->info();
+  const bool applies = std::any_of(database->records().begin(), database->records().end(),
+                                   [&](const TuningRecord& r) { return r.matches(device); });
+  results.machine["tuning"] = applies ? source : source + " (no record for this device: defaults)";
   results.records = records_;
   return results;
 }

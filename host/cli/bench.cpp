@@ -145,7 +145,7 @@ int report_comparison(const bench::Results& current, const std::string& baseline
   std::fputs(("\n### comparison with " + baseline_path + "\n\n" + bench::comparison_report(comparison)).c_str(), stdout);
   // Runs measured differently or elsewhere compare, but say so: such changes read as regressions.
   for (const char* field : {"cpu_model", "logical_cores", "memory_gib", "build", "compiler", "opencl_device", "opencl_driver_version",
-                            "pocl_max_pthread_count", "warmup", "tuning"}) {
+                            "pocl_max_pthread_count", "warmup", "quick", "tuning"}) {
     const auto a = baseline.machine.find(field), b = current.machine.find(field);
     if (a != baseline.machine.end() && b != current.machine.end() && *a != *b)
       std::printf("note: the runs differ in %s: %s in the baseline, %s here\n", field, a->dump().c_str(), b->dump().c_str());

@@ -68,6 +68,20 @@ TEST(BenchSession, OpenCLRowRecordsShapeDeviceAndKernelTimes) {
   EXPECT_GE(r.extra["device_total_ms"].get<double>(), 0.0);
 }
 
+// The machine block says how the results were taken: the command, how busy the machine was,
+// quick or not, and whether the tuning database has a record for the device at all.
+TEST(BenchSession, MachineBlockNamesTheCommandLoadQuickAndTuning) {
+  Session session("test", quick_options());
+  const Json machine = session.results().machine;
+  EXPECT_NE(machine.at("command").get<std::string>().find("splatcl_tests_bench"), std::string::npos) << machine.dump();
+  ASSERT_TRUE(machine.at("load_average").is_array());
+  EXPECT_EQ(machine.at("load_average").size(), 3u);
+  EXPECT_GE(machine.at("load_average")[0].get<double>(), 0.0);
+  EXPECT_FALSE(machine.at("quick").get<bool>());
+  const std::string tuning = machine.at("tuning").get<std::string>();
+  EXPECT_EQ(tuning.rfind("embedded data/tuning.json", 0), 0u) << tuning;
+}
+
 // A shape whose kernel writes nothing must fail its check: the output buffer, shared between the
 // two shapes, holds no earlier shape's result once poisoned.
 TEST(BenchSession, PoisonedOutputFailsTheCheckOfAShapeThatWritesNothing) {
