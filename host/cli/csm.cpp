@@ -310,12 +310,12 @@ int run_verify(const VerifyCommand& c) {
                             "{:.9g}){}",
                             c.file, report.violations, report.samples, report.first_map, report.first_pixel, report.first_depth,
                             report.first_z1, report.first_z2,
-                            report.tolerance > 0 ? fmt::format(" by more than the hit epsilon {:g} (recaptured by {}, the file by {})",
+                            report.tolerance > 0 ? fmt::format(" by more than twice the hit epsilon, {:g} (recaptured by {}, the file by {})",
                                                                report.tolerance, to_string(method), to_string(csm.info.capture))
                                                  : std::string()));
   if (report.tolerance > 0) {
     fmt::print("lossless   {} of {} (map, pixel) samples of {} keep their depth-test result, recaptured by {} as a cross-check of the "
-               "file's {} (depths within the hit epsilon {:g}); the other {} are hit by one method only, at triangle edges\n",
+               "file's {} (depths within twice the hit epsilon, {:g}); the other {} are hit by one method only, at triangle edges\n",
                report.samples - report.edge_disagreements, report.samples, c.model, to_string(method), to_string(csm.info.capture),
                report.tolerance, report.edge_disagreements);
   } else {

@@ -91,7 +91,7 @@ struct LosslessReport {
   std::uint32_t first_map = 0;
   std::size_t first_pixel = 0;
   float first_depth = 0, first_z1 = 0, first_z2 = 0;
-  float tolerance = 0;  // depth units: the hit epsilon when recaptured by another method than the file's, else 0
+  float tolerance = 0;  // depth units: twice the hit epsilon when recaptured by another method than the file's, else 0
 };
 // The model file's mesh is moved into object space by the CSM's stored object transform first.
 // Throws Error (require_built_from) for a CSM of another model.
