@@ -83,7 +83,7 @@ int run_view(const ViewOptions& o) {
   present::FrameStats stats;
   const double started = glfwGetTime();
   while (!glfwWindowShouldClose(window)) {
-    glfwPollEvents();
+    input.poll();
     const double now = glfwGetTime();
     // The last frame: the time is up (with --screenshot-on-exit it is drawn and shot first).
     const bool last = o.seconds > 0 && now - started > o.seconds;

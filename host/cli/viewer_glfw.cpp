@@ -44,9 +44,14 @@ GlfwInput::~GlfwInput() {
   glfwSetWindowUserPointer(window_, nullptr);
 }
 
+void GlfwInput::poll() {
+  poll_time_ = glfwGetTime();
+  glfwPollEvents();
+}
+
 void GlfwInput::push(GLFWwindow* window, Event event, bool keyboard) {
   GlfwInput* in = self(window);
-  event.time = glfwGetTime();
+  event.time = in->poll_time_ >= 0 ? in->poll_time_ : glfwGetTime();
   event.captured = in->captured(keyboard);
   in->queue_.push(event);
 }

@@ -32,6 +32,10 @@ class GlfwInput {
 
   EventQueue& queue() { return queue_; }
   GLFWwindow* window() const { return window_; }
+  // glfwPollEvents, its events stamped with the time the poll began: GLFW gives events no time of
+  // their own, and stamped as each callback ran, a press and release delivered by one poll were
+  // microseconds apart, so a tap moved by microseconds instead of Controls::kTapSeconds.
+  void poll();
 
   // The callbacks themselves (installed on the window; public for the tests, which call them as
   // GLFW would: glfw has no way to inject events into a real window).
@@ -51,6 +55,7 @@ class GlfwInput {
   // server for the pointer now, which may have moved on since the click.
   double cursor_x_ = 0, cursor_y_ = 0;
   bool have_cursor_ = false;
+  double poll_time_ = -1;  // the last poll's start; before the first, each event's own time
   bool captured(bool keyboard) const { return hooks_.captured && hooks_.captured(keyboard); }
   // Stamps the event with the time and the panel's capture, and queues it.
   static void push(GLFWwindow* window, Event event, bool keyboard);

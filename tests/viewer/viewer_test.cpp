@@ -461,6 +461,17 @@ TEST(GlfwInput, InstalledCallbacksQueueEveryEvent) {
     EXPECT_TRUE(events[23].captured);
     EXPECT_EQ(input.queue().size(), 0u);
 
+    // Events delivered by one poll carry its time: a tap's press and release are one instant, which
+    // the controls count as held kTapSeconds (stamped as each callback ran, they were microseconds
+    // apart, and a tap moved by microseconds: a helper's audit at 2.5 fps).
+    input.poll();
+    key_fn(w.window, GLFW_KEY_LEFT, 0, GLFW_PRESS, 0);
+    key_fn(w.window, GLFW_KEY_LEFT, 0, GLFW_RELEASE, 0);
+    const std::vector<Event> tap = input.queue().take();
+    ASSERT_EQ(tap.size(), 2u);
+    EXPECT_EQ(tap[0].time, tap[1].time);
+    EXPECT_LE(tap[0].time, glfwGetTime());
+
     // The queue into the controls: ten shading steps, one zoom of two wheel steps.
     splatcl::Scene scene = splatcl::default_scene();
     Controls controls(scene);
