@@ -102,15 +102,7 @@ CSM_INLINE float csm_triangle_hit_within(CSM_TGLOBAL const CsmTriangle* tri, con
   const float qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
   const float v = (dir[0] * qx + dir[1] * qy + dir[2] * qz) * inv_det;
   if (v < -edge_tolerance || u + v > 1.0f + edge_tolerance) return INFINITY;
-  // The distance to the triangle's plane along the ray, from the plane's normal e1 × e2 rather than
-  // Möller–Trumbore's e2 · q / det: for a sliver both det and e2 · q lose float precision with the
-  // triangle's angle (a fan of slivers in the plane y = 0 read depths 1.1e-5 of 2R too shallow, and a
-  // raster cross-check of its ray-cast CSM failed), while the normal of a sliver lying in a
-  // coordinate plane is exact, and otherwise tilts only about the triangle's own corner.
-  const float nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
-  const float towards = nx * dir[0] + ny * dir[1] + nz * dir[2];
-  if (towards == 0.0f) return INFINITY;
-  const float t = -(nx * tx + ny * ty + nz * tz) / towards;
+  const float t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
   return t > 0.0f ? t : INFINITY;
 }
 

@@ -156,6 +156,7 @@ std::string params_checksum(const std::string& kind, nlohmann::json params) {
     params["splat_file_version"] = splats::kSplatFileVersion;
     params["splat_method_version"] = splats::kSplatMethodVersion;
   }
+
   const auto texture = params.find("texture");
   if (texture != params.end() && texture->is_string() && !texture->get<std::string>().empty()) {
     const std::string path = texture->get<std::string>();
@@ -238,7 +239,9 @@ class Worker {
   }
 
   void build_outputs(const ModelEntry& entry, ModelResult& r, const fs::path& dir) {
-    const auto record = options_.force ? std::nullopt : read_record(dir / record_name(entry.id));
+    // --force rebuilds what is asked for; what is not stays in the record (carry_output).
+    const auto previous = read_record(dir / record_name(entry.id));
+    const auto record = options_.force ? std::nullopt : previous;
     struct Pending {
       std::string kind;
       nlohmann::json params;
@@ -269,7 +272,7 @@ class Worker {
     if (entry.params.want_csm) consider("csm", csm::to_json(entry.params.csm));
     // `--outputs splats` dropped the CSM from the record, and the next full run rebuilt it.
     for (const auto& [kind, wanted] : {std::pair{"splats", entry.params.want_splats}, std::pair{"csm", entry.params.want_csm}})
-      if (!wanted) carry_output(record, r, kind);
+      if (!wanted) carry_output(previous, r, kind);
     // What loading found wrong with the mesh, kept in the record for runs that reuse every output.
     bool warning_recorded = false;
     if (record) {

@@ -124,22 +124,6 @@ std::string hostname() {
   return name;
 }
 
-// The command that made the results, its arguments quoted where a shell would need it.
-std::string command_line() {
-  std::ifstream in("/proc/self/cmdline", std::ios::binary);
-  std::string line, argument;
-  while (std::getline(in, argument, '\0')) {
-    const bool plain = !argument.empty() && argument.find_first_of(" \t\n'\"\\$`*?[]{}()<>|&;#~") == std::string::npos;
-    std::string quoted = plain ? argument : "'";
-    if (!plain) {
-      for (const char c : argument) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      quoted += "'";
-    }
-    line += (line.empty() ? "" : " ") + quoted;
-  }
-  return line;
-}
-
 // The 1-, 5- and 15-minute load averages: how busy the shared machine was when the results were taken.
 Json load_average() {
   std::ifstream in("/proc/loadavg");
@@ -256,6 +240,28 @@ Results parse_results(const std::string& text, const std::string& path) {
   } catch (const Error& e) {
     throw Error(path + ": " + e.what());
   }
+}
+
+std::vector<std::string> command_words() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::vector<std::string> words;
+  std::string word;
+  while (std::getline(in, word, '\0')) words.push_back(word);
+  return words;
+}
+
+std::string command_line() {
+  std::string line;
+  for (const std::string& word : command_words()) {
+    const bool plain = !word.empty() && word.find_first_of(" \t\n'\"\\$`*?[]{}()<>|&;#~") == std::string::npos;
+    std::string quoted = plain ? word : "'";
+    if (!plain) {
+      for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      quoted += "'";
+    }
+    line += (line.empty() ? "" : " ") + quoted;
+  }
+  return line;
 }
 
 Json machine_info(const DeviceInfo* device) {

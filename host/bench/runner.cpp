@@ -85,6 +85,7 @@ Results run_thread_scaling(const RunOptions& options) {
       merged.machine = part.machine;
       merged.machine.erase("pocl_max_pthread_count");
       merged.machine["pocl_thread_counts"] = fmt::format("1..{}", cores);
+      merged.machine["command"] = command_line();  // the child's names a temporary --json
     }
     for (auto& record : part.records) {
       record.extra["pocl_threads"] = threads;
@@ -129,10 +130,7 @@ std::vector<DeviceInfo> bench_devices(const std::vector<std::string>& selectors)
 }
 
 std::vector<std::string> own_arguments() {
-  std::ifstream in("/proc/self/cmdline", std::ios::binary);
-  std::vector<std::string> arguments;
-  std::string argument;
-  while (std::getline(in, argument, '\0')) arguments.push_back(argument);
+  std::vector<std::string> arguments = command_words();
   if (!arguments.empty()) arguments.erase(arguments.begin());
   return arguments;
 }

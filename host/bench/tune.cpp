@@ -55,6 +55,9 @@ class ScanWorkload : public Workload {
     out_ = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(cl_uint), "scan output");
   }
   void prepare(Shape shape, const LaunchParameters& parameters) override { scanner_.emplace(runtime_, shape, parameters); }
+  // The output holds no earlier candidate's result: one that writes nothing would pass the check,
+  // time fastest, and be written into the database.
+  void setup() override { poison_buffer(runtime_, out_, n_ * sizeof(cl_uint)); }
   void run() override {
     scanner_->run(in_, out_, n_, prim::ScanKind::Exclusive, false);
     finish(runtime_);
@@ -81,6 +84,7 @@ class CompactWorkload : public Workload {
     out_ = runtime.buffer(CL_MEM_READ_WRITE, n * sizeof(cl_uint), "unique output");
   }
   void prepare(Shape shape, const LaunchParameters& parameters) override { compactor_.emplace(runtime_, shape, parameters); }
+  void setup() override { poison_buffer(runtime_, out_, n_ * sizeof(cl_uint)); }  // as ScanWorkload's
   void run() override {
     kept_ = compactor_->unique(in_, out_, n_);
     finish(runtime_);

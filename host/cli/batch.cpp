@@ -111,11 +111,6 @@ int run_batch_command(const BatchCommand& c) {
   prepare_output_directory(c.output);
   const auto locks = lock_models(models, c.output, summary_path);
   check_output_file(summary_path, "--summary");
-  // An earlier run's summary would no longer match the files once this run rewrites any: an
-  // interrupted run left it in place, naming other parameters and checksums. Removed now, a
-  // summary on disk is always of a run that finished.
-  if (!fs::remove(summary_path, ec) && ec)
-    throw Error(fmt::format("cannot remove the earlier summary {}: {}", summary_path, ec.message()));
 
   RunInfo info;
   info.input = c.input;
@@ -147,6 +142,12 @@ int run_batch_command(const BatchCommand& c) {
     else fmt::print("{:<8}{}: {}\n", "FAILED", r.id, r.reason);
     std::fflush(stdout);
   };
+  // An earlier run's summary would no longer match the files once this run rewrites any: an
+  // interrupted run left it in place, naming other parameters and checksums. Removed after every
+  // check (a run refused for its device has touched nothing), a summary on disk is always of a run
+  // that finished.
+  if (!fs::remove(summary_path, ec) && ec)
+    throw Error(fmt::format("cannot remove the earlier summary {}: {}", summary_path, ec.message()));
   if (!models.empty()) show(0, models.size(), 0, "starting");
   const std::vector<ModelResult> results = run_batch(models, options, show, finished);
   progress.clear();
@@ -167,6 +168,10 @@ int run_batch_command(const BatchCommand& c) {
 
 int run_merge(const MergeCommand& c) {
   if (c.output.empty()) throw Error("batch merge: an output file is required (-o MERGED.json)");
+  // Any folder's lock file may be live (an output directory's, or a summary folder's of a run
+  // elsewhere): renamed over, the next run would open the new file and not see the old locks.
+  if (std::filesystem::path(c.output).filename() == kLockFileName)
+    throw Error(fmt::format("batch merge: -o {} is a batch run's lock file", c.output));
   check_output_file(c.output, "-o");
   std::vector<std::pair<std::string, std::string>> inputs;
   for (const auto& path : c.summaries) inputs.emplace_back("shard summary", path);

@@ -126,8 +126,8 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
   app.add_option("--json", o.json_path, "Write the records to FILE (benchmark record format; whole or not at all)")->type_name("FILE");
   app.add_option("--csv", o.csv_path, "Write the records to FILE as CSV")->type_name("FILE");
   app.add_option("--compare", o.compare_path,
-                 "Compare with a baseline results file (.json or .csv); exit status 1 when a record's median time grew "
-                 "by more than --threshold")
+                 "Compare with a baseline results file (.json or .csv), read before the run; exit status 1 when a record's "
+                 "median time and fastest run both grew by more than --threshold, 2 when no record matches one of the baseline")
       ->type_name("BASELINE");
   app.add_option("--threshold", o.threshold_pct, "Regression threshold of --compare, in percent")
       ->capture_default_str()
@@ -208,7 +208,8 @@ Action register_bench(CLI::App& app) {
       "grew beyond the threshold; 2 no comparison (a file unreadable, or no record matches)");
   compare->add_option("RESULTS", options->results_path, "Results (.json or .csv)")->required()->type_name("RESULTS");
   compare->add_option("BASELINE", options->baseline_path, "Baseline results (.json or .csv)")->required()->type_name("BASELINE");
-  compare->add_option("--threshold", options->threshold_pct, "Regression threshold, in percent of the baseline's median time")
+  compare->add_option("--threshold", options->threshold_pct,
+                      "Regression threshold, in percent of the baseline's median time and of its fastest run")
       ->capture_default_str()
       ->check(threshold_percent);
 

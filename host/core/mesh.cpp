@@ -992,10 +992,11 @@ std::string float_step_warning(const Mesh& mesh) {
   // The spacing of floats where the mesh reaches (|x| 2^-24, half of it at most, was printed as the step).
   const FloatStep far = float_step(box.reach(), box.exact_diagonal());
   // Collapsed whole (a tiny part far out: every vertex read as one point), there is no diagonal to
-  // compare with, and the warning was missing where it mattered most.
+  // compare with, and the warning was missing where it mattered most. The file's own coordinates are
+  // gone by now: a mesh whose vertices coincide there reads the same, so the text allows both.
   if (mesh.vertices.size() > 1 && !(box.exact_diagonal() > 0) && far.step > 0)
-    return fmt::format("coordinates reach {:.7g}, where floats step by {:.3g}: every vertex reads as the same point (vertices "
-                       "closer than that in the file coincide); translate the mesh nearer the origin",
+    return fmt::format("coordinates reach {:.7g}, where floats step by {:.3g}: every vertex reads as the same point (the mesh has "
+                       "no extent, or one finer than that step; if its vertices differ in the file, translate it nearer the origin)",
                        box.reach(), far.step);
   if (!far.coarse()) return {};
   return fmt::format("coordinates reach {:.7g}, where {}: detail finer than that was lost on reading; translate the mesh "

@@ -61,6 +61,9 @@ SPLATCL_BATCH_KILL_AFTER_WRITES=1 "$splatcl" batch "$work/set.json" -o "$work/ki
 [ $? -eq 137 ] || fail "expected the hook to kill the --k 9 run"
 [ ! -f "$work/killed/summary.json" ] || fail "a run killed while rewriting outputs left the earlier summary"
 "$splatcl" batch "$work/set.json" -o "$work/killed" > /dev/null || fail "the run after the --k 9 kill failed"
+# A run refused before any work (no such device) leaves the earlier summary alone.
+"$splatcl" batch "$work/set.json" -o "$work/killed" --device no-such-device > /dev/null 2>&1 && fail "a run on no device was not refused"
+[ -f "$work/killed/summary.json" ] || fail "a run refused for its device removed the earlier summary"
 
 # The native reference does not pass off the OpenCL run's files as its own: it rebuilds them.
 "$splatcl" batch "$work/set.json" -o "$work/killed" --reference > "$work/reference.log" || fail "reference run failed: $(cat "$work/reference.log")"

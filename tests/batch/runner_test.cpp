@@ -156,6 +156,15 @@ TEST(BatchRunner, RebuildsExactlyWhatChangedOrIsCorrupt) {
   EXPECT_TRUE(nlohmann::json::parse(read_text(options.output_dir + "/cube.batch.json")).at("outputs").contains("splats"));
   models[0].params.want_splats = true;
   EXPECT_TRUE(run_batch(models, options).at(0).reused());
+  // --force rebuilds what is asked for, and keeps the other too.
+  models[0].params.want_splats = false;
+  RunOptions forced = options;
+  forced.force = true;
+  EXPECT_FALSE(run_batch(models, forced).at(0).reused());
+  models[0].params.want_splats = true;
+  r = run_batch(models, options).at(0);
+  EXPECT_TRUE(output(r, "splats")->reused);
+  EXPECT_TRUE(output(r, "csm")->reused);
   // Not across a changed input: the record's other output is of the old bytes.
   models[0].params.want_csm = false;
   write_text(dir / "cube.obj", std::string(test::kCubeObj) + "# edited again\n");

@@ -39,6 +39,9 @@ add_test(NAME cli.error_batch_merge_not_summary COMMAND ${EXPECT_ERROR} "not-sum
 # -o naming one of the summaries: refused before reading (it replaced shard 0's summary).
 add_test(NAME cli.error_batch_merge_over_input COMMAND ${EXPECT_ERROR} "-o .*summary-0-of-2.json would overwrite the shard summary"
          $<TARGET_FILE:splatcl> batch merge ${BATCH_DIR}/summary-0-of-2.json ${BATCH_DIR}/summary-1-of-2.json -o ${BATCH_DIR}/summary-0-of-2.json)
+# -o naming a lock file (a summary folder's, live for a run elsewhere): renamed over, its locks were lost.
+add_test(NAME cli.error_batch_merge_over_lock_file COMMAND ${EXPECT_ERROR} "batch merge: -o .*/.splatcl-batch.lock is a batch run's lock file$"
+         $<TARGET_FILE:splatcl> batch merge ${BATCH_DIR}/summary-0-of-2.json -o ${BATCH_DIR}/elsewhere/.splatcl-batch.lock)
 # Small contract slips a helper's audit found (2026-12-07): each one line naming the cause.
 file(WRITE ${BATCH_DIR}/defaults-id.json "{\"defaults\": {\"id\": \"x\"}, \"models\": [\"a.obj\"]}")
 add_test(NAME cli.error_batch_defaults_id COMMAND ${EXPECT_ERROR} "defaults-id.json: defaults: 'id' names one model; give it in each model's entry"

@@ -31,7 +31,22 @@ TEST(Runtime, ChoosesByIndexTypeAndName) {
   EXPECT_EQ(choose_device("0").index, 0u);
   const auto& first = devices.front();
   EXPECT_EQ(choose_device(first.type).type, first.type);
-  EXPECT_EQ(choose_device(first.name.substr(0, 4)).index, first.index);
+  // By name: a device whose full name no other device's name, and no platform's name or vendor,
+  // contains (two GPUs of one model, or Intel's CPU and GPU runtimes, share their prefixes).
+  const auto lower = [](std::string text) {
+    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+  };
+  for (const DeviceInfo& d : devices) {
+    const std::string name = lower(d.name);
+    const bool unique = std::none_of(devices.begin(), devices.end(), [&](const DeviceInfo& other) {
+      return lower(other.platform).find(name) != std::string::npos || lower(other.platform_vendor).find(name) != std::string::npos ||
+             (other.index != d.index && lower(other.name).find(name) != std::string::npos);
+    });
+    if (unique) {
+      EXPECT_EQ(choose_device(d.name).index, d.index) << d.name;
+    }
+  }
 }
 
 // PoCL on an Intel CPU names Intel in its device name: 'intel' is Intel's runtime by its platform,
