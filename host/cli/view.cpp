@@ -7,6 +7,9 @@
 #include <GLFW/glfw3.h>
 #include <fmt/format.h>
 
+#include <signal.h>
+
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 
@@ -17,6 +20,7 @@
 #include "cli/viewer_glfw.hpp"
 #include "cli/viewer_panel.hpp"
 #include "io/image.hpp"
+#include "io/in_flight.hpp"
 #include "present/context.hpp"
 #include "present/presenter.hpp"
 #include "runtime/error.hpp"
@@ -38,6 +42,30 @@ struct ViewOptions {
   std::string size = "960x600", screenshot_dir = ".";
   double seconds = 0;  // > 0: quit after this many seconds (for scripted runs)
   bool no_panel = false, paused = false, screenshot_on_exit = false;
+};
+
+// SIGINT, SIGTERM and SIGHUP while the window runs: the loop ends after its frame and the run
+// prints its summary and state as when the window closes (it died without a word), then exits
+// with 128 + the signal, as it would have. A second signal, during a slow frame, ends it at once.
+std::atomic<int> stop_signal{0};
+void on_stop_signal(int signal) {
+  if (stop_signal.exchange(signal) != 0) {
+    ::signal(signal, SIG_DFL);
+    ::raise(signal);
+  }
+}
+
+class StopSignals {
+ public:
+  StopSignals() {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    for (const int signal : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(signal, &action, nullptr);
+  }
+  ~StopSignals() { remove_in_flight_files_on_termination(); }  // main's handlers again
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
 };
 
 int run_view(const ViewOptions& o) {
@@ -82,7 +110,8 @@ int run_view(const ViewOptions& o) {
   double frame_ms_total = 0, panel_ms_total = 0;
   present::FrameStats stats;
   const double started = glfwGetTime();
-  while (!glfwWindowShouldClose(window)) {
+  const StopSignals stop_signals;
+  while (!glfwWindowShouldClose(window) && stop_signal.load() == 0) {
     input.poll();
     const double now = glfwGetTime();
     // The last frame: the time is up (with --screenshot-on-exit it is drawn and shot first).
@@ -154,6 +183,10 @@ int run_view(const ViewOptions& o) {
              s.objects.empty() ? "-" : s.objects[v.selected % s.objects.size()].name, controls.orbit().distance,
              viewer::Orbit::from_camera(scene.camera).distance, v.panel ? "on" : "off", v.paused ? "yes" : "no",
              v.message.empty() ? "-" : v.message);
+  if (const int signal = stop_signal.load(); signal != 0) {
+    fmt::print(stderr, "view: ended by signal {}\n", signal);
+    return 128 + signal;
+  }
   return 0;
 }
 

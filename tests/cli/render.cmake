@@ -84,6 +84,12 @@ if(XVFB_RUN)
   add_test(NAME cli.view_input_xvfb COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cli/view_input_test.sh $<TARGET_FILE:splatcl> ${PRESENT_CACHE})
   set_tests_properties(cli.view_window cli.view_panel_leaves_the_image cli.view_input_xvfb PROPERTIES FIXTURES_REQUIRED present_cache)
   set_tests_properties(cli.view_input_xvfb PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
+  # SIGINT ends the loop after its frame: the run prints its summary and state (it died without a
+  # word) and exits 130.
+  add_test(NAME cli.view_sigint_prints_state COMMAND ${XVFB_RUN} -a bash -c
+           "command -v xdotool >/dev/null || exit 77; \"$1\" view --size 160x120 --seconds 120 --cache \"$2\" > \"$3\" 2>&1 & pid=$!; timeout 120 xdotool search --sync --name '^splatcl view' >/dev/null || exit 1; sleep 1; kill -INT $pid; wait $pid; rc=$?; grep -q '^view: state ' \"$3\" && grep -q '^view: ended by signal 2' \"$3\" && test $rc -eq 130"
+           bash $<TARGET_FILE:splatcl> ${PRESENT_CACHE} ${CMAKE_CURRENT_BINARY_DIR}/view-sigint.log)
+  set_tests_properties(cli.view_sigint_prints_state PROPERTIES FIXTURES_REQUIRED present_cache SKIP_RETURN_CODE 77 TIMEOUT 180)
 endif()
 add_test(NAME cli.error_view_screenshot_on_exit_needs_seconds COMMAND ${EXPECT_ERROR} "--screenshot-on-exit needs --seconds"
          $<TARGET_FILE:splatcl> view --screenshot-on-exit)
