@@ -560,6 +560,8 @@ RawMesh read_ply(const std::string& path, std::string_view text) {
           for (std::uint64_t i = 0; i + 1 < n; i += 2) record_texcoords.push_back({static_cast<float>(list[i]), static_cast<float>(list[i + 1])});
         }
       }
+      if (body.end_record() == PlyBody::Malformed)
+        refuse(path, fmt::format("PLY {} record {}: its line holds more or fewer values than its properties", e.name, r + 1));
       if (is_vertex) {
         bool readable = results[static_cast<std::size_t>(x)] == PlyBody::Ok && results[static_cast<std::size_t>(y)] == PlyBody::Ok &&
                         results[static_cast<std::size_t>(z)] == PlyBody::Ok;
@@ -771,6 +773,25 @@ PlyBody::Result PlyBody::next(PlyType type, double& value) {
   pos_ += size;
   if ((format_ == PlyFormat::BinaryBig) != (std::endian::native == std::endian::big)) std::reverse(bytes, bytes + size);
   value = decode(type, bytes);
+  return Ok;
+}
+
+PlyBody::Result PlyBody::end_record() {
+  if (format_ != PlyFormat::Ascii) return Ok;
+  while (pos_ < body_.size() && body_[pos_] != '\n' && is_space(body_[pos_])) ++pos_;
+  if (pos_ >= body_.size()) return Ok;
+  if (body_[pos_] != '\n') return Malformed;
+  ++pos_;
+  return Ok;
+}
+
+PlyBody::Result PlyBody::skip_list(PlyType count_type, PlyType type) {
+  double count = 0, value = 0;
+  const Result counted = next(count_type, count);
+  if (counted != Ok) return counted;
+  if (!(count >= 0) || count != std::floor(count) || count > static_cast<double>(remaining())) return Malformed;
+  for (auto n = static_cast<std::uint64_t>(count); n > 0; --n)
+    if (const Result got = next(type, value); got == End) return End;
   return Ok;
 }
 

@@ -77,6 +77,13 @@ class PlyBody {
   PlyBody(std::string_view body, PlyFormat format) : body_(body), format_(format) {}
 
   Result next(PlyType type, double& value);
+  // After a record: in ASCII, the rest of its line must be blank (Malformed otherwise), and the next
+  // record starts on the next line. Read as one stream of values, a line with a value too many or too
+  // few shifted every later record: a 3DGS file with two extra values on one line drew a spindle
+  // with exit 0. Binary records have no lines: always Ok.
+  Result end_record();
+  // Reads a list property's count and values, keeping nothing (a property no reader uses).
+  Result skip_list(PlyType count_type, PlyType type);
   std::size_t remaining() const { return body_.size() - pos_; }
   bool binary() const { return format_ != PlyFormat::Ascii; }
 

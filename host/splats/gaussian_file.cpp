@@ -144,16 +144,25 @@ std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const st
   splats.reserve(vertices->count);
   for (std::uint64_t r = 0; r < vertices->count; ++r) {
     for (std::size_t k = 0; k < v.size(); ++k) {
-      const auto result = body.next(vertices->properties[k].type, v[k]);
+      const mesh_io::PlyProperty& p = vertices->properties[k];
+      // A list property is none of the used ones (index() refused those): skipped whole.
+      const auto result = p.list ? body.skip_list(p.count_type, p.type) : body.next(p.type, v[k]);
       if (result == mesh_io::PlyBody::End) throw fail(fmt::format("truncated: the file ends in Gaussian {} of {}", r + 1, vertices->count));
-      if (result == mesh_io::PlyBody::Malformed) throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, vertices->properties[k].name));
+      if (result == mesh_io::PlyBody::Malformed && p.list) throw fail(fmt::format("Gaussian {}: the list '{}' has a length that is not a count", r + 1, p.name));
+      if (result == mesh_io::PlyBody::Malformed) throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, p.name));
     }
+    if (body.end_record() == mesh_io::PlyBody::Malformed)
+      throw fail(fmt::format("Gaussian {}: its line holds more or fewer values than the vertex element's {} properties", r + 1, v.size()));
     const auto at = [&](int i) { return v[static_cast<std::size_t>(i)]; };
     // NaN in the colour, opacity or normal was taken silently (a NaN opacity kept the Gaussian, a
     // NaN colour rounded to whatever lround gives).
     for (const int i : {dc[0], dc[1], dc[2], opacity, normal[0], normal[1], normal[2]})
       if (i >= 0 && std::isnan(at(i)))
         throw fail(fmt::format("Gaussian {}: '{}' is not a number", r + 1, vertices->properties[static_cast<std::size_t>(i)].name));
+    // An infinite normal component picked the facing side at random (dark specks on a face).
+    for (const int i : {normal[0], normal[1], normal[2]})
+      if (i >= 0 && !std::isfinite(at(i)))
+        throw fail(fmt::format("Gaussian {}: '{}' is not finite", r + 1, vertices->properties[static_cast<std::size_t>(i)].name));
     if (opacity >= 0 && 1.0 / (1.0 + std::exp(-at(opacity))) < kGaussianMinReadAlpha) continue;
     double q[4] = {at(rot[0]), at(rot[1]), at(rot[2]), at(rot[3])};
     const double q_len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);

@@ -4,6 +4,8 @@
 // quaternion whose rotation maps x, y, z onto the splat's u, ±v, n, colour and opacity.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -325,9 +327,46 @@ TEST(GaussianFile, ReadingRefusesWhatIsNotAGaussianFile) {
   refused(head + extra + "end_header\n0 0 0 0 0 0 1 0 0 0 0 0 1 0.1 0.2 0.3 nan\n", "Gaussian 1: 'opacity' is not a number");
   refused(head + extra + "end_header\n0 0 0 0 0 0 1 0 0 0 0 0 1 nan 0.2 0.3 2\n", "Gaussian 1: 'f_dc_0' is not a number");
   refused(head + extra + "end_header\n0 0 0 0 0 0 1 0 0 0 0 nan 1 0.1 0.2 0.3 2\n", "Gaussian 1: 'ny' is not a number");
+  refused(head + extra + "end_header\n0 0 0 0 0 0 1 0 0 0 0 0 inf 0.1 0.2 0.3 2\n", "Gaussian 1: 'nz' is not finite");
+  // One Gaussian per line: two values too many on a line drew a spindle with exit 0; one too few
+  // was "truncated" at the last Gaussian.
+  const std::string two = "ply\nformat ascii 1.0\nelement vertex 2\n" + all + "end_header\n";
+  refused(two + "0 0 0 0 0 0 1 0 0 0 7 8\n1 0 0 0 0 0 1 0 0 0\n", "Gaussian 1: its line holds more or fewer values than the vertex element's 10 properties");
+  refused(two + "0 0 0 0 0 0 1 0 0\n1.0000 0.0000 0.0000 0.0000 0.0000 0.0000 1.0000 0.0000 0.0000 0.0000\n",
+          "Gaussian 1: its line holds more or fewer values");
   refused("ply\nformat ascii 1.0\nelement vertex 0\n" + all + "end_header\n", "no Gaussians");
   refused("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n", "no vertex element");
   refused("not a ply", "not a PLY file");
+}
+
+// A list property in the vertex element is none of the used ones: skipped whole, in either encoding
+// (read as one value, it shifted the rest: "'opacity' is not a number" at a later Gaussian).
+TEST(GaussianFile, ListPropertiesAreSkipped) {
+  for (const bool ascii : {true, false}) {
+    SCOPED_TRACE(ascii ? "ascii" : "binary");
+    std::string text = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") + " 1.0\nelement vertex 2\n";
+    text += "property list uchar int idx\n";
+    for (const char* p : {"x", "y", "z", "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3"}) text += std::string("property float ") + p + "\n";
+    text += "end_header\n";
+    const std::vector<std::vector<int>> lists = {{5, 6}, {}};
+    const float rows[2][10] = {{1, 2, 3, -2, -3, -7, 1, 0, 0, 0}, {4, 5, 6, -2, -3, -7, 1, 0, 0, 0}};
+    for (int r = 0; r < 2; ++r) {
+      if (ascii) {
+        text += fmt::format("{}", lists[r].size());
+        for (const int i : lists[r]) text += fmt::format(" {}", i);
+        for (const float v : rows[r]) text += fmt::format(" {}", v);
+        text += "\n";
+      } else {
+        text += static_cast<char>(lists[r].size());
+        for (const int i : lists[r]) text.append(reinterpret_cast<const char*>(&i), 4);
+        text.append(reinterpret_cast<const char*>(rows[r]), sizeof rows[r]);
+      }
+    }
+    const std::vector<SplatRecord> read = decode_gaussian_file(text, "lists.ply");
+    ASSERT_EQ(read.size(), 2u);
+    EXPECT_EQ(read[0].center.x, 1.0f);
+    EXPECT_EQ(read[1].center.z, 6.0f);
+  }
 }
 
 TEST(GaussianFile, ZeroSplats) {

@@ -247,6 +247,19 @@ TEST(MeshHygiene, PlyHeaderCountsBeyondTheFileAreRefused) {
   expect_refused(temp_file("short-binary.ply", binary), "PLY header declares 3 vertex records");
 }
 
+// ASCII records are one per line: a vertex line with a value too many shifted every later record
+// (the mesh read as other vertices and faces, without a word); one too few likewise.
+TEST(MeshHygiene, PlyAsciiRecordsEndTheirLines) {
+  const std::string faces = "element face 1\nproperty list uchar int vertex_indices\n";
+  expect_refused(temp_file("extra-value.ply", ply_header("ascii", 3, faces) + "0 0 0\n1 0 0 7\n0 1 0\n3 0 1 2\n"),
+                 "PLY vertex record 2: its line holds more or fewer values than its properties");
+  expect_refused(temp_file("short-line.ply", ply_header("ascii", 3, faces) + "0 0 0\n1 0\n0 1 0\n3 0 1 2\n"),
+                 "PLY vertex record 2: its line holds more or fewer values than its properties");
+  // Blank space at line ends, CRLF, blank lines between records and no newline at the end are fine.
+  const Mesh mesh = load_mesh(temp_file("loose.ply", ply_header("ascii", 3, faces) + "0 0 0 \r\n\n1 0 0\t\n0 1 0\n3 0 1 2"));
+  EXPECT_EQ(mesh.face_count(), 1u);
+}
+
 TEST(MeshHygiene, PlyNonFiniteVertexDropsItsFaceOnly) {
   // OpenMesh's reader turns every vertex of this file into (0, 0, 0).
   const Mesh mesh = load_mesh(temp_file("nan.ply", ply_header("ascii", 5, "element face 2\nproperty list uchar int vertex_indices\n") +
