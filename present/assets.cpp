@@ -157,7 +157,9 @@ Mesh splat_disc_mesh(const std::vector<splats::SplatRecord>& splats, const std::
   vertices.reserve(6 * splats.size());
   faces.reserve(splats.size());
   for (const splats::SplatRecord& s : splats) {
-    if (!(length(cross(s.major, s.minor)) > 0)) continue;
+    // In double: a splat file at 1e-11 scale squares to below float range and read as "no splat
+    // has an area" (a helper's audit), while such a mesh renders.
+    if (!(length(cross(DVec3(s.major), DVec3(s.minor))) > 0)) continue;
     const auto first = static_cast<std::uint32_t>(vertices.size());
     for (int k = 0; k < 6; ++k) {
       const float angle = static_cast<float>(k) * std::numbers::pi_v<float> / 3.0f;

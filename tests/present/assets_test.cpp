@@ -163,5 +163,21 @@ TEST_F(PresenterTest, SplatBoundChoosesTheSplatMethod) {
   EXPECT_FALSE(splats::check_surface(thesis.mesh, thesis.splats, check).ok());
 }
 
+// Splats at 1e-12 scale: their axes' cross product squares to below float range, and the file was
+// refused as "no splat has an area" while the same mesh renders (a helper's audit of 3DGS files).
+TEST(PresenterAssets, TinySplatsStillHaveDiscs) {
+  std::vector<splats::SplatRecord> tiny(3);
+  for (std::size_t i = 0; i < tiny.size(); ++i) {
+    tiny[i].center = {static_cast<float>(i) * 3e-12f, 0, 0};
+    tiny[i].normal = {0, 0, 1};
+    tiny[i].major = {1e-12f, 0, 0};
+    tiny[i].minor = {0, 5e-13f, 0};
+  }
+  const Mesh discs = splat_disc_mesh(tiny, "tiny.ply");
+  EXPECT_EQ(discs.face_count(), 3u);
+  tiny[0].minor = tiny[1].minor = tiny[2].minor = {0, 0, 0};
+  EXPECT_THROW(splat_disc_mesh(tiny, "flat.ply"), Error);  // no area at all: still refused
+}
+
 }  // namespace
 }  // namespace splatcl::present
