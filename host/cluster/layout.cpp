@@ -21,7 +21,8 @@ DEFINE_CLUSTER_SPHERE_TOUCHES_BOX(sphere_touches_box, float, bool)
 namespace {
 
 // Thinner slices than this would put the key kernel's fast first guess of the slice more than
-// 0.2 slices off (see slice_of_distance in kernels/cluster.cl).
+// 0.2 slices off (see slice_of_distance in kernels/cluster.cl): a narrower view takes slices this
+// thick, deeper than its tiles are wide (clusters still bound their pixels; lists only get longer).
 constexpr double kMinSliceRatioExcess = 2e-4;
 
 std::string dims(std::uint32_t a, std::uint32_t b) { return std::to_string(a) + "x" + std::to_string(b); }
@@ -54,10 +55,9 @@ ClusterLayout ClusterLayout::make(const ClusterConfig& config) {
 
   const double tan_half_y = std::tan(0.5 * double{config.fov_y});
   const double aspect = static_cast<double>(config.width) / static_cast<double>(config.height);
-  layout.q = 1.0 + 2.0 * tan_half_y / layout.tiles_y;
-  if (layout.q - 1.0 < kMinSliceRatioExcess)
-    throw Error("cluster depth slices too thin (" + std::to_string(layout.tiles_y) +
-                " tile rows for this field of view): use taller tiles or a wider field of view");
+  // Refused before (a field of view below ~0.1 degree at 640x480): brute-force and tiled shading,
+  // which use no slices, were refused with it.
+  layout.q = std::max(1.0 + 2.0 * tan_half_y / layout.tiles_y, 1.0 + kMinSliceRatioExcess);
   const double ln_q = std::log(layout.q);
   const double slices = std::ceil(std::log(double{config.far_plane} / double{config.near_plane}) / ln_q);
   layout.slice_count = static_cast<std::uint32_t>(std::max(1.0, slices));

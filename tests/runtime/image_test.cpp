@@ -25,6 +25,20 @@ TEST(Image, WritesPngTopDownWithRowZeroAtTheBottom) {
   EXPECT_EQ(pixels, expected);
 }
 
+// EXR is the linear radiance: 32-bit floats, so bright light keeps its value (half floats turned
+// everything above 65504 into +inf; a helper's audit of clustered shading, a light of colour 3e5).
+TEST(Image, ExrKeepsFloatRadiance) {
+  const auto path = (std::filesystem::temp_directory_path() / "splatcl_image_test.exr").string();
+  const std::vector<float> rgb = {1e5f, 3e5f, 0.123456789f, 1e-3f, 2.0f, 65504.0f};
+  write_image_rgb(path, 2, 1, rgb);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().format, OIIO::TypeDesc::FLOAT);
+  std::vector<float> pixels(6);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, pixels.data()));
+  EXPECT_EQ(pixels, rgb);
+}
+
 TEST(Image, MismatchedSizeAndUnknownFormatAreClearErrors) {
   const auto dir = std::filesystem::temp_directory_path();
   EXPECT_THROW(write_image_rgb((dir / "x.png").string(), 2, 2, std::vector<float>(3)), Error);

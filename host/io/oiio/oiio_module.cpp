@@ -37,8 +37,9 @@ extern "C" int splatcl_oiio_encode_rgb(const char* path, int width, int height, 
     std::vector<unsigned char> encoded;
     OIIO::Filesystem::IOVecOutput memory(encoded);
     out->set_ioproxy(&memory);
+    // Linear radiance in 32-bit floats: half floats turned light above 65504 into +inf.
     const bool is_float = extension == ".exr" || extension == ".hdr";
-    OIIO::ImageSpec spec(width, height, 3, is_float ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(width, height, 3, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
     if (!out->open(path, spec)) return fail(out->geterror(), error, error_size);
     const std::size_t row = static_cast<std::size_t>(width) * 3;
     // Start at the last row with a negative stride: files are top-down, the buffers bottom-up.
