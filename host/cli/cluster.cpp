@@ -177,7 +177,13 @@ int run_cluster(const ClusterOptions& o) {
   });
   progress.clear();
   float max_difference = 0.0f;
-  for (std::size_t i = 0; i < shaded.size(); ++i) max_difference = std::max(max_difference, std::abs(shaded[i] - reference[i]));
+  // Bitwise-equal values (inf included) differ by 0; a NaN on either side, or infinities of
+  // opposite signs, count as an infinite difference (std::max dropped the NaN of inf − inf).
+  for (std::size_t i = 0; i < shaded.size(); ++i) {
+    if (shaded[i] == reference[i]) continue;
+    const float d = std::abs(shaded[i] - reference[i]);
+    max_difference = std::isnan(d) ? INFINITY : std::max(max_difference, d);
+  }
 
   fmt::print("scene      {}, {} objects at time {:g}\n", scene.source, scene.objects.size(), scene.time);
   fmt::print("device     {} ({} shape)\n", runtime->info().name, to_string(pipeline.shape() == Shape::Auto ? runtime->resolve(Shape::Auto) : pipeline.shape()));
