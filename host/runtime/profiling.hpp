@@ -44,6 +44,11 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
+// Test hook: a launch of the kernel named by this environment variable (through enqueue_1d or
+// enqueue_2d) enqueues a marker instead, so a test can check that a result check catches a kernel
+// that writes nothing.
+inline constexpr const char* kSkipKernelVariable = "SPLATCL_TEST_SKIP_KERNEL";
+
 // Enqueues a kernel over a 1-D range (global rounded up to a multiple of local when local > 0) and
 // records its event in `profiler` under `label` when a profiler is given.
 cl::Event enqueue_1d(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t global, std::size_t local,

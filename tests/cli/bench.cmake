@@ -41,6 +41,11 @@ add_test(NAME cli.error_bench_regression COMMAND ${EXPECT_ERROR} "1 regression\\
          bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 10)
 add_test(NAME cli.bench_within_threshold COMMAND ${EXPECT_OUTPUT} --match "^0 of 1 matched records regressed by more than 25 %" --match "\\| \\+20\\.0 % \\|"
          -- $<TARGET_FILE:splatcl> bench compare ${CMAKE_CURRENT_BINARY_DIR}/bench-slow.json ${CMAKE_CURRENT_BINARY_DIR}/bench-fast.json --threshold 25)
+# Fault injection: the GPU shape's compaction scatter skipped (a marker instead of the kernel). The
+# output buffer, shared with the CPU shape, still held that shape's correct result, and the run
+# passed and recorded a speed for a kernel that never ran; now it is poisoned before each shape.
+add_test(NAME cli.error_bench_kernel_that_writes_nothing COMMAND ${EXPECT_ERROR} "bench compact-flagged opencl \\(gpu shape\\): output differs from the reference"
+         env SPLATCL_TEST_SKIP_KERNEL=compact_scatter_gpu $<TARGET_FILE:splatcl> bench primitives --size 4096 --runs 1 --warmup 0)
 add_test(NAME cli.error_bench_bad_scaling COMMAND ${EXPECT_ERROR} "unknown scaling 'cores'" $<TARGET_FILE:splatcl> bench csm --scaling cores)
 add_test(NAME cli.error_bench_missing_results COMMAND ${EXPECT_ERROR} "cannot read .*missing.json" $<TARGET_FILE:splatcl> bench plot missing.json -o plots)
 add_test(NAME cli.error_bench_json_dir COMMAND ${EXPECT_ERROR} "cannot write --json .*no-such-dir" $<TARGET_FILE:splatcl> bench csm --json no-such-dir/x.json)
