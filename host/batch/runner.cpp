@@ -156,7 +156,6 @@ std::string params_checksum(const std::string& kind, nlohmann::json params) {
     params["splat_file_version"] = splats::kSplatFileVersion;
     params["splat_method_version"] = splats::kSplatMethodVersion;
   }
-
   const auto texture = params.find("texture");
   if (texture != params.end() && texture->is_string() && !texture->get<std::string>().empty()) {
     const std::string path = texture->get<std::string>();

@@ -67,12 +67,13 @@ Results read_results(const std::string& path);
 // The same for a file's text already in memory; `name` appears in errors.
 Results parse_results(const std::string& text, const std::string& name);
 
-// What a reader needs to compare figures across machines: host, CPU, memory, OS, compiler and build,
-// the OpenCL device (when given) and the PoCL thread count, and the date.
 // The process's command line (/proc/self/cmdline): its words, the program first, and as one line
 // with each word quoted where a shell would need it (the machine block's `command`).
 std::vector<std::string> command_words();
 std::string command_line();
+
+// What a reader needs to compare figures across machines: host, CPU, memory, OS, compiler and build,
+// the OpenCL device (when given), the PoCL thread count, the date, the command and the load average.
 Json machine_info(const DeviceInfo* device);
 
 }  // namespace splatcl::bench

@@ -533,14 +533,10 @@ RawMesh read_ply(const std::string& path, std::string_view text) {
           if (results[k] == PlyBody::End) truncated();
           continue;
         }
-        double count = 0;
-        const PlyBody::Result counted = body.next(p.count_type, count);
+        std::uint64_t n = 0;
+        const PlyBody::Result counted = body.next_count(p.count_type, p.type, n);
         if (counted == PlyBody::End) truncated();
-        if (counted == PlyBody::Malformed || !(count >= 0) || count != std::floor(count))
-          refuse(path, fmt::format("PLY {} record {} has a list length that is not a count", e.name, r + 1));
-        // Compared as a double first: a float or double count may be beyond any integer.
-        if (count > static_cast<double>(body.remaining() / (body.binary() ? size_of(p.type) : 2) + 1)) truncated();
-        const auto n = static_cast<std::uint64_t>(count);
+        if (counted == PlyBody::Malformed) refuse(path, fmt::format("PLY {} record {} has a list length that is not a count", e.name, r + 1));
         list.resize(n);
         bool list_readable = true;
         for (std::uint64_t i = 0; i < n; ++i) {
@@ -785,13 +781,23 @@ PlyBody::Result PlyBody::end_record() {
   return Ok;
 }
 
-PlyBody::Result PlyBody::skip_list(PlyType count_type, PlyType type) {
-  double count = 0, value = 0;
-  const Result counted = next(count_type, count);
+PlyBody::Result PlyBody::next_count(PlyType count_type, PlyType type, std::uint64_t& count) {
+  double value = 0;
+  const Result counted = next(count_type, value);
   if (counted != Ok) return counted;
-  if (!(count >= 0) || count != std::floor(count) || count > static_cast<double>(remaining())) return Malformed;
-  for (auto n = static_cast<std::uint64_t>(count); n > 0; --n)
-    if (const Result got = next(type, value); got == End) return End;
+  if (!(value >= 0) || value != std::floor(value)) return Malformed;
+  // Compared as a double first: a float or double count may be beyond any integer.
+  if (value > static_cast<double>(remaining() / (binary() ? size_of(type) : 2) + 1)) return End;
+  count = static_cast<std::uint64_t>(value);
+  return Ok;
+}
+
+PlyBody::Result PlyBody::skip_list(PlyType count_type, PlyType type) {
+  std::uint64_t n = 0;
+  if (const Result counted = next_count(count_type, type, n); counted != Ok) return counted;
+  double value = 0;
+  for (; n > 0; --n)
+    if (next(type, value) == End) return End;
   return Ok;
 }
 

@@ -82,7 +82,11 @@ class PlyBody {
   // few shifted every later record: a 3DGS file with two extra values on one line drew a spindle
   // with exit 0. Binary records have no lines: always Ok.
   Result end_record();
-  // Reads a list property's count and values, keeping nothing (a property no reader uses).
+  // A list property's length: Malformed when it is not a count (negative, fractional, unreadable),
+  // End when the rest of the body cannot hold that many values of `type` (so a float count beyond
+  // any integer allocates nothing).
+  Result next_count(PlyType count_type, PlyType type, std::uint64_t& count);
+  // Reads a list property's length and values, keeping nothing (a property no reader uses).
   Result skip_list(PlyType count_type, PlyType type);
   std::size_t remaining() const { return body_.size() - pos_; }
   bool binary() const { return format_ != PlyFormat::Ascii; }
