@@ -14,6 +14,8 @@ namespace splatcl::bench {
 inline constexpr std::size_t kStreamArrayBytes = std::size_t{256} << 20;
 // --quick runs: still larger than the caches of small machines, but fast.
 inline constexpr std::size_t kQuickStreamArrayBytes = std::size_t{32} << 20;
+// On a simulated device (Oclgrind) the device copy only checks the kernel.
+inline constexpr std::size_t kSimulatorStreamArrayBytes = std::size_t{1} << 20;
 
 inline constexpr const char* kCaseStreamCopy = "stream-copy";
 // Element loop with ordinary stores, as kernels write memory.

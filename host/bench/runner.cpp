@@ -192,10 +192,12 @@ Results run_benchmarks(const std::vector<const Suite*>& suites, const RunOptions
     }
   }
   if (devices.size() > 1) {
-    // Each device's platform and version too: the machine block's opencl_* fields are the first's.
+    // Each device's platform, version and tuning too: the machine block's opencl_* and tuning
+    // fields are the first's.
     Json described = Json::array();
     for (const auto& device : devices)
-      described.push_back({{"name", device.name}, {"platform", device.platform}, {"type", device.type}, {"version", device.version}});
+      described.push_back({{"name", device.name}, {"platform", device.platform}, {"type", device.type}, {"version", device.version},
+                           {"tuning", tuning_used(device)}});
     results.machine["opencl_devices"] = described;
   }
   return results;

@@ -117,6 +117,17 @@ const Record& Session::measure(const Case& c, const std::function<void()>& setup
   return records_.back();
 }
 
+std::string tuning_used(const DeviceInfo& device) {
+  const char* tuning = std::getenv(kTuningEnvVar);
+  const std::string source = tuning && *tuning ? tuning : "embedded data/tuning.json";
+  // Whether the database has a record for this device at all: one with none runs every kernel
+  // at its defaults, which the database's name alone did not say.
+  const auto database = TuningDatabase::active();
+  const bool applies = std::any_of(database->records().begin(), database->records().end(),
+                                   [&](const TuningRecord& r) { return r.matches(device); });
+  return applies ? source : source + " (no record for this device: defaults)";
+}
+
 Results Session::results() const {
   Results results;
   results.machine = machine_info(&runtime_->info());
@@ -124,15 +135,7 @@ Results Session::results() const {
   // tuning database read as plain regressions beside a default run.
   results.machine["warmup"] = options_.measure.warmup;
   results.machine["quick"] = options_.quick;  // small problems: figures not comparable with a full run's
-  const char* tuning = std::getenv(kTuningEnvVar);
-  const std::string source = tuning && *tuning ? tuning : "embedded data/tuning.json";
-  // Whether the database has a record for this device at all: one with none runs every kernel
-  // at its defaults, which the database's name alone did not say.
-  const auto database = TuningDatabase::active();
-  const DeviceInfo& device = runtime_->info();
-  const bool applies = std::any_of(database->records().begin(), database->records().end(),
-                                   [&](const TuningRecord& r) { return r.matches(device); });
-  results.machine["tuning"] = applies ? source : source + " (no record for this device: defaults)";
+  results.machine["tuning"] = tuning_used(runtime_->info());
   results.records = records_;
   return results;
 }

@@ -234,7 +234,7 @@ int run_verify(const VerifyOptions& o) {
              r.splats, r.splat_points, r.max_distance, r.max_distance_eps(), r.worst_splat, 100 * r.area_beyond_fraction, r.splats_beyond);
   fmt::print("shape      largest major semi-axis {:.4g} = {:.4g} of the diagonal; {} flipped, {} degenerate\n", r.largest_major,
              r.largest_major_diagonal(), r.flipped, r.degenerate);
-  if (!r.ok()) throw Error(fmt::format("{}: fails the two-sided bound at eps {:.6g} against {}: {}", o.splats, eps, o.model, describe_failure(r)));
+  if (!r.ok()) throw Error(fmt::format("{}: fails the two-sided bound at eps {:.6g} against {}: {}", o.splats, eps, o.model, describe_failure(r, &mesh)));
   fmt::print("ok\n");
   return 0;
 }

@@ -19,6 +19,9 @@ namespace {
 constexpr std::uint64_t kSurfaceSalt = 0x5bd1e9955bd1e995ULL, kSplatSalt = 0xc2b2ae3d27d4eb4fULL;
 // Triangles this much farther than the nearest (× ε) still tie with it for the flipped count.
 constexpr double kFlipTieSlack = 1e-3;
+// A splat is not flipped when a triangle near it faces its way within 60° (the crease angle's cosine,
+// as the surface bound's facing rule in surface_fit.cpp).
+constexpr double kFlipFacingCos = 0.5;
 
 // The `stream`-th output of a SplitMix64 stream keyed by seed and salt: independent, reproducible
 // seeds for chunks and splats, whatever the thread count.
@@ -434,11 +437,14 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
       const CheckedEllipse& e = ellipses[j];
       if (!e.valid) return;
       const Surface::Nearest centre = surface.nearest(e.c);
-      // Flipped: no triangle at the centre's distance faces the splat's way. At an edge or vertex
-      // several triangles tie for nearest, and the pick among them would be arbitrary.
+      // Flipped: no triangle within ε of the centre (or at its distance, if farther) faces the
+      // splat's way within 60°. A splat may lie up to ε off its surface, and where another surface
+      // facing the other way is nearer (two parts that touch or interpenetrate, a part thinner
+      // than ε) the nearest triangle is that one's: the ogre's teeth in its gums were 562 flipped
+      // splats that way. At an edge or vertex several triangles tie for nearest (the slack).
       if (centre.triangle != UINT32_MAX && dot(e.n, surface.triangles()[centre.triangle].normal) < 0) {
-        const Surface::Facing same_way{e.n, 1e-12, true};
-        flipped[j] = !surface.within(e.c, centre.distance + kFlipTieSlack * eps, nullptr, &same_way);
+        const Surface::Facing same_way{e.n, kFlipFacingCos, true};
+        flipped[j] = !surface.within(e.c, std::max(centre.distance, eps) + kFlipTieSlack * eps, nullptr, &same_way);
       }
       results[j] = measure_splat(e, j, options, surface, limit, scratch[worker]);
     });
@@ -504,7 +510,7 @@ nlohmann::json to_json(const SurfaceCheckReport& r) {
             {"degenerate", r.degenerate}}}};
 }
 
-std::string describe_failure(const SurfaceCheckReport& r) {
+std::string describe_failure(const SurfaceCheckReport& r, const Mesh* mesh) {
   std::string broken;
   const auto add = [&](const std::string& part) { broken += (broken.empty() ? "" : "; ") + part; };
   if (r.uncovered_points > 0)
@@ -514,6 +520,10 @@ std::string describe_failure(const SurfaceCheckReport& r) {
     add(fmt::format("{} splat{} the surface by more than eps (up to {:.3g} eps)", r.splats_beyond, r.splats_beyond == 1 ? " leaves" : "s leave",
                     r.max_distance_eps()));
   if (r.degenerate > 0) add(fmt::format("{} degenerate splat{}", r.degenerate, r.degenerate == 1 ? "" : "s"));
+  // A mesh far from the origin reads with its vertices on a coarse float grid: the check measures
+  // against that mesh, and its warning (printed only on success) is the cause a user needs.
+  if (const std::string far = mesh ? float_step_warning(*mesh) : std::string(); !broken.empty() && !far.empty())
+    add("the mesh's " + far);
   return broken;
 }
 
@@ -524,7 +534,7 @@ SurfaceCheckReport check_before_writing(const Mesh& mesh, const std::vector<Spla
   SurfaceCheckReport report = check_surface(mesh, splats, options, progress);
   if (!report.ok() && surface_bound)
     throw Error(fmt::format("{}: the splats break the two-sided bound at eps {:.6g} ({}); nothing written{}", model, eps,
-                            describe_failure(report), remedy));
+                            describe_failure(report, &mesh), remedy));
   return report;
 }
 

@@ -58,7 +58,7 @@ struct SurfaceCheckReport {
   double area_beyond_fraction = 0;       // of the total splat area, from the area-uniform interior points
   std::size_t splats_beyond = 0;         // splats with some checked point beyond ε (1 + slack)
   double largest_major = 0, diagonal = 0;  // largest major semi-axis; the surface's bounding-box diagonal
-  std::size_t flipped = 0;               // no triangle nearest the centre (ties at edges and vertices) faces its way
+  std::size_t flipped = 0;               // no triangle within max(ε, the nearest's distance) of the centre faces its way within 60°
   std::size_t degenerate = 0;            // non-finite fields, zero axes or normal, nothing kept by the clip
 
   double max_distance_eps() const { return eps > 0 ? max_distance / eps : 0.0; }
@@ -71,8 +71,9 @@ nlohmann::json to_json(const SurfaceCheckReport& report);
 // Called from the calling thread with the phase and its completed fraction in [0, 1].
 using SurfaceCheckProgress = std::function<void(const std::string& phase, double fraction)>;
 
-// Which bounds a failed check broke, for one error line.
-std::string describe_failure(const SurfaceCheckReport& r);
+// Which bounds a failed check broke, for one error line; with the mesh, also its float-step warning
+// (core/mesh.hpp), which may be the cause.
+std::string describe_failure(const SurfaceCheckReport& r, const Mesh* mesh = nullptr);
 
 // Throws Error when eps is not finite and positive or the mesh has no area.
 SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord>& splats, const SurfaceCheckOptions& options,

@@ -305,6 +305,36 @@ TEST(SurfaceCheck, SplatAtAVertexIsFlippedOnlyAgainstEveryNearestFace) {
   EXPECT_EQ(report.flipped, 1u);
 }
 
+// A part thinner than ε (or two parts that touch): a splat of its top sheet lying within ε of it
+// can be nearer the bottom sheet, which faces the other way. It is not flipped (the ogre's teeth in
+// its gums counted 562 such). One facing down on the top of a part thicker than ε is.
+TEST(SurfaceCheck, SplatNearerAnOppositeSheetIsNotFlipped) {
+  std::vector<SplatRecord> splats;
+  for (unsigned y = 1; y < kIntervals; ++y)
+    for (unsigned x = 1; x < kIntervals; ++x)
+      splats.push_back(circle({static_cast<float>(x) / kIntervals, static_cast<float>(y) / kIntervals, static_cast<float>(0.1 * kEps)}, kRadius));
+  const SurfaceCheckReport thin = check_surface(testing::thin_shell_mesh(static_cast<float>(0.3 * kEps)), splats, options(10'000));
+  EXPECT_EQ(thin.flipped, 0u);
+  for (SplatRecord& s : splats) s.center.z = static_cast<float>(3 * kEps), s.normal = {0, 0, -1};
+  const SurfaceCheckReport thick = check_surface(testing::thin_shell_mesh(static_cast<float>(3 * kEps)), splats, options(10'000));
+  EXPECT_EQ(thick.flipped, splats.size());
+}
+
+// Far from the origin a mesh reads onto a coarse float grid, and the check measures against that:
+// the failure names it (its warning was printed only when a command succeeded).
+TEST(SurfaceCheck, FailureNamesTheMeshsCoarseFloats) {
+  Mesh far = testing::plane_mesh(4);
+  for (Vec3& v : far.vertices) v.x += 1e6f;
+  std::vector<SplatRecord> splats = grid({0, 0, -1});
+  for (SplatRecord& s : splats) s.center.x += 1e6f;
+  const SurfaceCheckReport report = check_surface(far, splats, options(10'000));
+  ASSERT_FALSE(report.ok());
+  EXPECT_EQ(describe_failure(report).find("floats step"), std::string::npos);
+  EXPECT_NE(describe_failure(report, &far).find("floats step by 0.0625"), std::string::npos) << describe_failure(report, &far);
+  const Mesh near = testing::plane_mesh(4);
+  EXPECT_EQ(describe_failure(check_surface(near, grid({0, 0, -1}), options(10'000)), &near).find("floats step"), std::string::npos);
+}
+
 TEST(SurfaceCheck, SameSeedSameReportOtherSeedSimilar) {
   const Mesh plane = testing::plane_mesh(4);
   std::vector<SplatRecord> splats = grid();
