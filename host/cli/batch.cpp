@@ -182,6 +182,9 @@ int run_merge(const MergeCommand& c) {
   // naming a model's mesh or one of its outputs overwrote it without a word, where batch refuses
   // such a --summary.
   for (const auto& [name, summary] : named) {
+    // The manifest too: batch refuses it as --summary, and merged over it the next run failed on
+    // the summary's keys.
+    if (summary.contains("input") && summary["input"].is_string()) inputs.emplace_back("manifest of the run", summary["input"]);
     const std::string output_dir = summary.value("output_dir", "");
     if (!output_dir.empty()) inputs.emplace_back("lock file of the run", (std::filesystem::path(output_dir) / kLockFileName).string());
     for (const auto& model : summary.at("models")) {
