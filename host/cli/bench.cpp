@@ -111,7 +111,7 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
   app.add_option("--device", o.run.devices,
-                 "OpenCL device(s): index, type (cpu, gpu), name substring, or all (every device but simulators); "
+                 "OpenCL device(s): index, type (cpu, gpu, simulator), name substring, or all (every device but simulators); "
                  "repeat or comma-separate for several, measured side by side in one run. Default $SPLATCL_DEVICE, else all")
       ->delimiter(',')
       ->check(empty_device_value)
@@ -129,7 +129,7 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
                  "Compare with a baseline results file (.json or .csv), read before the run; exit status 1 when a record's "
                  "median time and fastest run both grew by more than --threshold, 2 when no record matches one of the baseline")
       ->type_name("BASELINE");
-  app.add_option("--threshold", o.threshold_pct, "Regression threshold of --compare, in percent")
+  app.add_option("--threshold", o.threshold_pct, "Regression threshold of --compare, in percent, 0..1000000")
       ->capture_default_str()
       ->check(threshold_percent);
   app.add_option("--plot", o.plot_dir, "Also draw PNG plots with gnuplot into DIR (see 'bench plot')")->type_name("DIR");
@@ -209,7 +209,7 @@ Action register_bench(CLI::App& app) {
   compare->add_option("RESULTS", options->results_path, "Results (.json or .csv)")->required()->type_name("RESULTS");
   compare->add_option("BASELINE", options->baseline_path, "Baseline results (.json or .csv)")->required()->type_name("BASELINE");
   compare->add_option("--threshold", options->threshold_pct,
-                      "Regression threshold, in percent of the baseline's median time and of its fastest run")
+                      "Regression threshold, in percent (0..1000000) of the baseline's median time and of its fastest run")
       ->capture_default_str()
       ->check(threshold_percent);
 

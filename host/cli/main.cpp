@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/model_input.hpp"
+#include "cli/progress.hpp"
 #include "io/cpu_set.hpp"
 #include "io/memory.hpp"
 #include "io/in_flight.hpp"
@@ -19,12 +20,12 @@
 namespace splatcl::cli {
 
 std::string empty_device_value(const std::string& value) {
-  return value.empty() ? std::string("empty: give an index, a type (cpu, gpu) or a name substring") : std::string();
+  return value.empty() ? std::string("empty: give an index, a type (cpu, gpu, simulator) or a name substring") : std::string();
 }
 
 void add_device_option(CLI::App& app, DeviceOptions& options) {
   app.add_option("--device", options.device,
-                 "OpenCL device: index, type (cpu, gpu) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU")
+                 "OpenCL device: index, type (cpu, gpu, simulator) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU")
       ->check(empty_device_value);
 }
 
@@ -90,6 +91,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "splatcl: unknown %s '%s' (%s: %s)\n", what.c_str(), word, what == "command" ? "commands" : "known", known.c_str());
     return true;
   };
+  // An unknown option before any command word: CLI11 said only "A subcommand is required".
+  if (argc > 1 && argv[1][0] == '-' && !app.get_option_no_throw(std::string(argv[1]).substr(0, std::string(argv[1]).find('=')))) {
+    std::fprintf(stderr, "splatcl: unknown option '%s' before the command (see --help)\n", splatcl::printable(argv[1]).c_str());
+    return 1;
+  }
   if (argc > 1 && argv[1][0] != '-') {
     if (unknown_word(app, argv[1], "command")) return 1;
     const CLI::App* chosen = app.get_subcommand(argv[1]);
@@ -135,6 +141,7 @@ int main(int argc, char** argv) {
     // A bad $SPLATCL_MEMORY_LIMIT is named now, not when a build first asks for memory (after a
     // batch run's first model had built its splats).
     (void)splatcl::memory_limit_from_environment();
+    (void)splatcl::cli::log_interval_seconds();  // and a bad $SPLATCL_PROGRESS_SECONDS (it was ignored)
     for (auto& [sub, action] : actions)
       if (sub->parsed()) {
         const int status = action();

@@ -6,26 +6,34 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+
+#include "runtime/error.hpp"
 
 namespace splatcl::cli {
 
 inline constexpr double kLogIntervalSeconds = 30;
 inline constexpr const char* kLogIntervalVariable = "SPLATCL_PROGRESS_SECONDS";
 
+// The interval between log lines: $SPLATCL_PROGRESS_SECONDS (0 or more, finite), else the default.
+// A bad value is an error (main checks it before any work), not silently the default.
+inline double log_interval_seconds() {
+  const char* given = std::getenv(kLogIntervalVariable);
+  if (!given || !*given) return kLogIntervalSeconds;
+  char* end = nullptr;
+  const double seconds = std::strtod(given, &end);
+  if (end == given || *end != '\0' || !(seconds >= 0) || !std::isfinite(seconds))
+    throw Error(std::string(kLogIntervalVariable) + " '" + given + "' is not a number of seconds, 0 or more");
+  return seconds;
+}
+
 class ProgressLine {
  public:
-  explicit ProgressLine(std::string prefix) : prefix_(std::move(prefix)), terminal_(isatty(fileno(stderr)) != 0) {
-    interval_ = kLogIntervalSeconds;
-    if (const char* given = std::getenv(kLogIntervalVariable)) {
-      char* end = nullptr;
-      const double seconds = std::strtod(given, &end);
-      if (end != given && *end == '\0' && seconds >= 0) interval_ = seconds;
-    }
-    last_ = Clock::now();
-  }
+  explicit ProgressLine(std::string prefix)
+      : prefix_(std::move(prefix)), terminal_(isatty(fileno(stderr)) != 0), interval_(log_interval_seconds()), last_(Clock::now()) {}
   ~ProgressLine() { clear(); }
   ProgressLine(const ProgressLine&) = delete;
   ProgressLine& operator=(const ProgressLine&) = delete;

@@ -39,7 +39,7 @@ struct RenderOptions {
 int run_render(const RenderOptions& o) {
   const auto [width, height] = present::parse_frame_size(o.size, "--size");
   const present::DebugView view = present::parse_debug_view(o.view);
-  if (o.frames == 0) throw Error("--frames must be at least 1");
+  if (o.frames == 0) throw Error("--frames 0: not a whole number 1 or more");
   check_output_extension(o.output, "-o", {".png", ".exr"}, "the image");
   // Outputs writable before any work; staged and committed together at the end.
   check_output_file(o.output, "-o");
@@ -133,7 +133,8 @@ int run_render(const RenderOptions& o) {
                                     {"renderer", context->renderer()},
                                     {"clusters", last.clusters},     {"light_indices", last.light_indices},
                                     // The figures of splatcl view's panel: its modes and toggles, and each object's.
-                                    {"settings", settings_json(presenter.scene(), presenter.debug_view, presenter.ambient_occlusion, presenter.pixel_ao)},
+                                    {"settings", settings_json(presenter.scene(), presenter.debug_view, presenter.ambient_occlusion, presenter.pixel_ao,
+                                                                 presenter.floor_per_pixel)},
                                     {"objects", to_json(object_figures(presenter, scene))}};
     outputs.write(o.json, [&](const std::string& path) { write_file_atomically(path, json_text(summary) + "\n"); });
   }
@@ -150,7 +151,7 @@ Action register_render(CLI::App& app) {
                                                "clustered shading, CSM shadows and AO; prints per-stage timings and fps");
   add_scene_options(*sub, o->scene);
   sub->add_option("-o,--output", o->output, "Write the last frame: .png (tone mapped) or .exr (linear radiance)");
-  sub->add_option("--frames", o->frames, "Frames to render; timings leave out the first when there are more")->capture_default_str();
+  sub->add_option("--frames", o->frames, "Frames to render; timings leave out the first when there are more")->capture_default_str()->type_name("COUNT");
   sub->add_option("--size", o->size, "Frame size WIDTHxHEIGHT")->capture_default_str();
   sub->add_option("--time", o->time, "Scene time of the first frame in seconds (default: the scene's \"time\")");
   sub->add_option("--dt", o->dt, "Scene time between frames in seconds")->capture_default_str();

@@ -64,13 +64,15 @@ nlohmann::json to_json(const std::vector<ObjectFigures>& objects) {
   return list;
 }
 
-nlohmann::json settings_json(const splatcl::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao) {
+nlohmann::json settings_json(const splatcl::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao, bool floor_pixels) {
   const splatcl::Quality& q = scene.quality;
   return {{"shading", q.shading},
           {"mode", q.mode},
           {"shadows", q.shadows},
+          {"filter", q.filter},
           {"ambient_occlusion", ambient_occlusion},
           {"pixel_ao", pixel_ao},
+          {"floor_pixels", floor_pixels},
           {"lod_error", q.lod_error},
           {"specular", q.specular},
           {"debug_view", present::to_string(view)},

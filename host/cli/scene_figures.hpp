@@ -35,8 +35,9 @@ struct ObjectFigures {
 std::vector<ObjectFigures> object_figures(const present::Presenter& presenter, const splatcl::Scene& scene);
 nlohmann::json to_json(const std::vector<ObjectFigures>& objects);
 
-// The modes and toggles of a frame: shading baseline, mode, shadows, AO (on, per pixel), LOD,
+// The modes and toggles of a frame: shading baseline, mode, shadows and their filter, AO (on, per
+// pixel), the floor per pixel, LOD,
 // Blinn-Phong, debug view, splat scale k, depth ε, light count.
-nlohmann::json settings_json(const splatcl::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao);
+nlohmann::json settings_json(const splatcl::Scene& scene, present::DebugView view, bool ambient_occlusion, bool pixel_ao, bool floor_pixels);
 
 }  // namespace splatcl::cli

@@ -199,7 +199,7 @@ Action register_view(CLI::App& app) {
   add_scene_options(*sub, o->scene);
   sub->add_option("--size", o->size, "Window size WIDTHxHEIGHT")->capture_default_str();
   sub->add_option("--screenshots", o->screenshot_dir, "Directory for screenshots (key P)")->capture_default_str();
-  sub->add_option("--seconds", o->seconds, "Close the window after this many seconds (scripted runs)");
+  sub->add_option("--seconds", o->seconds, "Close the window after this many seconds (scripted runs; 0 = when closed)");
   sub->add_flag("--no-panel", o->no_panel, "Start with the panel hidden (F1 shows it)");
   sub->add_flag("--paused", o->paused, "Start with the scene time stopped (Space runs it)");
   sub->add_flag("--screenshot-on-exit", o->screenshot_on_exit,

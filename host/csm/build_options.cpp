@@ -11,7 +11,7 @@ namespace splatcl::csm {
 
 const std::vector<ParameterInfo>& csm_parameters() {
   static const std::vector<ParameterInfo> list{
-      {"maps", "Number of maps N: G^2 for uniform/regular, 2T^2 for ao", false, false, true},
+      {"maps", "Number of maps N, 1..16777216: G^2 for uniform/regular, 2T^2 for ao", false, false, true},
       {"res", "Map resolution M (M x M pixels), 1..8192", false, false, true},
       {"dist", "Direction grid: uniform, regular (G x G) or ao (the AO thesis's T x 2T)"},
       {"order", "Map order: zigzag-h, zigzag-v, linear-h, linear-v (h = theta fastest), hilbert, morton (extension)"},
@@ -22,7 +22,7 @@ const std::vector<ParameterInfo>& csm_parameters() {
       {"encoding", "File encoding: plain (float depth + u32 end, the thesis's layout) or compact (16-bit codes, exactly lossless)"},
       {"capture", "Capture method: raster (two-layer depth buffer) or raycast (SAH BVH); same depths up to rounding and "
                   "triangle-edge pixels; recorded in the .csm"},
-      {"batch", "Maps captured per batch (0: about 8 M samples); memory only, the file is the same", false, false, true},
+      {"batch", "Maps captured per batch, 0..16777216 (0: about 8 M samples); memory only, the file is the same", false, false, true},
       {"hit_eps", "Hits closer than this x the bounding sphere's diameter count as one surface (shared edges), 1e-7..1e-2 "
                   "(default 1e-5): a part thinner than that reads as one surface, so its back face is lost and what lies "
                   "under it reads as lit; lower it for thin parts (a 1 mm pane in a 100 m model: below 5e-6)",

@@ -142,6 +142,9 @@ SplatFile decode_splat_file(const std::string& data, const std::string& path) {
     if (ec != std::errc() || ptr != text.data() + text.size()) throw fail(fmt::format("{} '{}' is not a number", key, text));
   };
   if (next() != "format binary_little_endian 1.0") throw fail("not binary little-endian PLY 1.0");
+  if (lines.size() > 2 && lines[2].rfind(kGaussianExportComment, 0) == 0)
+    throw fail("a 3D Gaussian splatting export (splats --format 3dgs), not a splatcl splat file: it keeps no eps or clip lines "
+               "(a scene reads it as an object; verify the splat file that splats writes by default)");
   {
     const std::string text = comment("splatcl_version");
     if (text != std::to_string(kSplatFileVersion))

@@ -14,6 +14,11 @@ add_test(NAME cli.cluster_every_variant COMMAND ${EXPECT_OUTPUT} --match "^grid 
          --match "^check +clustered vs brute-force shading: max difference 0 over 300 lights$"
          -- $<TARGET_FILE:splatcl> cluster --size 200x120 --tile 16x16 --compaction bitmask --assignment brute --normal-bits --window-depth --lights 300)
 add_test(NAME cli.error_unknown_command COMMAND ${EXPECT_ERROR} "unknown command 'nonsense' \\(commands: devices, cluster" $<TARGET_FILE:splatcl> nonsense)
+# An unknown option before the command is named (CLI11 said "A subcommand is required").
+add_test(NAME cli.error_unknown_top_option COMMAND ${EXPECT_ERROR} "^splatcl: unknown option '--bogus' before the command" $<TARGET_FILE:splatcl> --bogus devices)
+# A bad progress interval is refused before any work (it was ignored).
+add_test(NAME cli.error_bad_progress_interval COMMAND ${EXPECT_ERROR} "SPLATCL_PROGRESS_SECONDS '-1' is not a number of seconds, 0 or more$"
+         env SPLATCL_PROGRESS_SECONDS=-1 $<TARGET_FILE:splatcl> devices)
 add_test(NAME cli.error_bad_device COMMAND ${EXPECT_ERROR} "no OpenCL device matches" $<TARGET_FILE:splatcl> devices --device no-such-device)
 # The variable is named where the selector came from it (the message read as if --device were wrong).
 add_test(NAME cli.error_bad_device_variable COMMAND ${EXPECT_ERROR} "no OpenCL device matches 'no-such-device' \\(from \\$SPLATCL_DEVICE\\)"

@@ -12,6 +12,8 @@ add_test(NAME cli.render_default_scene COMMAND ${EXPECT_OUTPUT} --match "^scene 
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"csm_single_hit\": \"sphere-exit\","
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"csm_segments\": [1-9][0-9]*,"
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"debug_view\": \"final\","
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"filter\": \"march\","
+         --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"floor_pixels\": true,"
          --file ${CMAKE_CURRENT_BINARY_DIR}/render-default.json "\"splat_scale\": 1\\.0499999[0-9]*,?$"
          -- $<TARGET_FILE:splatcl> render --size 160x120 --frames 3 --cache ${PRESENT_CACHE} -o ${CMAKE_CURRENT_BINARY_DIR}/render-default.png
          --json ${CMAKE_CURRENT_BINARY_DIR}/render-default.json)

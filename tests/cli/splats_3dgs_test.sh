@@ -16,6 +16,10 @@ out=$work/cube-3dgs.ply
 "$splatcl" splats "$cube" --samples grid:8 --eps 0.002 --color-field hard --color-tol 40 --format 3dgs -o "$out" \
   2>"$work/stderr" >/dev/null || fail "splats --format 3dgs failed: $(cat "$work/stderr")"
 grep -v '^splatcl: note: ' "$work/stderr" | grep -q . && fail "unexpected stderr: $(cat "$work/stderr")"
+# splats verify names the export for what it is (it said "header line 3 is '...', not 'comment splatcl_version VALUE'").
+if "$splatcl" splats verify "$cube" "$out" >/dev/null 2>"$work/verify.err"; then fail "verify accepted a 3DGS export"; fi
+grep -q "^splatcl: splat file $out: a 3D Gaussian splatting export (splats --format 3dgs), not a splatcl splat file" "$work/verify.err" ||
+  fail "verify of a 3DGS export: $(cat "$work/verify.err")"
 
 check_file() {  # FILE EXPECTED_COUNT
   local file=$1 count=$2
