@@ -959,7 +959,7 @@ std::string MeshProblems::summary() const {
   if (non_finite_vertices > 0) parts.push_back(plural(non_finite_vertices, "vertex", "vertices") + " with a non-finite coordinate (nan, inf or beyond float range)");
   if (unreadable_vertices > 0) parts.push_back(plural(unreadable_vertices, "unreadable vertex", "unreadable vertices") + " (not three numbers)");
   if (bad_vertex_faces > 0) parts.push_back(plural(bad_vertex_faces, "face", "faces") + " using such vertices dropped");
-  if (bad_index_faces > 0) parts.push_back(plural(bad_index_faces, "face", "faces") + " with an index out of range dropped");
+  if (bad_index_faces > 0) parts.push_back(plural(bad_index_faces, "face", "faces") + " with an index out of range or unreadable dropped");
   if (degenerate_faces > 0) parts.push_back(plural(degenerate_faces, "degenerate face", "degenerate faces") + " (fewer than 3 distinct corners) dropped");
   if (zero_area_faces > 0) parts.push_back(plural(zero_area_faces, "zero-area face", "zero-area faces") + " kept (no surface to sample)");
   if (complex_faces > 0) parts.push_back(plural(complex_faces, "non-manifold or oppositely wound face", "non-manifold or oppositely wound faces") + " kept detached");

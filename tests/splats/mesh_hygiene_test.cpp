@@ -95,7 +95,7 @@ TEST(MeshHygiene, ObjIndexOutOfRangeDropsThatFaceOnly) {
   EXPECT_EQ(mesh.problems.faces_listed, 4u);
   expect_only(mesh.problems, 0, 0, 0, 3);
   EXPECT_TRUE(mesh.problems.any());
-  EXPECT_EQ(mesh.problems.summary(), "3 faces with an index out of range dropped");
+  EXPECT_EQ(mesh.problems.summary(), "3 faces with an index out of range or unreadable dropped");
 }
 
 TEST(MeshHygiene, ObjNegativeIndicesCountBackFromTheLastVertexSoFar) {
@@ -680,14 +680,14 @@ TEST(MeshHygiene, MakeMeshCountsDegenerateAndZeroAreaFaces) {
   EXPECT_EQ(face_positions(mesh, 1).size(), 3u);
   EXPECT_EQ(mesh.problems.summary(),
             "1 vertex with a non-finite coordinate (nan, inf or beyond float range), 1 face using such vertices dropped, 1 face with an "
-            "index out of range dropped, 3 degenerate faces (fewer than 3 distinct corners) dropped, 1 zero-area face kept (no surface to sample)");
+            "index out of range or unreadable dropped, 3 degenerate faces (fewer than 3 distinct corners) dropped, 1 zero-area face kept (no surface to sample)");
   // Nothing usable left: one line saying why.
   try {
     make_mesh({{0, 0, 0}, {1, 0, 0}}, {{0, 1, 1}, {0, 1, 2}}, "hopeless");
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_STREQ(e.what(),
-                 "hopeless: the mesh has no faces left: all 2 faces were dropped (1 face with an index out of range dropped, 1 degenerate "
+                 "hopeless: the mesh has no faces left: all 2 faces were dropped (1 face with an index out of range or unreadable dropped, 1 degenerate "
                  "face (fewer than 3 distinct corners) dropped)");
   }
 }
