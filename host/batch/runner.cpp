@@ -510,6 +510,23 @@ void prepare_output_directory(const std::string& output_dir) {
 
 RunLocks lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir, const std::string& summary_path) {
   RunLocks locks;
+  // The summary's in the lock file of its own folder, which every run naming it shares. One
+  // process must not open one lock file twice: closing either descriptor would drop all its POSIX
+  // locks. Model ids cannot contain ':', so the summary's key is no model's.
+  const fs::path summary = comparable_path(summary_path), folder = summary.parent_path();
+  const auto lock_summary = [&](KeyLocks& file) {
+    if (const pid_t holder = file.try_lock("summary:" + summary.string()); holder != 0)
+      throw Error(fmt::format("batch: the summary {} is being written by another batch run{}; run one batch per summary at a time (lock {})",
+                              summary_path, holder > 0 ? fmt::format(" (pid {})", holder) : "", file.path()));
+  };
+  // A summary elsewhere first: refused there, the run has not made its output directory (it made
+  // an empty one with a lock file).
+  const bool summary_elsewhere = folder != comparable_path(output_dir);
+  if (summary_elsewhere) {
+    locks.summary = std::make_unique<KeyLocks>((folder / kLockFileName).string());
+    lock_summary(*locks.summary);
+  }
+  prepare_output_directory(output_dir);
   locks.models = std::make_unique<KeyLocks>((fs::path(output_dir) / kLockFileName).string());
   for (const auto& m : models) {
     const pid_t holder = locks.models->try_lock(m.id);
@@ -518,18 +535,7 @@ RunLocks lock_models(const std::vector<ModelEntry>& models, const std::string& o
                               "directory at a time (lock {})",
                               m.id, output_dir, holder > 0 ? fmt::format(" (pid {})", holder) : "", locks.models->path()));
   }
-  // In the lock file of the summary's own folder, which every run naming it shares. One process
-  // must not open one lock file twice: closing either descriptor would drop all its POSIX locks.
-  const fs::path summary = comparable_path(summary_path), folder = summary.parent_path();
-  KeyLocks* summary_locks = locks.models.get();
-  if (folder != comparable_path(output_dir)) {
-    locks.summary = std::make_unique<KeyLocks>((folder / kLockFileName).string());
-    summary_locks = locks.summary.get();
-  }
-  // Model ids cannot contain ':', so the summary's key is no model's.
-  if (const pid_t holder = summary_locks->try_lock("summary:" + summary.string()); holder != 0)
-    throw Error(fmt::format("batch: the summary {} is being written by another batch run{}; run one batch per summary at a time (lock {})",
-                            summary_path, holder > 0 ? fmt::format(" (pid {})", holder) : "", summary_locks->path()));
+  if (!summary_elsewhere) lock_summary(*locks.models);
   if (const char* hold = std::getenv(kHoldLocksVariable)) std::this_thread::sleep_for(std::chrono::milliseconds(std::atol(hold)));
   return locks;
 }

@@ -99,6 +99,7 @@ struct RunLocks {
   std::unique_ptr<KeyLocks> models;
   std::unique_ptr<KeyLocks> summary;  // null when the summary's folder is the output directory
 };
+// Makes the output directory (prepare_output_directory) after a summary elsewhere is locked.
 RunLocks lock_models(const std::vector<ModelEntry>& models, const std::string& output_dir, const std::string& summary_path);
 
 // The per-model locks' file in the output directory.

@@ -56,6 +56,7 @@ nlohmann::json make_summary(const RunInfo& info, const std::vector<ModelResult>&
           {"generator", "splatcl 0.1.0"},
           {"input", info.input},
           {"output_dir", info.output_dir},
+          {"working_directory", info.working_directory},
           {"manifest_checksum", info.manifest_checksum},
           {"manifest_models", info.manifest_models},
           {"shard", {{"count", info.shard.count}, {"indices", {info.shard.index}}}},
@@ -83,7 +84,7 @@ nlohmann::json read_summary(const std::string& path) {
   if (doc.value("version", 0) != kVersion) throw Error(fmt::format("{}: summary version {} (this splatcl reads {})", path, doc.value("version", 0), kVersion));
   // What make_summary and merge_summaries write; merge copied any other key of the first summary.
   JsonFields{path + ": "}.known_keys(doc, "the summary",
-                                     {"format", "version", "generator", "input", "output_dir", "manifest_checksum", "manifest_models", "shard",
+                                     {"format", "version", "generator", "input", "output_dir", "working_directory", "manifest_checksum", "manifest_models", "shard",
                                       "jobs", "device", "started", "wall_s", "counts", "models", "merged_from"});
   // Each model's entry as to_json (runner.cpp) writes it: merge copies the entries as they are.
   if (const auto models = doc.find("models"); models != doc.end() && models->is_array())

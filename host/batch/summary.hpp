@@ -14,6 +14,7 @@ namespace splatcl::batch {
 struct RunInfo {
   std::string input;              // manifest or directory, as given
   std::string output_dir;
+  std::string working_directory;  // absolute: what the relative paths above (and models' inputs) are relative to
   std::string manifest_checksum;  // of the whole model list, before sharding
   std::size_t manifest_models = 0;
   Shard shard;

@@ -108,13 +108,13 @@ int run_batch_command(const BatchCommand& c) {
   // The locks come before anything is removed: check_output_file clears the summary's dead
   // temporaries, and "dead" means no such pid on this node, which a copy on another node may be.
   check_run_paths(c.input, input_is_directory, c.output, summary_path, all);
-  prepare_output_directory(c.output);
-  const auto locks = lock_models(models, c.output, summary_path);
+  const auto locks = lock_models(models, c.output, summary_path);  // makes the output directory
   check_output_file(summary_path, "--summary");
 
   RunInfo info;
   info.input = c.input;
   info.output_dir = c.output;
+  info.working_directory = fs::current_path().string();
   info.manifest_checksum = manifest_checksum(all);
   info.manifest_models = all.size();
   info.shard = shard;
@@ -182,14 +182,20 @@ int run_merge(const MergeCommand& c) {
   // naming a model's mesh or one of its outputs overwrote it without a word, where batch refuses
   // such a --summary.
   for (const auto& [name, summary] : named) {
+    // The summary's paths are as the run was given them: relative ones from the run's working
+    // directory (merged elsewhere, they named other files, and the run's own were overwritten).
+    // Summaries from before 2026-12-07 do not record it: their paths are taken from here.
+    const std::filesystem::path base = summary.value("working_directory", "");
+    const auto at_run = [&](const std::string& path) { return (base / path).string(); };
     // The manifest too: batch refuses it as --summary, and merged over it the next run failed on
     // the summary's keys.
-    if (summary.contains("input") && summary["input"].is_string()) inputs.emplace_back("manifest of the run", summary["input"]);
-    const std::string output_dir = summary.value("output_dir", "");
+    if (summary.contains("input") && summary["input"].is_string()) inputs.emplace_back("manifest of the run", at_run(summary["input"]));
+    const std::string output_dir = summary.value("output_dir", "").empty() ? "" : at_run(summary.value("output_dir", ""));
     if (!output_dir.empty()) inputs.emplace_back("lock file of the run", (std::filesystem::path(output_dir) / kLockFileName).string());
     for (const auto& model : summary.at("models")) {
       const std::string id = model.at("id");
-      if (model.contains("input") && model["input"].is_string()) inputs.emplace_back(fmt::format("input of model '{}'", id), model["input"]);
+      if (model.contains("input") && model["input"].is_string())
+        inputs.emplace_back(fmt::format("input of model '{}'", id), at_run(model["input"]));
       if (output_dir.empty()) continue;
       for (const std::string& file : output_names(id))
         inputs.emplace_back(fmt::format("output of model '{}'", id), (std::filesystem::path(output_dir) / file).string());

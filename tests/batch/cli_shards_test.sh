@@ -31,13 +31,23 @@ for target in "$work/meshes/set1/model1.obj" "$splat_file"; do
   grep -q "would overwrite the \(input\|output\) of model" "$work/merge-over.log" || fail "merge -o $target: $(cat "$work/merge-over.log")"
   [ "$(cksum < "$target")" = "$before" ] || fail "merge -o $target changed it"
 done
-# Nor the run's manifest (merged over it, the next run failed on the summary's keys).
-printf '{"models": ["%s"]}\n' "$work/meshes/set1/model1.obj" > "$work/set.json"
-"$splatcl" batch "$work/set.json" -o "$work/out-set" "${args[@]}" > "$work/set.log" || fail "the manifest's run failed: $(cat "$work/set.log")"
+# Nor the run's manifest (merged over it, the next run failed on the summary's keys), also when
+# merge runs in another directory than the run (relative paths are the run's: merged from
+# elsewhere, the guard refused unrelated files and let the run's own be overwritten).
+printf '{"models": ["%s"]}\n' "meshes/set1/model1.obj" > "$work/set.json"
+(cd "$work" && "$splatcl" batch set.json -o out-set "${args[@]}") > "$work/set.log" || fail "the manifest's run failed: $(cat "$work/set.log")"
 before=$(cksum < "$work/set.json")
-if "$splatcl" batch merge "$work/out-set/summary.json" -o "$work/set.json" > "$work/merge-over.log" 2>&1; then fail "merge -o the manifest was accepted"; fi
-grep -q "would overwrite the manifest of the run" "$work/merge-over.log" || fail "merge -o the manifest: $(cat "$work/merge-over.log")"
+mkdir -p "$work/elsewhere"
+for target in ../set.json ../meshes/set1/model1.obj; do
+  if (cd "$work/elsewhere" && "$splatcl" batch merge ../out-set/summary.json -o "$target") > "$work/merge-over.log" 2>&1; then
+    fail "merge -o $target from another directory was accepted"
+  fi
+  grep -q "would overwrite the \(manifest of the run\|input of model\)" "$work/merge-over.log" || fail "merge -o $target: $(cat "$work/merge-over.log")"
+done
 [ "$(cksum < "$work/set.json")" = "$before" ] || fail "merge -o the manifest changed it"
+(cd "$work/elsewhere" && "$splatcl" batch merge ../out-set/summary.json -o set.json) > "$work/merge-elsewhere.log" 2>&1 ||
+  fail "merge -o an unrelated set.json was refused: $(cat "$work/merge-elsewhere.log")"
+grep -q '"status": "ok"' "$work/elsewhere/set.json" || fail "merge wrote no summary to elsewhere/set.json"
 # The whole run in one go finds every shard's outputs and reuses them.
 "$splatcl" batch "$work/meshes" -o "$work/out" "${args[@]}" > "$work/whole.log" || fail "whole run failed"
 [ "$(grep -c '^reused' "$work/whole.log")" -eq 5 ] || fail "the whole run did not reuse the shards' outputs: $(cat "$work/whole.log")"

@@ -169,6 +169,8 @@ case $mode in
     "$expect_error" "batch: the summary $work/summaries/s.json is being written by another batch run \\(pid $first\\); run one batch per summary at a time" \
       "$splatcl" batch "$work/other.csv" -o "$work/outB" --summary "$work/summaries/s.json" --reference --maps 64 --res 16 ||
       fail "the second run was not refused"
+    # Refused before it made its output directory (it left an empty one with a lock file).
+    [ -e "$work/outB" ] && fail "the refused run made its output directory"
     wait "$first" || fail "the first run failed: $(cat "$work/first.log")"
     grep -q '"id": "cube"' "$work/summaries/s.json" || fail "the summary is not the first run's: $(cat "$work/summaries/s.json")" ;;
 
