@@ -145,9 +145,7 @@ SplatObjectFile read_splat_object(const std::string& path) {
   const std::string bytes = read_text_file(path, "splat file");
   SplatObjectFile file;
   file.checksum = checksum_hex(fnv1a64(bytes));
-  // splatcl's own files say so in a header comment; anything else is read as a 3DGS file.
-  const std::size_t ours = bytes.find("\ncomment splatcl_version ");
-  file.splats = ours < bytes.find("end_header") ? splats::decode_splat_file(bytes, path).splats : splats::decode_gaussian_file(bytes, path);
+  file.splats = splats::is_splatcl_splat_file(bytes) ? splats::decode_splat_file(bytes, path).splats : splats::decode_gaussian_file(bytes, path);
   return file;
 }
 

@@ -104,10 +104,10 @@ class Session {
   Record unrecorded_;  // what measure() returns for a host row it does not record
 };
 
-// Waits for the session device's queue (Error naming the benchmark on failure).
 // The tuning database a run on `device` reads, and whether it has a record for the device.
 std::string tuning_used(const DeviceInfo& device);
 
+// Waits for the session device's queue (Error naming the benchmark on failure).
 void finish(Runtime& runtime);
 // Copies `bytes` from one device buffer to another and waits: restores a case's input outside the timing.
 void copy_buffer(Runtime& runtime, const cl::Buffer& from, const cl::Buffer& to, std::size_t bytes);

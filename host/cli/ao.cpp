@@ -139,10 +139,10 @@ Action register_ao(CLI::App& app) {
                   "Sampling pattern set: mc, stratified, lhs, halton, hammersley-cp, hammersley-scrambled (long names "
                   "monte-carlo, latin-hypercube, halton-cp also accepted)")
       ->capture_default_str();
-  sub->add_option("--samples", c->options.samples, "Directions per vertex, 1..4096 (a perfect square for stratified)")
+  sub->add_option("--samples", c->options.samples, fmt::format("Directions per vertex, 1..{} (a perfect square for stratified)", kMaxSamples))
       ->capture_default_str()
       ->type_name("COUNT");
-  sub->add_option("--patterns", c->options.patterns, "Precomputed patterns each vertex picks one of, 1..4096")->capture_default_str();
+  sub->add_option("--patterns", c->options.patterns, fmt::format("Precomputed patterns each vertex picks one of, 1..{}", kMaxPatterns))->capture_default_str();
   sub->add_option("--seed", c->options.seed, "Seed of the patterns and of each vertex's pattern choice")->capture_default_str();
   sub->add_flag("--ground-plane", c->options.ground, "Directions below the horizon (world y < 0) count as occluded (the thesis's floor test); the AO is then the lit share of the others times (1 + n.y) / 2");
   sub->add_option("--bias", c->options.bias, "Shadow offset in texels of each occluder's CSM, 0..1000 (occluded when the stored depth g < depth - bias/M, depth in units of the bounding diameter)")->capture_default_str();

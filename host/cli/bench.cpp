@@ -32,6 +32,7 @@ namespace {
 
 // --threshold: a percentage 0 to 10^6. CLI::Range let nan through (every comparison with it is
 // false), and --compare then refused it only after the whole run, as "negative".
+constexpr double kMaxThresholdPercent = 1e6;
 std::string threshold_percent(const std::string& text) {
   double value = 0;
   try {
@@ -41,7 +42,7 @@ std::string threshold_percent(const std::string& text) {
   } catch (const std::exception&) {
     return "not a number: " + text;
   }
-  return value >= 0 && value <= 1e6 ? std::string() : "a percentage 0 to 1000000, not " + text;
+  return value >= 0 && value <= kMaxThresholdPercent ? std::string() : fmt::format("a percentage 0 to {:.0f}, not {}", kMaxThresholdPercent, text);
 }
 
 struct BenchOptions {
@@ -129,7 +130,7 @@ void add_run_options(CLI::App& app, BenchOptions& o, bool takes_size, bool splat
                  "Compare with a baseline results file (.json or .csv), read before the run; exit status 1 when a record's "
                  "median time and fastest run both grew by more than --threshold, 2 when no record matches one of the baseline")
       ->type_name("BASELINE");
-  app.add_option("--threshold", o.threshold_pct, "Regression threshold of --compare, in percent, 0..1000000")
+  app.add_option("--threshold", o.threshold_pct, fmt::format("Regression threshold of --compare, in percent, 0..{:.0f}", kMaxThresholdPercent))
       ->capture_default_str()
       ->check(threshold_percent);
   app.add_option("--plot", o.plot_dir, "Also draw PNG plots with gnuplot into DIR (see 'bench plot')")->type_name("DIR");
@@ -209,7 +210,7 @@ Action register_bench(CLI::App& app) {
   compare->add_option("RESULTS", options->results_path, "Results (.json or .csv)")->required()->type_name("RESULTS");
   compare->add_option("BASELINE", options->baseline_path, "Baseline results (.json or .csv)")->required()->type_name("BASELINE");
   compare->add_option("--threshold", options->threshold_pct,
-                      "Regression threshold, in percent (0..1000000) of the baseline's median time and of its fastest run")
+                      fmt::format("Regression threshold, in percent (0..{:.0f}) of the baseline's median time and of its fastest run", kMaxThresholdPercent))
       ->capture_default_str()
       ->check(threshold_percent);
 

@@ -418,8 +418,8 @@ Action register_csm(CLI::App& app) {
   quality->add_option("model", q->build.model, "Input mesh (OBJ, PLY, OFF, STL)");
   quality->add_option("--csm", q->csm_file, "Use this .csm (built from MODEL as loaded) instead of building one");
   add_in_memory_build_options(*quality, q->build);
-  quality->add_option("--views", q->options.views, "Random camera and light configurations, 1..4096")->capture_default_str();
-  quality->add_option("--image", q->options.image, "Image size (square) per view, 1..4096 pixels")->capture_default_str();
+  quality->add_option("--views", q->options.views, fmt::format("Random camera and light configurations, 1..{}", kMaxQualityViews))->capture_default_str();
+  quality->add_option("--image", q->options.image, fmt::format("Image size (square) per view, 1..{} pixels", kMaxQualityImage))->capture_default_str();
   quality->add_option("--fov", q->options.fov_degrees, "Camera field of view in degrees")->capture_default_str();
   quality->add_option("--camera-distance", q->options.camera_distance,
                       "Camera distance from the centre in sphere radii, 1..1e6: 1 is on the bounding sphere (Talpe §6.1); "

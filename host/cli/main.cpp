@@ -91,9 +91,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "splatcl: unknown %s '%s' (%s: %s)\n", what.c_str(), word, what == "command" ? "commands" : "known", known.c_str());
     return true;
   };
-  // An unknown option before any command word: CLI11 said only "A subcommand is required".
-  if (argc > 1 && argv[1][0] == '-' && !app.get_option_no_throw(std::string(argv[1]).substr(0, std::string(argv[1]).find('=')))) {
-    std::fprintf(stderr, "splatcl: unknown option '%s' before the command (see --help)\n", splatcl::printable(argv[1]).c_str());
+  // An unknown option before any command word: CLI11 said only "A subcommand is required". One
+  // that a command takes is named as misplaced.
+  if (const std::string first = argc > 1 ? argv[1] : ""; first.size() > 1 && first[0] == '-' && !app.get_option_no_throw(first.substr(0, first.find('=')))) {
+    bool commands_take_it = false;
+    for (const CLI::App* sub : app.get_subcommands({})) commands_take_it = commands_take_it || sub->get_option_no_throw(first.substr(0, first.find('=')));
+    std::fprintf(stderr, commands_take_it ? "splatcl: option '%s' goes after the command (splatcl COMMAND %s ...; see --help)\n"
+                                          : "splatcl: unknown option '%s' before the command (see --help)\n",
+                 splatcl::printable(first).c_str(), splatcl::printable(first).c_str());
     return 1;
   }
   if (argc > 1 && argv[1][0] != '-') {

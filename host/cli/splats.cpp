@@ -257,7 +257,7 @@ Action register_splats(CLI::App& app) {
   sub->add_option("--render", o->render, "Also write an offscreen picture of the splats (.png or .exr): per-splat colours for grey models, else the splat colours");
   sub->add_flag("--reference", o->reference, "Fit with the native C++ reference instead of the OpenCL kernels");
   sub->add_flag("--strict", o->strict,
-                "Refuse a model with problems (faces dropped for a non-finite vertex, an index out of range or fewer than 3 "
+                "Refuse a model with problems (faces dropped for a non-finite vertex, an index out of range or unreadable, or fewer than 3 "
                 "corners; zero-area or non-manifold faces; inconsistent orientation; faces pointing inward) instead of warning");
   sub->add_flag("--no-check", o->no_check,
                 "Skip the end-of-run check of the two-sided bound against the mesh surface (the check of splatcl splats verify; "

@@ -57,7 +57,7 @@ struct MeshProblems {
   // Whether Winding::Orient could turn faces of a mesh loaded as given with these problems.
   bool winding_disagrees() const { return inconsistent_edges > 0 || inward || complex_faces > 0; }
   bool any() const;
-  // One line listing the non-zero kinds ("2 faces with a vertex index out of range dropped, faces
+  // One line listing the non-zero kinds ("2 faces with an index out of range or unreadable dropped, faces
   // point inward"); empty when there are none.
   std::string summary() const;
 };

@@ -9,6 +9,8 @@
 
 namespace splatcl::csm {
 
+static_assert(kMaxMaps == 16777216, "the help texts of maps and batch state the limit");
+
 const std::vector<ParameterInfo>& csm_parameters() {
   static const std::vector<ParameterInfo> list{
       {"maps", "Number of maps N, 1..16777216: G^2 for uniform/regular, 2T^2 for ao", false, false, true},
@@ -56,7 +58,7 @@ void set_parameter(CsmParameters& p, const std::string& name, const nlohmann::js
   } else if (key == "capture") {
     p.capture = string_parameter(name, value);
   } else if (key == "batch") {
-    p.batch = static_cast<std::uint32_t>(integer_parameter(name, value, 0, 1 << 24));
+    p.batch = static_cast<std::uint32_t>(integer_parameter(name, value, 0, kMaxMaps));
   } else if (key == "hit_eps") {
     const auto v = static_cast<float>(number_parameter(name, value));  // compared as the float it is stored as
     if (!(v >= kMinHitEpsilon && v <= kMaxHitEpsilon))

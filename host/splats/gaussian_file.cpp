@@ -94,9 +94,9 @@ Gaussian to_gaussian(const SplatRecord& s) {
 
 std::size_t write_gaussian_file(const std::string& path, const std::vector<SplatRecord>& splats) {
   std::string header = "ply\nformat binary_little_endian 1.0\n";
-  header += fmt::format("{} sigma = {:g} semi-axis, normal sigma = {:g} minor sigma, alpha {:g}, "
+  header += fmt::format("comment splatcl 3dgs export: sigma = {:g} semi-axis, normal sigma = {:g} minor sigma, alpha {:g}, "
                         "SH degree 0, clip lines dropped\n",
-                        kGaussianExportComment, kGaussianSigmaPerSemiAxis, kGaussianNormalSigma, kGaussianAlpha);
+                        kGaussianSigmaPerSemiAxis, kGaussianNormalSigma, kGaussianAlpha);
   header += fmt::format("element vertex {}\n", splats.size());
   for (const std::string& name : gaussian_properties()) header += "property float " + name + "\n";
   header += "end_header\n";

@@ -37,6 +37,9 @@ struct SplatParameters {
 };
 
 inline constexpr double kDefaultCreaseAngle = 60;
+// cos(kDefaultCreaseAngle): a triangle within this of a splat's plane faces it (the surface bound's
+// facing rule, surface_fit.cpp, and verify's flipped count, surface_check.cpp).
+inline constexpr double kFacingCos = 0.5;
 inline constexpr unsigned kDefaultMaxCovered = 128;
 // How the model's faces are loaded for these parameters.
 Winding winding(const SplatParameters& params);

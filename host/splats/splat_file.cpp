@@ -110,6 +110,10 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
   write_file_atomically(path, header_text(info, splats.size(), checksum_hex(file_checksum(zeros, body))) + body);
 }
 
+bool is_splatcl_splat_file(const std::string& bytes) {
+  return bytes.find("\ncomment splatcl_version ") < bytes.find("end_header");
+}
+
 SplatFile read_splat_file(const std::string& path) { return decode_splat_file(read_text_file(path, "splat file"), path); }
 
 SplatFile decode_splat_file(const std::string& data, const std::string& path) {
@@ -142,9 +146,10 @@ SplatFile decode_splat_file(const std::string& data, const std::string& path) {
     if (ec != std::errc() || ptr != text.data() + text.size()) throw fail(fmt::format("{} '{}' is not a number", key, text));
   };
   if (next() != "format binary_little_endian 1.0") throw fail("not binary little-endian PLY 1.0");
-  if (lines.size() > 2 && lines[2].rfind(kGaussianExportComment, 0) == 0)
-    throw fail("a 3D Gaussian splatting export (splats --format 3dgs), not a splatcl splat file: it keeps no eps or clip lines "
-               "(a scene reads it as an object; verify the splat file that splats writes by default)");
+  if (!is_splatcl_splat_file(data))
+    throw fail("not a splatcl splat file (no 'comment splatcl_version' in its header): a 3D Gaussian splatting PLY, such as splats "
+               "--format 3dgs writes, keeps no eps or clip lines (a scene reads one as an object; verify the file splats writes by "
+               "default)");
   {
     const std::string text = comment("splatcl_version");
     if (text != std::to_string(kSplatFileVersion))

@@ -40,9 +40,9 @@ struct SplatFileInfo {
 // Version 3: the checksum (FNV-1a 64, io/checksum.hpp) covers the header too, its own 16 digits
 // read as zeros; version 2 covered the body only, version 1 used a mistyped offset basis.
 inline constexpr int kSplatFileVersion = 3;
-// The header comment that starts a 3D Gaussian splatting export (gaussian_file.hpp), which
-// read_splat_file names as such.
-inline constexpr const char* kGaussianExportComment = "comment splatcl 3dgs export:";
+// Whether a PLY's header says it is splatcl's splat file (its `comment splatcl_version` line);
+// any other PLY is read as a 3D Gaussian splatting file where one may be (a scene's splat object).
+bool is_splatcl_splat_file(const std::string& bytes);
 
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info);
 

@@ -11,17 +11,16 @@
 #include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 #include "core/parallel.hpp"
+#include "splats/pipeline_options.hpp"
 #include "splats/surface.hpp"
 
 namespace splatcl::splats {
 namespace {
 
 constexpr std::uint64_t kSurfaceSalt = 0x5bd1e9955bd1e995ULL, kSplatSalt = 0xc2b2ae3d27d4eb4fULL;
-// Triangles this much farther than the nearest (× ε) still tie with it for the flipped count.
+// The flipped count's search radius, max(ε, the nearest triangle's distance), grows by this (× ε)
+// for ties at edges and vertices.
 constexpr double kFlipTieSlack = 1e-3;
-// A splat is not flipped when a triangle near it faces its way within 60° (the crease angle's cosine,
-// as the surface bound's facing rule in surface_fit.cpp).
-constexpr double kFlipFacingCos = 0.5;
 
 // The `stream`-th output of a SplitMix64 stream keyed by seed and salt: independent, reproducible
 // seeds for chunks and splats, whatever the thread count.
@@ -443,7 +442,7 @@ SurfaceCheckReport check_surface(const Mesh& mesh, const std::vector<SplatRecord
       // than ε) the nearest triangle is that one's: the ogre's teeth in its gums were 562 flipped
       // splats that way. At an edge or vertex several triangles tie for nearest (the slack).
       if (centre.triangle != UINT32_MAX && dot(e.n, surface.triangles()[centre.triangle].normal) < 0) {
-        const Surface::Facing same_way{e.n, kFlipFacingCos, true};
+        const Surface::Facing same_way{e.n, kFacingCos, true};
         flipped[j] = !surface.within(e.c, std::max(centre.distance, eps) + kFlipTieSlack * eps, nullptr, &same_way);
       }
       results[j] = measure_splat(e, j, options, surface, limit, scratch[worker]);

@@ -20,13 +20,12 @@ namespace {
 // the rounding of the written values.
 constexpr double kFloatReserve = 1e-4;
 constexpr double kBetweenPointsReserve = 0.1;
-// A splat's test points must lie within ε of a triangle whose plane is within 60° of the splat's:
-// beyond a crease sharper than that, only a sliver of at most ε / sin(angle) needs the other face.
-// Fixed at the default crease angle, not the run's: at --crease-angle 180 (smooth frames across
-// every edge) a splat tilted more than 60° off both faces of a knife edge shrinks away, and gap
-// splats, in their triangles' planes, cover there instead.
-constexpr double kSurfaceFacingCos = 0.5;
-static_assert(kDefaultCreaseAngle == 60, "kSurfaceFacingCos is cos(kDefaultCreaseAngle)");
+// A splat's test points must lie within ε of a triangle whose plane is within 60° of the splat's
+// (kFacingCos): beyond a crease sharper than that, only a sliver of at most ε / sin(angle) needs the
+// other face. Fixed at the default crease angle, not the run's: at --crease-angle 180 (smooth frames
+// across every edge) a splat tilted more than 60° off both faces of a knife edge shrinks away, and
+// gap splats, in their triangles' planes, cover there instead.
+static_assert(kDefaultCreaseAngle == 60, "kFacingCos is cos(kDefaultCreaseAngle)");
 // Squares a certification may visit before the splat counts as failing (and is made smaller).
 constexpr std::size_t kCertifyBudget = 8192;
 // Coverage cells are refined down to this fraction of ε; below it, a cell that no one splat holds
@@ -157,7 +156,7 @@ bool within_surface(const Surface& surface, const Ellipse& e, double eps, std::v
   // Near a surface that faces its way: a splat standing across a face within ε of it (a strip in a
   // hole's wall laid along the rim over the plate's top) passed on distance alone, and showed as a
   // line of the wall's normal across the face.
-  const Surface::Facing facing{e.normal, kSurfaceFacingCos};
+  const Surface::Facing facing{e.normal, kFacingCos};
   for (const DVec3& p : scratch)
     if (!surface.within(p, limit, recent, &facing)) return false;
   return true;

@@ -16,6 +16,7 @@ add_test(NAME cli.cluster_every_variant COMMAND ${EXPECT_OUTPUT} --match "^grid 
 add_test(NAME cli.error_unknown_command COMMAND ${EXPECT_ERROR} "unknown command 'nonsense' \\(commands: devices, cluster" $<TARGET_FILE:splatcl> nonsense)
 # An unknown option before the command is named (CLI11 said "A subcommand is required").
 add_test(NAME cli.error_unknown_top_option COMMAND ${EXPECT_ERROR} "^splatcl: unknown option '--bogus' before the command" $<TARGET_FILE:splatcl> --bogus devices)
+add_test(NAME cli.error_option_before_command COMMAND ${EXPECT_ERROR} "^splatcl: option '--device' goes after the command" $<TARGET_FILE:splatcl> --device 0 devices)
 # A bad progress interval is refused before any work (it was ignored).
 add_test(NAME cli.error_bad_progress_interval COMMAND ${EXPECT_ERROR} "SPLATCL_PROGRESS_SECONDS '-1' is not a number of seconds, 0 or more$"
          env SPLATCL_PROGRESS_SECONDS=-1 $<TARGET_FILE:splatcl> devices)

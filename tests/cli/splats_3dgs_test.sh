@@ -18,7 +18,7 @@ out=$work/cube-3dgs.ply
 grep -v '^splatcl: note: ' "$work/stderr" | grep -q . && fail "unexpected stderr: $(cat "$work/stderr")"
 # splats verify names the export for what it is (it said "header line 3 is '...', not 'comment splatcl_version VALUE'").
 if "$splatcl" splats verify "$cube" "$out" >/dev/null 2>"$work/verify.err"; then fail "verify accepted a 3DGS export"; fi
-grep -q "^splatcl: splat file $out: a 3D Gaussian splatting export (splats --format 3dgs), not a splatcl splat file" "$work/verify.err" ||
+grep -q "^splatcl: splat file $out: not a splatcl splat file (no 'comment splatcl_version' in its header): a 3D Gaussian splatting PLY" "$work/verify.err" ||
   fail "verify of a 3DGS export: $(cat "$work/verify.err")"
 
 check_file() {  # FILE EXPECTED_COUNT
