@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -105,6 +106,11 @@ nlohmann::json read_summary(const std::string& path) {
   } catch (const nlohmann::json::exception&) {
     throw Error(path + ": incomplete summary (missing manifest_checksum, shard or models)");
   }
+  // The paths merge checks its -o against: strings, the working directory absolute.
+  for (const char* key : {"input", "output_dir", "working_directory"})
+    if (doc.contains(key) && !doc[key].is_string()) throw Error(fmt::format("{}: '{}' is not a string", path, key));
+  if (const std::string wd = doc.value("working_directory", ""); !wd.empty() && !std::filesystem::path(wd).is_absolute())
+    throw Error(path + ": 'working_directory' is not an absolute path");
   return doc;
 }
 
@@ -157,6 +163,9 @@ nlohmann::json merge_summaries(const std::vector<std::pair<std::string, nlohmann
   nlohmann::json indices = nlohmann::json::array();
   for (const auto& [i, name] : shards) indices.push_back(i);
   nlohmann::json merged = first;
+  // The runs' paths are relative to their working directory: kept only when every shard ran in one.
+  for (const auto& [name, s] : named)
+    if (s.value("working_directory", "") != first.value("working_directory", "")) merged.erase("working_directory");
   merged["shard"] = {{"count", count}, {"indices", indices}};
   merged["started"] = started;
   merged["wall_s"] = wall;

@@ -184,8 +184,10 @@ int run_merge(const MergeCommand& c) {
   for (const auto& [name, summary] : named) {
     // The summary's paths are as the run was given them: relative ones from the run's working
     // directory (merged elsewhere, they named other files, and the run's own were overwritten).
-    // Summaries from before 2026-12-07 do not record it: their paths are taken from here.
-    const std::filesystem::path base = summary.value("working_directory", "");
+    // Summaries from before 2026-12-07 do not record it, and one recorded on another machine may
+    // not exist here: their paths are taken from here.
+    std::filesystem::path base = summary.value("working_directory", "");
+    if (std::error_code ec; !base.empty() && !std::filesystem::is_directory(base, ec)) base.clear();
     const auto at_run = [&](const std::string& path) { return (base / path).string(); };
     // The manifest too: batch refuses it as --summary, and merged over it the next run failed on
     // the summary's keys.

@@ -95,7 +95,12 @@ int main(int argc, char** argv) {
   // that a command takes is named as misplaced.
   if (const std::string first = argc > 1 ? argv[1] : ""; first.size() > 1 && first[0] == '-' && !app.get_option_no_throw(first.substr(0, first.find('=')))) {
     bool commands_take_it = false;
-    for (const CLI::App* sub : app.get_subcommands({})) commands_take_it = commands_take_it || sub->get_option_no_throw(first.substr(0, first.find('=')));
+    std::vector<const CLI::App*> commands{&app};
+    for (std::size_t i = 0; i < commands.size(); ++i)
+      for (const CLI::App* sub : commands[i]->get_subcommands({})) {
+        commands.push_back(sub);
+        commands_take_it = commands_take_it || sub->get_option_no_throw(first.substr(0, first.find('=')));
+      }
     std::fprintf(stderr, commands_take_it ? "splatcl: option '%s' goes after the command (splatcl COMMAND %s ...; see --help)\n"
                                           : "splatcl: unknown option '%s' before the command (see --help)\n",
                  splatcl::printable(first).c_str(), splatcl::printable(first).c_str());

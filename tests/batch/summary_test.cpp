@@ -3,6 +3,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <tuple>
+#include <vector>
 
 #include "batch/summary.hpp"
 #include "runtime/error.hpp"
@@ -66,6 +68,13 @@ TEST(BatchSummary, MergesCompleteShards) {
   EXPECT_EQ(merged["started"], "2026-11-22T00:00:00Z");
   EXPECT_EQ(merged["wall_s"], 3.0);
   EXPECT_EQ(merged["merged_from"], nlohmann::json::array({"s1", "s0", "s2"}));
+  // The runs' working directory is kept when every shard ran in one, else dropped (the relative
+  // paths of the first would be taken for all).
+  auto in_a = shard_summary(0, 2, {"a", "c", "e"}), in_b = shard_summary(1, 2, {"b", "d"});
+  in_a["working_directory"] = in_b["working_directory"] = "/home/a";
+  EXPECT_EQ(merge_summaries({{"a", in_a}, {"b", in_b}}, false)["working_directory"], "/home/a");
+  in_b["working_directory"] = "/home/b";
+  EXPECT_FALSE(merge_summaries({{"a", in_a}, {"b", in_b}}, false).contains("working_directory"));
   // A merged summary merges again like any other.
   EXPECT_EQ(merge_summaries({{"m", merged}}, false)["counts"]["models"], 5);
   // A failed model that says reused (an edited summary) is not counted as reused: built = ok −
@@ -107,6 +116,21 @@ TEST(BatchSummary, ReadingRefusesUnknownKeys) {
   EXPECT_NO_THROW(read_summary(path));
   write(merge_summaries({{"s0", s0}, {"s1", shard_summary(1, 2, {"b", "d"})}}, false));
   EXPECT_NO_THROW(read_summary(path));
+  // The paths merge checks -o against: strings, the working directory absolute.
+  for (const auto& [key, value, expected] : std::vector<std::tuple<std::string, nlohmann::json, std::string>>{
+           {"working_directory", 5, "'working_directory' is not a string"},
+           {"output_dir", nlohmann::json::array(), "'output_dir' is not a string"},
+           {"working_directory", "relative/dir", "'working_directory' is not an absolute path"}}) {
+    auto doc = s0;
+    doc[key] = value;
+    write(doc);
+    try {
+      read_summary(path);
+      ADD_FAILURE() << "accepted " << key << " = " << value.dump();
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": " + expected);
+    }
+  }
   auto typo = s0;
   typo["wall_seconds"] = 3;
   write(typo);

@@ -303,10 +303,10 @@ TEST(SurfaceCheck, SplatAtAVertexIsFlippedOnlyAgainstEveryNearestFace) {
   splats.back().major = {0.05f, 0, 0}, splats.back().minor = {0, 0, 0.05f};
   report = check_surface(octahedron, splats, options(10'000, 0.1));
   EXPECT_EQ(report.flipped, 1u);
-  // Facing its way by 67° only (cosine 0.39 with the two faces on its side, against the first face
-  // found): flipped, as no face lies within 60° of its plane.
+  // Nearest the two faces on the +z side, facing against them, and their way by 67° only (cosine
+  // 0.39 with the two faces on the -z side): flipped, as no face lies within 60° of its plane.
   const DVec3 tilted = normalized(DVec3{0, -0.3, -1});
-  splats.push_back(circle({0.0f, 1.0f + 1e-4f, 0.0f}, 0.05f, to_float(tilted)));
+  splats.push_back(circle({0.0f, 1.0f + 1e-4f, 1e-3f}, 0.05f, to_float(tilted)));
   splats.back().major = {0.05f, 0, 0}, splats.back().minor = to_float(0.05 * cross(tilted, DVec3{1, 0, 0}));
   report = check_surface(octahedron, splats, options(10'000, 0.1));
   EXPECT_EQ(report.flipped, 2u);
