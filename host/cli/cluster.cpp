@@ -194,7 +194,7 @@ int run_cluster(const ClusterOptions& o) {
   fmt::print("clusters   {} occupied ({:.2f}% of the grid), {}\n", pipeline.cluster_count(),
              100.0 * pipeline.cluster_count() / (static_cast<double>(layout.tile_count) * layout.slice_count * (o.normal_bits ? kNormalCells : 1)),
              to_string(compaction));
-  fmt::print("lights     {}, {} list entries ({}), {:.1f} per cluster on average, {} at most, {:.1f} per covered pixel\n",
+  fmt::print("lights     {}, {} list entries ({}), {:.3g} per cluster on average, {} at most, {:.3g} per covered pixel\n",
              lights.size(), pipeline.light_index_count(), to_string(assignment),
              pipeline.cluster_count() ? static_cast<double>(pipeline.light_index_count()) / pipeline.cluster_count() : 0.0,
              max_per_cluster, covered ? static_cast<double>(light_evaluations) / static_cast<double>(covered) : 0.0);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -244,6 +245,9 @@ int run_analyze(const AnalyzeCommand& c) {
   const BuildOptions options = build_options(c.build);
   for (const std::uint32_t k : c.kmeans)  // before the build, not minutes after it
     if (k > options.maps) throw Error(fmt::format("--kmeans {} is more clusters than the {} maps (--maps)", k, options.maps));
+  // Before the build too (it was refused after the capture and the k-means runs, which it hid).
+  if (c.wavelet && !std::has_single_bit(options.resolution))
+    throw Error(fmt::format("--wavelet: the Haar-wavelet analysis needs a power-of-two resolution (--res), not {}", options.resolution));
   ProgressLine progress("csm");
   const Mesh mesh = load_model(c.build.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;
@@ -359,7 +363,8 @@ int run_quality(const QualityCommand& c) {
              options.views, options.image, options.image, options.fov_degrees,
              options.camera_distance == 1 ? std::string("on the bounding sphere") : fmt::format("at {:g} R from the centre", options.camera_distance),
              options.light_max, options.seed, c.filter, options.bias);
-  fmt::print("wrong      {:.3f} % of image pixels, {:.3f} % of object pixels ({} of {} object pixels; {:.1f} % of them in shadow)\n",
+  fmt::print("wrong      {:.3f} % of image pixels, {:.3f} % of object pixels ({} of {} object pixels; the reference shadows {:.1f} % of "
+             "the object pixels)\n",
              report.percent_of_image(), report.percent_of_object(), report.wrong, report.object_pixels,
              report.object_pixels ? 100.0 * static_cast<double>(report.exact_shadowed) / static_cast<double>(report.object_pixels) : 0.0);
   fmt::print("shaded     {:.3f} % of image pixels, {:.3f} % of object pixels differ in a diffusely shaded render ({} wrong among {} "
@@ -443,7 +448,7 @@ Action register_csm(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1u, 1000000u));
   analyze->add_option("--seed", a->seed, "Seed of the k-means start")->capture_default_str();
-  analyze->add_flag("--wavelet", a->wavelet, "Haar-wavelet re-layout of the per-pixel segments: zero coefficients and size estimate");
+  analyze->add_flag("--wavelet", a->wavelet, "Haar-wavelet re-layout of the per-pixel segments: zero coefficients and size estimate (a power-of-two --res)");
   analyze->add_flag("--reference", a->build.reference, "Use the native C++ references instead of the OpenCL kernels");
 
   return [b, i, v, q, a, build, info, verify, quality, analyze]() -> int {
