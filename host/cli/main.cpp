@@ -25,7 +25,7 @@ std::string empty_device_value(const std::string& value) {
 
 void add_device_option(CLI::App& app, DeviceOptions& options) {
   app.add_option("--device", options.device,
-                 "OpenCL device: index, type (cpu, gpu, simulator) or name substring; default $SPLATCL_DEVICE, else a GPU, else the CPU")
+                 "OpenCL device: index, type (cpu, gpu, simulator) or name substring; default $SPLATCL_DEVICE, else a GPU, else PoCL, else a CPU (a simulator only when named)")
       ->check(empty_device_value);
 }
 

@@ -189,7 +189,7 @@ DeviceInfo match_device(const std::vector<DeviceInfo>& devices, const std::strin
     const auto index = std::stoul(wanted);
     if (index >= devices.size())
       throw Error("device index " + wanted + origin + " out of range: " + std::to_string(devices.size()) +
-                  " device(s) found (see 'splatcl devices')");
+                  " device(s) found (see 'splatcl devices', or list_devices())");
     return devices[index];
   }
   for (const auto& d : devices)
@@ -207,11 +207,11 @@ DeviceInfo match_device(const std::vector<DeviceInfo>& devices, const std::strin
       std::string listed;
       for (const std::size_t i : matches)
         listed += (listed.empty() ? "" : ", ") + fmt::format("[{}] {} / {}", devices[i].index, devices[i].platform, devices[i].name);
-      throw Error(fmt::format("'{}'{} matches {} OpenCL devices by {}: {}; give its index or more of its name (see 'splatcl devices')",
+      throw Error(fmt::format("'{}'{} matches {} OpenCL devices by {}: {}; give its index or more of its name (see 'splatcl devices', or list_devices())",
                               selector, origin, matches.size(), by_platform ? "platform name or vendor" : "device name", listed));
     }
   }
-  throw Error("no OpenCL device matches '" + selector + "'" + origin + " (see 'splatcl devices')");
+  throw Error("no OpenCL device matches '" + selector + "'" + origin + " (see 'splatcl devices', or list_devices())");
 }
 
 DeviceInfo choose_device(const std::string& selector_in) {

@@ -3,9 +3,11 @@
 #   subdirectory: add_subdirectory of SOURCE_DIR, only the targets the consumer links, unoptimised
 #                 (no build type: it compiles the libraries again, and -O0 compiles them fastest)
 # CXX, LAUNCHER, BUILD_TYPE and FLAGS (a comma-separated list of -D settings for splatcl) are the
-# suite's own build's, so the consumer is built like it.
+# suite's own build's, so the consumer is built like it; OPENCL_DEFINITIONS (comma-separated) the
+# definitions splatcl::runtime passes on.
 cmake_minimum_required(VERSION 3.20)
 string(REPLACE "," ";" flags "${FLAGS}")
+string(REPLACE "," ";" OPENCL_DEFINITIONS "${OPENCL_DEFINITIONS}")
 file(REMOVE_RECURSE ${WORK_DIR})
 cmake_host_system_information(RESULT jobs QUERY NUMBER_OF_LOGICAL_CORES)
 
@@ -38,6 +40,41 @@ if(MODE STREQUAL "install")
       endif()
     endforeach()
   endforeach()
+  # Every installed header compiles on its own (fit_device.hpp did not: kernels/splat_fit.h uses
+  # std::sqrt, and the library's unity builds had always included <cmath> before it), with the
+  # OpenCL settings the package's targets give their users (OPENCL_DEFINITIONS). The commands of
+  # one execute_process run at once: `jobs` headers at a time.
+  file(GLOB_RECURSE headers RELATIVE ${prefix}/include ${prefix}/include/splatcl/*.hpp)
+  set(definitions)
+  foreach(definition IN LISTS OPENCL_DEFINITIONS)
+    list(APPEND definitions -D${definition})
+  endforeach()
+  function(compile_alone)
+    set(commands)
+    foreach(header IN LISTS ARGN)
+      string(MAKE_C_IDENTIFIER ${header} unit)
+      file(WRITE ${WORK_DIR}/headers/${unit}.cpp "#include <${header}>\n")
+      list(APPEND commands COMMAND ${CXX} -std=c++20 -fsyntax-only -I${prefix}/include ${definitions} ${WORK_DIR}/headers/${unit}.cpp)
+    endforeach()
+    execute_process(${commands} RESULTS_VARIABLE results)
+    foreach(header result IN ZIP_LISTS ARGN results)
+      if(NOT result EQUAL 0)
+        message(FATAL_ERROR "${header} does not compile on its own (${result})")
+      endif()
+    endforeach()
+  endfunction()
+  set(group)
+  foreach(header IN LISTS headers)
+    list(APPEND group ${header})
+    list(LENGTH group size)
+    if(size GREATER_EQUAL jobs)
+      compile_alone(${group})
+      set(group)
+    endif()
+  endforeach()
+  if(group)
+    compile_alone(${group})
+  endif()
   run("configuring the consumer" ${configure} -DCMAKE_PREFIX_PATH=${prefix})
 elseif(MODE STREQUAL "subdirectory")
   run("configuring the consumer" ${configure} -DSPLATCL_SOURCE_DIR=${SOURCE_DIR} ${flags})
