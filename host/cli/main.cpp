@@ -1,5 +1,8 @@
 // splatcl: one program, subcommands. Every failure is one line on stderr and a non-zero exit.
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <new>
 #include <string>
@@ -144,6 +147,20 @@ int main(int argc, char** argv) {
       if (c->parsed() && device && reference && device->count() > 0 && reference->count() > 0 && reference->as<bool>()) {
         std::fprintf(stderr, "splatcl: --device and --reference contradict: --reference uses no OpenCL device (see --help)\n");
         return 1;
+      }
+      // A simulator interprets every operation: said before minutes of silence (a CSM build at its
+      // defaults took about 20 minutes on Oclgrind, with no word why).
+      if (c->parsed() && device && a->get_name() != "devices" && !(reference && reference->count() > 0 && reference->as<bool>())) {
+        std::vector<std::string> selectors = device->count() > 0 ? device->results() : std::vector<std::string>{};
+        if (const char* variable = std::getenv("SPLATCL_DEVICE"); selectors.empty() && variable) selectors.emplace_back(variable);
+        for (std::string selector : selectors) {
+          std::transform(selector.begin(), selector.end(), selector.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+          if (selector.find("oclgrind") != std::string::npos || selector == "simulator") {
+            std::fprintf(stderr, "splatcl: note: a simulated device interprets every operation: expect minutes for what takes "
+                                 "seconds on PoCL (docs/portability.md)\n");
+            break;
+          }
+        }
       }
     }
   }
