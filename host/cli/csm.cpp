@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -246,8 +245,7 @@ int run_analyze(const AnalyzeCommand& c) {
   for (const std::uint32_t k : c.kmeans)  // before the build, not minutes after it
     if (k > options.maps) throw Error(fmt::format("--kmeans {} is more clusters than the {} maps (--maps)", k, options.maps));
   // Before the build too (it was refused after the capture and the k-means runs, which it hid).
-  if (c.wavelet && !std::has_single_bit(options.resolution))
-    throw Error(fmt::format("--wavelet: the Haar-wavelet analysis needs a power-of-two resolution (--res), not {}", options.resolution));
+  if (c.wavelet) require_wavelet_resolution(options.resolution);
   ProgressLine progress("csm");
   const Mesh mesh = load_model(c.build.model, progress, Winding::AsGiven);
   std::shared_ptr<Runtime> runtime;

@@ -1,6 +1,4 @@
 // splatcl: one program, subcommands. Every failure is one line on stderr and a non-zero exit.
-#include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -149,17 +147,26 @@ int main(int argc, char** argv) {
         return 1;
       }
       // A simulator interprets every operation: said before minutes of silence (a CSM build at its
-      // defaults took about 20 minutes on Oclgrind, with no word why).
+      // defaults took about 20 minutes on Oclgrind, with no word why). Only a named device can be
+      // one (no default is); one the selector does not name is left to the command's own error.
       if (c->parsed() && device && a->get_name() != "devices" && !(reference && reference->count() > 0 && reference->as<bool>())) {
         std::vector<std::string> selectors = device->count() > 0 ? device->results() : std::vector<std::string>{};
-        if (const char* variable = std::getenv("SPLATCL_DEVICE"); selectors.empty() && variable) selectors.emplace_back(variable);
-        for (std::string selector : selectors) {
-          std::transform(selector.begin(), selector.end(), selector.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-          if (selector.find("oclgrind") != std::string::npos || selector == "simulator") {
-            std::fprintf(stderr, "splatcl: note: a simulated device interprets every operation: expect minutes for what takes "
-                                 "seconds on PoCL (docs/portability.md)\n");
-            break;
+        if (const char* variable = std::getenv("SPLATCL_DEVICE"); selectors.empty() && variable && *variable) selectors.emplace_back(variable);
+        try {
+          const std::vector<splatcl::DeviceInfo> devices = selectors.empty() ? std::vector<splatcl::DeviceInfo>{} : splatcl::list_devices();
+          for (const std::string& selector : selectors) {
+            bool simulated = false;
+            try {
+              simulated = splatcl::match_device(devices, selector).type == "simulator";
+            } catch (const splatcl::Error&) {
+            }
+            if (simulated) {
+              std::fprintf(stderr, "splatcl: note: a simulated device interprets every operation: expect minutes for what takes "
+                                   "seconds on PoCL (docs/portability.md)\n");
+              break;
+            }
           }
+        } catch (const std::exception&) {  // no platform: the command says so
         }
       }
     }

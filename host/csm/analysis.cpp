@@ -441,9 +441,14 @@ std::vector<KMeansResult> kmeans_analysis(const std::vector<float>& z1, const st
   return results;
 }
 
+void require_wavelet_resolution(std::uint32_t resolution) {
+  if (!std::has_single_bit(resolution))
+    throw Error(fmt::format("the Haar-wavelet analysis needs a power-of-two resolution (--res), not {}", resolution));
+}
+
 WaveletResult wavelet_analysis(const Csm& csm) {
   const std::uint32_t m = csm.info.resolution;
-  if (!std::has_single_bit(m)) throw Error(fmt::format("the Haar-wavelet analysis needs a power-of-two resolution, not {}", m));
+  require_wavelet_resolution(m);
   const std::size_t pixels = std::size_t{m} * m;
   if (csm.pixels() != pixels) throw Error("wavelet_analysis: the CSM's pixel count does not match its resolution");
   WaveletResult result;

@@ -99,6 +99,9 @@ struct WaveletResult {
   }
 };
 WaveletResult wavelet_analysis(const Csm& csm);
+// Throws Error unless wavelet_analysis can take this map resolution (a power of two): a command
+// checks it before it captures anything.
+void require_wavelet_resolution(std::uint32_t resolution);
 
 // Captures all maps of `build` into memory ([map][pixel]); throws Error above `max_bytes`.
 void capture_all_maps(const Mesh& mesh, const BuildOptions& build, Runtime* runtime, std::vector<float>& z1,

@@ -40,6 +40,7 @@ inline constexpr double kDefaultCreaseAngle = 60;
 // cos(kDefaultCreaseAngle): a triangle within this of a splat's plane faces it (the surface bound's
 // facing rule, surface_fit.cpp, and verify's flipped count, surface_check.cpp).
 inline constexpr double kFacingCos = 0.5;
+static_assert(kDefaultCreaseAngle == 60, "kFacingCos is cos(kDefaultCreaseAngle)");
 inline constexpr unsigned kDefaultMaxCovered = 128;
 // How the model's faces are loaded for these parameters.
 Winding winding(const SplatParameters& params);

@@ -111,7 +111,9 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
 }
 
 bool is_splatcl_splat_file(const std::string& bytes) {
-  return bytes.find("\ncomment splatcl_version ") < bytes.find("end_header");
+  // In the header only: a large 3DGS file has no such line, and its body need not be searched.
+  const std::string_view text(bytes);
+  return text.substr(0, text.find("end_header")).find("\ncomment splatcl_version ") != std::string_view::npos;
 }
 
 SplatFile read_splat_file(const std::string& path) { return decode_splat_file(read_text_file(path, "splat file"), path); }

@@ -25,7 +25,6 @@ constexpr double kBetweenPointsReserve = 0.1;
 // other face. Fixed at the default crease angle, not the run's: at --crease-angle 180 (smooth frames
 // across every edge) a splat tilted more than 60° off both faces of a knife edge shrinks away, and
 // gap splats, in their triangles' planes, cover there instead.
-static_assert(kDefaultCreaseAngle == 60, "kFacingCos is cos(kDefaultCreaseAngle)");
 // Squares a certification may visit before the splat counts as failing (and is made smaller).
 constexpr std::size_t kCertifyBudget = 8192;
 // Coverage cells are refined down to this fraction of ε; below it, a cell that no one splat holds

@@ -78,7 +78,7 @@ add_test(NAME cli.error_csm_mode_hilbert_res COMMAND ${EXPECT_ERROR} "power-of-t
 # A resolution the wavelet analysis cannot take is refused before the build (it was refused after
 # the capture and the k-means runs, whose results it hid): nothing on stdout.
 add_test(NAME cli.error_csm_analyze_wavelet_resolution COMMAND sh -c
-         "if \"$0\" csm analyze \"$1\" --maps 16 --res 6 --wavelet --kmeans 1 > \"$2.out\" 2> \"$2.err\"; then exit 1; fi; cat \"$2.err\"; [ ! -s \"$2.out\" ] && grep -q '^splatcl: --wavelet: the Haar-wavelet analysis needs a power-of-two resolution (--res), not 6$' \"$2.err\""
+         "if \"$0\" csm analyze \"$1\" --maps 16 --res 6 --wavelet --kmeans 1 > \"$2.out\" 2> \"$2.err\"; then exit 1; fi; cat \"$2.err\"; [ ! -s \"$2.out\" ] && grep -q '^splatcl: the Haar-wavelet analysis needs a power-of-two resolution (--res), not 6$' \"$2.err\""
          $<TARGET_FILE:splatcl> ${SPLATS_CUBE} ${CMAKE_CURRENT_BINARY_DIR}/csm-analyze-wavelet)
 add_test(NAME cli.error_csm_analyze_nothing COMMAND ${EXPECT_ERROR} "--kmeans K" $<TARGET_FILE:splatcl> csm analyze ${SPLATS_CUBE} --maps 16 --res 8)
 add_test(NAME cli.error_csm_analyze_big_k COMMAND ${EXPECT_ERROR} "^splatcl: --kmeans 32 is more clusters than the 16 maps \\(--maps\\)$" $<TARGET_FILE:splatcl> csm analyze
