@@ -145,7 +145,14 @@ SplatObjectFile read_splat_object(const std::string& path) {
   const std::string bytes = read_text_file(path, "splat file");
   SplatObjectFile file;
   file.checksum = checksum_hex(fnv1a64(bytes));
-  file.splats = splats::is_splatcl_splat_file(bytes) ? splats::decode_splat_file(bytes, path).splats : splats::decode_gaussian_file(bytes, path);
+  if (splats::is_splatcl_splat_file(bytes)) {
+    splats::SplatFile decoded = splats::decode_splat_file(bytes, path);
+    file.splats = std::move(decoded.splats);
+    file.origin = decoded.info.origin;
+  } else {
+    file.splats = splats::decode_gaussian_file(bytes, path);
+    file.origin = splats::gaussian_file_origin(bytes, path);
+  }
   return file;
 }
 
@@ -273,6 +280,10 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     report("reading " + path);
     SplatObjectFile file = read_splat_object(path);
     assets.splats = std::move(file.splats);
+    // Without a fit the splats go where the model's coordinates put them: the origin their file
+    // records added (a fit places them by their box, where it cancels, and keeps their detail).
+    if (!object.fit.enabled() && (file.origin.x != 0 || file.origin.y != 0 || file.origin.z != 0))
+      for (splats::SplatRecord& s : assets.splats) s.center = to_float(file.origin + DVec3(s.center));
     assets.mesh = splat_disc_mesh(assets.splats, path);
     if (object.fit.enabled()) {
       // One stray Gaussian far out (common in trained captures) sets the fitted box, and the object
@@ -441,6 +452,11 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     }
   }
   assets.csm_cached = read_cached(csm_path, [&] { assets.csm = csm::read_csm(csm_path); });
+  // Cached or not (a sample of rays, milliseconds): parts thinner than the hit epsilon of a closed mesh.
+  if (csm::resolve_single_hit(single_hit, assets.mesh) == csm::SingleHit::SphereExit)
+    assets.thin_part_warning =
+        csm::thin_part_warning(csm::CaptureScene(assets.mesh, csm::bounding_sphere(assets.mesh), q.csm_resolution, single_hit),
+                                 "give the object \"quality\": {\"csm_single_hit\": \"exact\"}, or thicken the part");
   if (!assets.csm_cached) {
     before_building();
     const Stopwatch step;

@@ -40,6 +40,7 @@ struct ObjectAssets {
   double build_ms = 0;
   std::string fit_warning;  // a splat file's fit: stray_splats_warning, empty when none
   std::string placement_warning;  // far_placement_check's warning, empty when none
+  std::string thin_part_warning;  // csm::thin_part_warning of the object's CSM capture, empty when none
 };
 
 // The presenter draws, lights and shadows in float world coordinates: an object placed far from
@@ -72,6 +73,7 @@ using AssetProgress = std::function<void(const std::string& what, bool finished)
 // the ellipse of its two largest axes, docs/presenter.md). Throws Error naming the file.
 struct SplatObjectFile {
   std::vector<splats::SplatRecord> splats;
+  DVec3 origin{0, 0, 0};  // the file's splatcl_origin (the positions are relative to it); zero for a 3DGS file of another tool
   std::string checksum;  // FNV-1a of the file's bytes, hex (part of the cache keys)
 };
 SplatObjectFile read_splat_object(const std::string& path);

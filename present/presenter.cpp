@@ -848,6 +848,8 @@ std::vector<std::string> Presenter::mesh_warnings() const {
     if (!assets_[i].fit_warning.empty()) lines.push_back(fmt::format("{}: {}", object_where(scene_, i), assets_[i].fit_warning));
     if (!assets_[i].placement_warning.empty())
       lines.push_back(fmt::format("{}: {}", object_where(scene_, i), assets_[i].placement_warning));
+    if (!assets_[i].thin_part_warning.empty())
+      lines.push_back(fmt::format("{}: {}", object_where(scene_, i), assets_[i].thin_part_warning));
   }
   return lines;
 }

@@ -290,18 +290,30 @@ class Worker {
     // What splatcl splats and csm build warn of too: the problems, and coordinates whose float
     // steps are coarse for the mesh's size (a box at 1e6 was reported "ok" without a word).
     const std::string far = float_step_warning(mesh);
+    // A mesh the splats read about its centre (below) says so; the CSM's coarse floats are still
+    // named when a CSM is wanted.
     const auto warning_of = [&](const Mesh& loaded) {
-      const std::string problems = loaded.problems.any() ? loaded.problems.summary() : std::string();
-      return problems.empty() || far.empty() ? problems + far : problems + "; " + far;
+      std::string text = loaded.problems.any() ? loaded.problems.summary() : std::string();
+      const auto add = [&](const std::string& part) { text += text.empty() || part.empty() ? part : "; " + part; };
+      if (const std::string moved = splats::recentred_warning(loaded); moved.empty())
+        add(far);
+      else
+        add("the splats: " + moved), add(entry.params.want_csm ? "the CSM: " + far : std::string());
+      return text;
     };
     if (!warning_recorded || splats_built) r.warning = warning_of(mesh);
     // The splats take the faces oriented (unless keep_winding), as splatcl splats does; the CSM
     // capture takes them as given. A second load only when orienting would turn a face.
+    // As splatcl splats does, the splats read a mesh whose coordinates are coarse as floats about the
+    // centre of its box (the splat file records the origin); the CSM keeps the file's coordinates.
     std::optional<Mesh> oriented;
     const auto splat_mesh = [&]() -> const Mesh& {
-      if (splats::winding(entry.params.splats) == Winding::AsGiven || !mesh.problems.winding_disagrees()) return mesh;
+      const Winding winding = splats::winding(entry.params.splats);
+      const Box box = mesh.bounds();
+      const bool recentre = splats::recentre_test(entry.params.splats)(box.reach(), box.exact_diagonal());
+      if (!recentre && (winding == Winding::AsGiven || !mesh.problems.winding_disagrees())) return mesh;
       if (!oriented) {
-        oriented = load_mesh(entry.input, Winding::Orient);
+        oriented = load_mesh_recentred(entry.input, winding, splats::recentre_test(entry.params.splats));
         // What splatcl splats reports ("N faces turned ..."): the as-given "faces point
         // inward" read as if the splats faced in.
         r.warning = warning_of(*oriented);
@@ -312,7 +324,10 @@ class Worker {
       try {
         Stopwatch clock;
         OutputResult out{p.kind, false, p.params, p.checksum, made_by_, {}, 0};
-        out.files = p.kind == "splats" ? build_splats(entry, splat_mesh(), dir) : build_csm(entry, mesh, dir);
+        std::string thin;
+        out.files = p.kind == "splats" ? build_splats(entry, splat_mesh(), dir) : build_csm(entry, mesh, dir, thin);
+        // A rerun that reuses the splats keeps the recorded warning, which may hold it already.
+        if (!thin.empty() && r.warning.find(thin) == std::string::npos) r.warning += (r.warning.empty() ? "the CSM: " : "; the CSM: ") + thin;
         out.build_ms = clock.elapsed_ms();
         r.outputs.push_back(std::move(out));
       } catch (const FatalError&) {
@@ -343,14 +358,16 @@ class Worker {
     return {describe_written_file(dir, ply), describe_file(stats_name, stats_text)};
   }
 
-  std::vector<OutputFile> build_csm(const ModelEntry& entry, const Mesh& mesh, const fs::path& dir) {
+  std::vector<OutputFile> build_csm(const ModelEntry& entry, const Mesh& mesh, const fs::path& dir, std::string& thin_part_warning) {
     using namespace splatcl::csm;
-    const BuildOptions options = to_build_options(entry.params.csm);
+    BuildOptions options = to_build_options(entry.params.csm);
+    options.thin_part_remedy = "lower the model's hit_eps (e.g. to 1e-7) or set its single_hit to exact";
     const Encoding encoding = file_encoding(entry.params.csm);
     Runtime* device = runtime();
     const BuildResult result = splatcl::csm::build_csm(mesh, options, device, [&](std::uint32_t done, std::uint32_t total) {
       report_(fmt::format("{}: csm {}/{} maps", entry.id, done, total));
     });
+    thin_part_warning = result.thin_part_warning;
     report_(entry.id + ": writing csm");
     const std::string bytes = encode_csm(result.csm, encoding, encoding == Encoding::Compact ? &result.segments : nullptr);
     const std::string name = csm_name(entry.id), stats_name = entry.id + ".csm.json";

@@ -130,7 +130,9 @@ CsmParameters parameters(const BuildCommand& c) {
 BuildOptions build_options(const BuildCommand& c) {
   const CsmParameters p = parameters(c);
   validate(p, Spelling::Option);  // errors name the options as typed (--maps), not the manifest keys
-  return to_build_options(p);
+  BuildOptions options = to_build_options(p);
+  options.thin_part_remedy = "lower --hit-eps (e.g. to 1e-7) or pass --single-hit exact";
+  return options;
 }
 
 // --mode other than per-pixel: the thesis's alternatives, compared by size (no .csm written).
@@ -193,6 +195,7 @@ int run_build(const BuildCommand& c) {
   std::shared_ptr<Runtime> runtime;
   if (!c.reference) runtime = Runtime::create(c.device.device);
   const BuildResult result = build_csm(mesh, options, runtime.get(), map_progress(progress, "captured and compressed"));
+  if (!result.thin_part_warning.empty()) queue_warning(c.model, result.thin_part_warning);
   progress.show("writing " + c.output);
   Stopwatch write_clock;
   const std::string plain = encode_csm(result.csm, Encoding::Plain);
@@ -258,6 +261,7 @@ int run_analyze(const AnalyzeCommand& c) {
              options.resolution, options.resolution, c.build.model, to_string(options.distribution), to_string(options.order),
              to_string(options.capture), mib(raw));
   const BuildResult built = build_csm(mesh, options, runtime.get(), map_progress(progress, "per-pixel"));
+  if (!built.thin_part_warning.empty()) queue_warning(c.build.model, built.thin_part_warning);
   const double plain = static_cast<double>(encode_csm(built.csm, Encoding::Plain).size());
   progress.clear();
   fmt::print("per-pixel  {} segments, {:.2f} MiB plain ({:.1f}:1)\n", built.csm.segments(), mib(plain), raw / plain);

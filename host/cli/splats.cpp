@@ -65,7 +65,8 @@ int run_splats(const SplatsOptions& o) {
   validate(params, Spelling::Option);
   ProgressLine progress("splats");
   Stopwatch load_clock;
-  const Mesh mesh = load_model(o.model, progress, winding(params), o.strict);
+  // About the centre of its box where floats are too coarse there for its size or eps (the file records the origin).
+  const Mesh mesh = load_model(o.model, progress, winding(params), o.strict, {ModelOrigin::CentreWhen, recentre_test(params)});
   const double load_ms = load_clock.elapsed_ms();
   const SplatSetup setup = splat_setup(params, mesh, o.model);
   const PipelineOptions& options = setup.options;
@@ -98,7 +99,7 @@ int run_splats(const SplatsOptions& o) {
   std::size_t unclipped = 0;
   outputs.write(o.output, [&](const std::string& path) {
     if (o.format == "3dgs")
-      unclipped = write_gaussian_file(path, records);
+      unclipped = write_gaussian_file(path, records, mesh.origin);
     else
       write_splat_file(path, records, splat_file_info(setup, run, o.model));
   });
@@ -179,6 +180,27 @@ std::uint64_t parse_count(const std::string& text, const std::string& what) {
   return value;
 }
 
+// Why a mesh may not be the one the splats were built from, by where it lies as its file gives it
+// (`as_given`, read without an origin): its box is centred away from the splats' origin by more than
+// its diagonal (a file built far out, checked against the mesh moved to the origin by hand), or the
+// file records origin 0 for a mesh whose floats are coarse, which splats reads about its centre (a
+// file of an older version, or of another mesh). Empty otherwise.
+std::string origin_mismatch(const DVec3& origin, const Mesh& as_given) {
+  const Box box = as_given.bounds();
+  const DVec3 centre = 0.5 * DVec3(box.lo) + 0.5 * DVec3(box.hi);
+  const double diagonal = box.exact_diagonal(), away = length(centre - origin);
+  const bool at_zero = origin.x == 0 && origin.y == 0 && origin.z == 0;
+  if (!at_zero && away > diagonal + 2 * float_step_at(box.reach()))
+    return fmt::format("the splats' positions are relative to origin ({:.12g}, {:.12g}, {:.12g}) (their file's splatcl_origin), and "
+                       "this mesh's box is centred {:.6g} from it, more than its {:.4g} diagonal: is it the mesh they were built from?",
+                       origin.x, origin.y, origin.z, away, diagonal);
+  if (at_zero && coarse_for_floats(box.reach(), diagonal))
+    return "the splat file records origin 0, but this mesh's coordinates are coarse as floats for its size, and splatcl splats reads "
+           "such a mesh about its centre and records that origin: the splats come from another mesh, or from splatcl before "
+           "splat file version 4";
+  return {};
+}
+
 int run_verify(const VerifyOptions& o) {
   SurfaceCheckOptions check;
   if (!o.eps.empty()) {
@@ -205,10 +227,25 @@ int run_verify(const VerifyOptions& o) {
   const SplatFile file = read_splat_file(o.splats);
   if (o.eps.empty()) check.eps = file.info.eps;
   if (!(check.eps > 0) || !std::isfinite(check.eps)) throw Error(o.splats + " records no eps; pass --eps");
-  const Mesh mesh = load_model(o.model, progress, o.keep_winding ? Winding::AsGiven : Winding::Orient);
-  const SurfaceCheckReport r = check_surface(mesh, file.splats, check, [&](const std::string& phase, double fraction) {
-    progress.show(fmt::format("{} {:.0f}%", phase, 100 * fraction));
-  });
+  // About the splats' origin: a mesh far out that splats read about its centre is compared where they lie.
+  const Winding winding = o.keep_winding ? Winding::AsGiven : Winding::Orient;
+  // A failure names a mesh that is not where the splats' origin puts it (read as given to tell),
+  // not the float steps of the mismatch: it said "translate the mesh nearer the origin" of a mesh
+  // at the origin, or "no surface area" of one that collapsed read about a far origin.
+  const auto elsewhere = [&] { return origin_mismatch(file.info.origin, load_mesh(o.model, winding)); };
+  std::optional<Mesh> loaded;
+  std::optional<SurfaceCheckReport> checked;
+  try {
+    loaded = load_model(o.model, progress, winding, false, {ModelOrigin::Given, {}, file.info.origin});
+    checked = check_surface(*loaded, file.splats, check, [&](const std::string& phase, double fraction) {
+      progress.show(fmt::format("{} {:.0f}%", phase, 100 * fraction));
+    });
+  } catch (const Error& e) {
+    if (const std::string mismatch = elsewhere(); !mismatch.empty()) throw Error(std::string(e.what()) + "; " + mismatch);
+    throw;
+  }
+  const Mesh& mesh = *loaded;
+  const SurfaceCheckReport& r = *checked;
   if (!o.json.empty()) {
     nlohmann::json json = to_json(r);
     json["model"] = o.model;
@@ -234,7 +271,11 @@ int run_verify(const VerifyOptions& o) {
              r.splats, r.splat_points, r.max_distance, r.max_distance_eps(), r.worst_splat, 100 * r.area_beyond_fraction, r.splats_beyond);
   fmt::print("shape      largest major semi-axis {:.4g} = {:.4g} of the diagonal; {} flipped, {} degenerate\n", r.largest_major,
              r.largest_major_diagonal(), r.flipped, r.degenerate);
-  if (!r.ok()) throw Error(fmt::format("{}: fails the two-sided bound at eps {:.6g} against {}: {}", o.splats, eps, o.model, describe_failure(r, &mesh)));
+  if (!r.ok()) {
+    const std::string mismatch = elsewhere();
+    throw Error(fmt::format("{}: fails the two-sided bound at eps {:.6g} against {}: {}", o.splats, eps, o.model,
+                            mismatch.empty() ? describe_failure(r, &mesh) : describe_failure(r) + "; " + mismatch));
+  }
   fmt::print("ok\n");
   return 0;
 }
@@ -248,7 +289,9 @@ Action register_splats(CLI::App& app) {
   auto o = std::make_shared<SplatsOptions>();
   add_device_option(*sub, o->device);
   sub->add_option("model", o->model, "Input mesh");
-  sub->add_option("-o,--output", o->output, "Output splat PLY (position, normal, colour, major and minor semi-axis vectors and lengths)");
+  sub->add_option("-o,--output", o->output, "Output splat PLY (position, normal, colour, major and minor semi-axis vectors and lengths). A mesh whose "
+                  "coordinates are too coarse as floats for its size or eps (far from the origin) is read about the centre of its "
+                  "bounding box: the positions are then relative to it, which the header records (splatcl_origin) and a warning names");
   sub->add_option("--format", o->format,
                   "Format of -o: splatcl (the splat PLY above) or 3dgs (3D Gaussian Splatting PLY: one flat Gaussian per "
                   "splat, sigma = semi-axis/2; 3DGS has no clip lines, so --clip splats are written unclipped, with a warning)")

@@ -433,11 +433,13 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
   std::vector<std::int8_t> turn(n, -1);  // -1: not reached yet
   std::vector<std::uint32_t> part(n), queue;
   std::vector<std::pair<std::size_t, std::size_t>> part_turned;  // per part: faces, faces turned
+  std::vector<std::pair<double, double>> part_area;              // per part: area kept, area turned
   std::vector<std::uint8_t> part_closed;
   for (std::uint32_t seed = 0; seed < n; ++seed) {
     if (turn[seed] >= 0) continue;
     const auto id = static_cast<std::uint32_t>(part_turned.size());
     part_turned.push_back({0, 0});
+    part_area.push_back({0, 0});
     part_closed.push_back(1);
     turn[seed] = 0;
     queue.assign(1, seed);
@@ -446,6 +448,9 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
       part[f] = id;
       ++part_turned[id].first;
       part_turned[id].second += static_cast<std::size_t>(turn[f]);
+      const D3 twice_area = fan_area(positions, faces.offsets, faces.corners, f);
+      const double area = std::sqrt(dot3(twice_area, twice_area));
+      (turn[f] ? part_area[id].second : part_area[id].first) += area;
       part_closed[id] &= closed[f];
       for (const Link& l : links[f])
         if (turn[l.to] < 0) {
@@ -454,9 +459,19 @@ std::size_t orient_faces(const std::vector<Vec3>& positions, Faces& faces) {
         }
     }
   }
-  // An open part keeps its file's majority winding (a tie keeps the first face's).
+  // An open part keeps the winding of most of its area in the file (a few large faces outweigh many
+  // slivers wound the other way); on a tie of areas, of most of its faces; on a tie of both, the
+  // first face's.
+  std::vector<std::uint8_t> keep_turned(part_turned.size());
+  for (std::size_t id = 0; id < part_turned.size(); ++id) {
+    const auto [area_kept, area_turned] = part_area[id];
+    const auto [count, count_turned] = part_turned[id];
+    // Equal areas summed in another order may differ in their last bits.
+    const bool area_tie = std::fabs(area_turned - area_kept) <= 1e-9 * (area_turned + area_kept);
+    keep_turned[id] = area_tie ? 2 * count_turned > count : area_turned > area_kept;
+  }
   for (std::uint32_t f = 0; f < n; ++f)
-    if (2 * part_turned[part[f]].second > part_turned[part[f]].first) turn[f] ^= 1;
+    if (keep_turned[part[f]]) turn[f] ^= 1;
   const auto reverse = [&](std::uint32_t f) {
     std::reverse(faces.corners.begin() + faces.offsets[f], faces.corners.begin() + faces.offsets[f + 1]);
     if (!faces.texcoords.empty())
@@ -990,7 +1005,7 @@ std::string FloatStep::clause(std::string_view owner, std::string_view noun) con
 std::string float_step_warning(const Mesh& mesh) {
   const Box box = mesh.bounds();
   // The spacing of floats where the mesh reaches (|x| 2^-24, half of it at most, was printed as the step).
-  const FloatStep far = float_step(box.reach(), box.exact_diagonal());
+  const FloatStep far = float_step(box.reach(), box.exact_diagonal());  // coarse_for_floats
   // Collapsed whole (a tiny part far out: every vertex read as one point), there is no diagonal to
   // compare with, and the warning was missing where it mattered most. The file's own coordinates are
   // gone by now: a mesh whose vertices coincide there reads the same, so the text allows both.
@@ -1049,25 +1064,49 @@ Mesh load_mesh(const std::string& path, Winding winding) {
   return assemble(mesh_io::read_mesh_file(path), path, winding);
 }
 
-Mesh load_mesh_recentred(const std::string& path, Winding winding) {
+namespace {
+
+// The file's positions less `origin`, in double, rounded to float afterwards.
+Mesh assemble_about(mesh_io::RawMesh raw, const std::string& source, Winding winding, const DVec3& origin) {
+  for (std::size_t v = 0; v < raw.exact_positions.size(); ++v)
+    if (!raw.bad_vertex[v]) raw.positions[v] = to_float(raw.exact_positions[v] - origin);
+  Mesh mesh = assemble(raw, source, winding);
+  mesh.origin = origin;
+  return mesh;
+}
+
+}  // namespace
+
+Mesh load_mesh_about(const std::string& path, Winding winding, const DVec3& origin) {
+  silence_openmesh();
+  return assemble_about(mesh_io::read_mesh_file(path), path, winding, origin);
+}
+
+bool coarse_for_floats(double reach, double diagonal) { return float_step(reach, diagonal).coarse(); }
+
+Mesh load_mesh_recentred(const std::string& path, Winding winding, const RecentreTest& when) {
   silence_openmesh();
   mesh_io::RawMesh raw = mesh_io::read_mesh_file(path);
   // The box of the vertices the kept faces use: a stray unused vertex far out moved the centre, and
-  // the used ones were rounded at its magnitude.
+  // the used ones were rounded at its magnitude. As the file gives them and as floats: the float
+  // box decides float_step_warning, which must not warn of a mesh left as it is.
   MeshProblems ignored;
   const Faces faces = usable_faces(raw, ignored);
   DVec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  Box rounded;
   for (const std::uint32_t v : faces.corners) {
     const DVec3& p = raw.exact_positions[v];
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    rounded.add(raw.positions[v]);
   }
-  if (lo.x <= hi.x) {
-    const DVec3 centre = 0.5 * lo + 0.5 * hi;  // halves first: no overflow near the double range
-    for (std::size_t v = 0; v < raw.exact_positions.size(); ++v)
-      if (!raw.bad_vertex[v]) raw.positions[v] = to_float(raw.exact_positions[v] - centre);
-  }
-  return assemble(raw, path, winding);
+  if (!(lo.x <= hi.x)) return assemble(raw, path, winding);
+  const double reach = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+  if (when && !when(reach, length(hi - lo)) && !when(rounded.reach(), rounded.exact_diagonal())) return assemble(raw, path, winding);
+  const bool floats = raw.float_coordinates;
+  Mesh mesh = assemble_about(std::move(raw), path, winding, 0.5 * lo + 0.5 * hi);  // halves first: no overflow near the double range
+  mesh.float_file = floats;
+  return mesh;
 }
 
 Mesh parse_mesh(const std::string& path, std::string_view bytes) {

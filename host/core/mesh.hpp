@@ -26,11 +26,13 @@
 // exactly; normals are computed on a power-of-two rescaled copy so they do not under- or overflow).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "core/geometry.hpp"
+#include "math/dvec3.hpp"
 
 namespace splatcl {
 
@@ -92,6 +94,14 @@ struct Mesh {
   std::vector<std::uint32_t> corners;          // vertex index per face corner
   std::vector<std::array<float, 2>> corner_texcoords;  // per face corner; empty when the file has none
   MeshProblems problems;                               // what load_mesh / make_mesh counted (see above)
+  // The file's coordinates are origin + vertices, the sum in double: zero unless the mesh was loaded
+  // about an origin (load_mesh_about, load_mesh_recentred), which keeps the detail of a mesh far from
+  // the origin for its size. Outputs that hold positions record it (the splat file's splatcl_origin).
+  DVec3 origin{0, 0, 0};
+  // Set by load_mesh_recentred when it recentres: the file's format stores floats (binary STL, a
+  // binary PLY with float x y z), so detail finer than the float step where it lies was lost in the
+  // file itself.
+  bool float_file = false;
 
   std::size_t face_count() const { return face_offsets.size() - 1; }
   bool has_texcoords() const { return !corner_texcoords.empty(); }
@@ -113,18 +123,27 @@ struct Mesh {
 // refused, or has no face left (the message then says what was dropped).
 // How load_mesh takes the faces' winding: as the file gives it (the splat stage and batch report
 // problems and leave the mesh as it is), or oriented: faces turned so that neighbours across each
-// edge two faces share agree (each connected part keeping the winding most of its faces had), and
+// edge two faces share agree (each open connected part keeping the winding most of its area had), and
 // the closed parts turned outward when they enclose negative volume (counted in turned_faces; the
 // other counts are of the oriented faces). The presenter's and cluster scenes orient.
 enum class Winding { AsGiven, Orient };
 Mesh load_mesh(const std::string& path, Winding winding = Winding::AsGiven);
-// load_mesh with the file's coordinates less the centre of their bounding box, subtracted in double
-// before they are rounded to float: for callers that place a mesh by its bounds (a scene object's
-// `fit`), so that a mesh far from the origin keeps its detail (a unit sphere at 1e5, read to float
-// first, had its vertices moved by up to 0.0039, and its splats' outline was lumpy). The box is that
-// of the vertices the kept faces use. An ASCII STL's corners are merged by their float positions
-// first, so there corners closer than a float step far out are still one vertex.
-Mesh load_mesh_recentred(const std::string& path, Winding winding);
+// load_mesh with the file's coordinates less `origin`, subtracted in double before they are rounded
+// to float (Mesh::origin holds it): `splatcl splats verify` reads a mesh about the origin its splat
+// file records.
+Mesh load_mesh_about(const std::string& path, Winding winding, const DVec3& origin);
+// load_mesh about the centre of the box of the vertices the kept faces use (in double): for callers
+// that place a mesh by its bounds (a scene object's `fit`), so that a mesh far from the origin keeps
+// its detail (a unit sphere at 1e5, read to float first, had its vertices moved by up to 0.0039, and
+// its splats' outline was lumpy). With `when`, only where it holds for the box's reach (largest
+// |coordinate|) and diagonal, as the file gives them or as floats (else the origin stays zero): for
+// outputs that record the origin (splats, which recentre where floats are coarse for the mesh or for
+// its eps).
+using RecentreTest = std::function<bool(double reach, double diagonal)>;
+Mesh load_mesh_recentred(const std::string& path, Winding winding, const RecentreTest& when = {});
+// float_step_warning's test: floats where the coordinates reach step by more than kFloatStepWarning
+// of the diagonal.
+bool coarse_for_floats(double reach, double diagonal);
 // The same for a file's bytes already in memory (the format by the extension of `path`, which
 // errors name): load_mesh is the file checks and one read, then this (the fuzz harnesses' entry).
 Mesh parse_mesh(const std::string& path, std::string_view bytes);

@@ -24,6 +24,9 @@ struct RawMesh {
   std::vector<std::size_t> face_offsets{0};  // face f = corners [face_offsets[f], face_offsets[f+1])
   std::vector<std::array<float, 2>> corner_texcoords;  // per corner; empty when the file has none
   MeshProblems problems;                     // what the reader counted (the vertex kinds)
+  // The format stores the coordinates as 32-bit floats (binary STL, binary PLY with float x y z):
+  // far from the origin, detail finer than their step there was lost in the file itself.
+  bool float_coordinates = false;
 
   std::size_t face_count() const { return face_offsets.size() - 1; }
   void add_vertex(Vec3 p, bool bad) { add_vertex(bad ? DVec3{} : DVec3(p), p, bad); }

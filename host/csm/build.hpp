@@ -31,6 +31,8 @@ struct BuildOptions {
   CaptureMethod capture = kDefaultCaptureMethod;
   // Maps per batch; 0 picks about 8 M samples per batch (64 MiB of depths).
   std::uint32_t batch_maps = 0;
+  // What BuildResult::thin_part_warning tells the user to do, in the caller's spelling.
+  std::string thin_part_remedy = "lower the hit epsilon, or capture with the single-hit rule exact";
 };
 
 struct BuildResult {
@@ -38,6 +40,8 @@ struct BuildResult {
   Segments segments;  // the runs' intervals, for the compact encoding
   double setup_ms = 0, capture_ms = 0, compress_ms = 0, total_ms = 0;
   std::uint32_t batch_maps = 0;
+  // thin_part_warning of the capture (csm/capture.hpp) with BuildOptions::thin_part_remedy; empty when none.
+  std::string thin_part_warning;
 };
 
 // Called after each batch with (maps done, maps total).

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <random>
 
 #include "primitives/launch.hpp"
 #include "runtime/error.hpp"
@@ -132,6 +134,46 @@ CaptureScene::CaptureScene(const Mesh& mesh, const Sphere& sphere_, std::uint32_
   if (!(hit_epsilon >= 0) || !std::isfinite(hit_epsilon)) throw Error("the hit epsilon must be finite and not negative");
   unit = trace_unit(sphere.radius);
   bvh = build_bvh(mesh_triangles(mesh, sphere.centre, unit));
+}
+
+SingleHitSample sample_single_hits(const CaptureScene& scene, std::uint32_t rays) {
+  SingleHitSample sample;
+  const float radius = scene.trace_radius(), eps = scene.trace_eps_distance();
+  std::mt19937_64 random(20261208);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (std::uint32_t r = 0; r < rays; ++r) {
+    // A uniform direction d, and a point of the disc through the centre across it.
+    const double z = 2 * unit(random) - 1, phi = 2 * std::numbers::pi * unit(random), s = std::sqrt(std::max(0.0, 1 - z * z));
+    const double d[3] = {s * std::cos(phi), s * std::sin(phi), z};
+    const double a[3] = {std::fabs(d[0]) < 0.9 ? 1.0 : 0.0, std::fabs(d[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+    double u[3] = {a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2], a[0] * d[1] - a[1] * d[0]};
+    const double lu = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (double& c : u) c /= lu;
+    const double v[3] = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
+    const double rho = radius * std::sqrt(unit(random)), theta = 2 * std::numbers::pi * unit(random);
+    const double x = rho * std::cos(theta), y = rho * std::sin(theta);
+    float o[3], dir[3], inv[3];
+    for (int k = 0; k < 3; ++k) {
+      o[k] = static_cast<float>(radius * d[k] + x * u[k] + y * v[k]);
+      dir[k] = static_cast<float>(-d[k]);
+      inv[k] = inverse_direction(dir[k]);
+    }
+    const TwoHits hits = first_two_hits(scene.bvh, o, dir, inv, eps);
+    if (!std::isfinite(hits.t1)) continue;
+    ++sample.hitting;
+    sample.single += !std::isfinite(hits.t2);
+  }
+  return sample;
+}
+
+std::string thin_part_warning(const CaptureScene& scene, std::string_view remedy) {
+  if (scene.single_hit != SingleHit::SphereExit) return {};
+  const SingleHitSample sample = sample_single_hits(scene);
+  if (!(sample.share() > kThinPartShare)) return {};
+  return fmt::format("{} of {} sample rays that hit this closed mesh ({:.2g} %) meet it only once within the hit epsilon "
+                     "({:.3g} units): parts thinner than that are one surface there, stored as solid up to the bounding "
+                     "sphere's exit, so receivers behind them read lit; {}",
+                     sample.single, sample.hitting, 100 * sample.share(), scene.eps_distance(), remedy);
 }
 
 std::vector<Camera> cameras(const SphereGrid& grid, std::uint32_t first, std::uint32_t count) {

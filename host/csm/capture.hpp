@@ -85,6 +85,25 @@ struct CaptureScene {
   std::size_t pixels() const { return std::size_t{resolution} * resolution; }
 };
 
+// Parts of a closed mesh thinner than the hit epsilon (docs/formats.md, "Limit (closed parts thinner
+// than the hit epsilon)"): a ray through such a part meets the mesh once, and the sphere-exit rule
+// stores it as solid up to the bounding sphere's exit, so receivers behind it read lit (a 100 x 100
+// x 0.001 plate 0.3 above a floor: AO 0.70-0.80 under it against 0.00-0.02 ray-cast). Of `rays`
+// sample rays through the bounding sphere (uniform directions, uniform over its cross-section;
+// fixed seed), those that hit the mesh, and those that meet it only once within the hit epsilon.
+struct SingleHitSample {
+  std::uint32_t hitting = 0, single = 0;
+  double share() const { return hitting ? static_cast<double>(single) / hitting : 0.0; }
+};
+SingleHitSample sample_single_hits(const CaptureScene& scene, std::uint32_t rays = 16384);
+// Shares of single-hit rays above this are warned of (thin_part_warning).
+inline constexpr double kThinPartShare = 0.005;
+// For a scene captured with sphere-exit, the warning when more than kThinPartShare of the hitting
+// sample rays meet the mesh once: how many, the hit epsilon in model units, then `remedy` (the
+// caller's spelling of the hit epsilon and the exact rule); empty otherwise (and for every other
+// rule, which stores no solid span for one hit).
+std::string thin_part_warning(const CaptureScene& scene, std::string_view remedy);
+
 // The cameras of sequence positions [first, first + count).
 std::vector<Camera> cameras(const SphereGrid& grid, std::uint32_t first, std::uint32_t count);
 

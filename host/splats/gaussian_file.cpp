@@ -92,11 +92,13 @@ Gaussian to_gaussian(const SplatRecord& s) {
   return g;
 }
 
-std::size_t write_gaussian_file(const std::string& path, const std::vector<SplatRecord>& splats) {
+std::size_t write_gaussian_file(const std::string& path, const std::vector<SplatRecord>& splats, const DVec3& origin) {
   std::string header = "ply\nformat binary_little_endian 1.0\n";
   header += fmt::format("comment splatcl 3dgs export: sigma = {:g} semi-axis, normal sigma = {:g} minor sigma, alpha {:g}, "
                         "SH degree 0, clip lines dropped\n",
                         kGaussianSigmaPerSemiAxis, kGaussianNormalSigma, kGaussianAlpha);
+  if (origin.x != 0 || origin.y != 0 || origin.z != 0)
+    header += fmt::format("comment splatcl_origin {} {} {}\n", origin.x, origin.y, origin.z);
   header += fmt::format("element vertex {}\n", splats.size());
   for (const std::string& name : gaussian_properties()) header += "property float " + name + "\n";
   header += "end_header\n";
@@ -115,6 +117,22 @@ std::size_t write_gaussian_file(const std::string& path, const std::vector<Splat
   }
   write_file_atomically(path, out);
   return clipped;
+}
+
+DVec3 gaussian_file_origin(const std::string& bytes, const std::string& name) {
+  const std::string_view header = std::string_view(bytes).substr(0, bytes.find("end_header"));
+  DVec3 origin{0, 0, 0};
+  for (std::size_t at = 0; at < header.size();) {
+    const std::size_t eol = std::min(header.find('\n', at), header.size());
+    std::string_view line = header.substr(at, eol - at);
+    if (line.ends_with('\r')) line.remove_suffix(1);
+    if (line.starts_with("comment splatcl_origin") && !parse_origin_line(line, origin))
+      throw Error(fmt::format("cannot read 3D Gaussian Splatting file {}: header line '{}' is not 'comment splatcl_origin X Y Z' "
+                              "(three finite numbers)",
+                              name, line));
+    at = eol + 1;
+  }
+  return origin;
 }
 
 std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const std::string& name) {

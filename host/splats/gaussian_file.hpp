@@ -42,8 +42,9 @@ Gaussian to_gaussian(const SplatRecord& splat);
 void rotation_quaternion(const double c0[3], const double c1[3], const double c2[3], double q[4]);
 
 // Writes the file atomically. Returns how many of the splats were clipped (clip_offset finite) and
-// were written unclipped.
-std::size_t write_gaussian_file(const std::string& path, const std::vector<SplatRecord>& splats);
+// were written unclipped. A non-zero `origin` (the splats' positions are relative to it, SplatFileInfo)
+// is written as a header comment `comment splatcl_origin X Y Z`, which 3DGS readers skip.
+std::size_t write_gaussian_file(const std::string& path, const std::vector<SplatRecord>& splats, const DVec3& origin = {0, 0, 0});
 
 // Gaussians fainter than this peak opacity are dropped on reading: in a trained 3DGS scene they are
 // the faint floaters and fill-in that an opaque splat would turn into clutter.
@@ -57,5 +58,9 @@ inline constexpr double kGaussianMinReadAlpha = 0.1;
 // write_gaussian_file up to float rounding (and the sign of v). Throws Error naming `name` and the
 // record for a missing property, a list property, a zero or non-finite quaternion or scale.
 std::vector<SplatRecord> decode_gaussian_file(const std::string& bytes, const std::string& name);
+// The origin splatcl's export records in the header (`comment splatcl_origin X Y Z`, written where
+// the splats are relative to one); zero when the header has none (any other tool's file). Throws
+// Error naming `name` for such a line that is not three finite numbers.
+DVec3 gaussian_file_origin(const std::string& bytes, const std::string& name);
 
 }  // namespace splatcl::splats

@@ -55,11 +55,13 @@ double sample_spacing(const SplatRun& run) {
 
 }  // namespace
 
-double float_rounding(const Box& box) {
+double float_rounding(const Box& box) { return float_rounding(box.reach(), box.exact_diagonal()); }
+
+double float_rounding(double reach, double diagonal) {
   // Each coordinate of a splat's centre (within the box) and of its two axes (each shorter than the
   // diagonal) rounds by at most 2^-24 of its magnitude when written.
   // In double throughout: twice a float diagonal of 1.7e38 overflowed float (every eps was refused).
-  return std::sqrt(3.0) * std::ldexp(box.reach() + 2 * box.exact_diagonal(), -24);
+  return std::sqrt(3.0) * std::ldexp(reach + 2 * diagonal, -24);
 }
 
 std::vector<SplatRecord> SplatRun::records() const {

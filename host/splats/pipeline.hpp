@@ -87,8 +87,10 @@ struct SplatRun {
 };
 
 // How far writing a splat of a mesh within `box` as floats may move its points (centre and axes
-// rounded): the surface bound is fitted to ε less this.
+// rounded): the surface bound is fitted to ε less this. The same from the box's reach (largest
+// |coordinate|) and diagonal.
 double float_rounding(const Box& box);
+double float_rounding(double reach, double diagonal);
 
 // Called with the name of each phase as it starts (for progress display).
 using Progress = std::function<void(const std::string& phase)>;

@@ -152,6 +152,7 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   options.surface_bound = !p.thesis_only;
   options.fit.size_at_accepted = !p.thesis_only;
   setup.diagonal = mesh.bounds().diagonal();
+  setup.origin = mesh.origin;
   setup.requested_eps = p.eps > 0 ? p.eps : p.eps_diag * setup.diagonal;
   setup.eps_capped = setup.requested_eps > setup.diagonal && setup.diagonal > 0;
   options.fit.eps = static_cast<float>(setup.eps_capped ? setup.diagonal : setup.requested_eps);
@@ -176,9 +177,38 @@ SplatSetup splat_setup(const SplatParameters& p, const Mesh& mesh, const std::st
   return setup;
 }
 
+RecentreTest recentre_test(const SplatParameters& p) {
+  return [p](double reach, double diagonal) {
+    const double eps = std::min(p.eps > 0 ? p.eps : p.eps_diag * diagonal, diagonal);  // capped as splat_setup caps it
+    return coarse_for_floats(reach, diagonal) || float_rounding(reach, diagonal) > kRecentreRounding * eps;
+  };
+}
+
+std::string recentred_warning(const Mesh& mesh) {
+  const DVec3& o = mesh.origin;
+  if (o.x == 0 && o.y == 0 && o.z == 0) return {};
+  const Box box = mesh.bounds();
+  double reach = 0;  // of the file's coordinates: the origin plus the local box's corners
+  for (const float x : {box.lo.x, box.hi.x})
+    for (const float y : {box.lo.y, box.hi.y})
+      for (const float z : {box.lo.z, box.hi.z}) {
+        const DVec3 p = o + DVec3(Vec3{x, y, z});
+        reach = std::max({reach, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+      }
+  // The origin to 12 digits here; the header holds it exactly.
+  return fmt::format("coordinates reach {:.7g}, where {}: {}read about the centre of its bounding box ({:.12g}, {:.12g}, "
+                     "{:.12g}) instead; the splats hold positions relative to it (add it to place them; the splat file records it "
+                     "exactly as splatcl_origin)",
+                     reach, float_step(reach, box.exact_diagonal()).clause("the mesh's", "diagonal"),
+                     mesh.float_file ? "the file stores its coordinates as floats, so detail finer than that step was lost in the file "
+                                       "itself; "
+                                     : "",
+                     o.x, o.y, o.z);
+}
+
 SplatFileInfo splat_file_info(const SplatSetup& setup, const SplatRun& run, const std::string& model) {
   const PipelineOptions& o = setup.options;
-  return {model, to_string(o.sampling), o.fit.eps, run.neighbors.k, o.fit.color_tolerance, setup.color_description, o.fit.clip};
+  return {model, to_string(o.sampling), o.fit.eps, run.neighbors.k, o.fit.color_tolerance, setup.color_description, o.fit.clip, setup.origin};
 }
 
 nlohmann::json splat_statistics(const SplatRun& run, const SplatSetup& setup, const std::string& model, const std::string& output) {
@@ -187,6 +217,7 @@ nlohmann::json splat_statistics(const SplatRun& run, const SplatSetup& setup, co
   stats["bbox_diagonal"] = setup.diagonal;
   stats["color_source"] = setup.color_description;
   stats["output"] = output;
+  stats["origin"] = {setup.origin.x, setup.origin.y, setup.origin.z};
   if (setup.eps_capped) stats["eps_requested"] = setup.requested_eps;  // "eps" holds the diagonal it was capped at
   return stats;
 }

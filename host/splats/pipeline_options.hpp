@@ -73,10 +73,23 @@ struct SplatSetup {
   // surface uncovered by a splat facing its way), refused by the check (a helper's audit).
   double requested_eps = 0;
   bool eps_capped = false;
+  DVec3 origin{0, 0, 0};  // the mesh's (Mesh::origin): the splat file records it
 };
 // Throws Error for invalid parameters, a texture that cannot be read, or a textured run on a mesh
 // without texture coordinates (naming `model`).
 SplatSetup splat_setup(const SplatParameters& params, const Mesh& mesh, const std::string& model);
+// Where splats and batch read a model about the centre of its box (load_mesh_recentred), recording
+// that origin in the splat file: where floats are coarse for its size (coarse_for_floats), or where
+// writing the splats as floats would move them by more than kRecentreRounding of the eps these
+// parameters resolve to for its diagonal (a fine eps on a mesh far out was refused, "translate the
+// mesh nearer the origin").
+inline constexpr double kRecentreRounding = 0.25;
+RecentreTest recentre_test(const SplatParameters& params);
+// The warning for a mesh read about the centre of its box (Mesh::origin not zero; splats and batch
+// read so where the file's coordinates are too coarse as floats for its size): where they reach,
+// and that the splats hold positions relative to the origin the splat file records. Empty for a
+// zero origin.
+std::string recentred_warning(const Mesh& mesh);
 SplatFileInfo splat_file_info(const SplatSetup& setup, const SplatRun& run, const std::string& model);
 // run_statistics plus the model, its diagonal, the colour source and the output file's name.
 nlohmann::json splat_statistics(const SplatRun& run, const SplatSetup& setup, const std::string& model, const std::string& output);

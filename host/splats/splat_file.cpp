@@ -70,6 +70,8 @@ std::string header_text(const SplatFileInfo& info, std::size_t count, const std:
   header += fmt::format("comment splatcl_k {}\n", info.k);
   header += fmt::format("comment splatcl_color_tolerance {}\n", info.color_tolerance);
   header += fmt::format("comment splatcl_color_source {}\n", escape(info.color_source));
+  // fmt's shortest form that reads back as the same double.
+  header += fmt::format("comment splatcl_origin {} {} {}\n", info.origin.x, info.origin.y, info.origin.z);
   header += "comment splatcl_checksum " + checksum + "\n";
   header += fmt::format("element vertex {}\n", count);
   header += property_lines(info.clipped);
@@ -108,6 +110,23 @@ void write_splat_file(const std::string& path, const std::vector<SplatRecord>& s
   }
   const std::string zeros = header_text(info, splats.size(), kZeroChecksum);
   write_file_atomically(path, header_text(info, splats.size(), checksum_hex(file_checksum(zeros, body))) + body);
+}
+
+bool parse_origin_line(std::string_view text, DVec3& origin) {
+  constexpr std::string_view prefix = "comment splatcl_origin ";
+  if (!text.starts_with(prefix)) return false;
+  double xyz[3] = {NAN, NAN, NAN};
+  const char* at = text.data() + prefix.size();
+  const char* const stop = text.data() + text.size();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (axis > 0 && !(at < stop && *at++ == ' ')) return false;
+    const auto [ptr, ec] = std::from_chars(at, stop, xyz[axis]);
+    if (ec != std::errc() || !std::isfinite(xyz[axis])) return false;
+    at = ptr;
+  }
+  if (at != stop) return false;
+  origin = {xyz[0], xyz[1], xyz[2]};
+  return true;
 }
 
 bool is_splatcl_splat_file(const std::string& bytes) {
@@ -152,10 +171,16 @@ SplatFile decode_splat_file(const std::string& data, const std::string& path) {
     throw fail("not a splatcl splat file (no 'comment splatcl_version' in its header): a 3D Gaussian splatting PLY, such as splats "
                "--format 3dgs writes, keeps no eps or clip lines (a scene reads one as an object; verify the file splats writes by "
                "default)");
+  int version = 0;
   {
     const std::string text = comment("splatcl_version");
-    if (text != std::to_string(kSplatFileVersion))
-      throw fail(fmt::format("not a splatcl splat file of version {} (it has version {}; rebuild it with splatcl splats)", kSplatFileVersion, text));
+    if (text == std::to_string(kSplatFileVersion))
+      version = kSplatFileVersion;
+    else if (text == std::to_string(kOldestReadSplatFileVersion))
+      version = kOldestReadSplatFileVersion;
+    else
+      throw fail(fmt::format("not a splatcl splat file of version {} to {} (it has version {}; rebuild it with splatcl splats)",
+                             kOldestReadSplatFileVersion, kSplatFileVersion, text));
   }
   SplatFile file;
   file.info.model = unescape(comment("splatcl_model"));
@@ -165,6 +190,11 @@ SplatFile decode_splat_file(const std::string& data, const std::string& path) {
   number("splatcl_k", k);
   number("splatcl_color_tolerance", file.info.color_tolerance);
   file.info.color_source = unescape(comment("splatcl_color_source"));
+  if (version >= 4) {
+    const std::string& text = next();
+    if (!parse_origin_line(text, file.info.origin))
+      throw fail(fmt::format("header line {} is '{}', not 'comment splatcl_origin X Y Z' (three finite numbers)", line, text));
+  }
   const std::size_t checksum_line = line;
   const std::string checksum = comment("splatcl_checksum");
   if (!(std::isfinite(file.info.eps) && file.info.eps > 0)) throw fail(fmt::format("eps {} is not positive", file.info.eps));

@@ -10,9 +10,11 @@
 // stored lengths are their lengths, a valid clip line.
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/geometry.hpp"
+#include "math/dvec3.hpp"
 
 namespace splatcl::splats {
 
@@ -35,14 +37,25 @@ struct SplatFileInfo {
   int color_tolerance = 255;
   std::string color_source;  // "grey", "soft", "hard" or "texture:FILE"
   bool clipped = false;
+  // The positions are relative to it: a splat's place in the model's coordinates is origin + center
+  // (in double). Zero unless the model's coordinates were too coarse as floats for its size
+  // or its eps (splats::recentre_test): a part at 1e5 keeps its detail.
+  DVec3 origin{0, 0, 0};
 };
 
-// Version 3: the checksum (FNV-1a 64, io/checksum.hpp) covers the header too, its own 16 digits
-// read as zeros; version 2 covered the body only, version 1 used a mistyped offset basis.
-inline constexpr int kSplatFileVersion = 3;
+// Version 4 adds `comment splatcl_origin X Y Z` after the colour source. Version 3 files (no origin
+// line, origin zero) are still read. Version 3: the checksum (FNV-1a 64, io/checksum.hpp) covers the
+// header too, its own 16 digits read as zeros; version 2 covered the body only, version 1 used a
+// mistyped offset basis.
+inline constexpr int kSplatFileVersion = 4;
+inline constexpr int kOldestReadSplatFileVersion = 3;
 // Whether a PLY's header says it is splatcl's splat file (its `comment splatcl_version` line);
 // any other PLY is read as a 3D Gaussian splatting file where one may be (a scene's splat object).
 bool is_splatcl_splat_file(const std::string& bytes);
+
+// Reads a header line `comment splatcl_origin X Y Z` (three finite numbers, single spaces) into
+// `origin`; false, leaving it, for any other line. Splat files and splatcl's 3DGS export carry it.
+bool parse_origin_line(std::string_view text, DVec3& origin);
 
 void write_splat_file(const std::string& path, const std::vector<SplatRecord>& splats, const SplatFileInfo& info);
 

@@ -257,12 +257,14 @@ TEST(BatchRunner, AModelTooLargeForTheMemoryFailsAloneWithTheCause) {
   EXPECT_TRUE(results[1].ok) << results[1].reason;
 }
 
-// A sphere of radius 100 far from the origin (a scan in georeferenced coordinates). At 1e6 (float
-// steps of 0.0625, ε 0.35) its splats keep the bound once written, so the end-of-run check that
-// `splatcl splats` runs too (splats::check_before_writing) passes and the model is written; before
-// the fit left room for the rounding, a few splats ended just beyond ε and the model failed there.
-// At 1e7 (steps of 1) no float splat file can keep ε: the model fails with the cause, writing nothing.
-TEST(BatchRunner, FarFromTheOriginIsBuiltOrRefusedWithTheCause) {
+// A sphere of radius 100 far from the origin (a scan in georeferenced coordinates). At 1e6 floats
+// step by 0.0625 (1.8e-4 of its diagonal), at 1e7 by 1, where no float splat file could keep ε
+// (the model failed, "translate the mesh nearer the origin"). The splats now read both about the
+// centre of their box, hold positions relative to it and record it (splatcl_origin), with a
+// warning saying so. Checked against the analytic sphere in double, not the loader: every splat's
+// centre plus the origin lies on the faceted sphere, its normal radial; and by splats verify's
+// check against the mesh read about that origin.
+TEST(BatchRunner, FarFromTheOriginIsBuiltAboutItsCentre) {
   ScratchDir dir("runner-bound");
   const auto sphere_at = [&](double offset) {
     std::string obj;
@@ -296,21 +298,39 @@ TEST(BatchRunner, FarFromTheOriginIsBuiltOrRefusedWithTheCause) {
   }
   const auto results = run_batch(entries, reference_options(dir));
   ASSERT_EQ(results.size(), 2u);
-  EXPECT_TRUE(results[0].ok) << results[0].reason;
-  // The warning splatcl splats and csm build give (batch reported the model "ok" without a word).
-  EXPECT_NE(results[0].warning.find("where floats step by 0.0625"), std::string::npos) << results[0].warning;
-  const auto written = std::filesystem::path(dir / "out") / "far.splats.ply";
-  ASSERT_TRUE(std::filesystem::exists(written));
-  splats::SurfaceCheckOptions check;
-  const splats::SplatFile file = splats::read_splat_file(written.string());
-  check.eps = file.info.eps;
-  check.surface_points = 50'000;
-  check.seed = 99;  // not the builder's points
-  const splats::SurfaceCheckReport report = splats::check_surface(load_mesh(dir / "far.obj"), file.splats, check);
-  EXPECT_TRUE(report.ok()) << splats::describe_failure(report);
-  EXPECT_FALSE(results[1].ok);
-  EXPECT_NE(results[1].reason.find("translate the mesh nearer the origin"), std::string::npos) << results[1].reason;
-  EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(dir / "out") / "farther.splats.ply"));
+  for (std::size_t m = 0; m < 2; ++m) {
+    const double offset = m == 0 ? 1e6 : 1e7;
+    const std::string name = m == 0 ? "far" : "farther";
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(results[m].ok) << results[m].reason;
+    EXPECT_NE(results[m].warning.find(fmt::format("the splats: coordinates reach {:.7g}, where floats step by {:g}", offset + 100, m == 0 ? 0.0625 : 1.0)),
+              std::string::npos)
+        << results[m].warning;
+    EXPECT_NE(results[m].warning.find(fmt::format("read about the centre of its bounding box ({0}, {0}, {0})", offset)), std::string::npos)
+        << results[m].warning;
+    EXPECT_EQ(results[m].warning.find("the CSM"), std::string::npos) << results[m].warning;  // none was wanted
+    const auto written = std::filesystem::path(dir / "out") / (name + ".splats.ply");
+    const splats::SplatFile file = splats::read_splat_file(written.string());
+    EXPECT_EQ(file.info.origin.x, offset);
+    EXPECT_EQ(file.info.origin.y, offset);
+    EXPECT_EQ(file.info.origin.z, offset);
+    ASSERT_GT(file.splats.size(), 500u);
+    // The 48 x 24 facets lie within 100 (1 - cos(pi/24) cos(pi/48)) = 1.07 of the sphere, inside it.
+    const double sag = 100 * (1 - std::cos(3.14159265358979 / 24) * std::cos(3.14159265358979 / 48));
+    for (const splats::SplatRecord& s : file.splats) {
+      const DVec3 from_centre = file.info.origin + DVec3(s.center) - DVec3{offset, offset, offset};
+      const double r = length(from_centre);
+      ASSERT_LE(r, 100 + file.info.eps) << s.center.x << " " << s.center.y << " " << s.center.z;
+      ASSERT_GE(r, 100 - sag - file.info.eps) << s.center.x << " " << s.center.y << " " << s.center.z;
+      ASSERT_GT(dot(from_centre, DVec3(s.normal)) / r, 0.95);
+    }
+    splats::SurfaceCheckOptions check;
+    check.eps = file.info.eps;
+    check.surface_points = 50'000;
+    check.seed = 99;  // not the builder's points
+    const splats::SurfaceCheckReport report = splats::check_surface(load_mesh_about(dir / (name + ".obj"), Winding::Orient, file.info.origin), file.splats, check);
+    EXPECT_TRUE(report.ok()) << splats::describe_failure(report);
+  }
 }
 
 // An inside-out cube (every face wound clockwise seen from outside): its splats face outward, as

@@ -225,7 +225,36 @@ add_test(NAME hostile.mesh_near_origin_does_not_warn COMMAND ${EXPECT_OUTPUT} --
 file(WRITE ${HOSTILE_DIR}/tetra-collapsed.obj "v 1000000 1000000 1000000\nv 1000000.0001 1000000 1000000\nv 1000000 1000000.0001 1000000\nv 1000000 1000000 1000000.0001\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
 set(COLLAPSED_CAUSE "tetra-collapsed.obj: the mesh has zero extent: coordinates reach 1000000, where floats step by 0.0625: every vertex reads as the same point")
 hostile_error(mesh_collapsed_csm "${COLLAPSED_CAUSE}" csm build ${HOSTILE_DIR}/tetra-collapsed.obj -o ${HOSTILE_DIR}/tetra-collapsed.csm --maps 16 --res 8)
-hostile_error(mesh_collapsed_splats "${COLLAPSED_CAUSE}" splats ${HOSTILE_DIR}/tetra-collapsed.obj -o ${HOSTILE_DIR}/tetra-collapsed.ply)
+# splats reads it about the centre of its box in double (the splat file records that origin), so
+# it keeps its shape: built, with a warning saying where its positions are relative to.
+add_test(NAME hostile.mesh_collapsed_splats_about_its_centre COMMAND ${EXPECT_OUTPUT}
+         --match "warning: .*tetra-collapsed.obj: coordinates reach 1000000, where floats step by 0.0625 .*: read about the centre of its bounding box \\(1000000\\.0000[0-9]*, 1000000\\.0000[0-9]*, 1000000\\.0000[0-9]*\\) instead"
+         -- $<TARGET_FILE:splatcl> splats ${HOSTILE_DIR}/tetra-collapsed.obj -o ${HOSTILE_DIR}/tetra-collapsed.ply)
+add_test(NAME hostile.mesh_collapsed_splats_verify COMMAND ${EXPECT_OUTPUT} --match "^ok$"
+         -- $<TARGET_FILE:splatcl> splats verify ${HOSTILE_DIR}/tetra-collapsed.obj ${HOSTILE_DIR}/tetra-collapsed.ply)
+set_tests_properties(hostile.mesh_collapsed_splats_verify PROPERTIES DEPENDS hostile.mesh_collapsed_splats_about_its_centre)
+# Checked against the same part moved to the origin by hand, verify names the mismatch of origins
+# (it said "translate the mesh nearer the origin" of a mesh at the origin).
+file(WRITE ${HOSTILE_DIR}/tetra-collapsed-moved.obj "v 0 0 0\nv 0.0001 0 0\nv 0 0.0001 0\nv 0 0 0.0001\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+hostile_error(mesh_verify_against_a_mesh_away_from_the_splats_origin
+              "the splats' positions are relative to origin \\(1000000.00005, 1000000.00005, 1000000.00005\\) \\(their file's splatcl_origin\\), and this mesh's box is centred 1.73205e\\+06 from it, more than its 0.0001732 diagonal: is it the mesh they were built from\\?$"
+              splats verify ${HOSTILE_DIR}/tetra-collapsed-moved.obj ${HOSTILE_DIR}/tetra-collapsed.ply)
+set_tests_properties(hostile.mesh_verify_against_a_mesh_away_from_the_splats_origin PROPERTIES DEPENDS hostile.mesh_collapsed_splats_about_its_centre)
+# Not coarse for its size, but at a fine eps the float steps at 1000 would take more than a quarter
+# of it (refused where they took half: "translate the mesh nearer the origin"): read about its centre.
+add_test(NAME hostile.mesh_fine_eps_far_out_splats_about_its_centre COMMAND ${EXPECT_OUTPUT}
+         --match "warning: .*tetra-near.obj: coordinates reach 1001, where floats step by 6.1e-05 .*: read about the centre of its bounding box \\(1000.5, 0.5, 0.5\\) instead"
+         -- $<TARGET_FILE:splatcl> splats ${HOSTILE_DIR}/tetra-near.obj -o ${HOSTILE_DIR}/tetra-near-fine.ply --eps 0.0003)
+add_test(NAME hostile.mesh_near_origin_splats_as_given COMMAND ${EXPECT_OUTPUT} --no-match "warning"
+         -- $<TARGET_FILE:splatcl> splats ${HOSTILE_DIR}/tetra-near.obj -o ${HOSTILE_DIR}/tetra-near.ply)
+# A closed plate thinner than the CSM's hit epsilon reads as solid to the bounding sphere's exit
+# behind it: csm build warns with the share of rays that meet it once (nothing said so).
+file(WRITE ${HOSTILE_DIR}/plate-thin.obj "v -50 -0.0005 -50\nv 50 -0.0005 -50\nv 50 0.0005 -50\nv -50 0.0005 -50\nv -50 -0.0005 50\nv 50 -0.0005 50\nv 50 0.0005 50\nv -50 0.0005 50\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n")
+add_test(NAME hostile.csm_thin_closed_part_warns COMMAND ${EXPECT_OUTPUT}
+         --match "warning: .*plate-thin.obj: [0-9]+ of [0-9]+ sample rays that hit this closed mesh \\(5[0-9] %\\) meet it only once within the hit epsilon \\(0.00141 units\\): .*; lower --hit-eps \\(e.g. to 1e-7\\) or pass --single-hit exact$"
+         -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/plate-thin.obj -o ${HOSTILE_DIR}/plate-thin.csm --maps 16 --res 8)
+add_test(NAME hostile.csm_thin_closed_part_exact_does_not_warn COMMAND ${EXPECT_OUTPUT} --no-match "warning"
+         -- $<TARGET_FILE:splatcl> csm build ${HOSTILE_DIR}/plate-thin.obj -o ${HOSTILE_DIR}/plate-thin-exact.csm --maps 16 --res 8 --single-hit exact)
 add_test(NAME hostile.mesh_collapsed_ao_receiver_warns COMMAND ${EXPECT_OUTPUT}
          --match "warning: .*tetra-collapsed.obj: coordinates reach 1000000, where floats step by 0.0625: every vertex reads as the same point"
          -- $<TARGET_FILE:splatcl> ao ${HOSTILE_DIR}/tetra-collapsed.obj --occluder ${HOSTILE_DIR}/tetra-near.csm -o ${HOSTILE_DIR}/collapsed-ao.ply)

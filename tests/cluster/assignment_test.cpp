@@ -136,7 +136,7 @@ TEST(ClusterAssignment, ListsLongerThanTheirSlotsAreFoundAgain) {
   std::vector<Vec3> normals(depth.size());
   for (std::size_t p = 0; p < depth.size(); ++p) {
     depth[p] = p % 29 == 0 ? kBackgroundViewZ : -distance(random);
-    normals[p] = normalized({gauss(random), gauss(random), gauss(random)});
+    normals[p] = normalized(Vec3{gauss(random), gauss(random), gauss(random)});
   }
   ClusterPipeline pipeline(test_runtime(), config);
   pipeline.upload_depth(depth, DepthFormat::ViewZ);

@@ -90,7 +90,7 @@ TEST(ClusterKeys, NoiseDepthWithNormalsExercisesEveryPath) {
   std::vector<Vec3> normals(depth.size());
   for (std::size_t p = 0; p < depth.size(); ++p) {
     depth[p] = p % 17 == 0 ? kBackgroundViewZ : -std::exp(log_distance(random));
-    normals[p] = normalized({gauss(random), gauss(random), gauss(random)});
+    normals[p] = normalized(Vec3{gauss(random), gauss(random), gauss(random)});
   }
   depth[1] = -config.near_plane;
   depth[2] = -config.far_plane;

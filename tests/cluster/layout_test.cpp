@@ -226,7 +226,7 @@ TEST(ClusterLayout, NormalCellsCoverTheCubeMap) {
   std::mt19937 random(3);
   std::normal_distribution<float> gauss;
   for (int i = 0; i < 20000; ++i) {
-    const std::uint32_t cell = normal_cell(normalized({gauss(random), gauss(random), gauss(random)}));
+    const std::uint32_t cell = normal_cell(normalized(Vec3{gauss(random), gauss(random), gauss(random)}));
     ASSERT_LT(cell, kNormalCells);
     seen.insert(cell);
   }

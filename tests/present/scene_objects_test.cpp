@@ -412,6 +412,59 @@ TEST_F(SceneObjectsRender, SplatFilesDrawAsTheMeshObjectTheyCameFrom) {
   std::filesystem::remove_all(dir);
 }
 
+// A splat file whose positions are relative to an origin (splats read a mesh far out about its
+// box's centre; splatcl's 3DGS export keeps it as a comment): without a fit its splats go where the
+// model's coordinates put them, the origin added; with a fit they are placed by their box, where the origin cancels, as the same splats
+// recorded at origin zero.
+TEST_F(SceneObjectsRender, SplatFileOriginPlacesItsSplats) {
+  const std::string dir = temp_dir("splat-origin");
+  std::vector<splats::SplatRecord> grid;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      grid.push_back({{0.2f * static_cast<float>(i), 0, 0.2f * static_cast<float>(j)}, {0, 1, 0}, {0.15f, 0, 0}, {0, 0, 0.15f}, Rgba8{200, 200, 200, 255}});
+  splats::SplatFileInfo info{"plate", "auto", 0.01f, 10, 255, "grey", false};
+  splats::write_splat_file(dir + "/at-zero.ply", grid, info);
+  info.origin = {12.5, 0.25, -3};
+  splats::write_splat_file(dir + "/at-origin.ply", grid, info);
+  const auto assets_of = [&](const std::string& object) {
+    const Scene s = parse_scene(R"({"objects": [)" + object + "]}", "s.json", dir);
+    return load_object_assets(s.objects[0], s, SPLATCL_TEST_CACHE, *runtime_);
+  };
+  splats::write_gaussian_file(dir + "/at-origin.3dgs.ply", grid, info.origin);
+  for (const char* file : {"at-origin.ply", "at-origin.3dgs.ply"}) {
+    const ObjectAssets placed = assets_of(fmt::format(R"({{"splats": "{}"}})", file));
+    ASSERT_EQ(placed.splats.size(), grid.size()) << file;
+    for (std::size_t i = 0; i < grid.size(); ++i) EXPECT_EQ(placed.splats[i].center, to_float(info.origin + DVec3(grid[i].center))) << file << " " << i;
+  }
+  const ObjectAssets fitted = assets_of(R"({"splats": "at-origin.ply", "fit": {"size": 2, "on_floor": true}})");
+  const ObjectAssets fitted_zero = assets_of(R"({"splats": "at-zero.ply", "fit": {"size": 2, "on_floor": true}})");
+  ASSERT_EQ(fitted.splats.size(), grid.size());
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    EXPECT_EQ(fitted.splats[i].center, fitted_zero.splats[i].center) << i;
+    EXPECT_EQ(fitted.splats[i].major, fitted_zero.splats[i].major) << i;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// A closed object thinner than the CSM's hit epsilon (a 10 x 0.0001 x 10 box: epsilon 0.000141
+// units) is met once by the rays through it and stored as solid behind it: the presenter warns with
+// the scene's spelling of the remedy, which silences it; a box 1 thick is not warned of.
+TEST_F(SceneObjectsRender, ThinClosedObjectsAreWarnedOf) {
+  const std::string dir = temp_dir("thin-object");
+  const auto warning_of = [&](const std::string& size, const std::string& rule) {
+    const Scene s = parse_scene(R"({"objects": [{"name": "plate", "mesh": {"procedural": "box", "size": )" + size +
+                                    R"(}, "quality": {"csm_maps": 64, "csm_resolution": 16, "csm_single_hit": ")" + rule + R"("}}]})",
+                                "s.json", dir);
+    return load_object_assets(s.objects[0], s, SPLATCL_TEST_CACHE, *runtime_).thin_part_warning;
+  };
+  const std::string thin = warning_of("[10, 0.0001, 10]", "auto");
+  EXPECT_NE(thin.find("sample rays that hit this closed mesh"), std::string::npos) << thin;
+  EXPECT_NE(thin.find("give the object \"quality\": {\"csm_single_hit\": \"exact\"}"), std::string::npos) << thin;
+  EXPECT_EQ(warning_of("[10, 0.0001, 10]", "exact"), "");
+  EXPECT_EQ(warning_of("[10, 1, 10]", "auto"), "");
+  std::filesystem::remove_all(dir);
+}
+
 // The shipped scene of scanned models (data/scans-scene.json), when the test models are present:
 // each scan fitted to its size and resting on the floor.
 TEST(SceneObjects, ScansSceneRestsEachScanOnTheFloor) {

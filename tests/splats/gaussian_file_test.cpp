@@ -247,6 +247,34 @@ TEST(GaussianFile, ReadingInvertsTheExport) {
   }
 }
 
+// A non-zero origin (positions relative to it, SplatFileInfo::origin) is kept as a header comment
+// that 3DGS readers skip: the body is that of the file without it, and it reads back the same;
+// gaussian_file_origin reads it (the presenter places the splats by it), zero for a file without.
+TEST(GaussianFile, OriginIsAHeaderComment) {
+  const std::vector<SplatRecord> splats = random_splats();
+  const std::string plain = temp_path("no-origin.ply"), far = temp_path("origin.ply");
+  write_gaussian_file(plain, splats);
+  write_gaussian_file(far, splats, DVec3{512345.5, 5412345.25, -0.125});
+  const std::string a = file_bytes(plain), b = file_bytes(far);
+  EXPECT_EQ(a.find("splatcl_origin"), std::string::npos);
+  EXPECT_NE(b.find("\ncomment splatcl_origin 512345.5 5412345.25 -0.125\n"), std::string::npos);
+  EXPECT_EQ(a.substr(a.find("end_header\n")), b.substr(b.find("end_header\n")));
+  EXPECT_EQ(read_ply(far).values, read_ply(plain).values);
+  const std::vector<SplatRecord> read = decode_gaussian_file(b, far);
+  ASSERT_EQ(read.size(), splats.size());
+  for (std::size_t i = 0; i < splats.size(); ++i) EXPECT_EQ(read[i].center, splats[i].center);
+  const DVec3 origin = gaussian_file_origin(b, far), none = gaussian_file_origin(a, plain);
+  EXPECT_EQ(origin.x, 512345.5);
+  EXPECT_EQ(origin.y, 5412345.25);
+  EXPECT_EQ(origin.z, -0.125);
+  EXPECT_EQ(none.x, 0.0);
+  std::string damaged = b;
+  damaged.replace(damaged.find("5412345.25"), 10, "nan");
+  EXPECT_THROW(gaussian_file_origin(damaged, far), Error);
+  std::filesystem::remove(plain);
+  std::filesystem::remove(far);
+}
+
 // A file as 3DGS training tools write it, by hand: other property order, doubles, f_rest_* and a
 // faint Gaussian; and the same in ASCII. Gaussian 0: identity rotation, σ = (0.1, 0.2, 0.001), so
 // the major axis is y (0.2 / 0.5 = 0.4 long), the minor x (0.2), the normal z. Gaussian 1: a quarter

@@ -146,6 +146,76 @@ TEST(MeshHygiene, FarFromOneCoordinatesLoadExactly) {
   }
 }
 
+// Read about the centre of its box (with the test coarse_for_floats) only where the file's coordinates are too
+// coarse as floats for the mesh's size: then each vertex is its file position less that centre,
+// subtracted in double and rounded once (the tetrahedron's corners 0.001 apart at 1e6, 16 float
+// steps of 0.0625 there, were one point). Near the origin the mesh is the one load_mesh reads.
+// load_mesh_about takes a given origin the same way.
+TEST(MeshHygiene, CoarseCoordinatesAreReadAboutTheBoxCentre) {
+  const std::string far = temp_file("tetra-far.obj", "v 1000000 -2000000 5\nv 1000000.001 -2000000 5\nv 1000000 -1999999.999 5\n"
+                                                     "v 1000000 -2000000 5.001\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  const Mesh recentred = load_mesh_recentred(far, Winding::Orient, coarse_for_floats);
+  const DVec3 centre{0.5 * 1000000 + 0.5 * 1000000.001, 0.5 * -2000000 + 0.5 * -1999999.999, 0.5 * 5 + 0.5 * 5.001};
+  EXPECT_EQ(recentred.origin.x, centre.x);
+  EXPECT_EQ(recentred.origin.y, centre.y);
+  EXPECT_EQ(recentred.origin.z, centre.z);
+  const DVec3 file[4] = {{1000000, -2000000, 5}, {1000000.001, -2000000, 5}, {1000000, -1999999.999, 5}, {1000000, -2000000, 5.001}};
+  ASSERT_EQ(recentred.vertices.size(), 4u);
+  for (std::size_t v = 0; v < 4; ++v) {
+    const Vec3 want = to_float(file[recentred.file_vertex[v]] - centre);
+    EXPECT_EQ(recentred.vertices[v].x, want.x);
+    EXPECT_EQ(recentred.vertices[v].y, want.y);
+    EXPECT_EQ(recentred.vertices[v].z, want.z);
+  }
+  EXPECT_NEAR(recentred.bounds().exact_diagonal(), 0.001 * std::sqrt(3.0), 1e-9);
+  EXPECT_TRUE(float_step_warning(recentred).empty()) << float_step_warning(recentred);
+  EXPECT_FALSE(float_step_warning(load_mesh(far)).empty());  // as given, it collapses
+  const Mesh about = load_mesh_about(far, Winding::Orient, DVec3{1000000, -2000000, 5});
+  EXPECT_EQ(about.origin.x, 1000000.0);
+  EXPECT_EQ(about.vertices[0].x, 0.0f);
+  EXPECT_NEAR(about.bounds().exact_diagonal(), 0.001 * std::sqrt(3.0), 1e-9);
+
+  // The same tetrahedron as ASCII STL: its corners are merged as read, in double (merged as floats
+  // they were one point before the mesh could be recentred), so it reads the same; it is no float file.
+  std::string stl = "solid t\n";
+  for (const auto& face : std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
+    stl += " facet normal 0 0 0\n  outer loop\n";
+    for (const int c : face) stl += fmt::format("   vertex {:.17g} {:.17g} {:.17g}\n", file[c].x, file[c].y, file[c].z);
+    stl += "  endloop\n endfacet\n";
+  }
+  const Mesh from_stl = load_mesh_recentred(temp_file("tetra-far.stl", stl + "endsolid t\n"), Winding::Orient, coarse_for_floats);
+  ASSERT_EQ(from_stl.vertices.size(), 4u);
+  EXPECT_EQ(from_stl.face_count(), 4u);
+  EXPECT_FALSE(from_stl.problems.any()) << from_stl.problems.summary();
+  EXPECT_NEAR(from_stl.bounds().exact_diagonal(), 0.001 * std::sqrt(3.0), 1e-9);
+  EXPECT_FALSE(from_stl.float_file);
+  EXPECT_FALSE(recentred.float_file);
+  // A binary STL stores floats: the detail finer than their step was lost in the file itself, which
+  // the splats' warning says (not of an OBJ whose values happen to be floats).
+  const DVec3 unit_far[4] = {{1000000, 0, 0}, {1000001, 0, 0}, {1000000, 1, 0}, {1000000, 0, 1}};
+  std::string binary(80, ' ');
+  const auto put = [&](auto value) { binary.append(reinterpret_cast<const char*>(&value), sizeof value); };
+  put(std::uint32_t{4});
+  for (const auto& face : std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
+    for (int k = 0; k < 3; ++k) put(0.0f);
+    for (const int c : face) put(static_cast<float>(unit_far[c].x)), put(static_cast<float>(unit_far[c].y)), put(static_cast<float>(unit_far[c].z));
+    put(std::uint16_t{0});
+  }
+  EXPECT_TRUE(load_mesh_recentred(temp_file("tetra-far-binary.stl", binary), Winding::Orient, coarse_for_floats).float_file);
+  const std::string integers = temp_file("box-far-integers.obj", "v 1000000 0 0\nv 1000001 0 0\nv 1000000 1 0\nv 1000000 0 1\n"
+                                                                  "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  EXPECT_FALSE(load_mesh_recentred(integers, Winding::Orient, coarse_for_floats).float_file);
+
+  const std::string near = temp_file("tetra-near-origin.obj", "v 1000 0 0\nv 1001 0 0\nv 1000 1 0\nv 1000 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  const Mesh kept = load_mesh_recentred(near, Winding::Orient, coarse_for_floats), plain = load_mesh(near, Winding::Orient);
+  EXPECT_EQ(kept.origin.x, 0.0);
+  EXPECT_EQ(kept.origin.y, 0.0);
+  EXPECT_EQ(kept.origin.z, 0.0);
+  ASSERT_EQ(kept.vertices.size(), plain.vertices.size());
+  for (std::size_t v = 0; v < kept.vertices.size(); ++v) EXPECT_TRUE(kept.vertices[v] == plain.vertices[v]) << v;
+  EXPECT_NE(load_mesh_recentred(near, Winding::Orient).origin.x, 0.0);  // no test: always
+}
+
 TEST(MeshHygiene, OffTruncatedIsRefused) {
   const std::string whole = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
   EXPECT_EQ(load_mesh(temp_file("whole.off", whole)).face_count(), 2u);
@@ -469,6 +539,21 @@ TEST(MeshHygiene, OrientTurnsFacesToAgreeAndFaceOutward) {
   EXPECT_EQ(mixed.problems.turned_faces, reversed);
   clean_after(mixed.problems);
   EXPECT_TRUE(all_outward(mixed, {1e4f, -2e4f, 3e4f}));
+}
+
+// An open part keeps the winding of most of its area: a 10 x 10 plate wound +z beside a strip of
+// four 1 x 2.5 quads wound -z (sharing the plate's edge, split at the quads' corners). By face count
+// (the rule until 2026-12-08) the plate was turned to face -z with the strip.
+TEST(MeshHygiene, OrientOpenPartKeepsTheWindingOfMostOfItsArea) {
+  const std::vector<Vec3> v{{0, 0, 0},   {10, 0, 0},   {10, 2.5f, 0}, {10, 5, 0},   {10, 7.5f, 0},  {10, 10, 0}, {0, 10, 0},
+                            {11, 0, 0},  {11, 2.5f, 0}, {11, 5, 0},   {11, 7.5f, 0}, {11, 10, 0}};
+  const std::vector<std::vector<std::uint32_t>> faces{
+      {0, 1, 2, 3, 4, 5, 6},                                       // the plate, counter-clockwise seen from +z
+      {1, 2, 8, 7}, {2, 3, 9, 8}, {3, 4, 10, 9}, {4, 5, 11, 10}};  // the strip, clockwise
+  const Mesh mesh = load_mesh(temp_file("orient-area.obj", obj_text(v, faces)), Winding::Orient);
+  EXPECT_EQ(mesh.problems.turned_faces, 4u);
+  EXPECT_EQ(mesh.problems.inconsistent_edges, 0u);
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) EXPECT_GT(face_normal(mesh, f).z, 0.0f) << f;
 }
 
 // A closed part that lies inside no other closed part faces outward, whatever the others enclose:

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <fstream>
 
+#include "io/checksum.hpp"
 #include "math/dvec3.hpp"
 #include "runtime/error.hpp"
 #include "splats/pipeline.hpp"
@@ -217,6 +218,62 @@ TEST(SplatFile, RoundTripAndCorruption) {
   EXPECT_THROW(read_splat_file(write("short.ply", bytes.substr(0, bytes.size() - 4))), Error);
   EXPECT_THROW(read_splat_file(write("text.ply", "hello\n")), Error);
   EXPECT_THROW(read_splat_file(temp_path("missing.ply")), Error);
+}
+
+// The origin (the positions are relative to it: a mesh far out, read about its centre) reads back
+// as the same double; a version 3 file (no origin line, written here by hand with its checksum) is
+// still read, at origin zero; a damaged origin line is refused naming it.
+TEST(SplatFile, OriginReadsBackExactlyAndVersion3HasNone) {
+  std::vector<SplatRecord> splats(1);
+  splats[0].normal = {0, 0, 1}, splats[0].major = {0.5f, 0, 0}, splats[0].minor = {0, 0.25f, 0};
+  const auto bytes_of_file = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const auto write = [](const std::string& name, const std::string& contents) {
+    const std::string p = temp_path(name);
+    std::ofstream(p, std::ios::binary) << contents;
+    return p;
+  };
+  for (const DVec3 origin : {DVec3{0.1, -1e300, 5412345.25}, DVec3{512345.5, 4.9e-324, -0.0}, DVec3{0, 0, 0}}) {
+    SplatFileInfo info{"far.obj", "auto", 0.03f, 10, 255, "grey", false};
+    info.origin = origin;
+    const std::string path = temp_path("origin.ply");
+    write_splat_file(path, splats, info);
+    const SplatFile file = read_splat_file(path);
+    EXPECT_EQ(file.info.origin.x, origin.x);
+    EXPECT_EQ(file.info.origin.y, origin.y);
+    EXPECT_EQ(file.info.origin.z, origin.z);
+  }
+  // Version 3: the same file less its origin line, the checksum (FNV-1a 64 of the header with its
+  // 16 digits as zeros, then the body) recomputed.
+  std::string v3 = bytes_of_file(temp_path("origin.ply"));
+  v3.replace(v3.find("splatcl_version 4"), 17, "splatcl_version 3");
+  const std::size_t origin_line = v3.find("comment splatcl_origin ");
+  v3.erase(origin_line, v3.find('\n', origin_line) + 1 - origin_line);
+  const std::size_t digits = v3.find("comment splatcl_checksum ") + 25, body = v3.find("end_header\n") + 11;
+  v3.replace(digits, 16, "0000000000000000");
+  v3.replace(digits, 16, checksum_hex(fnv1a64(std::string_view(v3).substr(body), fnv1a64(std::string_view(v3).substr(0, body)))));
+  const SplatFile old = read_splat_file(write("version3.ply", v3));
+  EXPECT_EQ(old.info.origin.x, 0.0);
+  EXPECT_EQ(old.info.origin.y, 0.0);
+  EXPECT_EQ(old.info.origin.z, 0.0);
+  EXPECT_EQ(old.splats.size(), 1u);
+  std::string v2 = v3;
+  v2.replace(v2.find("splatcl_version 3"), 17, "splatcl_version 2");
+  EXPECT_THROW(read_splat_file(write("version2.ply", v2)), Error);
+  const std::string v4 = bytes_of_file(temp_path("origin.ply"));
+  for (const std::string bad : {"1 2", "1 2 nan", "1 2 3 4", "1  2 3", "1 2 x", "1 2 inf"}) {
+    std::string damaged = v4;
+    const std::size_t at = damaged.find("comment splatcl_origin ") + 23;
+    damaged.replace(at, damaged.find('\n', at) - at, bad);
+    try {
+      read_splat_file(write("bad-origin.ply", damaged));
+      ADD_FAILURE() << "origin '" << bad << "' was read";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("not 'comment splatcl_origin X Y Z' (three finite numbers)"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // The stored major/minor lengths are the axes' lengths at any float scale: computed in float, the
