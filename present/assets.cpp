@@ -196,13 +196,17 @@ std::string seconds(double ms) { return fmt::format("{:.1f} s", ms / 1000.0); }
 }  // namespace
 
 std::string far_placement_check(const ObjectSpec& object, const Mesh& mesh) {
-  // Bounds of where the object's points go at any time: its centre (or orbit) plus its extent.
-  // An orbit's centre is orbit_center + (r cos, position.y − orbit_center.y, r sin): position's x
-  // and z play no part (ObjectSpec::placement).
+  // Bounds of where the object's points go at any time, per axis (floats step by the largest
+  // |coordinate|; the centre's length overstated it by up to √3, a step too coarse): its centre (or
+  // orbit) plus its extent, any rotation of a point within √3 × its mesh's reach. An orbit's
+  // centre is orbit_center + (r cos, position.y − orbit_center.y, r sin): position's x and z play
+  // no part (ObjectSpec::placement), its y is position.y.
   const Animation& orbit = object.animation;
-  const double centre = orbit.orbit_radius > 0 ? glm::length(glm::dvec3(orbit.orbit_center)) + orbit.orbit_radius +
-                                                     std::abs(double{object.position.y} - double{orbit.orbit_center.y})
-                                               : glm::length(glm::dvec3(object.position));
+  const double r = orbit.orbit_radius;
+  const double centre = r > 0 ? std::max({std::abs(double{orbit.orbit_center.x}) + r, std::abs(double{object.position.y}),
+                                          std::abs(double{orbit.orbit_center.z}) + r})
+                              : std::max({std::abs(double{object.position.x}), std::abs(double{object.position.y}),
+                                          std::abs(double{object.position.z})});
   const double reach = centre + std::sqrt(3.0) * object.scale * mesh.bounds().reach();
   const FloatStep far = float_step(reach, object.scale * mesh.bounds().exact_diagonal());
   if (!far.coarse()) return {};

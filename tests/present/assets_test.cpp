@@ -125,7 +125,7 @@ TEST_F(PresenterTest, GapSplatsAreCachedUnderTheFitsParameters) {
 
 // An object far from the origin for its size: the float step where it goes (its position, or its
 // orbit) against its size. A unit sphere: nothing at the origin, a warning at 1e4 (step 0.001, 0.03 %
-// of its size) and 1e6 (0.0625, 1.8 %: it cracked), refused at 1e7 (2, 58 %: it vanished) and when
+// of its size) and 1e6 (0.0625, 1.8 %: it cracked), refused at 1e7 (1, 29 %: it vanished) and when
 // its orbit takes it there; an orbit about the origin ignores position's x and z.
 TEST(PresenterAssets, AnObjectFarFromTheOriginForItsSizeIsWarnedOfOrRefused) {
   const auto check = [](const std::string& placement) {
@@ -140,6 +140,11 @@ TEST(PresenterAssets, AnObjectFarFromTheOriginForItsSizeIsWarnedOfOrRefused) {
   EXPECT_THROW(check(R"("position": [0, 1, 0], "animation": {"orbit": {"radius": 1e7}})"), Error);
   EXPECT_EQ(check(R"("position": [1e7, 1, 1e7], "animation": {"orbit": {"radius": 2}})"), "");
   EXPECT_EQ(check(R"("position": [1e6, 1, 1e6], "scale": 1e4)"), "");  // as far, but as large
+  // Floats step by the largest |coordinate|: at (3000, 3000, 3000) by 2^-12 (0.007 % of the
+  // sphere's 3.5 diagonal), not by the step at the centre's length 5196 (2^-11, 0.014 %, warned).
+  EXPECT_EQ(check(R"("position": [3000, 3000, 3000])"), "");
+  EXPECT_NE(check(R"("position": [1e4, 1, 1e4])").find("placed where coordinates reach 10001.73"), std::string::npos)
+      << check(R"("position": [1e4, 1, 1e4])");
 }
 
 // quality.splat_bound picks the splat method: the thesis's (default, the shipped scene's look) or
