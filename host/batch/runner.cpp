@@ -16,6 +16,7 @@
 #include <mutex>
 #include <new>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -290,44 +291,38 @@ class Worker {
     // What splatcl splats and csm build warn of too: the problems, and coordinates whose float
     // steps are coarse for the mesh's size (a box at 1e6 was reported "ok" without a word).
     const std::string far = float_step_warning(mesh);
-    // A mesh the splats read about its centre (below) says so; the CSM's coarse floats are still
-    // named when a CSM is wanted.
-    const auto warning_of = [&](const Mesh& loaded) {
-      std::string text = loaded.problems.any() ? loaded.problems.summary() : std::string();
-      const auto add = [&](const std::string& part) { text += text.empty() || part.empty() ? part : "; " + part; };
-      if (const std::string moved = splats::recentred_warning(loaded); moved.empty())
-        add(far);
+    // The splats take the faces oriented (unless keep_winding) and a mesh far out about the centre
+    // of its box, as splatcl splats does, decided by the same test on the file's box; the CSM
+    // capture takes the file's faces and coordinates. A second load only where they differ.
+    const RecentreTest recentre = splats::recentre_test(entry.params.splats);
+    const Winding splat_winding = splats::winding(entry.params.splats);
+    std::optional<Mesh> own;
+    if (splats_built && (recentring_wanted(mesh, recentre) || (splat_winding == Winding::Orient && mesh.problems.winding_disagrees())))
+      own = load_mesh_recentred(entry.input, splat_winding, recentre);
+    const Mesh& splat_mesh = own ? *own : mesh;
+    // A mesh the splats read about its centre says so; the CSM's coarse floats are still named when
+    // a CSM is wanted. What splatcl splats reports of the oriented mesh ("N faces turned ..."): the
+    // as-given "faces point inward" read as if the splats faced in.
+    const auto join = [](std::string text, const std::string& part) { return text.empty() || part.empty() ? text + part : text + "; " + part; };
+    std::string warning;
+    if (!warning_recorded || splats_built) {
+      warning = splat_mesh.problems.any() ? splat_mesh.problems.summary() : std::string();
+      if (const std::string moved = splats::recentred_warning(splat_mesh); moved.empty())
+        warning = join(warning, far);
       else
-        add("the splats: " + moved), add(entry.params.want_csm ? "the CSM: " + far : std::string());
-      return text;
-    };
-    if (!warning_recorded || splats_built) r.warning = warning_of(mesh);
-    // The splats take the faces oriented (unless keep_winding), as splatcl splats does; the CSM
-    // capture takes them as given. A second load only when orienting would turn a face.
-    // As splatcl splats does, the splats read a mesh whose coordinates are coarse as floats about the
-    // centre of its box (the splat file records the origin); the CSM keeps the file's coordinates.
-    std::optional<Mesh> oriented;
-    const auto splat_mesh = [&]() -> const Mesh& {
-      const Winding winding = splats::winding(entry.params.splats);
-      const Box box = mesh.bounds();
-      const bool recentre = splats::recentre_test(entry.params.splats)(box.reach(), box.exact_diagonal());
-      if (!recentre && (winding == Winding::AsGiven || !mesh.problems.winding_disagrees())) return mesh;
-      if (!oriented) {
-        oriented = load_mesh_recentred(entry.input, winding, splats::recentre_test(entry.params.splats));
-        // What splatcl splats reports ("N faces turned ..."): the as-given "faces point
-        // inward" read as if the splats faced in.
-        r.warning = warning_of(*oriented);
-      }
-      return *oriented;
-    };
+        warning = join(join(warning, "the splats: " + moved), entry.params.want_csm && !far.empty() ? "the CSM: " + far : std::string());
+    } else {
+      warning = without_thin_part(r.warning);
+    }
+    // Parts thinner than the CSM's hit epsilon, of the CSM as wanted now (built or reused): a rerun
+    // that lowered hit_eps kept the earlier warning, one that rebuilt only the splats dropped it.
+    if (entry.params.want_csm) warning = join(warning, csm_thin_part(entry, mesh));
+    r.warning = warning;
     for (const auto& p : pending) {
       try {
         Stopwatch clock;
         OutputResult out{p.kind, false, p.params, p.checksum, made_by_, {}, 0};
-        std::string thin;
-        out.files = p.kind == "splats" ? build_splats(entry, splat_mesh(), dir) : build_csm(entry, mesh, dir, thin);
-        // A rerun that reuses the splats keeps the recorded warning, which may hold it already.
-        if (!thin.empty() && r.warning.find(thin) == std::string::npos) r.warning += (r.warning.empty() ? "the CSM: " : "; the CSM: ") + thin;
+        out.files = p.kind == "splats" ? build_splats(entry, splat_mesh, dir) : build_csm(entry, mesh, dir);
         out.build_ms = clock.elapsed_ms();
         r.outputs.push_back(std::move(out));
       } catch (const FatalError&) {
@@ -358,16 +353,38 @@ class Worker {
     return {describe_written_file(dir, ply), describe_file(stats_name, stats_text)};
   }
 
-  std::vector<OutputFile> build_csm(const ModelEntry& entry, const Mesh& mesh, const fs::path& dir, std::string& thin_part_warning) {
+  // "the CSM: " and csm::thin_part_warning of the model's CSM as its parameters capture it; empty
+  // when there is none or the capture cannot be set up (the build then fails with the cause).
+  static std::string csm_thin_part(const ModelEntry& entry, const Mesh& mesh) {
+    using namespace splatcl::csm;
+    const BuildOptions o = to_build_options(entry.params.csm);
+    if (resolve_single_hit(o.single_hit, mesh) != SingleHit::SphereExit) return {};
+    try {
+      const std::string thin = thin_part_warning(CaptureScene(mesh, bounding_sphere(mesh), o.resolution, o.single_hit, o.hit_epsilon), mesh,
+                                                 o.hit_epsilon > kMinHitEpsilon
+                                                     ? "lower the model's hit_eps (e.g. to 1e-7) or set its single_hit to exact"
+                                                     : "set the model's single_hit to exact (its hit_eps is at its least)");
+      return thin.empty() ? thin : "the CSM: " + thin;
+    } catch (const Error&) {
+      return {};
+    }
+  }
+
+  // A recorded warning less its thin-part clause (csm_thin_part: always the last), which is made again.
+  static std::string without_thin_part(const std::string& warning) {
+    static const std::regex thin("(; )?the CSM: [0-9]+ of [0-9]+ sample rays that hit this closed mesh .*$");
+    return std::regex_replace(warning, thin, "");
+  }
+
+  std::vector<OutputFile> build_csm(const ModelEntry& entry, const Mesh& mesh, const fs::path& dir) {
     using namespace splatcl::csm;
     BuildOptions options = to_build_options(entry.params.csm);
-    options.thin_part_remedy = "lower the model's hit_eps (e.g. to 1e-7) or set its single_hit to exact";
+    options.thin_part_remedy.clear();  // csm_thin_part checks, for a reused CSM too
     const Encoding encoding = file_encoding(entry.params.csm);
     Runtime* device = runtime();
     const BuildResult result = splatcl::csm::build_csm(mesh, options, device, [&](std::uint32_t done, std::uint32_t total) {
       report_(fmt::format("{}: csm {}/{} maps", entry.id, done, total));
     });
-    thin_part_warning = result.thin_part_warning;
     report_(entry.id + ": writing csm");
     const std::string bytes = encode_csm(result.csm, encoding, encoding == Encoding::Compact ? &result.segments : nullptr);
     const std::string name = csm_name(entry.id), stats_name = entry.id + ".csm.json";

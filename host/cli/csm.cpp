@@ -131,7 +131,8 @@ BuildOptions build_options(const BuildCommand& c) {
   const CsmParameters p = parameters(c);
   validate(p, Spelling::Option);  // errors name the options as typed (--maps), not the manifest keys
   BuildOptions options = to_build_options(p);
-  options.thin_part_remedy = "lower --hit-eps (e.g. to 1e-7) or pass --single-hit exact";
+  options.thin_part_remedy = options.hit_epsilon > kMinHitEpsilon ? "lower --hit-eps (e.g. to 1e-7) or pass --single-hit exact"
+                                                                   : "pass --single-hit exact (--hit-eps is at its least)";
   return options;
 }
 

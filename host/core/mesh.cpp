@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 #include <bit>
 #include <cmath>
 #include <numbers>
@@ -750,6 +751,12 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
   MeshProblems problems = raw.problems;
   problems.faces_listed = raw.face_count();
   Faces faces = usable_faces(raw, problems);
+  DVec3 file_lo{INFINITY, INFINITY, INFINITY}, file_hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const std::uint32_t v : faces.corners) {
+    const DVec3& p = raw.exact_positions[v];
+    file_lo = {std::min(file_lo.x, p.x), std::min(file_lo.y, p.y), std::min(file_lo.z, p.z)};
+    file_hi = {std::max(file_hi.x, p.x), std::max(file_hi.y, p.y), std::max(file_hi.z, p.z)};
+  }
   if (winding == Winding::Orient) problems.turned_faces = orient_faces(raw.positions, faces);
   problems.split_polygons = split_unfannable_faces(raw.positions, faces);
   check_surface(raw.positions, faces, problems);
@@ -826,6 +833,8 @@ Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding wi
     mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.corners.size()));
   }
   mesh.problems = problems;
+  mesh.file_lo = file_lo, mesh.file_hi = file_hi;
+  mesh.float_file = raw.float_coordinates;
   if (mesh.face_count() == 0) {
     if (problems.faces_listed == 0) throw Error(source + ": the mesh has no faces");
     throw Error(fmt::format("{}: the mesh has no faces left: {} dropped ({})", source,
@@ -1066,13 +1075,35 @@ Mesh load_mesh(const std::string& path, Winding winding) {
 
 namespace {
 
-// The file's positions less `origin`, in double, rounded to float afterwards.
+// The file's positions less `origin`, in double, rounded to float afterwards; a vertex that leaves
+// float range so (a crafted origin of 1e300) is a non-finite vertex, its faces dropped.
 Mesh assemble_about(mesh_io::RawMesh raw, const std::string& source, Winding winding, const DVec3& origin) {
-  for (std::size_t v = 0; v < raw.exact_positions.size(); ++v)
-    if (!raw.bad_vertex[v]) raw.positions[v] = to_float(raw.exact_positions[v] - origin);
+  for (std::size_t v = 0; v < raw.exact_positions.size(); ++v) {
+    if (raw.bad_vertex[v]) continue;
+    const DVec3 local = raw.exact_positions[v] - origin;
+    const double largest = std::max({std::fabs(local.x), std::fabs(local.y), std::fabs(local.z)});
+    if (largest <= std::numeric_limits<float>::max()) {
+      raw.positions[v] = to_float(local);
+    } else {
+      raw.bad_vertex[v] = 1, raw.positions[v] = Vec3{};
+      ++raw.problems.non_finite_vertices;
+    }
+  }
   Mesh mesh = assemble(raw, source, winding);
   mesh.origin = origin;
   return mesh;
+}
+
+// Whether `when` holds for the box [lo, hi] as the file gives it or as floats (the float box decides
+// float_step_warning, which must not warn of a mesh left as it is; the exact one sees a mesh that
+// collapses as floats).
+bool wants_recentring(const DVec3& lo, const DVec3& hi, const RecentreTest& when) {
+  if (!(lo.x <= hi.x)) return false;
+  if (!when) return true;
+  const double reach = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+  Box rounded;
+  rounded.add(to_float(lo)), rounded.add(to_float(hi));
+  return when(reach, length(hi - lo)) || when(rounded.reach(), rounded.exact_diagonal());
 }
 
 }  // namespace
@@ -1084,29 +1115,23 @@ Mesh load_mesh_about(const std::string& path, Winding winding, const DVec3& orig
 
 bool coarse_for_floats(double reach, double diagonal) { return float_step(reach, diagonal).coarse(); }
 
+bool recentring_wanted(const Mesh& mesh, const RecentreTest& when) { return wants_recentring(mesh.file_lo, mesh.file_hi, when); }
+
 Mesh load_mesh_recentred(const std::string& path, Winding winding, const RecentreTest& when) {
   silence_openmesh();
   mesh_io::RawMesh raw = mesh_io::read_mesh_file(path);
   // The box of the vertices the kept faces use: a stray unused vertex far out moved the centre, and
-  // the used ones were rounded at its magnitude. As the file gives them and as floats: the float
-  // box decides float_step_warning, which must not warn of a mesh left as it is.
+  // the used ones were rounded at its magnitude.
   MeshProblems ignored;
   const Faces faces = usable_faces(raw, ignored);
   DVec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  Box rounded;
   for (const std::uint32_t v : faces.corners) {
     const DVec3& p = raw.exact_positions[v];
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    rounded.add(raw.positions[v]);
   }
-  if (!(lo.x <= hi.x)) return assemble(raw, path, winding);
-  const double reach = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
-  if (when && !when(reach, length(hi - lo)) && !when(rounded.reach(), rounded.exact_diagonal())) return assemble(raw, path, winding);
-  const bool floats = raw.float_coordinates;
-  Mesh mesh = assemble_about(std::move(raw), path, winding, 0.5 * lo + 0.5 * hi);  // halves first: no overflow near the double range
-  mesh.float_file = floats;
-  return mesh;
+  if (!wants_recentring(lo, hi, when)) return assemble(raw, path, winding);
+  return assemble_about(std::move(raw), path, winding, 0.5 * lo + 0.5 * hi);  // halves first: no overflow near the double range
 }
 
 Mesh parse_mesh(const std::string& path, std::string_view bytes) {

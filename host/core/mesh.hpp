@@ -98,10 +98,12 @@ struct Mesh {
   // about an origin (load_mesh_about, load_mesh_recentred), which keeps the detail of a mesh far from
   // the origin for its size. Outputs that hold positions record it (the splat file's splatcl_origin).
   DVec3 origin{0, 0, 0};
-  // Set by load_mesh_recentred when it recentres: the file's format stores floats (binary STL, a
-  // binary PLY with float x y z), so detail finer than the float step where it lies was lost in the
-  // file itself.
+  // The file's format stores floats (binary STL, a binary PLY with float x, y or z): far from the
+  // origin, detail finer than the float step there was lost in the file itself.
   bool float_file = false;
+  // The box of the vertices the kept faces use, in the file's coordinates (double, whatever the
+  // origin): what recentring_wanted decides by.
+  DVec3 file_lo{INFINITY, INFINITY, INFINITY}, file_hi{-INFINITY, -INFINITY, -INFINITY};
 
   std::size_t face_count() const { return face_offsets.size() - 1; }
   bool has_texcoords() const { return !corner_texcoords.empty(); }
@@ -141,6 +143,9 @@ Mesh load_mesh_about(const std::string& path, Winding winding, const DVec3& orig
 // its eps).
 using RecentreTest = std::function<bool(double reach, double diagonal)>;
 Mesh load_mesh_recentred(const std::string& path, Winding winding, const RecentreTest& when = {});
+// Whether load_mesh_recentred would recentre the file that `mesh` was read from, by its file box
+// (Mesh::file_lo, file_hi): one decision for callers that read it as given first (batch).
+bool recentring_wanted(const Mesh& mesh, const RecentreTest& when);
 // float_step_warning's test: floats where the coordinates reach step by more than kFloatStepWarning
 // of the diagonal.
 bool coarse_for_floats(double reach, double diagonal);

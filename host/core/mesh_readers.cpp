@@ -504,8 +504,9 @@ RawMesh read_ply(const std::string& path, std::string_view text) {
       for (const auto& [su, sv] : {std::pair{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}})
         if (u < 0 && e.find(su) >= 0 && e.find(sv) >= 0) u = e.find(su), v = e.find(sv);
       if (x < 0 || y < 0 || z < 0) refuse(path, "PLY vertex element has no x, y and z properties");
-      raw.float_coordinates = format != PlyFormat::Ascii;
-      for (const int p : {x, y, z}) raw.float_coordinates = raw.float_coordinates && e.properties[static_cast<std::size_t>(p)].type == PlyType::F32;
+      // Any float axis loses detail far out (float easting and northing beside a double height).
+      for (const int p : {x, y, z})
+        raw.float_coordinates = raw.float_coordinates || (format != PlyFormat::Ascii && e.properties[static_cast<std::size_t>(p)].type == PlyType::F32);
       raw.positions.reserve(e.count);
       raw.bad_vertex.reserve(e.count);
       if (nx >= 0 && ny >= 0 && nz >= 0) {

@@ -24,7 +24,7 @@ struct RawMesh {
   std::vector<std::size_t> face_offsets{0};  // face f = corners [face_offsets[f], face_offsets[f+1])
   std::vector<std::array<float, 2>> corner_texcoords;  // per corner; empty when the file has none
   MeshProblems problems;                     // what the reader counted (the vertex kinds)
-  // The format stores the coordinates as 32-bit floats (binary STL, binary PLY with float x y z):
+  // The format stores coordinates as 32-bit floats (binary STL, binary PLY with float x, y or z):
   // far from the origin, detail finer than their step there was lost in the file itself.
   bool float_coordinates = false;
 

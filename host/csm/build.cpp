@@ -75,7 +75,7 @@ BuildResult build_csm(const Mesh& mesh, const BuildOptions& o, Runtime* runtime,
   BuildResult result;
   const SphereGrid grid(o.distribution, o.order, o.pole, o.maps);
   const CaptureScene scene(mesh, bounding_sphere(mesh), o.resolution, o.single_hit, o.hit_epsilon);
-  result.thin_part_warning = thin_part_warning(scene, o.thin_part_remedy);
+  if (!o.thin_part_remedy.empty()) result.thin_part_warning = thin_part_warning(scene, mesh, o.thin_part_remedy);
   result.batch_maps = o.batch_maps ? std::min(o.batch_maps, o.maps) : default_batch_maps(o.resolution, o.maps);
   result.setup_ms = total.elapsed_ms();
   const std::size_t pixels = scene.pixels();

@@ -31,7 +31,8 @@ struct BuildOptions {
   CaptureMethod capture = kDefaultCaptureMethod;
   // Maps per batch; 0 picks about 8 M samples per batch (64 MiB of depths).
   std::uint32_t batch_maps = 0;
-  // What BuildResult::thin_part_warning tells the user to do, in the caller's spelling.
+  // What BuildResult::thin_part_warning tells the user to do, in the caller's spelling; empty: no
+  // check (a caller that checks on its own, for reused CSMs too).
   std::string thin_part_remedy = "lower the hit epsilon, or capture with the single-hit rule exact";
 };
 

@@ -128,7 +128,11 @@ Sphere bounding_sphere(const Mesh& mesh) {
 
 CaptureScene::CaptureScene(const Mesh& mesh, const Sphere& sphere_, std::uint32_t resolution_, SingleHit single_hit_,
                            float hit_epsilon_)
-    : sphere(sphere_), resolution(resolution_), single_hit(resolve_single_hit(single_hit_, mesh)), hit_epsilon(hit_epsilon_) {
+    : sphere(sphere_),
+      resolution(resolution_),
+      single_hit(resolve_single_hit(single_hit_, mesh)),
+      closed(single_hit_ == SingleHit::Auto && single_hit == SingleHit::SphereExit),
+      hit_epsilon(hit_epsilon_) {
   if (resolution == 0 || resolution > 8192) throw Error("the map resolution must be between 1 and 8192");
   if (!(sphere.radius > 0) || !std::isfinite(sphere.radius)) throw Error("the bounding sphere's radius must be positive");
   if (!(hit_epsilon >= 0) || !std::isfinite(hit_epsilon)) throw Error("the hit epsilon must be finite and not negative");
@@ -166,11 +170,11 @@ SingleHitSample sample_single_hits(const CaptureScene& scene, std::uint32_t rays
   return sample;
 }
 
-std::string thin_part_warning(const CaptureScene& scene, std::string_view remedy) {
-  if (scene.single_hit != SingleHit::SphereExit) return {};
+std::string thin_part_warning(const CaptureScene& scene, const Mesh& mesh, std::string_view remedy) {
+  if (scene.single_hit != SingleHit::SphereExit || !(scene.closed || mesh.closed())) return {};
   const SingleHitSample sample = sample_single_hits(scene);
-  if (!(sample.share() > kThinPartShare)) return {};
-  return fmt::format("{} of {} sample rays that hit this closed mesh ({:.2g} %) meet it only once within the hit epsilon "
+  if (sample.single < kThinPartRays) return {};
+  return fmt::format("{} of {} sample rays that hit this closed mesh ({:.3g} %) meet it only once within the hit epsilon "
                      "({:.3g} units): parts thinner than that are one surface there, stored as solid up to the bounding "
                      "sphere's exit, so receivers behind them read lit; {}",
                      sample.single, sample.hitting, 100 * sample.share(), scene.eps_distance(), remedy);

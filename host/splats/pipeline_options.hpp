@@ -79,7 +79,8 @@ struct SplatSetup {
 // without texture coordinates (naming `model`).
 SplatSetup splat_setup(const SplatParameters& params, const Mesh& mesh, const std::string& model);
 // Where splats and batch read a model about the centre of its box (load_mesh_recentred), recording
-// that origin in the splat file: where floats are coarse for its size (coarse_for_floats), or where
+// that origin in the splat file: where floats are coarse for its size (coarse_for_floats), or, for
+// the surface bound (not thesis_only) and a mesh more than twice its diagonal from the origin, where
 // writing the splats as floats would move them by more than kRecentreRounding of the eps these
 // parameters resolve to for its diagonal (a fine eps on a mesh far out was refused, "translate the
 // mesh nearer the origin").

@@ -333,6 +333,76 @@ TEST(BatchRunner, FarFromTheOriginIsBuiltAboutItsCentre) {
   }
 }
 
+// batch's splats read a mesh about its centre by the same test as splatcl splats, on the file's
+// box: a tetrahedron 624.99 long at 1e6 is coarse only by its exact box (as floats it is 625 long,
+// exactly at the threshold), and batch wrote origin 0 with no warning where splats recentred. A
+// mesh recentred for its fine eps, with floats fine for its size, names no CSM float steps (its
+// warning ended "; the CSM: ").
+TEST(BatchRunner, RecentresAsSplatsDoes) {
+  ScratchDir dir("runner-recentre");
+  write_text(dir / "long.obj", "v 1000000 0 0\nv 1000624.99 0 0\nv 1000000 1 0\nv 1000000 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  write_text(dir / "fine.obj", "v 1000 0 0\nv 1001 0 0\nv 1000 1 0\nv 1000 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  ModelEntry coarse = model(dir, "long", "long.obj"), fine = model(dir, "fine", "fine.obj");
+  coarse.params.splats = {}, fine.params.splats = {};
+  coarse.params.want_csm = false;
+  fine.params.splats.eps = 0.0003;
+  const auto results = run_batch({coarse, fine}, reference_options(dir));
+  ASSERT_EQ(results.size(), 2u);
+  for (const ModelResult& r : results) ASSERT_TRUE(r.ok) << r.id << ": " << r.reason;
+  EXPECT_EQ(load_mesh_recentred(dir / "long.obj", Winding::Orient, splats::recentre_test(coarse.params.splats)).origin.x, 1000312.495);
+  const splats::SplatFile long_file = splats::read_splat_file((std::filesystem::path(dir / "out") / "long.splats.ply").string());
+  EXPECT_EQ(long_file.info.origin.x, 1000312.495);
+  EXPECT_NE(results[0].warning.find("the splats: coordinates reach"), std::string::npos) << results[0].warning;
+  const splats::SplatFile fine_file = splats::read_splat_file((std::filesystem::path(dir / "out") / "fine.splats.ply").string());
+  EXPECT_EQ(fine_file.info.origin.x, 1000.5);
+  EXPECT_NE(results[1].warning.find("the splats: coordinates reach 1001"), std::string::npos) << results[1].warning;
+  EXPECT_EQ(results[1].warning.find("the CSM"), std::string::npos) << results[1].warning;
+}
+
+// A closed plate thinner than the CSM's hit epsilon: the model's warning names it ("the CSM: N of M
+// sample rays ..."), of the CSM as wanted now, whichever outputs a rerun rebuilds or reuses. A
+// rerun with single_hit exact (the CSM rebuilt, the splats reused) kept the earlier warning; one
+// that changed only the splats (the CSM reused) dropped it.
+TEST(BatchRunner, ThinPartWarningFollowsTheCsmAsWanted) {
+  ScratchDir dir("runner-thin");
+  write_text(dir / "plate.obj",
+             "v -50 -0.0005 -50\nv 50 -0.0005 -50\nv 50 0.0005 -50\nv -50 0.0005 -50\nv -50 -0.0005 50\nv 50 -0.0005 50\n"
+             "v 50 0.0005 50\nv -50 0.0005 50\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n");
+  ModelEntry entry = model(dir, "plate", "plate.obj");
+  const auto run = [&](const ModelEntry& e) {
+    const auto results = run_batch({e}, reference_options(dir));
+    EXPECT_EQ(results.size(), 1u);
+    EXPECT_TRUE(results[0].ok) << results[0].reason;
+    return results[0];
+  };
+  const auto thin_parts = [](const ModelResult& r) {
+    std::size_t count = 0;
+    for (std::size_t at = r.warning.find("sample rays that hit this closed mesh"); at != std::string::npos;
+         at = r.warning.find("sample rays that hit this closed mesh", at + 1))
+      ++count;
+    return count;
+  };
+  const ModelResult first = run(entry);
+  EXPECT_EQ(thin_parts(first), 1u) << first.warning;
+  EXPECT_NE(first.warning.find("the CSM: "), std::string::npos) << first.warning;
+  entry.params.csm.single_hit = "exact";
+  const ModelResult exact = run(entry);
+  EXPECT_TRUE(output(exact, "splats")->reused);
+  EXPECT_FALSE(output(exact, "csm")->reused);
+  EXPECT_EQ(thin_parts(exact), 0u) << exact.warning;
+  entry.params.csm.single_hit = "auto";
+  const ModelResult again = run(entry);
+  EXPECT_EQ(thin_parts(again), 1u) << again.warning;
+  entry.params.splats.k = 7;
+  const ModelResult splats_only = run(entry);
+  EXPECT_TRUE(output(splats_only, "csm")->reused);
+  EXPECT_FALSE(output(splats_only, "splats")->reused);
+  EXPECT_EQ(thin_parts(splats_only), 1u) << splats_only.warning;
+  const ModelResult reused = run(entry);
+  EXPECT_TRUE(output(reused, "csm")->reused && output(reused, "splats")->reused);
+  EXPECT_EQ(reused.warning, splats_only.warning);
+}
+
 // An inside-out cube (every face wound clockwise seen from outside): its splats face outward, as
 // splatcl splats makes them, and its CSM is the one of the cube as given; with keep_winding the
 // splats face into it. Checked against the cube's centre, not the loader's normals.
