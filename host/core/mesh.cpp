@@ -746,17 +746,24 @@ void update_normals(OmMesh& om, const std::vector<std::uint8_t>& noise) {
 
 // The checked faces into OpenMesh, then the Mesh: unused vertices dropped, normals from the file
 // where it gives them, else computed.
+// The box of the vertices `faces` use, as the file gives them (double): a stray unused vertex far
+// out must not move a recentred mesh's centre.
+std::pair<DVec3, DVec3> file_box(const mesh_io::RawMesh& raw, const Faces& faces) {
+  DVec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const std::uint32_t v : faces.corners) {
+    const DVec3& p = raw.exact_positions[v];
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  return {lo, hi};
+}
+
 Mesh assemble(const mesh_io::RawMesh& raw, const std::string& source, Winding winding) {
   silence_openmesh();
   MeshProblems problems = raw.problems;
   problems.faces_listed = raw.face_count();
   Faces faces = usable_faces(raw, problems);
-  DVec3 file_lo{INFINITY, INFINITY, INFINITY}, file_hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const std::uint32_t v : faces.corners) {
-    const DVec3& p = raw.exact_positions[v];
-    file_lo = {std::min(file_lo.x, p.x), std::min(file_lo.y, p.y), std::min(file_lo.z, p.z)};
-    file_hi = {std::max(file_hi.x, p.x), std::max(file_hi.y, p.y), std::max(file_hi.z, p.z)};
-  }
+  const auto [file_lo, file_hi] = file_box(raw, faces);
   if (winding == Winding::Orient) problems.turned_faces = orient_faces(raw.positions, faces);
   problems.split_polygons = split_unfannable_faces(raw.positions, faces);
   check_surface(raw.positions, faces, problems);
@@ -1014,7 +1021,7 @@ std::string FloatStep::clause(std::string_view owner, std::string_view noun) con
 std::string float_step_warning(const Mesh& mesh) {
   const Box box = mesh.bounds();
   // The spacing of floats where the mesh reaches (|x| 2^-24, half of it at most, was printed as the step).
-  const FloatStep far = float_step(box.reach(), box.exact_diagonal());  // coarse_for_floats
+  const FloatStep far = float_step(box.reach(), box.exact_diagonal());
   // Collapsed whole (a tiny part far out: every vertex read as one point), there is no diagonal to
   // compare with, and the warning was missing where it mattered most. The file's own coordinates are
   // gone by now: a mesh whose vertices coincide there reads the same, so the text allows both.
@@ -1123,13 +1130,7 @@ Mesh load_mesh_recentred(const std::string& path, Winding winding, const Recentr
   // The box of the vertices the kept faces use: a stray unused vertex far out moved the centre, and
   // the used ones were rounded at its magnitude.
   MeshProblems ignored;
-  const Faces faces = usable_faces(raw, ignored);
-  DVec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const std::uint32_t v : faces.corners) {
-    const DVec3& p = raw.exact_positions[v];
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
+  const auto [lo, hi] = file_box(raw, usable_faces(raw, ignored));
   if (!wants_recentring(lo, hi, when)) return assemble(raw, path, winding);
   return assemble_about(std::move(raw), path, winding, 0.5 * lo + 0.5 * hi);  // halves first: no overflow near the double range
 }
