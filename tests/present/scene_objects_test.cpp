@@ -459,6 +459,27 @@ TEST_F(SceneObjectsRender, ThinClosedObjectsAreWarnedOf) {
   };
   const std::string thin = warning_of("[10, 0.0001, 10]", "auto");
   EXPECT_NE(thin.find("sample rays that hit this closed mesh"), std::string::npos) << thin;
+  // The same from a fresh cache (built), from the cached answer, and sampled again for a cached CSM
+  // whose answer is missing.
+  {
+    const Scene s = parse_scene(R"({"objects": [{"name": "plate", "mesh": {"procedural": "box", "size": [10, 0.0001, 10]},
+        "quality": {"csm_maps": 64, "csm_resolution": 16}}]})", "s.json", dir);
+    const std::string cache = dir + "/cache";
+    std::filesystem::create_directories(cache);
+    const ObjectAssets built = load_object_assets(s.objects[0], s, cache, *runtime_);
+    EXPECT_FALSE(built.csm_cached);
+    EXPECT_EQ(built.thin_part_warning, thin);
+    std::size_t answers = 0;
+    for (const auto& file : std::filesystem::directory_iterator(cache))
+      if (file.path().extension() == ".thin1") ++answers;
+    EXPECT_EQ(answers, 1u);
+    const ObjectAssets cached = load_object_assets(s.objects[0], s, cache, *runtime_);
+    EXPECT_TRUE(cached.csm_cached);
+    EXPECT_EQ(cached.thin_part_warning, thin);
+    for (const auto& file : std::filesystem::directory_iterator(cache))
+      if (file.path().extension() == ".thin1") std::filesystem::remove(file.path());
+    EXPECT_EQ(load_object_assets(s.objects[0], s, cache, *runtime_).thin_part_warning, thin);
+  }
   EXPECT_NE(thin.find("give the object \"quality\": {\"csm_single_hit\": \"exact\"}"), std::string::npos) << thin;
   EXPECT_EQ(warning_of("[10, 0.0001, 10]", "exact"), "");
   EXPECT_EQ(warning_of("[10, 1, 10]", "auto"), "");
