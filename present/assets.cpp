@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -288,7 +289,13 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
     // Without a fit the splats go where the model's coordinates put them: the origin their file
     // records added (a fit places them by their box, where it cancels, and keeps their detail).
     if (!object.fit.enabled() && (file.origin.x != 0 || file.origin.y != 0 || file.origin.z != 0))
-      for (splats::SplatRecord& s : assets.splats) s.center = to_float(file.origin + DVec3(s.center));
+      for (splats::SplatRecord& s : assets.splats) {
+        const DVec3 placed = file.origin + DVec3(s.center);
+        if (!(std::max({std::fabs(placed.x), std::fabs(placed.y), std::fabs(placed.z)}) <= std::numeric_limits<float>::max()))
+          throw Error(fmt::format("{}: its splats placed at its splatcl_origin ({}, {}, {}) leave float range; give the object a fit", path,
+                                  file.origin.x, file.origin.y, file.origin.z));
+        s.center = to_float(placed);
+      }
     assets.mesh = splat_disc_mesh(assets.splats, path);
     if (object.fit.enabled()) {
       // One stray Gaussian far out (common in trained captures) sets the fitted box, and the object
@@ -462,11 +469,19 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
   // 16,384 rays: 0.1-0.2 s on a 100k-face scan).
   const std::string thin_remedy = "give the object \"quality\": {\"csm_single_hit\": \"exact\"}, or thicken the part";
   const std::string thin_path = csm_path + ".thin1";  // raise the number when csm::thin_part_warning changes
-  if (assets.csm_cached && !read_cached(thin_path, [&] { assets.thin_part_warning = read_text_file(thin_path, "cached thin-part warning"); })) {
+  constexpr std::string_view kThinHeader = "splatcl thin-part warning 1\n";  // then the warning, empty for none
+  const auto read_thin = [&] {
+    const std::string text = read_text_file(thin_path, "cached thin-part warning");
+    if (!text.starts_with(kThinHeader) || text.find('\n', kThinHeader.size()) != std::string::npos)
+      throw Error(thin_path + ": not a cached thin-part warning");
+    assets.thin_part_warning = text.substr(kThinHeader.size());
+  };
+  const auto write_thin = [&] { write_file_atomically(thin_path, std::string(kThinHeader) + assets.thin_part_warning); };
+  if (assets.csm_cached && !read_cached(thin_path, read_thin)) {
     if (csm::resolve_single_hit(single_hit, assets.mesh) == csm::SingleHit::SphereExit)
       assets.thin_part_warning = csm::thin_part_warning(
           csm::CaptureScene(assets.mesh, csm::bounding_sphere(assets.mesh), q.csm_resolution, single_hit), assets.mesh, thin_remedy);
-    write_file_atomically(thin_path, assets.thin_part_warning);
+    write_thin();
   }
   if (!assets.csm_cached) {
     before_building();
@@ -482,7 +497,7 @@ ObjectAssets load_object_assets(const ObjectSpec& object, const Scene& scene, co
       report(fmt::format("coherent shadow map {}/{}", done, total));
     });
     assets.thin_part_warning = built.thin_part_warning;
-    write_file_atomically(thin_path, assets.thin_part_warning);
+    write_thin();
     csm::write_csm(csm_path, built.csm, csm::Encoding::Compact, &built.segments);
     // Read back what was cached: the compact encoding stores other (equally lossless) depths than
     // the build's midpoints, and a first render must see the same shadows as every later one.

@@ -43,9 +43,10 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
     std::ofstream(entry.path(), std::ios::trunc) << "not a cache entry";
     ++corrupted;
   }
-  ASSERT_EQ(corrupted, 6u);  // splats, the drawn splats' gap splats and fit, LOD tree, normal fields, CSM
+  ASSERT_EQ(corrupted, 7u);  // splats, the drawn splats' gap splats and fit, LOD tree, normal fields, CSM, its thin-part answer
   {
     Presenter rebuilt(scene, *runtime_, 32, 32, dir.string());
+    EXPECT_EQ(rebuilt.assets(0).thin_part_warning, "");  // not the garbage read as a warning
     EXPECT_FALSE(rebuilt.assets(0).splats_cached);
     EXPECT_FALSE(rebuilt.assets(0).gaps_cached);
     EXPECT_FALSE(rebuilt.assets(0).drawn_cached);
@@ -53,6 +54,14 @@ TEST_F(PresenterTest, UnreadableCacheEntriesAreRebuilt) {
     EXPECT_FALSE(rebuilt.assets(0).tree_cached);
     EXPECT_FALSE(rebuilt.assets(0).csm_cached);
     EXPECT_GT(rebuilt.assets(0).splats.size(), 500u);
+  }
+  // The CSM alone rebuilt from a garbage thin-part answer: the answer is made again, not read as text.
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().extension() == ".thin1") std::ofstream(entry.path(), std::ios::trunc) << "not a cache entry";
+  {
+    Presenter again(scene, *runtime_, 32, 32, dir.string());
+    EXPECT_TRUE(again.assets(0).csm_cached);
+    EXPECT_EQ(again.assets(0).thin_part_warning, "");
   }
   Presenter cached(scene, *runtime_, 32, 32, dir.string());
   EXPECT_TRUE(cached.assets(0).splats_cached);

@@ -436,6 +436,18 @@ TEST_F(SceneObjectsRender, SplatFileOriginPlacesItsSplats) {
     ASSERT_EQ(placed.splats.size(), grid.size()) << file;
     for (std::size_t i = 0; i < grid.size(); ++i) EXPECT_EQ(placed.splats[i].center, to_float(info.origin + DVec3(grid[i].center))) << file << " " << i;
   }
+  // An origin that takes the splats beyond float range is refused, naming it (it placed them at inf).
+  info.origin = {1e300, 0, 0};
+  splats::write_splat_file(dir + "/beyond.ply", grid, info);
+  try {
+    assets_of(R"({"splats": "beyond.ply"})");
+    ADD_FAILURE() << "splats at 1e300 were placed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("beyond.ply: its splats placed at its splatcl_origin (1e+300, 0, 0) leave float range"),
+              std::string::npos)
+        << e.what();
+  }
+  info.origin = {12.5, 0.25, -3};
   const ObjectAssets fitted = assets_of(R"({"splats": "at-origin.ply", "fit": {"size": 2, "on_floor": true}})");
   const ObjectAssets fitted_zero = assets_of(R"({"splats": "at-zero.ply", "fit": {"size": 2, "on_floor": true}})");
   ASSERT_EQ(fitted.splats.size(), grid.size());
