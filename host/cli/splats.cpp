@@ -180,21 +180,21 @@ std::uint64_t parse_count(const std::string& text, const std::string& what) {
   return value;
 }
 
-// Why a mesh may not be the one the splats were built from, by where it lies as its file gives it
-// (`as_given`, read without an origin): its box is centred away from the splats' origin by more than
-// its diagonal (a file built far out, checked against the mesh moved to the origin by hand), or the
-// file records origin 0 for a mesh whose floats are coarse, which splats reads about its centre (a
-// file of an older version, or of another mesh). Empty otherwise.
-std::string origin_mismatch(const DVec3& origin, const Mesh& as_given) {
-  const Box box = as_given.bounds();
-  const DVec3 centre = 0.5 * DVec3(box.lo) + 0.5 * DVec3(box.hi);
-  const double diagonal = box.exact_diagonal(), away = length(centre - origin);
+// Why a mesh may not be the one the splats were built from, by where it lies in its file's
+// coordinates (Mesh::file_lo, file_hi, whatever origin it was read about): its box is centred away
+// from the splats' origin by more than its diagonal (a file built far out, checked against the mesh
+// moved to the origin by hand), or the file records origin 0 for a mesh whose floats are coarse,
+// which splats reads about its centre (a file of an older version, or of another mesh). Empty
+// otherwise.
+std::string origin_mismatch(const DVec3& origin, const Mesh& mesh) {
+  const DVec3 centre = 0.5 * mesh.file_lo + 0.5 * mesh.file_hi;
+  const double diagonal = mesh.file_diagonal(), away = length(centre - origin);
   const bool at_zero = origin.x == 0 && origin.y == 0 && origin.z == 0;
-  if (!at_zero && away > diagonal + 2 * float_step_at(box.reach()))
+  if (!at_zero && away > diagonal)
     return fmt::format("the splats' positions are relative to origin ({:.12g}, {:.12g}, {:.12g}) (their file's splatcl_origin), and "
                        "this mesh's box is centred {:.6g} from it, more than its {:.4g} diagonal: is it the mesh they were built from?",
                        origin.x, origin.y, origin.z, away, diagonal);
-  if (at_zero && coarse_for_floats(box.reach(), diagonal))
+  if (at_zero && coarse_for_floats(mesh.file_reach(), diagonal))
     return "the splat file records origin 0, but this mesh's coordinates are coarse as floats for its size, and splatcl splats reads "
            "such a mesh about its centre and records that origin: the splats come from another mesh, or from splatcl before "
            "splat file version 4";
@@ -229,11 +229,12 @@ int run_verify(const VerifyOptions& o) {
   if (!(check.eps > 0) || !std::isfinite(check.eps)) throw Error(o.splats + " records no eps; pass --eps");
   // About the splats' origin: a mesh far out that splats read about its centre is compared where they lie.
   const Winding winding = o.keep_winding ? Winding::AsGiven : Winding::Orient;
-  // A failure names a mesh that is not where the splats' origin puts it (read as given to tell),
-  // not the float steps of the mismatch: it said "translate the mesh nearer the origin" of a mesh
-  // at the origin, or "no surface area" of one that collapsed read about a far origin.
-  const auto elsewhere = [&] { return origin_mismatch(file.info.origin, load_mesh(o.model, winding)); };
+  // A failure names a mesh that is not where the splats' origin puts it, not the float steps of the
+  // mismatch: it said "translate the mesh nearer the origin" of a mesh at the origin, or "no surface
+  // area" of one that collapsed read about a far origin (read again as given where reading it
+  // about the origin failed).
   std::optional<Mesh> loaded;
+  const auto elsewhere = [&] { return origin_mismatch(file.info.origin, loaded ? *loaded : load_mesh(o.model, winding)); };
   std::optional<SurfaceCheckReport> checked;
   try {
     loaded = load_model(o.model, progress, winding, false, {ModelOrigin::Given, {}, file.info.origin});

@@ -1104,10 +1104,14 @@ Mesh assemble_about(mesh_io::RawMesh raw, const std::string& source, Winding win
 // Whether `when` holds for the box [lo, hi] as the file gives it or as floats (the float box decides
 // float_step_warning, which must not warn of a mesh left as it is; the exact one sees a mesh that
 // collapses as floats).
+double reach_of(const DVec3& lo, const DVec3& hi) {
+  return std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+}
+
 bool wants_recentring(const DVec3& lo, const DVec3& hi, const RecentreTest& when) {
   if (!(lo.x <= hi.x)) return false;
   if (!when) return true;
-  const double reach = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+  const double reach = reach_of(lo, hi);
   Box rounded;
   rounded.add(to_float(lo)), rounded.add(to_float(hi));
   return when(reach, length(hi - lo)) || when(rounded.reach(), rounded.exact_diagonal());
@@ -1121,6 +1125,8 @@ Mesh load_mesh_about(const std::string& path, Winding winding, const DVec3& orig
 }
 
 bool coarse_for_floats(double reach, double diagonal) { return float_step(reach, diagonal).coarse(); }
+
+double Mesh::file_reach() const { return file_lo.x <= file_hi.x ? reach_of(file_lo, file_hi) : 0.0; }
 
 bool recentring_wanted(const Mesh& mesh, const RecentreTest& when) { return wants_recentring(mesh.file_lo, mesh.file_hi, when); }
 

@@ -104,6 +104,9 @@ struct Mesh {
   // The box of the vertices the kept faces use, in the file's coordinates (double, whatever the
   // origin): what recentring_wanted decides by.
   DVec3 file_lo{INFINITY, INFINITY, INFINITY}, file_hi{-INFINITY, -INFINITY, -INFINITY};
+  // Of that box: the largest |coordinate| (floats there step by 2^-23 of it), and the diagonal.
+  double file_reach() const;
+  double file_diagonal() const { return length(file_hi - file_lo); }
 
   std::size_t face_count() const { return face_offsets.size() - 1; }
   bool has_texcoords() const { return !corner_texcoords.empty(); }

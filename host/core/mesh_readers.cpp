@@ -625,7 +625,7 @@ RawMesh read_ply(const std::string& path, std::string_view text) {
 // STL lists each triangle's corners by position; equal positions are one vertex (as OpenMesh's
 // reader merges them), non-finite ones each their own bad vertex. Equal as read (in double), not as
 // floats: an ASCII STL far out, merged by float position, lost its detail before a mesh could be
-// read about its centre (a sphere of radius 0.05 at 1e6 became 14 vertices).
+// read about its centre (a small sphere far out became a handful of vertices).
 class StlVertices {
  public:
   explicit StlVertices(RawMesh& raw) : raw_(raw) {}

@@ -191,19 +191,12 @@ RecentreTest recentre_test(const SplatParameters& p) {
 std::string recentred_warning(const Mesh& mesh) {
   const DVec3& o = mesh.origin;
   if (o.x == 0 && o.y == 0 && o.z == 0) return {};
-  const Box box = mesh.bounds();
-  double reach = 0;  // of the file's coordinates: the origin plus the local box's corners
-  for (const float x : {box.lo.x, box.hi.x})
-    for (const float y : {box.lo.y, box.hi.y})
-      for (const float z : {box.lo.z, box.hi.z}) {
-        const DVec3 p = o + DVec3(Vec3{x, y, z});
-        reach = std::max({reach, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
-      }
+  const double reach = mesh.file_reach();
   // The origin to 12 digits here; the header holds it exactly.
   return fmt::format("coordinates reach {:.7g}, where {}: {}read about the centre of its bounding box ({:.12g}, {:.12g}, "
                      "{:.12g}) instead; the splats hold positions relative to it (add it to place them; the splat file records it "
                      "exactly as splatcl_origin)",
-                     reach, float_step(reach, box.exact_diagonal()).clause("the mesh's", "diagonal"),
+                     reach, float_step(reach, mesh.file_diagonal()).clause("the mesh's", "diagonal"),
                      mesh.float_file ? "the file stores its coordinates as floats, so detail finer than that step was lost in the file "
                                        "itself; "
                                      : "",

@@ -240,6 +240,13 @@ hostile_error(mesh_verify_against_a_mesh_away_from_the_splats_origin
               "the splats' positions are relative to origin \\(1000000.00005, 1000000.00005, 1000000.00005\\) \\(their file's splatcl_origin\\), and this mesh's box is centred 1.73205e\\+06 from it, more than its 0.0001732 diagonal: is it the mesh they were built from\\?$"
               splats verify ${HOSTILE_DIR}/tetra-collapsed-moved.obj ${HOSTILE_DIR}/tetra-collapsed.ply)
 set_tests_properties(hostile.mesh_verify_against_a_mesh_away_from_the_splats_origin PROPERTIES DEPENDS hostile.mesh_collapsed_splats_about_its_centre)
+# The other way round: splats at origin 0 (of the part moved to the origin) against the part far out.
+add_test(NAME hostile.mesh_moved_splats COMMAND ${EXPECT_OUTPUT} --no-match "warning"
+         -- $<TARGET_FILE:splatcl> splats ${HOSTILE_DIR}/tetra-collapsed-moved.obj -o ${HOSTILE_DIR}/tetra-collapsed-moved.ply)
+hostile_error(mesh_verify_origin_zero_against_a_far_mesh
+              "the splat file records origin 0, but this mesh's coordinates are coarse as floats for its size"
+              splats verify ${HOSTILE_DIR}/tetra-collapsed.obj ${HOSTILE_DIR}/tetra-collapsed-moved.ply)
+set_tests_properties(hostile.mesh_verify_origin_zero_against_a_far_mesh PROPERTIES DEPENDS hostile.mesh_moved_splats)
 # Not coarse for its size, but at a fine eps the float steps at 1000 would take more than a quarter
 # of it (refused where they took half: "translate the mesh nearer the origin"): read about its centre.
 add_test(NAME hostile.mesh_fine_eps_far_out_splats_about_its_centre COMMAND ${EXPECT_OUTPUT}
